@@ -1,0 +1,95 @@
+#ifndef ACCELCAL_ESTIMATION_LINEAR_LS_H_
+#define ACCELCAL_ESTIMATION_LINEAR_LS_H_
+
+// The reference report's linear baseline in closed form. Per axis k, with the tilt
+// table's specific force f_k(theta_i) (models/tilt_table.h) and y_i = m_k,i - f_k,i,
+//
+//   y_i = b_k + s_k f_k,i + zeta_i,      zeta_i ~ N(0, sigma_k^2), sigma_k^2 known,
+//
+// so the weighted least-squares estimate is ordinary least squares per axis and its
+// covariance is sigma_k^2 (A^T A)^-1. The axes share no parameter and no noise, so the
+// 4x4 covariance is block diagonal.
+//
+// The estimate is computed from streaming sufficient statistics: one pass over the
+// samples, constant memory in N, mergeable across chunks. Sums are taken about the
+// first sample (the "shifted data" algorithm), which keeps the centred second moments
+// accurate even when the angles span little, exactly the case the conditioning check
+// must judge correctly.
+
+#include <string>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/baseline_parameters.h"
+
+namespace accelcal {
+
+// Sufficient statistics of one axis's regression y = b + s f.
+class AxisRegressionAccumulator {
+ public:
+  void Add(double specific_force, double response);
+  void Merge(const AxisRegressionAccumulator& other);
+
+  long long count() const { return count_; }
+  double MeanForce() const { return shift_force_ + sum_force_ / count_; }
+  double MeanResponse() const { return shift_response_ + sum_response_ / count_; }
+  // Centred sums: sum (f - mean f)^2, sum (f - mean f)(y - mean y), sum (y - mean y)^2.
+  double CenteredForceForce() const;
+  double CenteredForceResponse() const;
+  double CenteredResponseResponse() const;
+
+ private:
+  long long count_ = 0;
+  double shift_force_ = 0.0;
+  double shift_response_ = 0.0;
+  double sum_force_ = 0.0;
+  double sum_response_ = 0.0;
+  double sum_force_force_ = 0.0;
+  double sum_force_response_ = 0.0;
+  double sum_response_response_ = 0.0;
+};
+
+// Sufficient statistics of a whole tilt test (both axes and the angle span).
+class CalibrationAccumulator {
+ public:
+  explicit CalibrationAccumulator(double gravity_mps2) : gravity_mps2_(gravity_mps2) {}
+
+  void Add(double theta_rad, double measured_x, double measured_y);
+  void AddTest(const CalibrationTest& test);
+
+  const AxisRegressionAccumulator& x() const { return x_; }
+  const AxisRegressionAccumulator& y() const { return y_; }
+  double gravity_mps2() const { return gravity_mps2_; }
+  double theta_min_rad() const { return theta_min_rad_; }
+  double theta_max_rad() const { return theta_max_rad_; }
+
+ private:
+  double gravity_mps2_;
+  AxisRegressionAccumulator x_;
+  AxisRegressionAccumulator y_;
+  double theta_min_rad_ = 0.0;
+  double theta_max_rad_ = 0.0;
+};
+
+struct LinearLsOptions {
+  double gravity_mps2 = 9.8;
+  double noise_variance_x = 0.0;  // stated sigma_x^2, (m/s^2)^2
+  double noise_variance_y = 0.0;  // stated sigma_y^2, (m/s^2)^2
+  // Bias and scale of an axis "cannot be separated" when the variance of the bias
+  // estimate is inflated by more than this factor by its correlation with the scale
+  // (VIF = 1 / (1 - rho^2)); 1e6 means |rho| > 0.9999995.
+  double max_variance_inflation = 1e6;
+};
+
+// Validates the options (positive finite variances and gravity) and the design
+// (at least 3 samples; every axis's bias and scale separable), then solves.
+Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOptions& options,
+                     BaselineFit* fit);
+
+// One pass over `test`, then SolveLinearLs.
+Status EstimateLinearLs(const CalibrationTest& test, const LinearLsOptions& options,
+                        BaselineFit* fit);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_LINEAR_LS_H_

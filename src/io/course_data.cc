@@ -1,0 +1,253 @@
+#include "io/course_data.h"
+
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include "io/atomic_file.h"
+#include "io/csv_reader.h"
+#include "io/mat_file.h"
+
+namespace accelcal {
+namespace {
+
+bool IsRegularFile(const std::string& path) {
+  struct stat info;
+  return stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode);
+}
+
+bool IsDirectory(const std::string& path) {
+  struct stat info;
+  return stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode);
+}
+
+bool HasExtension(const std::string& path, const std::string& extension) {
+  return path.size() >= extension.size() &&
+         path.compare(path.size() - extension.size(), extension.size(), extension) == 0;
+}
+
+std::string Shape(const MatMatrix& matrix) {
+  return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
+}
+
+std::string Number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
+}
+
+// A column vector (Nx1) or a row vector (1xN), as MATLAB users write either.
+Status ReadVector(MatFileReader* reader, const std::string& name, const std::string& meaning,
+                  std::vector<double>* values) {
+  MatMatrix matrix;
+  ACCELCAL_RETURN_IF_ERROR(reader->ReadMatrix(name, &matrix));
+  if (matrix.rows != 1 && matrix.cols != 1) {
+    return Status::Error("variable '" + name + "' is " + Shape(matrix) + "; expected Nx1 " +
+                         meaning);
+  }
+  *values = matrix.values;
+  for (size_t i = 0; i < values->size(); ++i) {
+    if (!std::isfinite((*values)[i])) {
+      return Status::Error(name + "(" + std::to_string(i + 1) + ") is " + Number((*values)[i]) +
+                           "; remove or repair the sample");
+    }
+  }
+  return Status::Ok();
+}
+
+// An Nx2 matrix (x then y) whose row count must equal `expected_rows`.
+Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expected_rows,
+                      const std::string& row_variable, std::vector<double>* x,
+                      std::vector<double>* y) {
+  MatMatrix matrix;
+  ACCELCAL_RETURN_IF_ERROR(reader->ReadMatrix(name, &matrix));
+  if (matrix.cols != 2) {
+    const bool transposed = matrix.rows == 2 && matrix.cols == expected_rows;
+    return Status::Error("variable '" + name + "' is " + Shape(matrix) + "; expected " +
+                         std::to_string(expected_rows) + "x2 (x then y, m/s^2)" +
+                         (transposed ? "; it looks transposed" : ""));
+  }
+  if (matrix.rows != expected_rows) {
+    return Status::Error("variable '" + name + "' has " + std::to_string(matrix.rows) +
+                         " rows but '" + row_variable + "' has " + std::to_string(expected_rows) +
+                         "; they must match sample for sample");
+  }
+  for (int col = 0; col < 2; ++col) {
+    for (int row = 0; row < matrix.rows; ++row) {
+      if (!std::isfinite(matrix(row, col))) {
+        return Status::Error(name + "(" + std::to_string(row + 1) + "," + std::to_string(col + 1) +
+                             ") is " + Number(matrix(row, col)) + "; remove or repair the sample");
+      }
+    }
+  }
+  x->assign(matrix.values.begin(), matrix.values.begin() + matrix.rows);
+  y->assign(matrix.values.begin() + matrix.rows, matrix.values.end());
+  return Status::Ok();
+}
+
+// Time must increase strictly and uniformly (the integration uses one dt).
+Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
+  if (timestamp_s.size() < 2) {
+    return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
+                         " sample(s); at least 2 are needed to integrate");
+  }
+  const double dt = (timestamp_s.back() - timestamp_s.front()) / (timestamp_s.size() - 1);
+  for (size_t j = 1; j < timestamp_s.size(); ++j) {
+    const double step = timestamp_s[j] - timestamp_s[j - 1];
+    if (!(step > 0.0)) {
+      return Status::Error(name + " is not strictly increasing: " + name + "(" +
+                           std::to_string(j + 1) + ") = " + Number(timestamp_s[j]) + " s after " +
+                           Number(timestamp_s[j - 1]) + " s");
+    }
+    if (std::abs(step - dt) > 1e-6 * dt) {
+      return Status::Error(name + " is not uniformly spaced: " + name + "(" +
+                           std::to_string(j + 1) + ") - " + name + "(" + std::to_string(j) +
+                           ") = " + Number(step) + " s, expected dt = " + Number(dt) +
+                           " s; resample the run");
+    }
+  }
+  return Status::Ok();
+}
+
+const std::vector<CsvColumn> kCalibrationColumns = {{"theta"}, {"ax"}, {"ay"}};
+const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
+const std::vector<CsvColumn> kLandmarkColumns = {{"name", false}, {"x"}, {"y"}};
+
+Status LoadCalibrationMat(const std::string& path, CalibrationTest* test) {
+  MatFileReader reader;
+  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
+  ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "tita", "angles (rad)", &test->theta_rad));
+  return ReadTwoColumns(&reader, "datos", test->size(), "tita", &test->measured_x,
+                        &test->measured_y);
+}
+
+Status LoadRunMat(const std::string& path, VehicleRun* run) {
+  MatFileReader reader;
+  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
+  ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "t", "times (s)", &run->timestamp_s));
+  // The assignment calls the matrix `acel`; the course's file names it `Aerr`.
+  std::vector<std::string> names;
+  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
+  const bool has_aerr = std::find(names.begin(), names.end(), "Aerr") != names.end();
+  const bool has_acel = std::find(names.begin(), names.end(), "acel") != names.end();
+  const std::string name = (!has_aerr && has_acel) ? "acel" : "Aerr";
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadTwoColumns(&reader, name, run->size(), "t", &run->measured_x, &run->measured_y));
+  return CheckUniformTime(run->timestamp_s, "t");
+}
+
+Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmarks) {
+  MatFileReader reader;
+  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
+  std::vector<std::string> names;
+  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
+  for (const std::string& name : names) {
+    MatMatrix matrix;
+    ACCELCAL_RETURN_IF_ERROR(reader.ReadMatrix(name, &matrix));
+    if (matrix.values.size() != 2) {
+      return Status::Error("variable '" + name + "' is " + Shape(matrix) +
+                           "; every landmark must be a 1x2 [x y] in metres");
+    }
+    if (!std::isfinite(matrix.values[0]) || !std::isfinite(matrix.values[1])) {
+      return Status::Error("landmark '" + name + "' is not finite");
+    }
+    landmarks->push_back({name, matrix.values[0], matrix.values[1]});
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
+  if (!IsDirectory(data_dir)) {
+    return Status::Error(data_dir + ": no such directory; --data_dir must name a folder "
+                                    "holding ensayo.mat (course layout) or calibration.csv");
+  }
+  const std::string dir = data_dir.back() == '/' ? data_dir : data_dir + "/";
+  if (IsRegularFile(dir + "ensayo.mat")) {
+    *files = {DataLayout::kCourseMat, dir + "ensayo.mat", dir + "acel.mat", dir + "puntos.mat",
+              dir + "datos.txt"};
+    return Status::Ok();
+  }
+  if (IsRegularFile(dir + "calibration.csv")) {
+    *files = {DataLayout::kCsv, dir + "calibration.csv", dir + "trajectory.csv",
+              dir + "landmarks.csv", dir + "scenario.json"};
+    return Status::Ok();
+  }
+  return Status::Error(data_dir + ": no course data here: expected ensayo.mat (course layout) "
+                                  "or calibration.csv (CSV layout)");
+}
+
+Status LoadCalibrationTest(const std::string& path, CalibrationTest* test) {
+  *test = CalibrationTest();
+  Status status;
+  if (HasExtension(path, ".csv")) {
+    CsvTable table;
+    status = ReadCsvFile(path, kCalibrationColumns, &table);
+    if (status.ok()) {
+      test->theta_rad = std::move(table.numbers[0]);
+      test->measured_x = std::move(table.numbers[1]);
+      test->measured_y = std::move(table.numbers[2]);
+    }
+  } else {
+    status = LoadCalibrationMat(path, test);
+  }
+  return status.WithContext(path);
+}
+
+Status LoadVehicleRun(const std::string& path, VehicleRun* run) {
+  *run = VehicleRun();
+  Status status;
+  if (HasExtension(path, ".csv")) {
+    CsvTable table;
+    status = ReadCsvFile(path, kRunColumns, &table);
+    if (status.ok()) {
+      run->timestamp_s = std::move(table.numbers[0]);
+      run->measured_x = std::move(table.numbers[1]);
+      run->measured_y = std::move(table.numbers[2]);
+      status = CheckUniformTime(run->timestamp_s, "t");
+    }
+  } else {
+    status = LoadRunMat(path, run);
+  }
+  return status.WithContext(path);
+}
+
+Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) {
+  landmarks->clear();
+  Status status;
+  if (HasExtension(path, ".csv")) {
+    CsvTable table;
+    status = ReadCsvFile(path, kLandmarkColumns, &table);
+    for (int i = 0; status.ok() && i < table.row_count; ++i) {
+      landmarks->push_back({table.texts[0][i], table.numbers[1][i], table.numbers[2][i]});
+    }
+  } else {
+    status = LoadLandmarksMat(path, landmarks);
+  }
+  if (status.ok() && landmarks->empty()) status = Status::Error("no landmarks in the file");
+  std::set<std::string> names;
+  for (const Landmark& landmark : *landmarks) {
+    if (status.ok() && !names.insert(landmark.name).second) {
+      status = Status::Error("landmark '" + landmark.name + "' is listed twice");
+    }
+  }
+  return status.WithContext(path);
+}
+
+Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test) {
+  std::string text = "theta,ax,ay\n";
+  text.reserve(text.size() + 72 * test.theta_rad.size());
+  char line[128];
+  for (int i = 0; i < test.size(); ++i) {
+    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", test.theta_rad[i],
+                  test.measured_x[i], test.measured_y[i]);
+    text += line;
+  }
+  return WriteFileAtomically(path, text);
+}
+
+}  // namespace accelcal

@@ -1,0 +1,51 @@
+#ifndef ACCELCAL_IO_COURSE_DATA_H_
+#define ACCELCAL_IO_COURSE_DATA_H_
+
+// Loaders for the course's data, read as is (../shared/spec/error-model.md, "The course
+// data layout"), and for the equivalent CSV layout:
+//
+//   quantity        course layout                       CSV layout
+//   tilt test       ensayo.mat: tita (Nx1, rad),         calibration.csv: theta,ax,ay
+//                   datos (Nx2, m/s^2, x then y)
+//   vehicle run     acel.mat: t (Mx1, s), Aerr (Mx2)     trajectory.csv: t,ax,ay
+//   landmarks       puntos.mat: one 1x2 [x y] (m) per    landmarks.csv: name,x,y
+//                   variable, named by the variable
+//   conditions      datos.txt                            scenario.json
+//
+// The file type is chosen by extension (.mat or .csv), so single files of either kind
+// can be named directly. Every loader validates what it reads (shape, finiteness,
+// lengths, time uniformly increasing) and fails with the file name first.
+
+#include <string>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+
+namespace accelcal {
+
+enum class DataLayout { kCourseMat, kCsv };
+
+// Where each input of a data directory is.
+struct DataFiles {
+  DataLayout layout = DataLayout::kCourseMat;
+  std::string calibration;  // ensayo.mat or calibration.csv
+  std::string run;          // acel.mat or trajectory.csv
+  std::string landmarks;    // puntos.mat or landmarks.csv
+  std::string conditions;   // datos.txt or scenario.json
+};
+
+// Finds the layout of `data_dir`: the course layout when ensayo.mat is there, the CSV
+// layout when calibration.csv is. Files are not opened here.
+Status ResolveDataFiles(const std::string& data_dir, DataFiles* files);
+
+Status LoadCalibrationTest(const std::string& path, CalibrationTest* test);
+Status LoadVehicleRun(const std::string& path, VehicleRun* run);
+Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);
+
+// Writes the CSV layout's calibration.csv (full double precision), atomically.
+Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_IO_COURSE_DATA_H_

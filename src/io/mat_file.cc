@@ -1,0 +1,232 @@
+#include "io/mat_file.h"
+
+#include <matio.h>
+
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <mutex>
+#include <sstream>
+
+#include "io/atomic_file.h"
+
+namespace accelcal {
+namespace {
+
+// matio reports problems through a global log function; by default it prints them on
+// stderr. We keep the last message instead, so it can go into our one-line error.
+thread_local std::string last_matio_message;
+
+void CaptureMatioLog(int log_level, char* message) {
+  if (log_level & (MATIO_LOG_LEVEL_ERROR | MATIO_LOG_LEVEL_CRITICAL)) {
+    last_matio_message = message ? message : "";
+  }
+}
+
+void InstallMatioLogger() {
+  static std::once_flag once;
+  std::call_once(once, [] { Mat_LogInitFunc("accelcal", CaptureMatioLog); });
+}
+
+const char* ClassName(matio_classes class_type) {
+  switch (class_type) {
+    case MAT_C_CELL: return "a cell array";
+    case MAT_C_STRUCT: return "a struct";
+    case MAT_C_OBJECT: return "an object";
+    case MAT_C_CHAR: return "a char array";
+    case MAT_C_SPARSE: return "a sparse matrix";
+    case MAT_C_DOUBLE: return "double";
+    case MAT_C_SINGLE: return "single";
+    case MAT_C_INT8: return "int8";
+    case MAT_C_UINT8: return "uint8";
+    case MAT_C_INT16: return "int16";
+    case MAT_C_UINT16: return "uint16";
+    case MAT_C_INT32: return "int32";
+    case MAT_C_UINT32: return "uint32";
+    case MAT_C_INT64: return "int64";
+    case MAT_C_UINT64: return "uint64";
+    case MAT_C_FUNCTION: return "a function handle";
+    default: return "of an unknown class";
+  }
+}
+
+uint32_t ReadUint32(const unsigned char* bytes, bool swap) {
+  uint32_t value;
+  std::memcpy(&value, bytes, 4);
+  if (swap) value = __builtin_bswap32(value);
+  return value;
+}
+
+// Walks the top-level data elements of a version 5 MAT file and fails when one of them
+// declares more bytes than the file has left (a truncated copy). Version 7.3 (HDF5)
+// and version 4 files are left to matio.
+Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Status::Error("cannot open the file; check the path and permissions");
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  const std::string bytes = buffer.str();
+  *file_size = bytes.size();
+  if (bytes.empty()) return Status::Error("the file is empty (0 bytes); it is not a MAT file");
+  constexpr size_t kHeaderBytes = 128;
+  if (bytes.compare(0, 6, "MATLAB") != 0) return Status::Ok();  // v4 or not MAT: matio says
+  if (bytes.size() < kHeaderBytes) {
+    return Status::Error("the file is truncated: " + std::to_string(bytes.size()) +
+                         " bytes, less than a MAT file's 128-byte header");
+  }
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const bool swap = data[126] == 'M' && data[127] == 'I';
+  uint16_t version;
+  std::memcpy(&version, data + 124, 2);
+  if (swap) version = __builtin_bswap16(version);
+  if (version != 0x0100) return Status::Ok();
+  constexpr uint32_t kMiMatrix = 14;
+  size_t offset = kHeaderBytes;
+  while (offset < bytes.size()) {
+    const size_t remaining = bytes.size() - offset;
+    if (remaining < 8) {
+      bool all_zero = true;
+      for (size_t i = offset; i < bytes.size(); ++i) all_zero = all_zero && data[i] == 0;
+      if (all_zero) break;  // padding
+      return Status::Error("the file is truncated: it ends inside a variable's header");
+    }
+    const uint32_t type = ReadUint32(data + offset, swap);
+    uint64_t element_bytes = ReadUint32(data + offset + 4, swap);
+    if (type == kMiMatrix) element_bytes = (element_bytes + 7) / 8 * 8;
+    if (element_bytes > remaining - 8) {
+      return Status::Error("the file is truncated: a variable at byte " + std::to_string(offset) +
+                           " declares " + std::to_string(element_bytes) + " bytes but only " +
+                           std::to_string(remaining - 8) + " remain; copy the file again");
+    }
+    offset += 8 + element_bytes;
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+struct MatFileReader::Impl {
+  mat_t* mat = nullptr;
+  uint64_t file_size = 0;
+  ~Impl() {
+    if (mat != nullptr) Mat_Close(mat);
+  }
+};
+
+MatFileReader::MatFileReader() : impl_(new Impl) {}
+MatFileReader::~MatFileReader() = default;
+
+Status MatFileReader::Open(const std::string& path) {
+  InstallMatioLogger();
+  ACCELCAL_RETURN_IF_ERROR(CheckMat5Integrity(path, &impl_->file_size));
+  last_matio_message.clear();
+  impl_->mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
+  if (impl_->mat == nullptr) {
+    return Status::Error("not a readable MAT file" +
+                         (last_matio_message.empty() ? "" : " (" + last_matio_message + ")") +
+                         "; save it from MATLAB/Octave with save -v7 or -v6");
+  }
+  return Status::Ok();
+}
+
+Status MatFileReader::ListVariables(std::vector<std::string>* names) {
+  names->clear();
+  Mat_Rewind(impl_->mat);
+  last_matio_message.clear();
+  while (matvar_t* info = Mat_VarReadNextInfo(impl_->mat)) {
+    if (info->name != nullptr) names->push_back(info->name);
+    Mat_VarFree(info);
+  }
+  Mat_Rewind(impl_->mat);
+  if (!last_matio_message.empty()) {
+    return Status::Error("cannot list the variables (" + last_matio_message + ")");
+  }
+  return Status::Ok();
+}
+
+Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix) {
+  Mat_Rewind(impl_->mat);
+  last_matio_message.clear();
+  matvar_t* info = Mat_VarReadInfo(impl_->mat, variable.c_str());
+  if (info == nullptr) {
+    std::vector<std::string> names;
+    ListVariables(&names);
+    std::string listing;
+    for (const std::string& name : names) listing += (listing.empty() ? "" : ", ") + name;
+    return Status::Error("variable '" + variable + "' not found (the file has: " +
+                         (listing.empty() ? "no variables" : listing) + ")");
+  }
+  const std::unique_ptr<matvar_t, void (*)(matvar_t*)> info_owner(info, Mat_VarFree);
+  const std::string where = "variable '" + variable + "'";
+  if (info->class_type != MAT_C_DOUBLE && info->class_type != MAT_C_SINGLE) {
+    return Status::Error(where + " is " + ClassName(info->class_type) +
+                         "; expected a real double matrix");
+  }
+  if (info->isComplex) return Status::Error(where + " is complex; expected a real matrix");
+  if (info->rank != 2) {
+    return Status::Error(where + " has " + std::to_string(info->rank) +
+                         " dimensions; expected a 2-D matrix");
+  }
+  const uint64_t rows = info->dims[0];
+  const uint64_t cols = info->dims[1];
+  if (rows == 0 || cols == 0) {
+    return Status::Error(where + " is empty (" + std::to_string(rows) + "x" +
+                         std::to_string(cols) + ")");
+  }
+  // A corrupted header can claim billions of values in a few bytes; do not let matio
+  // allocate them. Uncompressed data needs its bytes in the file; zlib cannot expand
+  // data by more than about 1032:1.
+  const uint64_t element_size = Mat_SizeOf(info->data_type) > 0 ? Mat_SizeOf(info->data_type) : 1;
+  const uint64_t expansion = info->compression == MAT_COMPRESSION_NONE ? 1 : 1032;
+  if (rows > (1ull << 31) || cols > (1ull << 31) ||
+      rows * cols * element_size > impl_->file_size * expansion) {
+    return Status::Error(where + " claims " + std::to_string(rows) + "x" +
+                         std::to_string(cols) + " values, more than the " +
+                         std::to_string(impl_->file_size) + "-byte file can hold");
+  }
+  Mat_Rewind(impl_->mat);
+  matvar_t* var = Mat_VarRead(impl_->mat, variable.c_str());
+  if (var == nullptr || var->data == nullptr || !last_matio_message.empty()) {
+    if (var != nullptr) Mat_VarFree(var);
+    return Status::Error("cannot read " + where +
+                         (last_matio_message.empty() ? "" : " (" + last_matio_message + ")"));
+  }
+  const std::unique_ptr<matvar_t, void (*)(matvar_t*)> var_owner(var, Mat_VarFree);
+  matrix->rows = static_cast<int>(rows);
+  matrix->cols = static_cast<int>(cols);
+  matrix->values.resize(rows * cols);
+  if (var->class_type == MAT_C_DOUBLE) {
+    std::memcpy(matrix->values.data(), var->data, rows * cols * sizeof(double));
+  } else {
+    const auto* single = static_cast<const float*>(var->data);
+    for (size_t i = 0; i < rows * cols; ++i) matrix->values[i] = single[i];
+  }
+  return Status::Ok();
+}
+
+Status WriteMatFile(const std::string& path,
+                    const std::vector<std::pair<std::string, MatMatrix>>& variables) {
+  InstallMatioLogger();
+  return WriteAtomicallyWith(path, [&](const std::string& temporary_path) {
+    last_matio_message.clear();
+    mat_t* mat = Mat_CreateVer(temporary_path.c_str(), "MATLAB 5.0 MAT-file, written by accelcal",
+                               MAT_FT_MAT5);
+    if (mat == nullptr) return Status::Error("cannot create " + path + " " + last_matio_message);
+    Status status;
+    for (const auto& [name, matrix] : variables) {
+      size_t dims[2] = {static_cast<size_t>(matrix.rows), static_cast<size_t>(matrix.cols)};
+      matvar_t* var = Mat_VarCreate(name.c_str(), MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims,
+                                    const_cast<double*>(matrix.values.data()),
+                                    MAT_F_DONT_COPY_DATA);
+      if (var == nullptr || Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE) != 0) {
+        status = Status::Error("cannot write variable '" + name + "' to " + path);
+      }
+      if (var != nullptr) Mat_VarFree(var);
+      if (!status.ok()) break;
+    }
+    Mat_Close(mat);
+    return status;
+  });
+}
+
+}  // namespace accelcal

@@ -1,0 +1,29 @@
+#ifndef ACCELCAL_IO_RUN_CONDITIONS_H_
+#define ACCELCAL_IO_RUN_CONDITIONS_H_
+
+// Initial conditions and stated noise variances of the run, from either layout:
+// the course's datos.txt (io/datos_txt.h) or the CSV layout's scenario.json:
+//
+//   {"initial_position": [0, 0],        (m)
+//    "initial_velocity": [1, 3],        (m/s)
+//    "noise_variance":   [0.25, 0.64],  ((m/s^2)^2, stated sigma_x^2 and sigma_y^2)
+//    "gravity": 9.8}                    (m/s^2, optional)
+
+#include <string>
+
+#include "common/measurements.h"
+#include "common/status.h"
+
+namespace accelcal {
+
+// Reads `path` by its extension (.json: scenario.json; anything else: datos.txt).
+Status LoadRunConditions(const std::string& path, RunConditions* conditions);
+
+Status ParseScenarioJson(const std::string& text, RunConditions* conditions);
+
+// Serialises `conditions` as the scenario.json above (used to write the CSV layout).
+std::string ScenarioJson(const RunConditions& conditions);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_IO_RUN_CONDITIONS_H_

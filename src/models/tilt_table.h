@@ -1,0 +1,33 @@
+#ifndef ACCELCAL_MODELS_TILT_TABLE_H_
+#define ACCELCAL_MODELS_TILT_TABLE_H_
+
+// The tilt-table test's true specific force (../shared/spec/error-model.md, "Frames and
+// the tilt-table test"). The table is rotated through a reported angle theta_i in
+// gravity; its zero may be off by the angle offset delta:
+//
+//   theta_true_i = theta_i + delta                       [rad]
+//   fx_i = -g sin(theta_true_i),  fy_i = -g cos(theta_true_i)   [m/s^2]
+//
+// Templated so the Ceres residuals (T = ceres::Jet), the closed-form estimator and the
+// simulator (T = double) all evaluate the same expression.
+
+#include <cmath>
+
+namespace accelcal {
+
+// Standard gravity used by the course (the assignment takes g = 9.8 m/s^2).
+constexpr double kCourseGravityMps2 = 9.8;
+
+template <typename T>
+void TiltTableSpecificForce(const T& theta_reported_rad, const T& angle_offset_rad,
+                            double gravity_mps2, T* specific_force_x, T* specific_force_y) {
+  using std::cos;
+  using std::sin;
+  const T theta_true_rad = theta_reported_rad + angle_offset_rad;
+  *specific_force_x = -gravity_mps2 * sin(theta_true_rad);
+  *specific_force_y = -gravity_mps2 * cos(theta_true_rad);
+}
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_MODELS_TILT_TABLE_H_

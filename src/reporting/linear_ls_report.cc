@@ -1,0 +1,131 @@
+#include "reporting/linear_ls_report.h"
+
+#include <cstdarg>
+#include <cstdio>
+
+namespace accelcal {
+namespace {
+
+std::string Printf(const char* format, ...) {
+  char buffer[512];
+  va_list arguments;
+  va_start(arguments, format);
+  std::vsnprintf(buffer, sizeof(buffer), format, arguments);
+  va_end(arguments);
+  return buffer;
+}
+
+nlohmann::json Named(const Eigen::Vector4d& values) {
+  nlohmann::json object = nlohmann::json::object();
+  for (int i = 0; i < kBaselineParameterCount; ++i) object[kBaselineParameterNames[i]] = values[i];
+  return object;
+}
+
+nlohmann::json Matrix(const Eigen::Matrix4d& matrix) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 4; ++i) {
+    rows.push_back({matrix(i, 0), matrix(i, 1), matrix(i, 2), matrix(i, 3)});
+  }
+  return rows;
+}
+
+nlohmann::json FitJson(const BaselineFit& fit) {
+  return {{"parameters", Named(fit.parameters)},
+          {"stddev", Named(fit.StandardDeviations())},
+          {"covariance", Matrix(fit.covariance)},
+          {"chi2", {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}}}};
+}
+
+}  // namespace
+
+std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report) {
+  const BaselineFit& fit = report.closed_form;
+  const Eigen::Vector4d sigma = fit.StandardDeviations();
+  std::string text =
+      "accelcal linear_ls: bias and scale factor from the tilt-table test (linear least squares)\n";
+  if (report.simulation_seed) {
+    text += Printf("  data         simulated in-process (seed %llu): %d samples, theta %.3f to %.3f rad\n",
+                   static_cast<unsigned long long>(*report.simulation_seed), fit.sample_count,
+                   report.theta_min_rad, report.theta_max_rad);
+    text += "               (no --data_dir given; try --data_dir=../shared/data/tp2-2018)\n";
+  } else {
+    auto file = [&](const char* role) {
+      const auto found = report.input_files.find(role);
+      return found == report.input_files.end() ? std::string("-") : found->second;
+    };
+    text += Printf("  calibration  %s (%d samples, theta %.3f to %.3f rad)\n",
+                   file("calibration").c_str(), fit.sample_count, report.theta_min_rad,
+                   report.theta_max_rad);
+    text += Printf("  conditions   %s\n", file("conditions").c_str());
+  }
+  text += Printf("  stated noise variance x %g, y %g (m/s^2)^2; g = %g m/s^2\n\n",
+                 report.noise_variance_x, report.noise_variance_y, report.gravity_mps2);
+
+  text += report.truth ? "  parameter      estimate     1 sigma  unit        truth  (est-truth)/sigma\n"
+                       : "  parameter      estimate     1 sigma  unit\n";
+  for (int i = 0; i < kBaselineParameterCount; ++i) {
+    text += Printf("  %-9s  %+.4e  %.4e  %-5s", kBaselineParameterNames[i], fit.parameters[i],
+                   sigma[i], kBaselineParameterUnits[i]);
+    if (report.truth) {
+      text += Printf("  %+.4e  %+6.2f", (*report.truth)[i],
+                     (fit.parameters[i] - (*report.truth)[i]) / sigma[i]);
+    }
+    text += "\n";
+  }
+
+  const Eigen::Matrix4d correlation = fit.Correlation();
+  text += "\n  correlation   bias_x  scale_x   bias_y  scale_y\n";
+  for (int i = 0; i < kBaselineParameterCount; ++i) {
+    text += Printf("  %-9s   ", kBaselineParameterNames[i]);
+    for (int j = 0; j < kBaselineParameterCount; ++j) text += Printf(" %+7.4f", correlation(i, j));
+    text += "\n";
+  }
+
+  text += "\n  fit vs stated noise        chi2    dof  chi2/dof  p (two-sided)\n";
+  for (const auto& [name, chi2] : {std::make_pair("x", fit.chi2_x), std::make_pair("y", fit.chi2_y)}) {
+    text += Printf("  axis %s             %12.1f  %5d  %8.4f  %.3g\n", name, chi2.chi2, chi2.dof,
+                   chi2.chi2 / chi2.dof, chi2.p_value);
+  }
+
+  const FitDifference difference = CompareFits(fit, report.ceres.fit);
+  text += Printf(
+      "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e "
+      "(relative to sqrt(C_ii C_jj))\n",
+      difference.parameters, difference.covariance);
+  text += "  " + report.ceres.brief_report + "\n";
+  if (full_solver_report) text += report.ceres.full_report + "\n";
+  return text;
+}
+
+nlohmann::json LinearLsJson(const LinearLsReport& report) {
+  const BaselineFit& fit = report.closed_form;
+  nlohmann::json order = nlohmann::json::array();
+  for (const char* name : kBaselineParameterNames) order.push_back(name);
+  nlohmann::json json = FitJson(fit);
+  json["problem"] = "linear_ls";
+  json["parameter_order"] = order;
+  json["correlation"] = Matrix(fit.Correlation());
+  json["chi2_dof"] = {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}};
+  json["chi2_p_value"] = {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}};
+  json["n_samples"] = fit.sample_count;
+  json["gravity_mps2"] = report.gravity_mps2;
+  json["noise_variance"] = {{"x", report.noise_variance_x}, {"y", report.noise_variance_y}};
+  json["theta_range_rad"] = {report.theta_min_rad, report.theta_max_rad};
+  json["input_files"] = report.input_files;
+  if (report.simulation_seed) {
+    json["simulation"] = {{"seed", *report.simulation_seed}, {"truth", Named(*report.truth)}};
+  }
+  const FitDifference difference = CompareFits(fit, report.ceres.fit);
+  nlohmann::json ceres = FitJson(report.ceres.fit);
+  ceres["converged"] = report.ceres.converged;
+  ceres["iterations"] = report.ceres.iterations;
+  ceres["brief_report"] = report.ceres.brief_report;
+  json["solvers"] = {{"closed_form", FitJson(fit)},
+                     {"ceres", ceres},
+                     {"max_relative_difference",
+                      {{"parameters", difference.parameters},
+                       {"covariance", difference.covariance}}}};
+  return json;
+}
+
+}  // namespace accelcal

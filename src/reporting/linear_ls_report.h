@@ -1,0 +1,38 @@
+#ifndef ACCELCAL_REPORTING_LINEAR_LS_REPORT_H_
+#define ACCELCAL_REPORTING_LINEAR_LS_REPORT_H_
+
+// What linear_ls prints and writes: a table a person reads (estimates +- 1 sigma,
+// correlation, chi-square against the stated noise, agreement of the two solvers) and
+// the JSON a program reads. Formatting only: nothing here estimates anything.
+
+#include <Eigen/Core>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "estimation/baseline_parameters.h"
+#include "estimation/ceres_linear_ls.h"
+
+namespace accelcal {
+
+struct LinearLsReport {
+  BaselineFit closed_form;
+  CeresLinearLsResult ceres;
+  double gravity_mps2 = 9.8;
+  double noise_variance_x = 0.0;
+  double noise_variance_y = 0.0;
+  double theta_min_rad = 0.0;
+  double theta_max_rad = 0.0;
+  std::map<std::string, std::string> input_files;  // role ("calibration", ...) -> path
+  // Set when the data were simulated: the seed and the true parameters.
+  std::optional<uint64_t> simulation_seed;
+  std::optional<Eigen::Vector4d> truth;
+};
+
+std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report);
+nlohmann::json LinearLsJson(const LinearLsReport& report);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_REPORTING_LINEAR_LS_REPORT_H_

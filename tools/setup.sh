@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Shared set-up for tools/run.sh and tools/test.sh: install the Debian packages that are
+# missing (quiet when all are present), then configure and build in Release into build/.
+# Sourced, not executed.
+
+ACCELCAL_PACKAGES=(
+  build-essential cmake pkg-config
+  libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
+  libgtest-dev libgmock-dev libmatio-dev nlohmann-json3-dev libbenchmark-dev
+  python3-matplotlib python3-numpy python3-scipy
+)
+
+accelcal_install_packages() {
+  local missing=()
+  local package
+  for package in "${ACCELCAL_PACKAGES[@]}"; do
+    if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
+      missing+=("$package")
+    fi
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  echo "accelcal: installing ${missing[*]}" >&2
+  local sudo=""
+  [ "$(id -u)" -ne 0 ] && sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq >/dev/null || { echo "accelcal: apt-get update failed" >&2; return 1; }
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null ||
+    { echo "accelcal: apt-get install ${missing[*]} failed" >&2; return 1; }
+}
+
+# accelcal_build BUILD_DIR [extra cmake args...]
+accelcal_build() {
+  local build_dir=$1
+  shift
+  local jobs
+  jobs=$(nproc 2>/dev/null || echo 2)
+  cmake -S "$ACCELCAL_ROOT" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null ||
+    { echo "accelcal: cmake configure failed (run cmake -S . -B $build_dir to see why)" >&2; return 1; }
+  echo "accelcal: building in $build_dir (log: $build_dir/build.log)" >&2
+  if ! cmake --build "$build_dir" -j "$jobs" >"$build_dir/build.log" 2>&1; then
+    grep -E -B2 -A6 'error|Error' "$build_dir/build.log" | head -80 >&2
+    echo "accelcal: build failed; the full log is $build_dir/build.log" >&2
+    return 1
+  fi
+}
