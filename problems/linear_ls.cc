@@ -12,13 +12,14 @@
 //
 //   build/bin/linear_ls --data_dir=../shared/data/tp2-2018 --json=linear_ls.json
 
+#include "estimation/linear_ls.h"
+
 #include <gflags/gflags.h>
 
 #include <cmath>
 #include <iostream>
 
 #include "estimation/ceres_linear_ls.h"
-#include "estimation/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/run_conditions.h"
@@ -68,8 +69,9 @@ Status ValidateFlags() {
   const bool has_data = !FLAGS_data_dir.empty() || !FLAGS_calibration_file.empty();
   if (has_data && FLAGS_data_dir.empty() &&
       (FLAGS_calibration_file.empty() || FLAGS_conditions_file.empty())) {
-    return Status::Error("--calibration_file needs --conditions_file (the stated noise "
-                         "variances) or --data_dir");
+    return Status::Error(
+        "--calibration_file needs --conditions_file (the stated noise "
+        "variances) or --data_dir");
   }
   return Status::Ok();
 }
@@ -141,8 +143,8 @@ int Run(int argc, char** argv) {
 
   std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
   if (!FLAGS_json.empty()) {
-    status = WriteFileAtomically(FLAGS_json, LinearLsJson(report).dump(2) + "\n")
-                 .WithContext("--json");
+    status =
+        WriteFileAtomically(FLAGS_json, LinearLsJson(report).dump(2) + "\n").WithContext("--json");
     if (!status.ok()) return ExitWithError("linear_ls", status);
   }
   return 0;

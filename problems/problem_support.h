@@ -1,10 +1,10 @@
 #ifndef ACCELCAL_PROBLEMS_PROBLEM_SUPPORT_H_
 #define ACCELCAL_PROBLEMS_PROBLEM_SUPPORT_H_
 
-// What every problem binary does around its pipeline: parse flags (an unknown flag or
-// a stray argument is bad input: one line, exit 2), show only the binary's own flags
-// under --help, keep glog quiet unless --v is raised, and turn a failed Status into one
-// line on stderr with exit status 2.
+// What every problem binary does around its pipeline: parse flags (an unknown flag, a
+// malformed value or a stray argument is bad input: one line, exit 2), show only the binary's own
+// flags under --help, keep glog quiet unless --v is raised, and turn a failed Status into one line
+// on stderr with exit status 2.
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
@@ -24,6 +24,46 @@ inline int ExitWithError(const char* program, const Status& status) {
   return kExitBadInput;
 }
 
+// Checks every argument before gflags sees it: gflags ends the program with status 1
+// (and a multi-line message) on an unknown flag or a malformed value, and ignores
+// stray arguments. Returns the one-line message for the first bad argument, or "".
+inline std::string FirstBadArgument(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string argument = argv[i];
+    if (argument == "--") break;
+    if (argument.size() < 2 || argument[0] != '-') {
+      return "unknown flag or argument '" + argument + "'";
+    }
+    const std::string body = argument.substr(argument[1] == '-' ? 2 : 1);
+    const size_t equals = body.find('=');
+    std::string name = body.substr(0, equals);
+    gflags::CommandLineFlagInfo info;
+    if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) {
+      // --nofoo is gflags' spelling of --foo=false for booleans.
+      if (name.rfind("no", 0) == 0 && gflags::GetCommandLineFlagInfo(name.c_str() + 2, &info) &&
+          info.type == "bool" && equals == std::string::npos) {
+        continue;
+      }
+      return "unknown flag or argument '" + argument + "'";
+    }
+    std::string value;
+    if (equals != std::string::npos) {
+      value = body.substr(equals + 1);
+    } else if (info.type == "bool") {
+      continue;
+    } else if (i + 1 < argc) {
+      value = argv[++i];  // "--flag value"
+    } else {
+      return "flag --" + name + " needs a value";
+    }
+    // Setting the value now checks it; ParseCommandLineFlags sets it again below.
+    if (gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) {
+      return "--" + name + "='" + value + "' is not a valid " + info.type;
+    }
+  }
+  return "";
+}
+
 // Returns false (after printing one line) when the command line is not usable.
 // `source_fragment` selects the flags --help lists (the binary's own source file).
 inline bool InitProblem(const char* program, const char* usage, const char* source_fragment,
@@ -37,15 +77,12 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
       std::exit(0);
     }
   }
-  // Unknown flags are kept in argv instead of ending the program with status 1, so we
-  // can report them like any other bad input.
-  gflags::AllowCommandLineReparsing();
-  gflags::ParseCommandLineFlags(argc, argv, true);
-  if (*argc > 1) {
-    std::cerr << program << ": error: unknown flag or argument '" << (*argv)[1]
-              << "'; see " << program << " --help\n";
+  const std::string bad_argument = FirstBadArgument(*argc, *argv);
+  if (!bad_argument.empty()) {
+    std::cerr << program << ": error: " << bad_argument << "; see " << program << " --help\n";
     return false;
   }
+  gflags::ParseCommandLineFlags(argc, argv, true);
   FLAGS_logtostderr = true;
   if (FLAGS_v <= 0) FLAGS_minloglevel = google::GLOG_WARNING;
   google::InitGoogleLogging(program);

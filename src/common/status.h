@@ -33,9 +33,9 @@ class Status {
 }  // namespace accelcal
 
 // Returns early from the enclosing function when `expr` yields a failed Status.
-#define ACCELCAL_RETURN_IF_ERROR(expr)        \
-  do {                                        \
-    ::accelcal::Status accelcal_status_ = (expr); \
+#define ACCELCAL_RETURN_IF_ERROR(expr)                   \
+  do {                                                   \
+    ::accelcal::Status accelcal_status_ = (expr);        \
     if (!accelcal_status_.ok()) return accelcal_status_; \
   } while (false)
 

@@ -15,8 +15,8 @@ enum BaselineParameter : int { kBiasX = 0, kScaleX = 1, kBiasY = 2, kScaleY = 3 
 constexpr int kBaselineParameterCount = 4;
 constexpr std::array<const char*, kBaselineParameterCount> kBaselineParameterNames = {
     "bias_x", "scale_x", "bias_y", "scale_y"};
-constexpr std::array<const char*, kBaselineParameterCount> kBaselineParameterUnits = {
-    "m/s^2", "1", "m/s^2", "1"};
+constexpr std::array<const char*, kBaselineParameterCount> kBaselineParameterUnits = {"m/s^2", "1",
+                                                                                      "m/s^2", "1"};
 
 // Goodness of fit of one axis against its stated noise variance.
 struct AxisChiSquare {
@@ -28,8 +28,8 @@ struct AxisChiSquare {
 };
 
 struct BaselineFit {
-  Eigen::Vector4d parameters = Eigen::Vector4d::Zero();   // bias_x, scale_x, bias_y, scale_y
-  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();   // same order
+  Eigen::Vector4d parameters = Eigen::Vector4d::Zero();  // bias_x, scale_x, bias_y, scale_y
+  Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // same order
   AxisChiSquare chi2_x;
   AxisChiSquare chi2_y;
   int sample_count = 0;
@@ -42,7 +42,6 @@ inline Eigen::Matrix4d BaselineFit::Correlation() const {
   const Eigen::Vector4d inverse_sigma = StandardDeviations().cwiseInverse();
   return inverse_sigma.asDiagonal() * covariance * inverse_sigma.asDiagonal();
 }
-
 
 // How far two fits of the same data are apart: the largest parameter difference
 // relative to the parameter, and the largest covariance difference relative to
@@ -61,8 +60,9 @@ inline FitDifference CompareFits(const BaselineFit& a, const BaselineFit& b) {
         std::max(difference.parameters, std::abs(a.parameters[i] - b.parameters[i]) / scale);
     for (int j = 0; j < kBaselineParameterCount; ++j) {
       const double covariance_scale = std::sqrt(a.covariance(i, i) * a.covariance(j, j));
-      difference.covariance = std::max(
-          difference.covariance, std::abs(a.covariance(i, j) - b.covariance(i, j)) / covariance_scale);
+      difference.covariance =
+          std::max(difference.covariance,
+                   std::abs(a.covariance(i, j) - b.covariance(i, j)) / covariance_scale);
     }
   }
   return difference;

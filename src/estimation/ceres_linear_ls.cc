@@ -76,8 +76,9 @@ Status EstimateLinearLsWithCeres(const CalibrationTest& test, const CeresLinearL
     for (int b = a; b < kBaselineParameterCount; ++b) pairs.emplace_back(blocks[a], blocks[b]);
   }
   if (!covariance.Compute(pairs, &problem)) {
-    return Status::Error("ceres::Covariance could not compute the parameter covariance "
-                         "(the Jacobian is rank deficient at the solution)");
+    return Status::Error(
+        "ceres::Covariance could not compute the parameter covariance "
+        "(the Jacobian is rank deficient at the solution)");
   }
   BaselineFit& fit = result->fit;
   fit.sample_count = test.size();

@@ -38,8 +38,8 @@ void AxisRegressionAccumulator::Merge(const AxisRegressionAccumulator& other) {
   sum_force_force_ += other.sum_force_force_ + 2.0 * df * other.sum_force_ + n * df * df;
   sum_response_response_ +=
       other.sum_response_response_ + 2.0 * dy * other.sum_response_ + n * dy * dy;
-  sum_force_response_ += other.sum_force_response_ + dy * other.sum_force_ +
-                         df * other.sum_response_ + n * df * dy;
+  sum_force_response_ +=
+      other.sum_force_response_ + dy * other.sum_force_ + df * other.sum_response_ + n * df * dy;
   sum_force_ += other.sum_force_ + n * df;
   sum_response_ += other.sum_response_ + n * dy;
   count_ += other.count_;
@@ -70,7 +70,8 @@ void CalibrationAccumulator::Add(double theta_rad, double measured_x, double mea
 }
 
 void CalibrationAccumulator::AddTest(const CalibrationTest& test) {
-  for (int i = 0; i < test.size(); ++i) Add(test.theta_rad[i], test.measured_x[i], test.measured_y[i]);
+  for (int i = 0; i < test.size(); ++i)
+    Add(test.theta_rad[i], test.measured_x[i], test.measured_y[i]);
 }
 
 namespace {
@@ -84,8 +85,7 @@ std::string Format(const char* format, double value) {
 // Solves one axis into the rows/columns `first` (bias) and `first + 1` (scale).
 Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                  double noise_variance, const CalibrationAccumulator& statistics,
-                 double max_variance_inflation, BaselineFit* fit, int first,
-                 AxisChiSquare* chi2) {
+                 double max_variance_inflation, BaselineFit* fit, int first, AxisChiSquare* chi2) {
   const double n = static_cast<double>(axis.count());
   const double centered_ff = axis.CenteredForceForce();
   const double mean_force = axis.MeanForce();
@@ -96,13 +96,13 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
   if (!(variance_inflation <= max_variance_inflation)) {
     const double span = statistics.theta_max_rad() - statistics.theta_min_rad();
     const double force_spread = std::sqrt(centered_ff / n);
-    return Status::Error(
-        "theta spans " + Format("%.3g", span) + " rad: bias_" + axis_name + " and scale_" +
-        axis_name + " cannot be separated (the " + axis_name + " axis' specific force varies by " +
-        Format("%.2g", force_spread) + " m/s^2 rms about " + Format("%.3g", mean_force) +
-        " m/s^2, so the two estimates would be " +
-        Format("%.7f", std::sqrt(1.0 - 1.0 / variance_inflation)) +
-        " correlated); rotate the table through a wider range of angles");
+    return Status::Error("theta spans " + Format("%.3g", span) + " rad: bias_" + axis_name +
+                         " and scale_" + axis_name + " cannot be separated (the " + axis_name +
+                         " axis' specific force varies by " + Format("%.2g", force_spread) +
+                         " m/s^2 rms about " + Format("%.3g", mean_force) +
+                         " m/s^2, so the two estimates would be " +
+                         Format("%.7f", std::sqrt(1.0 - 1.0 / variance_inflation)) +
+                         " correlated); rotate the table through a wider range of angles");
   }
   const double scale = axis.CenteredForceResponse() / centered_ff;
   const double bias = axis.MeanResponse() - scale * mean_force;
@@ -111,7 +111,8 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
   fit->parameters[first] = bias;
   fit->parameters[first + 1] = scale;
   // sigma^2 (A^T A)^-1 written with centred sums, which stay accurate when mean_f is large.
-  fit->covariance(first, first) = noise_variance * (1.0 / n + mean_force * mean_force / centered_ff);
+  fit->covariance(first, first) =
+      noise_variance * (1.0 / n + mean_force * mean_force / centered_ff);
   fit->covariance(first, first + 1) = -noise_variance * mean_force / centered_ff;
   fit->covariance(first + 1, first) = fit->covariance(first, first + 1);
   fit->covariance(first + 1, first + 1) = noise_variance / centered_ff;
@@ -133,8 +134,10 @@ Status CheckPositive(double value, const char* name, const char* unit) {
 
 Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOptions& options,
                      BaselineFit* fit) {
-  ACCELCAL_RETURN_IF_ERROR(CheckPositive(options.noise_variance_x, "noise_variance_x", "(m/s^2)^2"));
-  ACCELCAL_RETURN_IF_ERROR(CheckPositive(options.noise_variance_y, "noise_variance_y", "(m/s^2)^2"));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckPositive(options.noise_variance_x, "noise_variance_x", "(m/s^2)^2"));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckPositive(options.noise_variance_y, "noise_variance_y", "(m/s^2)^2"));
   ACCELCAL_RETURN_IF_ERROR(CheckPositive(options.gravity_mps2, "g", "m/s^2"));
   if (statistics.x().count() < 3) {
     return Status::Error("the tilt test has " + std::to_string(statistics.x().count()) +

@@ -88,24 +88,31 @@ Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expect
   return Status::Ok();
 }
 
-// Time must increase strictly and uniformly (the integration uses one dt).
+// Time must increase strictly and uniformly (the integration uses one dt). The step
+// every sample is held to is the median step, so that one glitch is reported where it
+// is rather than shifting the reference for all the others.
 Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
   if (timestamp_s.size() < 2) {
     return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
                          " sample(s); at least 2 are needed to integrate");
   }
-  const double dt = (timestamp_s.back() - timestamp_s.front()) / (timestamp_s.size() - 1);
+  std::vector<double> steps(timestamp_s.size() - 1);
   for (size_t j = 1; j < timestamp_s.size(); ++j) {
-    const double step = timestamp_s[j] - timestamp_s[j - 1];
-    if (!(step > 0.0)) {
+    steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
+    if (!(steps[j - 1] > 0.0)) {
       return Status::Error(name + " is not strictly increasing: " + name + "(" +
                            std::to_string(j + 1) + ") = " + Number(timestamp_s[j]) + " s after " +
                            Number(timestamp_s[j - 1]) + " s");
     }
-    if (std::abs(step - dt) > 1e-6 * dt) {
+  }
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double dt = sorted[sorted.size() / 2];
+  for (size_t j = 0; j < steps.size(); ++j) {
+    if (std::abs(steps[j] - dt) > 1e-6 * dt) {
       return Status::Error(name + " is not uniformly spaced: " + name + "(" +
-                           std::to_string(j + 1) + ") - " + name + "(" + std::to_string(j) +
-                           ") = " + Number(step) + " s, expected dt = " + Number(dt) +
+                           std::to_string(j + 2) + ") - " + name + "(" + std::to_string(j + 1) +
+                           ") = " + Number(steps[j]) + " s, expected dt = " + Number(dt) +
                            " s; resample the run");
     }
   }
@@ -163,8 +170,9 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
 
 Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
   if (!IsDirectory(data_dir)) {
-    return Status::Error(data_dir + ": no such directory; --data_dir must name a folder "
-                                    "holding ensayo.mat (course layout) or calibration.csv");
+    return Status::Error(data_dir +
+                         ": no such directory; --data_dir must name a folder "
+                         "holding ensayo.mat (course layout) or calibration.csv");
   }
   const std::string dir = data_dir.back() == '/' ? data_dir : data_dir + "/";
   if (IsRegularFile(dir + "ensayo.mat")) {
@@ -177,8 +185,9 @@ Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
               dir + "landmarks.csv", dir + "scenario.json"};
     return Status::Ok();
   }
-  return Status::Error(data_dir + ": no course data here: expected ensayo.mat (course layout) "
-                                  "or calibration.csv (CSV layout)");
+  return Status::Error(data_dir +
+                       ": no course data here: expected ensayo.mat (course layout) "
+                       "or calibration.csv (CSV layout)");
 }
 
 Status LoadCalibrationTest(const std::string& path, CalibrationTest* test) {
@@ -243,8 +252,8 @@ Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test)
   text.reserve(text.size() + 72 * test.theta_rad.size());
   char line[128];
   for (int i = 0; i < test.size(); ++i) {
-    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", test.theta_rad[i],
-                  test.measured_x[i], test.measured_y[i]);
+    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", test.theta_rad[i], test.measured_x[i],
+                  test.measured_y[i]);
     text += line;
   }
   return WriteFileAtomically(path, text);

@@ -104,17 +104,18 @@ Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, 
       double value;
       if (!ParseFiniteNumber(cell, &value)) {
         const std::string lowered = Lower(cell);
-        const bool not_finite = lowered.find("nan") != std::string::npos ||
-                                lowered.find("inf") != std::string::npos;
-        return Status::Error(where + ", column '" + columns[c].name + "': '" + cell + "' is " +
-                             (not_finite ? "not a finite number; remove or repair the sample"
-                                         : "not a number"));
+        const bool not_finite =
+            lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
+        return Status::Error(
+            where + ", column '" + columns[c].name + "': '" + cell + "' is " +
+            (not_finite ? "not a finite number; remove or repair the sample" : "not a number"));
       }
       table->numbers[c].push_back(value);
     }
     ++table->row_count;
   }
-  if (!header_seen) return Status::Error("the file is empty; expected the header '" + expected + "'");
+  if (!header_seen)
+    return Status::Error("the file is empty; expected the header '" + expected + "'");
   if (table->row_count == 0) return Status::Error("no data rows after the header");
   return Status::Ok();
 }

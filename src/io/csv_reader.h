@@ -28,8 +28,7 @@ struct CsvTable {
 };
 
 // Reads `path`; failures carry no file name (callers add it with WithContext).
-Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& columns,
-                   CsvTable* table);
+Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& columns, CsvTable* table);
 
 // The same on text already in memory (tests and fuzzing).
 Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, CsvTable* table);

@@ -18,13 +18,28 @@ enum class Key { kInitialPosition, kInitialVelocity, kNoiseVariance, kUnknown };
 std::string FoldKey(const std::string& text) {
   auto fold = [](unsigned char latin1) -> char {
     switch (latin1) {
-      case 0xE1: case 0xC1: return 'a';
-      case 0xE9: case 0xC9: return 'e';
-      case 0xED: case 0xCD: return 'i';
-      case 0xF3: case 0xD3: return 'o';
-      case 0xFA: case 0xDA: case 0xFC: case 0xDC: return 'u';
-      case 0xF1: case 0xD1: return 'n';
-      default: return '?';
+      case 0xE1:
+      case 0xC1:
+        return 'a';
+      case 0xE9:
+      case 0xC9:
+        return 'e';
+      case 0xED:
+      case 0xCD:
+        return 'i';
+      case 0xF3:
+      case 0xD3:
+        return 'o';
+      case 0xFA:
+      case 0xDA:
+      case 0xFC:
+      case 0xDC:
+        return 'u';
+      case 0xF1:
+      case 0xD1:
+        return 'n';
+      default:
+        return '?';
     }
   };
   std::string folded;
@@ -57,8 +72,8 @@ Key Classify(const std::string& folded_key) {
   return Key::kUnknown;
 }
 
-constexpr std::array<const char*, 3> kKeyNames = {
-    "Posición inicial", "Velocidad inicial", "varianza del ruido de los acelerómetros"};
+constexpr std::array<const char*, 3> kKeyNames = {"Posición inicial", "Velocidad inicial",
+                                                  "varianza del ruido de los acelerómetros"};
 
 }  // namespace
 
@@ -114,8 +129,8 @@ Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
       }
     }
     if (key == Key::kNoiseVariance && (values[k][0] <= 0.0 || values[k][1] <= 0.0)) {
-      return Status::Error(where + ": noise variances must be positive, got [" + numbers[0] +
-                           " " + numbers[1] + "]");
+      return Status::Error(where + ": noise variances must be positive, got [" + numbers[0] + " " +
+                           numbers[1] + "]");
     }
     seen[k] = true;
   }

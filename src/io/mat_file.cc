@@ -30,23 +30,40 @@ void InstallMatioLogger() {
 
 const char* ClassName(matio_classes class_type) {
   switch (class_type) {
-    case MAT_C_CELL: return "a cell array";
-    case MAT_C_STRUCT: return "a struct";
-    case MAT_C_OBJECT: return "an object";
-    case MAT_C_CHAR: return "a char array";
-    case MAT_C_SPARSE: return "a sparse matrix";
-    case MAT_C_DOUBLE: return "double";
-    case MAT_C_SINGLE: return "single";
-    case MAT_C_INT8: return "int8";
-    case MAT_C_UINT8: return "uint8";
-    case MAT_C_INT16: return "int16";
-    case MAT_C_UINT16: return "uint16";
-    case MAT_C_INT32: return "int32";
-    case MAT_C_UINT32: return "uint32";
-    case MAT_C_INT64: return "int64";
-    case MAT_C_UINT64: return "uint64";
-    case MAT_C_FUNCTION: return "a function handle";
-    default: return "of an unknown class";
+    case MAT_C_CELL:
+      return "a cell array";
+    case MAT_C_STRUCT:
+      return "a struct";
+    case MAT_C_OBJECT:
+      return "an object";
+    case MAT_C_CHAR:
+      return "a char array";
+    case MAT_C_SPARSE:
+      return "a sparse matrix";
+    case MAT_C_DOUBLE:
+      return "double";
+    case MAT_C_SINGLE:
+      return "single";
+    case MAT_C_INT8:
+      return "int8";
+    case MAT_C_UINT8:
+      return "uint8";
+    case MAT_C_INT16:
+      return "int16";
+    case MAT_C_UINT16:
+      return "uint16";
+    case MAT_C_INT32:
+      return "int32";
+    case MAT_C_UINT32:
+      return "uint32";
+    case MAT_C_INT64:
+      return "int64";
+    case MAT_C_UINT64:
+      return "uint64";
+    case MAT_C_FUNCTION:
+      return "a function handle";
+    default:
+      return "of an unknown class";
   }
 }
 
@@ -170,8 +187,8 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
   const uint64_t rows = info->dims[0];
   const uint64_t cols = info->dims[1];
   if (rows == 0 || cols == 0) {
-    return Status::Error(where + " is empty (" + std::to_string(rows) + "x" +
-                         std::to_string(cols) + ")");
+    return Status::Error(where + " is empty (" + std::to_string(rows) + "x" + std::to_string(cols) +
+                         ")");
   }
   // A corrupted header can claim billions of values in a few bytes; do not let matio
   // allocate them. Uncompressed data needs its bytes in the file; zlib cannot expand
@@ -180,9 +197,9 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
   const uint64_t expansion = info->compression == MAT_COMPRESSION_NONE ? 1 : 1032;
   if (rows > (1ull << 31) || cols > (1ull << 31) ||
       rows * cols * element_size > impl_->file_size * expansion) {
-    return Status::Error(where + " claims " + std::to_string(rows) + "x" +
-                         std::to_string(cols) + " values, more than the " +
-                         std::to_string(impl_->file_size) + "-byte file can hold");
+    return Status::Error(where + " claims " + std::to_string(rows) + "x" + std::to_string(cols) +
+                         " values, more than the " + std::to_string(impl_->file_size) +
+                         "-byte file can hold");
   }
   Mat_Rewind(impl_->mat);
   matvar_t* var = Mat_VarRead(impl_->mat, variable.c_str());
@@ -215,9 +232,9 @@ Status WriteMatFile(const std::string& path,
     Status status;
     for (const auto& [name, matrix] : variables) {
       size_t dims[2] = {static_cast<size_t>(matrix.rows), static_cast<size_t>(matrix.cols)};
-      matvar_t* var = Mat_VarCreate(name.c_str(), MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims,
-                                    const_cast<double*>(matrix.values.data()),
-                                    MAT_F_DONT_COPY_DATA);
+      matvar_t* var =
+          Mat_VarCreate(name.c_str(), MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims,
+                        const_cast<double*>(matrix.values.data()), MAT_F_DONT_COPY_DATA);
       if (var == nullptr || Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE) != 0) {
         status = Status::Error("cannot write variable '" + name + "' to " + path);
       }

@@ -15,8 +15,7 @@ using nlohmann::json;
 Status ReadPair(const json& document, const char* key, double* first, double* second) {
   if (!document.contains(key)) return Status::Error(std::string("missing \"") + key + "\"");
   const json& value = document.at(key);
-  if (!value.is_array() || value.size() != 2 || !value[0].is_number() ||
-      !value[1].is_number()) {
+  if (!value.is_array() || value.size() != 2 || !value[0].is_number() || !value[1].is_number()) {
     return Status::Error(std::string("\"") + key + "\" must be an array of two numbers [x, y]");
   }
   *first = value[0].get<double>();
@@ -49,11 +48,10 @@ Status ParseScenarioJson(const std::string& text, RunConditions* conditions) {
   RunConditions parsed;
   ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "initial_position", &parsed.initial_position_x_m,
                                     &parsed.initial_position_y_m));
-  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "initial_velocity",
-                                    &parsed.initial_velocity_x_mps,
+  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "initial_velocity", &parsed.initial_velocity_x_mps,
                                     &parsed.initial_velocity_y_mps));
-  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "noise_variance", &parsed.noise_variance_x,
-                                    &parsed.noise_variance_y));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadPair(document, "noise_variance", &parsed.noise_variance_x, &parsed.noise_variance_y));
   if (parsed.noise_variance_x <= 0.0 || parsed.noise_variance_y <= 0.0) {
     return Status::Error("\"noise_variance\" must be positive");
   }
@@ -73,8 +71,7 @@ Status ParseScenarioJson(const std::string& text, RunConditions* conditions) {
 std::string ScenarioJson(const RunConditions& conditions) {
   json document = {
       {"initial_position", {conditions.initial_position_x_m, conditions.initial_position_y_m}},
-      {"initial_velocity",
-       {conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps}},
+      {"initial_velocity", {conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps}},
       {"noise_variance", {conditions.noise_variance_x, conditions.noise_variance_y}}};
   if (conditions.has_gravity) document["gravity"] = conditions.gravity_mps2;
   return document.dump(2) + "\n";

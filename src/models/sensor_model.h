@@ -51,8 +51,8 @@ void ProjectOnSensingAxes(const T& specific_force_x, const T& specific_force_y,
   using std::cos;
   using std::sin;
   *along_x = specific_force_x;
-  *along_y = specific_force_y * cos(nonorthogonality_rad) +
-             specific_force_x * sin(nonorthogonality_rad);
+  *along_y =
+      specific_force_y * cos(nonorthogonality_rad) + specific_force_x * sin(nonorthogonality_rad);
 }
 
 // The noiseless output of one axis for the specific force along it.

@@ -44,9 +44,10 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   std::string text =
       "accelcal linear_ls: bias and scale factor from the tilt-table test (linear least squares)\n";
   if (report.simulation_seed) {
-    text += Printf("  data         simulated in-process (seed %llu): %d samples, theta %.3f to %.3f rad\n",
-                   static_cast<unsigned long long>(*report.simulation_seed), fit.sample_count,
-                   report.theta_min_rad, report.theta_max_rad);
+    text += Printf(
+        "  data         simulated in-process (seed %llu): %d samples, theta %.3f to %.3f rad\n",
+        static_cast<unsigned long long>(*report.simulation_seed), fit.sample_count,
+        report.theta_min_rad, report.theta_max_rad);
     text += "               (no --data_dir given; try --data_dir=../shared/data/tp2-2018)\n";
   } else {
     auto file = [&](const char* role) {
@@ -61,11 +62,13 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   text += Printf("  stated noise variance x %g, y %g (m/s^2)^2; g = %g m/s^2\n\n",
                  report.noise_variance_x, report.noise_variance_y, report.gravity_mps2);
 
-  text += report.truth ? "  parameter      estimate     1 sigma  unit        truth  (est-truth)/sigma\n"
-                       : "  parameter      estimate     1 sigma  unit\n";
+  text += report.truth
+              ? "  parameter      estimate     1 sigma  unit        truth  (est-truth)/sigma\n"
+              : "  parameter      estimate     1 sigma  unit\n";
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text += Printf("  %-9s  %+.4e  %.4e  %-5s", kBaselineParameterNames[i], fit.parameters[i],
-                   sigma[i], kBaselineParameterUnits[i]);
+    text +=
+        Printf("  %-9s  %+.4e  %.4e  ", kBaselineParameterNames[i], fit.parameters[i], sigma[i]);
+    text += report.truth ? Printf("%-5s", kBaselineParameterUnits[i]) : kBaselineParameterUnits[i];
     if (report.truth) {
       text += Printf("  %+.4e  %+6.2f", (*report.truth)[i],
                      (fit.parameters[i] - (*report.truth)[i]) / sigma[i]);
@@ -74,15 +77,18 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   }
 
   const Eigen::Matrix4d correlation = fit.Correlation();
-  text += "\n  correlation   bias_x  scale_x   bias_y  scale_y\n";
+  text += "\n  correlation ";
+  for (const char* name : kBaselineParameterNames) text += Printf(" %7s", name);
+  text += "\n";
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text += Printf("  %-9s   ", kBaselineParameterNames[i]);
+    text += Printf("  %-11s ", kBaselineParameterNames[i]);
     for (int j = 0; j < kBaselineParameterCount; ++j) text += Printf(" %+7.4f", correlation(i, j));
     text += "\n";
   }
 
   text += "\n  fit vs stated noise        chi2    dof  chi2/dof  p (two-sided)\n";
-  for (const auto& [name, chi2] : {std::make_pair("x", fit.chi2_x), std::make_pair("y", fit.chi2_y)}) {
+  for (const auto& [name, chi2] :
+       {std::make_pair("x", fit.chi2_x), std::make_pair("y", fit.chi2_y)}) {
     text += Printf("  axis %s             %12.1f  %5d  %8.4f  %.3g\n", name, chi2.chi2, chi2.dof,
                    chi2.chi2 / chi2.dof, chi2.p_value);
   }
@@ -120,11 +126,11 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   ceres["converged"] = report.ceres.converged;
   ceres["iterations"] = report.ceres.iterations;
   ceres["brief_report"] = report.ceres.brief_report;
-  json["solvers"] = {{"closed_form", FitJson(fit)},
-                     {"ceres", ceres},
-                     {"max_relative_difference",
-                      {{"parameters", difference.parameters},
-                       {"covariance", difference.covariance}}}};
+  json["solvers"] = {
+      {"closed_form", FitJson(fit)},
+      {"ceres", ceres},
+      {"max_relative_difference",
+       {{"parameters", difference.parameters}, {"covariance", difference.covariance}}}};
   return json;
 }
 

@@ -35,8 +35,7 @@ class BaselineCalibrationResidual {
     AxisErrors<T> errors;
     errors.bias = bias[0];
     errors.scale = scale[0];
-    const T predicted =
-        AxisOutput(T(specific_force_mps2_), errors, 0.0, Phase::kCalibrationTest);
+    const T predicted = AxisOutput(T(specific_force_mps2_), errors, 0.0, Phase::kCalibrationTest);
     residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
     return true;
   }

@@ -31,7 +31,8 @@ CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const TiltTestTru
   test.measured_y.resize(n);
   for (int i = 0; i < n; ++i) {
     const double fraction = n > 1 ? static_cast<double>(i) / (n - 1) : 0.0;
-    const double theta = design.theta_begin_rad + fraction * (design.theta_end_rad - design.theta_begin_rad);
+    const double theta =
+        design.theta_begin_rad + fraction * (design.theta_end_rad - design.theta_begin_rad);
     double force_x;
     double force_y;
     TiltTableSpecificForce(theta, truth.angle_offset_rad, truth.gravity_mps2, &force_x, &force_y);
@@ -40,10 +41,10 @@ CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const TiltTestTru
     ProjectOnSensingAxes(force_x, force_y, truth.nonorthogonality_rad, &along_x, &along_y);
     const double u = DriftCoordinate(i, n);
     test.theta_rad[i] = theta;
-    test.measured_x[i] =
-        AxisOutput(along_x, truth.x, u, Phase::kCalibrationTest) + sigma_x * random.StandardNormal();
-    test.measured_y[i] =
-        AxisOutput(along_y, truth.y, u, Phase::kCalibrationTest) + sigma_y * random.StandardNormal();
+    test.measured_x[i] = AxisOutput(along_x, truth.x, u, Phase::kCalibrationTest) +
+                         sigma_x * random.StandardNormal();
+    test.measured_y[i] = AxisOutput(along_y, truth.y, u, Phase::kCalibrationTest) +
+                         sigma_y * random.StandardNormal();
   }
   return test;
 }

@@ -1,0 +1,225 @@
+// The linear_ls binary as a user runs it: real output on the course data, JSON with the
+// documented fields, and for every kind of bad input one line on stderr naming the file
+// (or flag), exit status 2, and no output file.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "io/course_data.h"
+#include "io/mat_file.h"
+#include "simulation/tilt_test_simulator.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+using testing::CommandResult;
+using testing::RunCommand;
+using testing::ScratchDir;
+
+constexpr char kDatos[] =
+    "Posici\xC3\xB3n inicial = [0 0]\nVelocidad inicial = [1 3]\n"
+    "varianza del ruido de los aceler\xC3\xB3metros = [0.25 0.64]\n";
+
+CommandResult RunLinearLs(const std::string& arguments) {
+  return RunCommand("'" + testing::BinaryPath("linear_ls") + "' " + arguments);
+}
+
+// A course-layout folder with a simulated test; `edit` may spoil it.
+std::string MakeDataDir(const ScratchDir& scratch, int samples = 400) {
+  TiltTestDesign design;
+  design.sample_count = samples;
+  const CalibrationTest test = SimulateTiltTest(design, CourseTableOneTruth(), 8);
+  MatMatrix tita{samples, 1, test.theta_rad};
+  MatMatrix datos{samples, 2, test.measured_x};
+  datos.values.insert(datos.values.end(), test.measured_y.begin(), test.measured_y.end());
+  EXPECT_TRUE(WriteMatFile(scratch.File("ensayo.mat"), {{"tita", tita}, {"datos", datos}}).ok());
+  scratch.Write("datos.txt", kDatos);
+  return scratch.path();
+}
+
+// The contract for bad input: status 2, exactly one line on stderr containing
+// `fragment`, nothing on stdout, and no JSON file.
+void ExpectRefused(const std::string& arguments, const std::string& fragment) {
+  ScratchDir out;
+  const std::string json = out.File("out.json");
+  const CommandResult result = RunLinearLs(arguments + " --json='" + json + "'");
+  EXPECT_EQ(result.exit_status, 2) << arguments << "\nstderr: " << result.stderr_text;
+  EXPECT_EQ(testing::CountLines(result.stderr_text), 1) << result.stderr_text;
+  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
+      << "stderr: " << result.stderr_text << "expected: " << fragment;
+  EXPECT_EQ(result.stderr_text.rfind("linear_ls: error: ", 0), 0u) << result.stderr_text;
+  EXPECT_TRUE(result.stdout_text.empty()) << result.stdout_text;
+  EXPECT_FALSE(testing::PathExists(json));
+  EXPECT_EQ(RunCommand("ls -A '" + out.path() + "'").stdout_text, "") << "partial output left";
+}
+
+TEST(LinearLsBinary, ReproducesTableOneOnTheCourseDataAndWritesJson) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  ScratchDir out;
+  const CommandResult result =
+      RunLinearLs("--data_dir='" + dir + "' --json='" + out.File("linear_ls.json") + "'");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_EQ(result.stderr_text, "");
+  EXPECT_NE(result.stdout_text.find("bias_x     +7.6664e-02  3.5354e-03  m/s^2"), std::string::npos)
+      << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("scale_y    +1.0042e-02  8.1629e-04  1"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("Termination: CONVERGENCE"), std::string::npos);
+
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("linear_ls.json")));
+  EXPECT_NEAR(json["parameters"]["bias_x"].get<double>(), 7.667e-2, 1e-5);
+  EXPECT_NEAR(json["parameters"]["scale_x"].get<double>(), -3.014e-2, 0.5e-5);
+  EXPECT_NEAR(json["parameters"]["bias_y"].get<double>(), -1.751e-2, 0.5e-5);
+  EXPECT_NEAR(json["parameters"]["scale_y"].get<double>(), 1.004e-2, 0.5e-5);
+  EXPECT_NEAR(json["stddev"]["scale_x"].get<double>(), std::sqrt(2.603e-7), 1e-7);
+  ASSERT_EQ(json["covariance"].size(), 4u);
+  ASSERT_EQ(json["covariance"][0].size(), 4u);
+  EXPECT_NEAR(json["covariance"][3][3].get<double>(), 6.663e-7, 0.5e-10);
+  EXPECT_EQ(json["parameter_order"], nlohmann::json({"bias_x", "scale_x", "bias_y", "scale_y"}));
+  EXPECT_NEAR(json["chi2"]["x"].get<double>(), 19847.931, 1e-3);
+  EXPECT_NEAR(json["chi2"]["y"].get<double>(), 19964.104, 1e-3);
+  EXPECT_EQ(json["n_samples"].get<int>(), 20001);
+  EXPECT_EQ(json["input_files"]["calibration"].get<std::string>(), dir + "/ensayo.mat");
+  EXPECT_EQ(json["input_files"]["conditions"].get<std::string>(), dir + "/datos.txt");
+  EXPECT_LT(json["solvers"]["max_relative_difference"]["parameters"].get<double>(), 1e-9);
+  EXPECT_LT(json["solvers"]["max_relative_difference"]["covariance"].get<double>(), 1e-9);
+}
+
+TEST(LinearLsBinary, RunsTheEmbeddedDefaultWithoutData) {
+  const CommandResult result = RunLinearLs("");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("simulated in-process (seed 1): 2001 samples"),
+            std::string::npos);
+  EXPECT_NE(result.stdout_text.find("(est-truth)/sigma"), std::string::npos);
+}
+
+TEST(LinearLsBinary, HelpExplainsUnitsAndExitsZero) {
+  const CommandResult result = RunLinearLs("--help");
+  EXPECT_EQ(result.exit_status, 0);
+  for (const char* fragment :
+       {"--data_dir", "--g", "m/s^2", "radians", "(m/s^2)^2", "Exit status"}) {
+    EXPECT_TRUE(result.stdout_text.find(fragment) != std::string::npos ||
+                result.stderr_text.find(fragment) != std::string::npos)
+        << fragment;
+  }
+  // Only the binary's own flags, not glog's dozens.
+  EXPECT_EQ(result.stdout_text.find("--log_dir"), std::string::npos);
+}
+
+TEST(LinearLsBinary, RefusesBadFlags) {
+  ExpectRefused("--no_such_flag=1", "unknown flag or argument '--no_such_flag=1'");
+  ExpectRefused("stray", "unknown flag or argument 'stray'");
+  ExpectRefused("--g=-9.8", "--g must be a positive number of m/s^2");
+  ExpectRefused("--g=abc", "--g='abc' is not a valid double");
+  ExpectRefused("--samples=2.5", "--samples='2.5' is not a valid int32");
+  ExpectRefused("--samples=2", "--samples must be at least 3");
+  ExpectRefused("--calibration_file=x.csv", "--calibration_file needs --conditions_file");
+}
+
+TEST(LinearLsBinary, RefusesMissingFolderFilesAndVariables) {
+  ScratchDir scratch;
+  ExpectRefused("--data_dir='" + scratch.File("absent") + "'", "absent: no such directory");
+  ExpectRefused("--data_dir='" + scratch.path() + "'", "no course data here");
+  const std::string dir = MakeDataDir(scratch);
+  std::remove(scratch.File("datos.txt").c_str());
+  ExpectRefused("--data_dir='" + dir + "'", scratch.File("datos.txt") + ": cannot open the file");
+  ASSERT_TRUE(
+      WriteMatFile(scratch.File("ensayo.mat"), {{"tita", MatMatrix{3, 1, {0, 1, 2}}}}).ok());
+  scratch.Write("datos.txt", kDatos);
+  ExpectRefused("--data_dir='" + dir + "'",
+                scratch.File("ensayo.mat") + ": variable 'datos' not found (the file has: tita)");
+}
+
+TEST(LinearLsBinary, RefusesWrongShapesNonFiniteValuesAndLengthMismatch) {
+  ScratchDir scratch;
+  const std::string dir = MakeDataDir(scratch);
+  const std::string ensayo = scratch.File("ensayo.mat");
+  MatMatrix tita{4, 1, {0, 1, 2, 3}};
+  ASSERT_TRUE(WriteMatFile(ensayo, {{"tita", tita},
+                                    {"datos", MatMatrix{4, 3, std::vector<double>(12, 1.0)}}})
+                  .ok());
+  ExpectRefused("--data_dir='" + dir + "'", ensayo + ": variable 'datos' is 4x3; expected 4x2");
+  ASSERT_TRUE(WriteMatFile(
+                  ensayo, {{"tita", tita}, {"datos", MatMatrix{3, 2, std::vector<double>(6, 1.0)}}})
+                  .ok());
+  ExpectRefused("--data_dir='" + dir + "'", "variable 'datos' has 3 rows but 'tita' has 4");
+  std::vector<double> values(8, 1.0);
+  values[5] = NAN;
+  ASSERT_TRUE(WriteMatFile(ensayo, {{"tita", tita}, {"datos", MatMatrix{4, 2, values}}}).ok());
+  ExpectRefused("--data_dir='" + dir + "'", ensayo + ": datos(2,2) is nan");
+  ASSERT_TRUE(
+      WriteMatFile(ensayo, {{"tita", MatMatrix{0, 1, {}}}, {"datos", MatMatrix{0, 2, {}}}}).ok());
+  ExpectRefused("--data_dir='" + dir + "'", ensayo + ": variable 'tita' is empty");
+}
+
+TEST(LinearLsBinary, RefusesTruncatedAndEmptyMatFiles) {
+  ScratchDir scratch;
+  const std::string dir = MakeDataDir(scratch, 3000);
+  const std::string ensayo = scratch.File("ensayo.mat");
+  const std::string bytes = testing::ReadText(ensayo);
+  scratch.Write("ensayo.mat", bytes.substr(0, bytes.size() - 1000));
+  ExpectRefused("--data_dir='" + dir + "'", ensayo + ": the file is truncated");
+  scratch.Write("ensayo.mat", "");
+  ExpectRefused("--data_dir='" + dir + "'", ensayo + ": the file is empty (0 bytes)");
+}
+
+TEST(LinearLsBinary, RefusesBadConditions) {
+  ScratchDir scratch;
+  const std::string dir = MakeDataDir(scratch);
+  const std::string datos = scratch.File("datos.txt");
+  scratch.Write(
+      "datos.txt",
+      "Posición inicial = [0 0]\nVelocidad inicial = [1 3]\nvarianza del ruido = [0 0.64]\n");
+  ExpectRefused("--data_dir='" + dir + "'", datos + ": line 3: noise variances must be positive");
+  scratch.Write("datos.txt", "Posición inicial = [0 0]\nVelocidad inicial = [1 3]\n");
+  ExpectRefused("--data_dir='" + dir + "'",
+                datos + ": missing varianza del ruido de los acelerómetros");
+}
+
+TEST(LinearLsBinary, RefusesATestThatCannotSeparateBiasFromScale) {
+  ScratchDir scratch;
+  TiltTestDesign design;
+  design.sample_count = 500;
+  design.theta_end_rad = 0.02;
+  const CalibrationTest test = SimulateTiltTest(design, CourseTableOneTruth(), 4);
+  ASSERT_TRUE(WriteCalibrationCsv(scratch.File("calibration.csv"), test).ok());
+  scratch.Write("scenario.json",
+                "{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3], \"noise_variance\": "
+                "[0.25, 0.64]}");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("calibration.csv") +
+                    ": theta spans 0.02 rad: bias_y and scale_y cannot be separated");
+}
+
+TEST(LinearLsBinary, RefusesBadCsvCellsWithLineAndColumn) {
+  ScratchDir scratch;
+  scratch.Write("calibration.csv", "theta,ax,ay\n0,1,2\n0.5,1,2\n1.0,oops,2\n");
+  scratch.Write("scenario.json",
+                "{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3], \"noise_variance\": "
+                "[0.25, 0.64]}");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("calibration.csv") + ": line 4, column 'ax': 'oops' is not a number");
+}
+
+TEST(LinearLsBinary, SingleFileFlagsOverrideTheFolder) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  const CommandResult result = RunLinearLs(
+      "--calibration_file='" + dir + "/ensayo.mat' --conditions_file='" + dir + "/datos.txt'");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("+7.6664e-02"), std::string::npos);
+}
+
+TEST(LinearLsBinary, RefusesAJsonPathInAMissingFolderAfterPrintingNothingPartial) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  ScratchDir out;
+  const CommandResult result =
+      RunLinearLs("--data_dir='" + dir + "' --json='" + out.File("no/such/dir/out.json") + "'");
+  EXPECT_EQ(result.exit_status, 2);
+  EXPECT_NE(result.stderr_text.find("--json: cannot create a file beside"), std::string::npos)
+      << result.stderr_text;
+}
+
+}  // namespace
+}  // namespace accelcal

@@ -1,0 +1,269 @@
+// The linear baseline: both solvers agree, the truth is recovered within the reported
+// sigma, the reported sigma matches the Monte Carlo spread, and a design that cannot
+// separate bias from scale is refused with a reason.
+
+#include "estimation/linear_ls.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <vector>
+
+#include "estimation/ceres_linear_ls.h"
+#include "estimation/chi_square.h"
+#include "models/tilt_table.h"
+#include "simulation/tilt_test_simulator.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+LinearLsOptions OptionsFor(const TiltTestTruth& truth) {
+  LinearLsOptions options;
+  options.gravity_mps2 = truth.gravity_mps2;
+  options.noise_variance_x = truth.noise_variance_x;
+  options.noise_variance_y = truth.noise_variance_y;
+  return options;
+}
+
+Eigen::Vector4d TruthVector(const TiltTestTruth& truth) {
+  return Eigen::Vector4d(truth.x.bias, truth.x.scale, truth.y.bias, truth.y.scale);
+}
+
+// Independent reference: the normal equations of one axis solved in long double.
+Eigen::Vector2d BatchAxisSolution(const CalibrationTest& test, bool x_axis) {
+  long double n = 0, sf = 0, sff = 0, sy = 0, sfy = 0;
+  for (int i = 0; i < test.size(); ++i) {
+    double fx;
+    double fy;
+    TiltTableSpecificForce(test.theta_rad[i], 0.0, 9.8, &fx, &fy);
+    const long double f = x_axis ? fx : fy;
+    const long double y = (x_axis ? test.measured_x[i] : test.measured_y[i]) - f;
+    n += 1;
+    sf += f;
+    sff += f * f;
+    sy += y;
+    sfy += f * y;
+  }
+  const long double determinant = n * sff - sf * sf;
+  return Eigen::Vector2d(static_cast<double>((sff * sy - sf * sfy) / determinant),
+                         static_cast<double>((n * sfy - sf * sy) / determinant));
+}
+
+TEST(LinearLs, ClosedFormAndCeresAgreeToOneInABillion) {
+  const TiltTestTruth truth = CourseTableOneTruth();
+  for (const int samples : {50, 2001, 20001}) {
+    for (const uint64_t seed : {1u, 2u, 3u}) {
+      TiltTestDesign design;
+      design.sample_count = samples;
+      const CalibrationTest test = SimulateTiltTest(design, truth, seed);
+      BaselineFit closed_form;
+      ASSERT_TRUE(EstimateLinearLs(test, OptionsFor(truth), &closed_form).ok());
+      CeresLinearLsOptions ceres_options;
+      ceres_options.model = OptionsFor(truth);
+      CeresLinearLsResult ceres;
+      const Status status = EstimateLinearLsWithCeres(test, ceres_options, &ceres);
+      ASSERT_TRUE(status.ok()) << status.message();
+      const FitDifference difference = CompareFits(closed_form, ceres.fit);
+      EXPECT_LT(difference.parameters, 1e-9) << samples << " samples, seed " << seed;
+      EXPECT_LT(difference.covariance, 1e-9) << samples << " samples, seed " << seed;
+      EXPECT_NEAR(closed_form.chi2_x.chi2, ceres.fit.chi2_x.chi2, 1e-9 * closed_form.chi2_x.chi2);
+      EXPECT_NEAR(closed_form.chi2_y.chi2, ceres.fit.chi2_y.chi2, 1e-9 * closed_form.chi2_y.chi2);
+    }
+  }
+}
+
+TEST(LinearLs, MatchesALongDoubleBatchSolutionOnANarrowOffCentreDesign) {
+  // Angles in [1.0, 1.3] rad: the specific force has a large mean and a small spread,
+  // where naive sums lose digits; the shifted sums must not.
+  TiltTestTruth truth = CourseTableOneTruth();
+  TiltTestDesign design;
+  design.sample_count = 5000;
+  design.theta_begin_rad = 1.0;
+  design.theta_end_rad = 1.3;
+  const CalibrationTest test = SimulateTiltTest(design, truth, 7);
+  BaselineFit fit;
+  ASSERT_TRUE(EstimateLinearLs(test, OptionsFor(truth), &fit).ok());
+  const Eigen::Vector2d x = BatchAxisSolution(test, true);
+  const Eigen::Vector2d y = BatchAxisSolution(test, false);
+  EXPECT_NEAR(fit.parameters[kBiasX], x[0], 1e-10 * std::abs(x[0]) + 1e-13);
+  EXPECT_NEAR(fit.parameters[kScaleX], x[1], 1e-10 * std::abs(x[1]) + 1e-13);
+  EXPECT_NEAR(fit.parameters[kBiasY], y[0], 1e-9 * std::abs(y[0]) + 1e-12);
+  EXPECT_NEAR(fit.parameters[kScaleY], y[1], 1e-9 * std::abs(y[1]) + 1e-12);
+}
+
+TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
+  const TiltTestTruth truth = CourseTableOneTruth();
+  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), truth, 11);
+  CalibrationAccumulator whole(9.8);
+  whole.AddTest(test);
+  AxisRegressionAccumulator first;
+  AxisRegressionAccumulator second;
+  for (int i = 0; i < test.size(); ++i) {
+    double fx;
+    double fy;
+    TiltTableSpecificForce(test.theta_rad[i], 0.0, 9.8, &fx, &fy);
+    (i < 700 ? first : second).Add(fx, test.measured_x[i] - fx);
+  }
+  first.Merge(second);
+  EXPECT_EQ(first.count(), whole.x().count());
+  EXPECT_NEAR(first.MeanForce(), whole.x().MeanForce(), 1e-12);
+  EXPECT_NEAR(first.CenteredForceForce(), whole.x().CenteredForceForce(),
+              1e-11 * whole.x().CenteredForceForce());
+  EXPECT_NEAR(
+      first.CenteredForceResponse(), whole.x().CenteredForceResponse(),
+      1e-11 * std::sqrt(whole.x().CenteredForceForce() * whole.x().CenteredResponseResponse()));
+  EXPECT_NEAR(first.CenteredResponseResponse(), whole.x().CenteredResponseResponse(),
+              1e-11 * whole.x().CenteredResponseResponse());
+}
+
+TEST(LinearLs, RecoversTheTruthWithinThreeSigma) {
+  const TiltTestTruth truth = CourseTableOneTruth();
+  TiltTestDesign design;
+  design.sample_count = 20001;
+  const CalibrationTest test = SimulateTiltTest(design, truth, 42);
+  BaselineFit fit;
+  ASSERT_TRUE(EstimateLinearLs(test, OptionsFor(truth), &fit).ok());
+  const Eigen::Vector4d z =
+      (fit.parameters - TruthVector(truth)).cwiseQuotient(fit.StandardDeviations());
+  EXPECT_LT(z.cwiseAbs().maxCoeff(), 3.0) << z.transpose();
+}
+
+// Reported sigma against the Monte Carlo spread, and 95% interval coverage, over 2000
+// independent tests. The standard deviation of an estimated sigma from K trials is about
+// sigma / sqrt(2K) = 1.6%; the tolerance of 7% is over 4 of those. The coverage of a
+// nominal 95% interval has a binomial sd of 0.49%; the tolerance is 2%.
+TEST(LinearLs, ReportedSigmaMatchesMonteCarloSpreadAndCovers95Percent) {
+  const TiltTestTruth truth = CourseTableOneTruth();
+  TiltTestDesign design;
+  design.sample_count = 200;
+  design.theta_begin_rad = 0.2;  // an asymmetric design, so bias and scale correlate
+  design.theta_end_rad = 4.0;
+  const int trials = 2000;
+  std::vector<Eigen::Vector4d> estimates;
+  Eigen::Matrix4d reported = Eigen::Matrix4d::Zero();
+  Eigen::Vector4i covered = Eigen::Vector4i::Zero();
+  for (int trial = 0; trial < trials; ++trial) {
+    const CalibrationTest test = SimulateTiltTest(design, truth, 2024, trial);
+    BaselineFit fit;
+    ASSERT_TRUE(EstimateLinearLs(test, OptionsFor(truth), &fit).ok());
+    estimates.push_back(fit.parameters);
+    reported = fit.covariance;  // the same design every trial: the same covariance
+    for (int i = 0; i < 4; ++i) {
+      covered[i] += std::abs(fit.parameters[i] - TruthVector(truth)[i]) <=
+                    1.959963984540054 * std::sqrt(fit.covariance(i, i));
+    }
+  }
+  Eigen::Vector4d mean = Eigen::Vector4d::Zero();
+  for (const auto& estimate : estimates) mean += estimate / trials;
+  Eigen::Matrix4d empirical = Eigen::Matrix4d::Zero();
+  for (const auto& estimate : estimates) {
+    empirical += (estimate - mean) * (estimate - mean).transpose() / (trials - 1);
+  }
+  for (int i = 0; i < 4; ++i) {
+    const double ratio = std::sqrt(empirical(i, i) / reported(i, i));
+    EXPECT_NEAR(ratio, 1.0, 0.07) << kBaselineParameterNames[i];
+    EXPECT_NEAR(covered[i] / static_cast<double>(trials), 0.95, 0.02) << kBaselineParameterNames[i];
+  }
+  // The bias/scale correlation of each axis is reproduced too (sd ~ 0.02 for K = 2000).
+  const double reported_rho = reported(0, 1) / std::sqrt(reported(0, 0) * reported(1, 1));
+  const double empirical_rho = empirical(0, 1) / std::sqrt(empirical(0, 0) * empirical(1, 1));
+  EXPECT_GT(std::abs(reported_rho), 0.3);
+  EXPECT_NEAR(empirical_rho, reported_rho, 0.07);
+}
+
+TEST(LinearLs, ChiSquareFollowsItsDistributionUnderTheStatedNoise) {
+  const TiltTestTruth truth = CourseTableOneTruth();
+  TiltTestDesign design;
+  design.sample_count = 500;
+  const int trials = 1000;
+  double sum = 0.0;
+  int rejected = 0;
+  for (int trial = 0; trial < trials; ++trial) {
+    BaselineFit fit;
+    ASSERT_TRUE(
+        EstimateLinearLs(SimulateTiltTest(design, truth, 99, trial), OptionsFor(truth), &fit).ok());
+    sum += fit.chi2_x.chi2 / fit.chi2_x.dof;
+    rejected += fit.chi2_x.p_value < 0.05;
+  }
+  // mean chi2/dof is 1 with sd sqrt(2/dof/trials) = 0.002; the 5% test rejects 5% +- 0.7%.
+  EXPECT_NEAR(sum / trials, 1.0, 0.01);
+  EXPECT_NEAR(rejected / static_cast<double>(trials), 0.05, 0.022);
+}
+
+TEST(LinearLs, WrongStatedVarianceShowsInChiSquare) {
+  TiltTestTruth truth = CourseTableOneTruth();
+  truth.noise_variance_x = 0.5;  // twice what will be stated
+  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), truth, 5);
+  LinearLsOptions options = OptionsFor(CourseTableOneTruth());
+  BaselineFit fit;
+  ASSERT_TRUE(EstimateLinearLs(test, options, &fit).ok());
+  EXPECT_NEAR(fit.chi2_x.chi2 / fit.chi2_x.dof, 2.0, 0.15);
+  EXPECT_LT(fit.chi2_x.p_value, 1e-10);
+  EXPECT_GT(fit.chi2_y.p_value, 1e-4);
+}
+
+TEST(LinearLs, RefusesATestThatSpansTooLittleToSeparateBiasFromScale) {
+  TiltTestDesign design;
+  design.sample_count = 1000;
+  design.theta_begin_rad = 0.0;
+  design.theta_end_rad = 0.02;
+  const CalibrationTest test = SimulateTiltTest(design, CourseTableOneTruth(), 3);
+  BaselineFit fit;
+  const Status status = EstimateLinearLs(test, OptionsFor(CourseTableOneTruth()), &fit);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("theta spans 0.02 rad"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("bias_y and scale_y cannot be separated"), std::string::npos)
+      << status.message();
+  // The Ceres path gives the same message rather than a rank-deficiency failure.
+  CeresLinearLsOptions ceres_options;
+  ceres_options.model = OptionsFor(CourseTableOneTruth());
+  CeresLinearLsResult ceres;
+  EXPECT_EQ(EstimateLinearLsWithCeres(test, ceres_options, &ceres).message(), status.message());
+}
+
+TEST(LinearLs, RefusesASingleAngleAndTooFewSamples) {
+  CalibrationTest test;
+  test.theta_rad = {0.5, 0.5, 0.5, 0.5};
+  test.measured_x = {1, 2, 3, 4};
+  test.measured_y = {1, 2, 3, 4};
+  BaselineFit fit;
+  Status status = EstimateLinearLs(test, OptionsFor(CourseTableOneTruth()), &fit);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("theta spans 0 rad"), std::string::npos) << status.message();
+  test.theta_rad.resize(2);
+  test.measured_x.resize(2);
+  test.measured_y.resize(2);
+  status = EstimateLinearLs(test, OptionsFor(CourseTableOneTruth()), &fit);
+  EXPECT_NE(status.message().find("at least 3"), std::string::npos) << status.message();
+}
+
+TEST(LinearLs, RefusesNonPositiveVariances) {
+  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), CourseTableOneTruth(), 3);
+  LinearLsOptions options = OptionsFor(CourseTableOneTruth());
+  options.noise_variance_y = 0.0;
+  BaselineFit fit;
+  const Status status = EstimateLinearLs(test, options, &fit);
+  EXPECT_NE(status.message().find("noise_variance_y must be a positive"), std::string::npos)
+      << status.message();
+}
+
+TEST(ChiSquare, MatchesClosedFormsAndTables) {
+  // dof 2: survival is exp(-x/2) exactly.
+  for (const double x : {0.1, 1.0, 5.0, 40.0}) {
+    EXPECT_NEAR(ChiSquareSurvival(x, 2.0), std::exp(-x / 2),
+                1e-14 * std::max(1.0, std::exp(-x / 2)));
+  }
+  EXPECT_NEAR(ChiSquareSurvival(200.0, 2.0) / std::exp(-100.0), 1.0, 1e-12);
+  // 95% quantiles from tables.
+  EXPECT_NEAR(ChiSquareCdf(3.841458820694124, 1), 0.95, 1e-12);
+  EXPECT_NEAR(ChiSquareCdf(18.307038053275146, 10), 0.95, 1e-12);
+  // Large dof: the distribution is close to N(dof, 2 dof); the median is near dof - 2/3.
+  EXPECT_NEAR(ChiSquareCdf(19999.0 - 2.0 / 3.0, 19999), 0.5, 1e-3);
+  EXPECT_NEAR(ChiSquareCdf(19999.0 + 2.0 * 200.0, 19999), 0.97725, 2e-3);
+  EXPECT_NEAR(ChiSquareTwoSidedPValue(19999.0 - 2.0 / 3.0, 19999), 1.0, 2e-3);
+}
+
+}  // namespace
+}  // namespace accelcal

@@ -1,0 +1,123 @@
+#ifndef ACCELCAL_TESTS_TEST_SUPPORT_H_
+#define ACCELCAL_TESTS_TEST_SUPPORT_H_
+
+// Helpers shared by the tests: Eigen comparisons (after manif's gtest_eigen_utils.h),
+// where the course data and the binaries are, scratch directories, and running a binary
+// to check its exit status, stdout and stderr.
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <Eigen/Core>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace accelcal {
+namespace testing {
+
+template <typename A, typename B>
+::testing::AssertionResult EigenNear(const Eigen::MatrixBase<A>& actual,
+                                     const Eigen::MatrixBase<B>& expected, double tolerance) {
+  if (actual.rows() != expected.rows() || actual.cols() != expected.cols()) {
+    return ::testing::AssertionFailure() << "shapes differ";
+  }
+  const double difference = (actual - expected).cwiseAbs().maxCoeff();
+  if (difference <= tolerance) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure()
+         << "max |difference| " << difference << " > " << tolerance << "\nactual:\n"
+         << actual << "\nexpected:\n"
+         << expected;
+}
+#define EXPECT_EIGEN_NEAR(actual, expected, tolerance) \
+  EXPECT_TRUE(::accelcal::testing::EigenNear(actual, expected, tolerance))
+
+inline bool PathExists(const std::string& path) {
+  struct stat info;
+  return stat(path.c_str(), &info) == 0;
+}
+
+// The course data: $ACCELCAL_COURSE_DATA, else ../shared/data/tp2-2018 beside the
+// repository. Empty when absent (tests then skip, saying so).
+inline std::string CourseDataDir() {
+  const char* from_environment = std::getenv("ACCELCAL_COURSE_DATA");
+  const std::string dir = from_environment != nullptr && *from_environment != '\0'
+                              ? from_environment
+                              : ACCELCAL_DEFAULT_COURSE_DATA;
+  return PathExists(dir + "/ensayo.mat") ? dir : "";
+}
+
+#define ACCELCAL_REQUIRE_COURSE_DATA(dir)                                           \
+  const std::string dir = ::accelcal::testing::CourseDataDir();                     \
+  if (dir.empty()) {                                                                \
+    GTEST_SKIP() << "course data not found: set ACCELCAL_COURSE_DATA or put it in " \
+                    "../shared/data/tp2-2018";                                      \
+  }
+
+inline std::string BinaryPath(const std::string& name) {
+  return std::string(ACCELCAL_BIN_DIR) + "/" + name;
+}
+
+// A fresh directory under $TMPDIR, removed at destruction.
+class ScratchDir {
+ public:
+  ScratchDir() {
+    const char* base = std::getenv("TMPDIR");
+    std::string pattern = std::string(base != nullptr ? base : "/tmp") + "/accelcal_test_XXXXXX";
+    path_ = mkdtemp(pattern.data()) != nullptr ? pattern : "";
+    EXPECT_FALSE(path_.empty());
+  }
+  ~ScratchDir() {
+    if (!path_.empty()) std::system(("rm -rf '" + path_ + "'").c_str());
+  }
+  const std::string& path() const { return path_; }
+  std::string File(const std::string& name) const { return path_ + "/" + name; }
+  std::string Write(const std::string& name, const std::string& contents) const {
+    std::ofstream(File(name), std::ios::binary) << contents;
+    return File(name);
+  }
+
+ private:
+  std::string path_;
+};
+
+inline std::string ReadText(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+struct CommandResult {
+  int exit_status = -1;
+  std::string stdout_text;
+  std::string stderr_text;
+};
+
+// Runs `command` through the shell with stdout and stderr captured separately.
+inline CommandResult RunCommand(const std::string& command) {
+  ScratchDir capture;
+  const std::string out = capture.File("stdout");
+  const std::string err = capture.File("stderr");
+  const int status = std::system((command + " >'" + out + "' 2>'" + err + "'").c_str());
+  CommandResult result;
+  result.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.stdout_text = ReadText(out);
+  result.stderr_text = ReadText(err);
+  return result;
+}
+
+inline int CountLines(const std::string& text) {
+  int lines = 0;
+  for (char c : text) lines += c == '\n';
+  return lines;
+}
+
+}  // namespace testing
+}  // namespace accelcal
+
+#endif  // ACCELCAL_TESTS_TEST_SUPPORT_H_
