@@ -23,7 +23,16 @@ accelcal_install_packages() {
   local sudo=""
   [ "$(id -u)" -ne 0 ] && sudo="sudo"
   export DEBIAN_FRONTEND=noninteractive
-  $sudo apt-get update -qq >/dev/null || { echo "accelcal: apt-get update failed" >&2; return 1; }
+  local log
+  log=$(mktemp)
+  if ! { $sudo apt-get update -qq && $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"; } >"$log" 2>&1; then
+    tail -20 "$log" >&2
+    echo "accelcal: apt-get install ${missing[*]} failed (log above)" >&2
+    rm -f "$log"
+    return 1
+  fi
+  rm -f "$log"
+}
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null ||
     { echo "accelcal: apt-get install ${missing[*]} failed" >&2; return 1; }
 }
