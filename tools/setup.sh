@@ -33,9 +33,6 @@ accelcal_install_packages() {
   fi
   rm -f "$log"
 }
-  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null ||
-    { echo "accelcal: apt-get install ${missing[*]} failed" >&2; return 1; }
-}
 
 # accelcal_build BUILD_DIR [extra cmake args...]
 accelcal_build() {
