@@ -25,7 +25,7 @@
 #include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/linear_ls_report.h"
-#include "simulation/tilt_test_simulator.h"
+#include "simulation/simulator.h"
 
 DEFINE_string(data_dir, "",
               "Folder with the course layout (ensayo.mat, datos.txt, ...) or the CSV layout "
@@ -80,7 +80,7 @@ Status ValidateFlags() {
 Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsReport* report) {
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
-    const TiltTestTruth truth = CourseTableOneTruth();
+    const SimulationTruth truth = CourseTableOneTruth();
     TiltTestDesign design;
     design.sample_count = FLAGS_samples;
     *test = SimulateTiltTest(design, truth, FLAGS_seed);

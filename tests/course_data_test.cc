@@ -8,7 +8,10 @@
 #include <cmath>
 
 #include "estimation/ceres_linear_ls.h"
+#include "estimation/error_budget.h"
+#include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
+#include "estimation/trajectory.h"
 #include "io/run_conditions.h"
 #include "models/tilt_table.h"
 #include "test_support.h"
@@ -158,6 +161,79 @@ TEST(CourseData, ACsvCopyGivesTheSameAnswer) {
   EXPECT_EQ(from_csv.fit.parameters, from_mat.fit.parameters);
   EXPECT_EQ(from_csv.fit.covariance, from_mat.fit.covariance);
   EXPECT_EQ(from_csv.fit.chi2_x.chi2, from_mat.fit.chi2_x.chi2);
+}
+
+// The vehicle run of the course, dead-reckoned with the baseline fit. The figures are the
+// program's; the test recomputes them independently: the endpoint by a plain double
+// loop, the noise part by brute-force impulse responses and the closed form
+// sigma^2 dt T^3 / 3, the parameter part from the analytic derivatives.
+TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  const CourseFit course = FitCourseData(dir);
+  DataFiles files;
+  ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
+  VehicleRun run;
+  ASSERT_TRUE(LoadVehicleRun(files.run, &run).ok());
+  std::vector<Landmark> landmarks;
+  ASSERT_TRUE(LoadLandmarks(files.landmarks, &landmarks).ok());
+  DeadReckoningResult result;
+  ASSERT_TRUE(DeadReckon(run, course.conditions, course.fit, TrajectoryOptions(), &result).ok());
+
+  // Pinned figures (printed by build/bin/trajectory on the course data).
+  EXPECT_NEAR(result.endpoint.x(), 468.685, 1e-3);
+  EXPECT_NEAR(result.endpoint.y(), 42.140, 1e-3);
+  EXPECT_NEAR(result.raw_endpoint.x(), 594.315, 1e-3);
+  EXPECT_NEAR(result.raw_endpoint.y(), 9.252, 1e-3);
+  EXPECT_NEAR(result.parameter_part(0, 0), 43.072, 1e-3);
+  EXPECT_NEAR(result.parameter_part(1, 1), 101.568, 1e-3);
+  EXPECT_NEAR(result.noise_part(0, 0), 191.243, 1e-3);
+  EXPECT_NEAR(result.noise_part(1, 1), 451.401, 1e-3);
+
+  // Independent: a plain loop over (m - b)/(1 + s).
+  const Eigen::Vector4d& p = course.fit.parameters;
+  double px = 0.0, py = 0.0, vx = 1.0, vy = 3.0;
+  const double dt = 0.01;
+  for (int j = 1; j < run.size(); ++j) {
+    const double ax0 = (run.measured_x[j - 1] - p[kBiasX]) / (1 + p[kScaleX]);
+    const double ax1 = (run.measured_x[j] - p[kBiasX]) / (1 + p[kScaleX]);
+    const double ay0 = (run.measured_y[j - 1] - p[kBiasY]) / (1 + p[kScaleY]);
+    const double ay1 = (run.measured_y[j] - p[kBiasY]) / (1 + p[kScaleY]);
+    const double vx1 = vx + dt / 2 * (ax0 + ax1);
+    const double vy1 = vy + dt / 2 * (ay0 + ay1);
+    px += dt / 2 * (vx + vx1);
+    py += dt / 2 * (vy + vy1);
+    vx = vx1;
+    vy = vy1;
+  }
+  EXPECT_NEAR(result.endpoint.x(), px, 1e-6);
+  EXPECT_NEAR(result.endpoint.y(), py, 1e-6);
+  // Independent: sigma^2 dt T^3 / 3 / (1 + s)^2, within the discretisation's 0.1%.
+  const double t3 = std::pow(59.99, 3);
+  EXPECT_NEAR(result.noise_part(0, 0) / (0.25 * dt * t3 / 3 / std::pow(1 + p[kScaleX], 2)), 1.0,
+              3e-3);
+  EXPECT_NEAR(result.noise_part(1, 1) / (0.64 * dt * t3 / 3 / std::pow(1 + p[kScaleY], 2)), 1.0,
+              3e-3);
+
+  const LandmarkDecision decision =
+      DecideLandmark(result.endpoint, result.covariance, landmarks, 0.01);
+  EXPECT_EQ(decision.reached, "C");
+  EXPECT_NEAR(decision.scores[2].mahalanobis2, 0.910, 1e-3);
+  EXPECT_GT(decision.scores[2].posterior, 0.999999);
+  EXPECT_NEAR(decision.scores[2].p_value, 0.634, 1e-3);
+  // Without the run's own noise (the other group bounded only the parameter terms), the
+  // ellipse is 2.3 times too small per axis: C's squared distance grows from 0.91 to 4.95
+  // (p = 0.084). C still passes here, but a 95% ellipse drawn that way covers the truth
+  // far less than 95% of the time (see trajectory_test's Monte Carlo).
+  const LandmarkDecision parameters_only =
+      DecideLandmark(result.endpoint, result.parameter_part, landmarks, 0.01);
+  EXPECT_NEAR(parameters_only.scores[2].mahalanobis2, 4.95, 0.01);
+  EXPECT_NEAR(std::sqrt(result.covariance(0, 0) / result.parameter_part(0, 0)), 2.33, 0.01);
+
+  const auto budget = ComputeErrorBudget(result, course.fit, run, course.conditions);
+  EXPECT_STREQ(budget[0].dominant, "noise");
+  EXPECT_STREQ(budget[1].dominant, "noise");
+  EXPECT_NEAR(budget[0].noise.three_sigma_m / budget[0].noise.report_m, 27.7, 0.05);
+  EXPECT_NEAR(budget[1].noise.three_sigma_m / budget[1].noise.report_m, 26.6, 0.05);
 }
 
 }  // namespace

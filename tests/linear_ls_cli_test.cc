@@ -9,7 +9,7 @@
 
 #include "io/course_data.h"
 #include "io/mat_file.h"
-#include "simulation/tilt_test_simulator.h"
+#include "simulation/simulator.h"
 #include "test_support.h"
 
 namespace accelcal {

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
+#include "models/dead_reckoning.h"
 #include "models/sensor_model.h"
 #include "models/tilt_table.h"
 
@@ -98,6 +100,71 @@ TEST(SensorModel, CompilesForCeresJetAndGivesExactDerivatives) {
   const double expected =
       (1.0 - 0.03) * (9.8 * std::sin(t) * std::cos(0.001) - 9.8 * std::cos(t) * std::sin(0.001));
   EXPECT_NEAR(output.v[0], expected, 1e-12);
+}
+
+TEST(InvertAxisOutput, InvertsTheForwardModelWithEveryRunTerm) {
+  AxisErrors<double> errors;
+  errors.bias = 0.08;
+  errors.scale = -0.03;
+  errors.scale_nonlinearity = 0.004;
+  errors.run_bias_shift = -0.05;
+  for (const double force : {-9.0, -1.0, 0.0, 0.5, 7.0}) {
+    const double output = AxisOutput(force, errors, 0.0, Phase::kVehicleRun);
+    EXPECT_NEAR(InvertAxisOutput(output, errors), force, 1e-12);
+  }
+  // Baseline: the inverse is (m - b) / (1 + s).
+  AxisErrors<double> baseline;
+  baseline.bias = 0.08;
+  baseline.scale = -0.03;
+  EXPECT_NEAR(InvertAxisOutput(2.0, baseline), (2.0 - 0.08) / 0.97, 1e-15);
+}
+
+TEST(CorrectRunSample, UndoesTheNonOrthogonalProjection) {
+  SensorErrors<double> errors;
+  errors.nonorthogonality = 0.02;
+  errors.x.bias = 0.1;
+  errors.y.scale = 0.01;
+  double along_x;
+  double along_y;
+  ProjectOnSensingAxes(1.5, -2.5, 0.02, &along_x, &along_y);
+  const double measured_x = AxisOutput(along_x, errors.x, 0.0, Phase::kVehicleRun);
+  const double measured_y = AxisOutput(along_y, errors.y, 0.0, Phase::kVehicleRun);
+  double ax;
+  double ay;
+  CorrectRunSample(measured_x, measured_y, errors, &ax, &ay);
+  EXPECT_NEAR(ax, 1.5, 1e-13);
+  EXPECT_NEAR(ay, -2.5, 1e-13);
+}
+
+double IntegrateEndpoint(const std::vector<double>& acceleration, double dt, double p0, double v0) {
+  AxisKinematics<double> state{p0, v0};
+  for (size_t j = 1; j < acceleration.size(); ++j) {
+    TrapezoidalStep(dt, acceleration[j - 1], acceleration[j], &state);
+  }
+  return state.position;
+}
+
+TEST(EndpointWeights, ReproduceTheIntegrationByLinearity) {
+  const int count = 257;
+  const double dt = 0.02;
+  std::vector<double> acceleration(count);
+  for (int j = 0; j < count; ++j) acceleration[j] = std::sin(0.1 * j) + 0.3 * std::cos(0.37 * j);
+  const std::vector<double> weights = EndpointWeights(count, dt);
+  double weighted = 0.0;
+  for (int j = 0; j < count; ++j) weighted += weights[j] * acceleration[j];
+  const double duration = dt * (count - 1);
+  EXPECT_NEAR(IntegrateEndpoint(acceleration, dt, 2.0, -1.5), 2.0 - 1.5 * duration + weighted,
+              1e-11);
+  // Each weight is the endpoint's response to a unit impulse in that sample.
+  for (const int j : {0, 1, 100, count - 2, count - 1}) {
+    std::vector<double> impulse(count, 0.0);
+    impulse[j] = 1.0;
+    EXPECT_NEAR(IntegrateEndpoint(impulse, dt, 0.0, 0.0), weights[j], 1e-14) << j;
+  }
+  // A constant acceleration a gives a T^2 / 2 exactly (the trapezoidal rule is exact).
+  double sum = 0.0;
+  for (double w : weights) sum += w;
+  EXPECT_NEAR(sum, 0.5 * duration * duration, 1e-12);
 }
 
 }  // namespace

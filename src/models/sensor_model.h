@@ -70,6 +70,44 @@ T AxisOutput(const T& specific_force_along_axis, const AxisErrors<T>& errors,
   return output;
 }
 
+// The inverse of AxisOutput in the vehicle run: the specific force along the axis that
+// produces the noiseless output `measured`. With c = b + r - m the model is
+// k2 f^2 + (1 + s) f + c = 0; the root that tends to the linear inverse (m - b - r)/(1 + s)
+// as k2 -> 0 is written without cancellation as f = -2c / ((1 + s) + sqrt((1 + s)^2 - 4 k2 c)).
+// A negative discriminant (an output no force can produce) is clamped at zero.
+template <typename T>
+T InvertAxisOutput(const T& measured, const AxisErrors<T>& errors) {
+  using std::sqrt;
+  const T one_plus_scale = T(1.0) + errors.scale;
+  const T c = errors.bias + errors.run_bias_shift - measured;
+  T discriminant = one_plus_scale * one_plus_scale - T(4.0) * errors.scale_nonlinearity * c;
+  if (discriminant < T(0.0)) discriminant = T(0.0);
+  return T(-2.0) * c / (one_plus_scale + sqrt(discriminant));
+}
+
+// Both axes of a sensor: the errors of each axis and the y axis' tilt toward x.
+template <typename T>
+struct SensorErrors {
+  AxisErrors<T> x;
+  AxisErrors<T> y;
+  T nonorthogonality = T(0.0);  // eps, rad
+};
+
+// The vehicle's acceleration (reference frame) recovered from one run sample: each axis
+// inverted, then the projection of ProjectOnSensingAxes undone,
+// fy = (f_along_y - fx sin(eps)) / cos(eps).
+template <typename T>
+void CorrectRunSample(const T& measured_x, const T& measured_y, const SensorErrors<T>& errors,
+                      T* acceleration_x, T* acceleration_y) {
+  using std::cos;
+  using std::sin;
+  const T along_x = InvertAxisOutput(measured_x, errors.x);
+  const T along_y = InvertAxisOutput(measured_y, errors.y);
+  *acceleration_x = along_x;
+  *acceleration_y =
+      (along_y - along_x * sin(errors.nonorthogonality)) / cos(errors.nonorthogonality);
+}
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_MODELS_SENSOR_MODEL_H_

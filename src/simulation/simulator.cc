@@ -1,4 +1,4 @@
-#include "simulation/tilt_test_simulator.h"
+#include "simulation/simulator.h"
 
 #include <cmath>
 
@@ -7,8 +7,8 @@
 
 namespace accelcal {
 
-TiltTestTruth CourseTableOneTruth() {
-  TiltTestTruth truth;
+SimulationTruth CourseTableOneTruth() {
+  SimulationTruth truth;
   truth.x.bias = 7.667e-2;
   truth.x.scale = -3.014e-2;
   truth.y.bias = -1.751e-2;
@@ -19,7 +19,7 @@ TiltTestTruth CourseTableOneTruth() {
   return truth;
 }
 
-CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const TiltTestTruth& truth,
+CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const SimulationTruth& truth,
                                  uint64_t seed, uint64_t stream) {
   RandomSource random(seed, stream);
   const double sigma_x = std::sqrt(truth.noise_variance_x);
@@ -47,6 +47,32 @@ CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const TiltTestTru
                          sigma_y * random.StandardNormal();
   }
   return test;
+}
+
+VehicleRun SimulateVehicleRun(const std::vector<double>& timestamp_s,
+                              const std::vector<double>& true_acceleration_x,
+                              const std::vector<double>& true_acceleration_y,
+                              const SimulationTruth& truth, uint64_t seed, uint64_t stream) {
+  // A stream of its own, so that the run's noise is independent of the tilt test's
+  // when both are simulated from one seed and stream.
+  RandomSource random(seed, ~stream);
+  const double sigma_x = std::sqrt(truth.noise_variance_x);
+  const double sigma_y = std::sqrt(truth.noise_variance_y);
+  VehicleRun run;
+  run.timestamp_s = timestamp_s;
+  run.measured_x.resize(timestamp_s.size());
+  run.measured_y.resize(timestamp_s.size());
+  for (size_t j = 0; j < timestamp_s.size(); ++j) {
+    double along_x;
+    double along_y;
+    ProjectOnSensingAxes(true_acceleration_x[j], true_acceleration_y[j], truth.nonorthogonality_rad,
+                         &along_x, &along_y);
+    run.measured_x[j] =
+        AxisOutput(along_x, truth.x, 0.0, Phase::kVehicleRun) + sigma_x * random.StandardNormal();
+    run.measured_y[j] =
+        AxisOutput(along_y, truth.y, 0.0, Phase::kVehicleRun) + sigma_y * random.StandardNormal();
+  }
+  return run;
 }
 
 }  // namespace accelcal

@@ -1,0 +1,160 @@
+// trajectory: dead reckoning of the vehicle run with the baseline's corrections, the
+// endpoint's covariance (estimated parameters and the run's own noise), and which
+// landmark the vehicle reached.
+//
+// The corrected acceleration a_j = (m_j - b)/(1 + s) is integrated twice by the
+// trapezoidal rule from p0, v0, so p_end = p0 + v0 T + sum_j w_j a_j and
+//   Cov(p_end) = J Sigma_params J^T + sum_j w_j^2 sigma^2 / (1 + s)^2   (per axis).
+// Each landmark is scored by its Mahalanobis distance; the most probable one is
+// reported as reached only if its chi-square(2) p-value is at least --alpha.
+//
+// Inputs: a data directory (course layout or CSV layout) or single files. Outputs: a
+// table on stdout, JSON (--json) and the path with its covariance as CSV (--path_csv),
+// which tools/plot_trajectory.py draws.
+//
+//   build/bin/trajectory --data_dir=../shared/data/tp2-2018 --json=t.json --path_csv=path.csv
+
+#include "estimation/trajectory.h"
+
+#include <gflags/gflags.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "estimation/error_budget.h"
+#include "estimation/landmark_decision.h"
+#include "estimation/linear_ls.h"
+#include "io/atomic_file.h"
+#include "io/course_data.h"
+#include "io/run_conditions.h"
+#include "problem_support.h"
+#include "reporting/trajectory_report.h"
+
+DEFINE_string(data_dir, "",
+              "Folder with the course layout (ensayo.mat, acel.mat, puntos.mat, datos.txt) or "
+              "the CSV layout (calibration.csv, trajectory.csv, landmarks.csv, scenario.json).");
+DEFINE_string(calibration_file, "", "Tilt test file (.mat or .csv), overriding --data_dir.");
+DEFINE_string(run_file, "",
+              "Vehicle run file, overriding --data_dir: .mat with t (Mx1, s) and Aerr (Mx2, "
+              "m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced.");
+DEFINE_string(landmarks_file, "",
+              "Landmarks file, overriding --data_dir: .mat with one 1x2 [x y] (m) per "
+              "variable, or .csv with columns name,x,y.");
+DEFINE_string(conditions_file, "",
+              "Initial position (m), initial velocity (m/s) and stated noise variances "
+              "((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
+DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test.");
+DEFINE_double(alpha, 0.01,
+              "Significance level in (0, 1): the most probable landmark is reported as reached "
+              "only if its chi-square(2) p-value is at least alpha.");
+DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
+DEFINE_string(path_csv, "",
+              "Write the corrected and raw path with its covariance (m, m^2) as CSV to this file.");
+DEFINE_int32(path_stride, 10,
+             "Keep every Nth run sample in --path_csv (>= 1; the last is always kept).");
+
+namespace accelcal {
+namespace {
+
+constexpr char kUsage[] =
+    "Dead-reckons the vehicle run corrected by the baseline fit (bias in m/s^2, scale\n"
+    "dimensionless), gives the endpoint (m) with its covariance (m^2) split into the\n"
+    "parameters' part and the run's own noise part, and decides which landmark the vehicle\n"
+    "reached. Times are in seconds, positions in metres, accelerations in m/s^2.\n"
+    "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
+    "  trajectory --data_dir=../shared/data/tp2-2018 [--json=t.json] [--path_csv=path.csv]";
+
+Status ValidateFlags() {
+  if (!(FLAGS_g > 0.0) || !std::isfinite(FLAGS_g)) {
+    return Status::Error("--g must be a positive number of m/s^2");
+  }
+  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 1.0)) return Status::Error("--alpha must be in (0, 1)");
+  if (FLAGS_path_stride < 1) return Status::Error("--path_stride must be at least 1");
+  if (FLAGS_data_dir.empty() && (FLAGS_calibration_file.empty() || FLAGS_run_file.empty() ||
+                                 FLAGS_landmarks_file.empty() || FLAGS_conditions_file.empty())) {
+    return Status::Error(
+        "give --data_dir, or all of --calibration_file, --run_file, "
+        "--landmarks_file and --conditions_file");
+  }
+  return Status::Ok();
+}
+
+struct Inputs {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+};
+
+Status Load(Inputs* inputs, TrajectoryReport* report) {
+  DataFiles files;
+  if (!FLAGS_data_dir.empty()) ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
+  if (!FLAGS_calibration_file.empty()) files.calibration = FLAGS_calibration_file;
+  if (!FLAGS_run_file.empty()) files.run = FLAGS_run_file;
+  if (!FLAGS_landmarks_file.empty()) files.landmarks = FLAGS_landmarks_file;
+  if (!FLAGS_conditions_file.empty()) files.conditions = FLAGS_conditions_file;
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
+  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
+  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &inputs->conditions));
+  report->input_files = {{"calibration", files.calibration},
+                         {"run", files.run},
+                         {"landmarks", files.landmarks},
+                         {"conditions", files.conditions}};
+  return Status::Ok();
+}
+
+Status Solve(const Inputs& inputs, TrajectoryReport* report) {
+  LinearLsOptions options;
+  options.gravity_mps2 = FLAGS_g;
+  if (inputs.conditions.has_gravity && gflags::GetCommandLineFlagInfoOrDie("g").is_default) {
+    options.gravity_mps2 = inputs.conditions.gravity_mps2;
+  }
+  options.noise_variance_x = inputs.conditions.noise_variance_x;
+  options.noise_variance_y = inputs.conditions.noise_variance_y;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, options, &report->fit)
+                               .WithContext(report->input_files["calibration"]));
+  TrajectoryOptions trajectory_options;
+  trajectory_options.path_stride = FLAGS_path_stride;
+  ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->fit,
+                                      trajectory_options, &report->trajectory)
+                               .WithContext(report->input_files["run"]));
+  report->conditions = inputs.conditions;
+  report->decision = DecideLandmark(report->trajectory.endpoint, report->trajectory.covariance,
+                                    inputs.landmarks, FLAGS_alpha);
+  report->budget =
+      ComputeErrorBudget(report->trajectory, report->fit, inputs.run, inputs.conditions);
+  return Status::Ok();
+}
+
+Status Write(const TrajectoryReport& report) {
+  if (!FLAGS_json.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(FLAGS_json, TrajectoryJson(report).dump(2) + "\n")
+                                 .WithContext("--json"));
+  }
+  if (!FLAGS_path_csv.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(
+        WriteFileAtomically(FLAGS_path_csv, TrajectoryPathCsv(report.trajectory))
+            .WithContext("--path_csv"));
+  }
+  return Status::Ok();
+}
+
+int Run(int argc, char** argv) {
+  if (!InitProblem("trajectory", kUsage, "problems/trajectory", &argc, &argv)) return kExitBadInput;
+  Status status = ValidateFlags();
+  Inputs inputs;
+  TrajectoryReport report;
+  if (status.ok()) status = Load(&inputs, &report);
+  if (status.ok()) status = Solve(inputs, &report);
+  if (!status.ok()) return ExitWithError("trajectory", status);
+  std::cout << TrajectoryTable(report) << std::flush;
+  status = Write(report);
+  if (!status.ok()) return ExitWithError("trajectory", status);
+  return 0;
+}
+
+}  // namespace
+}  // namespace accelcal
+
+int main(int argc, char** argv) { return accelcal::Run(argc, argv); }

@@ -1,0 +1,146 @@
+#include "estimation/trajectory.h"
+
+#include <ceres/jet.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "models/dead_reckoning.h"
+#include "models/sensor_model.h"
+
+namespace accelcal {
+namespace {
+
+using Jet = ceres::Jet<double, kBaselineParameterCount>;
+
+// Covariance of (p, v, a_prev) of one axis under white acceleration noise of variance q.
+// One trapezoidal step with the new acceleration noise n:
+//   p' = p + dt v + dt^2/4 (a_prev + n),  v' = v + dt/2 (a_prev + n),  a_prev' = n.
+class AxisNoisePropagator {
+ public:
+  AxisNoisePropagator(double dt_s, double acceleration_variance)
+      : variance_(acceleration_variance) {
+    transition_ << 1.0, dt_s, 0.25 * dt_s * dt_s,  //
+        0.0, 1.0, 0.5 * dt_s,                      //
+        0.0, 0.0, 0.0;
+    input_ << 0.25 * dt_s * dt_s, 0.5 * dt_s, 1.0;
+    covariance_.setZero();
+    covariance_(2, 2) = variance_;  // the first sample's noise
+  }
+
+  void Step() {
+    covariance_ = transition_ * covariance_ * transition_.transpose() +
+                  variance_ * input_ * input_.transpose();
+  }
+  double PositionVariance() const { return covariance_(0, 0); }
+
+ private:
+  double variance_;
+  Eigen::Matrix3d transition_;
+  Eigen::Vector3d input_;
+  Eigen::Matrix3d covariance_;
+};
+
+Eigen::Vector2d Values(const Jet& x, const Jet& y) { return Eigen::Vector2d(x.a, y.a); }
+
+Eigen::Matrix<double, 2, kBaselineParameterCount> Jacobian(const Jet& x, const Jet& y) {
+  Eigen::Matrix<double, 2, kBaselineParameterCount> jacobian;
+  jacobian.row(0) = x.v.transpose();
+  jacobian.row(1) = y.v.transpose();
+  return jacobian;
+}
+
+}  // namespace
+
+Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const BaselineFit& fit,
+                  const TrajectoryOptions& options, DeadReckoningResult* result) {
+  const int count = run.size();
+  if (count < 2) {
+    return Status::Error("the run has " + std::to_string(count) +
+                         " sample(s); at least 2 are needed to integrate");
+  }
+  const double duration_s = run.timestamp_s.back() - run.timestamp_s.front();
+  const double dt_s = duration_s / (count - 1);
+  if (!(dt_s > 0.0)) return Status::Error("the run's time does not increase");
+  if (!(conditions.noise_variance_x > 0.0) || !(conditions.noise_variance_y > 0.0)) {
+    return Status::Error("the run's stated noise variances must be positive");
+  }
+  if (!(1.0 + fit.parameters[kScaleX] > 0.0) || !(1.0 + fit.parameters[kScaleY] > 0.0)) {
+    return Status::Error("a scale factor error of -1 or less cannot be inverted");
+  }
+  const int stride = std::max(1, options.path_stride);
+
+  // Each parameter is a Jet variable, so every corrected acceleration, velocity and
+  // position carries its exact derivative with respect to the four parameters.
+  SensorErrors<Jet> errors;
+  errors.x.bias = Jet(fit.parameters[kBiasX], kBiasX);
+  errors.x.scale = Jet(fit.parameters[kScaleX], kScaleX);
+  errors.y.bias = Jet(fit.parameters[kBiasY], kBiasY);
+  errors.y.scale = Jet(fit.parameters[kScaleY], kScaleY);
+
+  AxisKinematics<Jet> x{Jet(conditions.initial_position_x_m),
+                        Jet(conditions.initial_velocity_x_mps)};
+  AxisKinematics<Jet> y{Jet(conditions.initial_position_y_m),
+                        Jet(conditions.initial_velocity_y_mps)};
+  AxisKinematics<double> raw_x{conditions.initial_position_x_m, conditions.initial_velocity_x_mps};
+  AxisKinematics<double> raw_y{conditions.initial_position_y_m, conditions.initial_velocity_y_mps};
+
+  // The baseline's inverse is (m - b)/(1 + s): the run's noise reaches the corrected
+  // acceleration divided by (1 + s).
+  const double one_plus_scale_x = 1.0 + fit.parameters[kScaleX];
+  const double one_plus_scale_y = 1.0 + fit.parameters[kScaleY];
+  AxisNoisePropagator noise_x(dt_s,
+                              conditions.noise_variance_x / (one_plus_scale_x * one_plus_scale_x));
+  AxisNoisePropagator noise_y(dt_s,
+                              conditions.noise_variance_y / (one_plus_scale_y * one_plus_scale_y));
+
+  result->path.clear();
+  result->path.reserve(count / stride + 2);
+  auto record = [&](int j) {
+    PathPoint point;
+    point.timestamp_s = run.timestamp_s[j];
+    point.position = Values(x.position, y.position);
+    point.raw_position = Eigen::Vector2d(raw_x.position, raw_y.position);
+    const auto jacobian = Jacobian(x.position, y.position);
+    point.parameter_covariance = jacobian * fit.covariance * jacobian.transpose();
+    point.noise_covariance =
+        Eigen::Vector2d(noise_x.PositionVariance(), noise_y.PositionVariance()).asDiagonal();
+    result->path.push_back(point);
+  };
+
+  Jet previous_x;
+  Jet previous_y;
+  CorrectRunSample(Jet(run.measured_x[0]), Jet(run.measured_y[0]), errors, &previous_x,
+                   &previous_y);
+  record(0);
+  for (int j = 1; j < count; ++j) {
+    Jet acceleration_x;
+    Jet acceleration_y;
+    CorrectRunSample(Jet(run.measured_x[j]), Jet(run.measured_y[j]), errors, &acceleration_x,
+                     &acceleration_y);
+    TrapezoidalStep(dt_s, previous_x, acceleration_x, &x);
+    TrapezoidalStep(dt_s, previous_y, acceleration_y, &y);
+    TrapezoidalStep(dt_s, run.measured_x[j - 1], run.measured_x[j], &raw_x);
+    TrapezoidalStep(dt_s, run.measured_y[j - 1], run.measured_y[j], &raw_y);
+    noise_x.Step();
+    noise_y.Step();
+    previous_x = acceleration_x;
+    previous_y = acceleration_y;
+    if (j % stride == 0 || j == count - 1) record(j);
+  }
+
+  result->endpoint = Values(x.position, y.position);
+  result->raw_endpoint = Eigen::Vector2d(raw_x.position, raw_y.position);
+  result->end_velocity = Values(x.velocity, y.velocity);
+  result->jacobian = Jacobian(x.position, y.position);
+  result->parameter_part = result->path.back().parameter_covariance;
+  result->noise_part = result->path.back().noise_covariance;
+  result->covariance = result->parameter_part + result->noise_part;
+  result->dt_s = dt_s;
+  result->duration_s = duration_s;
+  result->sample_count = count;
+  return Status::Ok();
+}
+
+}  // namespace accelcal

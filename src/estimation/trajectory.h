@@ -1,0 +1,64 @@
+#ifndef ACCELCAL_ESTIMATION_TRAJECTORY_H_
+#define ACCELCAL_ESTIMATION_TRAJECTORY_H_
+
+// Dead reckoning of the vehicle run with the baseline's estimates, and the endpoint's
+// covariance, exact for the linear-Gaussian case. It has two independent parts:
+//
+//   parameter part  J Sigma_params J^T,  J = d p_end / d (bias_x, scale_x, bias_y, scale_y),
+//                   computed exactly by running the same trapezoidal recursion in
+//                   ceres::Jet (no finite differences);
+//   noise part      the run's own white noise through the integration,
+//                   sum_j w_j^2 sigma_k^2 / (1 + s_k)^2 per axis, which no calibration
+//                   can shrink.
+//
+// Along the path the noise part is propagated as the covariance of (p, v, a_prev):
+// a_j enters two consecutive trapezoidal steps, so the previous acceleration's noise
+// is part of the state. That is O(M) and exact at every sample.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/baseline_parameters.h"
+
+namespace accelcal {
+
+struct TrajectoryOptions {
+  // Keep every path_stride-th sample in the path series (the last is always kept).
+  int path_stride = 10;
+};
+
+struct PathPoint {
+  double timestamp_s = 0.0;
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();              // corrected, m
+  Eigen::Vector2d raw_position = Eigen::Vector2d::Zero();          // raw outputs integrated, m
+  Eigen::Matrix2d parameter_covariance = Eigen::Matrix2d::Zero();  // m^2
+  Eigen::Matrix2d noise_covariance = Eigen::Matrix2d::Zero();      // m^2
+};
+
+struct DeadReckoningResult {
+  Eigen::Vector2d endpoint = Eigen::Vector2d::Zero();      // corrected, m
+  Eigen::Vector2d raw_endpoint = Eigen::Vector2d::Zero();  // uncorrected, m
+  Eigen::Vector2d end_velocity = Eigen::Vector2d::Zero();  // corrected, m/s
+  // d endpoint / d (bias_x, scale_x, bias_y, scale_y): m/(m/s^2) and m.
+  Eigen::Matrix<double, 2, kBaselineParameterCount> jacobian =
+      Eigen::Matrix<double, 2, kBaselineParameterCount>::Zero();
+  Eigen::Matrix2d parameter_part = Eigen::Matrix2d::Zero();  // m^2
+  Eigen::Matrix2d noise_part = Eigen::Matrix2d::Zero();      // m^2
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();      // sum of the two, m^2
+  double dt_s = 0.0;
+  double duration_s = 0.0;  // t_last - t_first
+  int sample_count = 0;
+  std::vector<PathPoint> path;
+};
+
+// Corrects every run sample with `fit` (inverting the sensor model), integrates from the
+// initial conditions, and propagates both covariance parts. The noise part uses the
+// stated variances of `conditions`.
+Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const BaselineFit& fit,
+                  const TrajectoryOptions& options, DeadReckoningResult* result);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_TRAJECTORY_H_

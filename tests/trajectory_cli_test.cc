@@ -1,0 +1,154 @@
+// The trajectory binary as a user runs it: the decision and figures on the course data,
+// the JSON and path CSV it writes, and the bad-input contract for the run, landmarks
+// and initial conditions (one line on stderr naming the file, exit 2, nothing written).
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "io/course_data.h"
+#include "io/mat_file.h"
+#include "simulation/simulator.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+using testing::CommandResult;
+using testing::RunCommand;
+using testing::ScratchDir;
+
+CommandResult RunTrajectory(const std::string& arguments) {
+  return RunCommand("'" + testing::BinaryPath("trajectory") + "' " + arguments);
+}
+
+// A CSV-layout folder with a simulated test, a 200-sample run and two landmarks.
+void MakeCsvDataDir(const ScratchDir& scratch) {
+  TiltTestDesign design;
+  design.sample_count = 500;
+  ASSERT_TRUE(WriteCalibrationCsv(scratch.File("calibration.csv"),
+                                  SimulateTiltTest(design, CourseTableOneTruth(), 1))
+                  .ok());
+  std::string run = "t,ax,ay\n";
+  for (int j = 0; j < 200; ++j) run += std::to_string(0.01 * j) + ",0.1,-0.2\n";
+  scratch.Write("trajectory.csv", run);
+  scratch.Write("landmarks.csv", "name,x,y\nA,2,6\nB,40,-3\n");
+  scratch.Write("scenario.json",
+                "{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3], \"noise_variance\": "
+                "[0.25, 0.64]}");
+}
+
+void ExpectRefused(const std::string& arguments, const std::string& fragment) {
+  ScratchDir out;
+  const CommandResult result = RunTrajectory(arguments + " --json='" + out.File("t.json") +
+                                             "' --path_csv='" + out.File("path.csv") + "'");
+  EXPECT_EQ(result.exit_status, 2) << arguments << "\nstderr: " << result.stderr_text;
+  EXPECT_EQ(testing::CountLines(result.stderr_text), 1) << result.stderr_text;
+  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
+      << "stderr: " << result.stderr_text << "expected: " << fragment;
+  EXPECT_TRUE(result.stdout_text.empty()) << result.stdout_text;
+  EXPECT_EQ(RunCommand("ls -A '" + out.path() + "'").stdout_text, "") << "partial output left";
+}
+
+TEST(TrajectoryBinary, DecidesCOnTheCourseDataAndWritesJsonAndPath) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  ScratchDir out;
+  const CommandResult result =
+      RunTrajectory("--data_dir='" + dir + "' --json='" + out.File("t.json") + "' --path_csv='" +
+                    out.File("path.csv") + "'");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("verdict: the vehicle reached C"), std::string::npos)
+      << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("corrected         468.685     42.140"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("is 27.7 times too small"), std::string::npos);
+
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("t.json")));
+  EXPECT_EQ(json["reached"], "C");
+  EXPECT_NEAR(json["endpoint"]["x"].get<double>(), 468.685, 1e-3);
+  EXPECT_NEAR(json["endpoint"]["y"].get<double>(), 42.140, 1e-3);
+  EXPECT_NEAR(json["raw_endpoint"]["x"].get<double>(), 594.315, 1e-3);
+  EXPECT_NEAR(json["p_value"].get<double>(), 0.634, 1e-3);
+  const auto& total = json["endpoint_covariance"];
+  const auto& parameter = json["parameter_part"];
+  const auto& noise = json["noise_part"];
+  for (int i = 0; i < 2; ++i) {
+    for (int j = 0; j < 2; ++j) {
+      EXPECT_NEAR(total[i][j].get<double>(),
+                  parameter[i][j].get<double>() + noise[i][j].get<double>(), 1e-9);
+    }
+  }
+  ASSERT_EQ(json["landmarks"].size(), 4u);
+  double posterior_sum = 0.0;
+  for (const auto& landmark : json["landmarks"])
+    posterior_sum += landmark["posterior"].get<double>();
+  EXPECT_NEAR(posterior_sum, 1.0, 1e-12);
+  EXPECT_EQ(json["landmarks"][2]["name"], "C");
+  EXPECT_NEAR(json["landmarks"][2]["mahalanobis2"].get<double>(), 0.910, 1e-3);
+
+  const std::string path = testing::ReadText(out.File("path.csv"));
+  EXPECT_EQ(path.rfind("t_s,x_m,y_m,raw_x_m,raw_y_m,cov_xx", 0), 0u);
+  EXPECT_EQ(testing::CountLines(path), 1 + 600 + 1);  // header, samples 0, 10, ..., 5990, and 5999
+}
+
+TEST(TrajectoryBinary, RunsOnTheCsvLayout) {
+  ScratchDir scratch;
+  MakeCsvDataDir(scratch);
+  const CommandResult result = RunTrajectory("--data_dir='" + scratch.path() + "'");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("verdict:"), std::string::npos);
+}
+
+TEST(TrajectoryBinary, RefusesARunWhoseTimeIsNotUniformlyIncreasing) {
+  ScratchDir scratch;
+  MakeCsvDataDir(scratch);
+  const std::string run = scratch.File("trajectory.csv");
+  scratch.Write("trajectory.csv", "t,ax,ay\n0,1,1\n0.01,1,1\n0.03,1,1\n0.04,1,1\n0.05,1,1\n");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                run + ": t is not uniformly spaced: t(3) - t(2) = 0.02 s");
+  scratch.Write("trajectory.csv", "t,ax,ay\n0,1,1\n0.01,1,1\n0.005,1,1\n");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                run + ": t is not strictly increasing: t(3) = 0.005 s");
+  scratch.Write("trajectory.csv", "t,ax,ay\n0,1,1\n");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                run + ": the run has 1 sample(s); at least 2 are needed");
+}
+
+TEST(TrajectoryBinary, RefusesAMatRunWithBadTime) {
+  ScratchDir scratch;
+  MakeCsvDataDir(scratch);
+  const std::string acel = scratch.File("acel.mat");
+  ASSERT_TRUE(WriteMatFile(acel, {{"t", MatMatrix{4, 1, {0, 0.01, 0.01, 0.03}}},
+                                  {"Aerr", MatMatrix{4, 2, std::vector<double>(8, 0.0)}}})
+                  .ok());
+  ExpectRefused("--data_dir='" + scratch.path() + "' --run_file='" + acel + "'",
+                acel + ": t is not strictly increasing: t(3) = 0.01 s after 0.01 s");
+}
+
+TEST(TrajectoryBinary, RefusesMissingInitialVelocityAndBadLandmarks) {
+  ScratchDir scratch;
+  MakeCsvDataDir(scratch);
+  scratch.Write("scenario.json",
+                "{\"initial_position\": [0, 0], \"noise_variance\": [0.25, 0.64]}");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("scenario.json") + ": missing \"initial_velocity\"");
+  MakeCsvDataDir(scratch);
+  scratch.Write("landmarks.csv", "name,x,y\nA,2,6\nA,40,-3\n");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("landmarks.csv") + ": landmark 'A' is listed twice");
+  scratch.Write("landmarks.csv", "name,x,y\n");
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("landmarks.csv") + ": no data rows after the header");
+  std::remove(scratch.File("landmarks.csv").c_str());
+  ExpectRefused("--data_dir='" + scratch.path() + "'",
+                scratch.File("landmarks.csv") + ": cannot open the file");
+}
+
+TEST(TrajectoryBinary, RefusesBadFlags) {
+  ExpectRefused("", "give --data_dir, or all of --calibration_file");
+  ExpectRefused("--data_dir=. --alpha=1.5", "--alpha must be in (0, 1)");
+  ExpectRefused("--data_dir=. --path_stride=0", "--path_stride must be at least 1");
+}
+
+}  // namespace
+}  // namespace accelcal
