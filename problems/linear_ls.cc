@@ -90,18 +90,17 @@ Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsRepor
     report->truth = Eigen::Vector4d(truth.x.bias, truth.x.scale, truth.y.bias, truth.y.scale);
     return Status::Ok();
   }
+  DataFiles overrides;
+  overrides.calibration = FLAGS_calibration_file;
+  overrides.conditions = FLAGS_conditions_file;
   DataFiles files;
-  if (!FLAGS_data_dir.empty()) ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
-  if (!FLAGS_calibration_file.empty()) files.calibration = FLAGS_calibration_file;
-  if (!FLAGS_conditions_file.empty()) files.conditions = FLAGS_conditions_file;
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
   ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, test));
   RunConditions conditions;
   ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &conditions));
   options->noise_variance_x = conditions.noise_variance_x;
   options->noise_variance_y = conditions.noise_variance_y;
-  if (conditions.has_gravity && gflags::GetCommandLineFlagInfoOrDie("g").is_default) {
-    options->gravity_mps2 = conditions.gravity_mps2;
-  }
+  options->gravity_mps2 = ChooseGravity(conditions, FLAGS_g);
   report->input_files = {{"calibration", files.calibration}, {"conditions", files.conditions}};
   return Status::Ok();
 }

@@ -13,6 +13,7 @@
 #include <iostream>
 #include <string>
 
+#include "common/measurements.h"
 #include "common/status.h"
 
 namespace accelcal {
@@ -87,6 +88,13 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
   if (FLAGS_v <= 0) FLAGS_minloglevel = google::GLOG_WARNING;
   google::InitGoogleLogging(program);
   return true;
+}
+
+// g for the tilt test: `flag_g` (the binary's --g) when given on the command line, else
+// the data's own (scenario.json may state it), else the flag's default.
+inline double ChooseGravity(const RunConditions& conditions, double flag_g) {
+  const bool flag_given = !gflags::GetCommandLineFlagInfoOrDie("g").is_default;
+  return conditions.has_gravity && !flag_given ? conditions.gravity_mps2 : flag_g;
 }
 
 }  // namespace accelcal

@@ -87,12 +87,10 @@ struct Inputs {
 };
 
 Status Load(Inputs* inputs, TrajectoryReport* report) {
+  const DataFiles overrides{DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file,
+                            FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
-  if (!FLAGS_data_dir.empty()) ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
-  if (!FLAGS_calibration_file.empty()) files.calibration = FLAGS_calibration_file;
-  if (!FLAGS_run_file.empty()) files.run = FLAGS_run_file;
-  if (!FLAGS_landmarks_file.empty()) files.landmarks = FLAGS_landmarks_file;
-  if (!FLAGS_conditions_file.empty()) files.conditions = FLAGS_conditions_file;
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
   ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
   ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
   ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
@@ -106,10 +104,7 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
 
 Status Solve(const Inputs& inputs, TrajectoryReport* report) {
   LinearLsOptions options;
-  options.gravity_mps2 = FLAGS_g;
-  if (inputs.conditions.has_gravity && gflags::GetCommandLineFlagInfoOrDie("g").is_default) {
-    options.gravity_mps2 = inputs.conditions.gravity_mps2;
-  }
+  options.gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
   options.noise_variance_x = inputs.conditions.noise_variance_x;
   options.noise_variance_y = inputs.conditions.noise_variance_y;
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, options, &report->fit)

@@ -221,5 +221,28 @@ TEST(LinearLsBinary, RefusesAJsonPathInAMissingFolderAfterPrintingNothingPartial
       << result.stderr_text;
 }
 
+
+TEST(LinearLsBinary, UsesTheScenariosGravityUnlessTheFlagIsGiven) {
+  ScratchDir scratch;
+  TiltTestDesign design;
+  design.sample_count = 300;
+  ASSERT_TRUE(WriteCalibrationCsv(scratch.File("calibration.csv"),
+                                  SimulateTiltTest(design, CourseTableOneTruth(), 6))
+                  .ok());
+  scratch.Write("scenario.json",
+                "{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3], "
+                "\"noise_variance\": [0.25, 0.64], \"gravity\": 9.81}");
+  auto gravity_used = [&](const std::string& flags) {
+    const std::string json = scratch.File("out.json");
+    const CommandResult result =
+        RunLinearLs("--data_dir='" + scratch.path() + "' --json='" + json + "' " + flags);
+    EXPECT_EQ(result.exit_status, 0) << result.stderr_text;
+    return nlohmann::json::parse(testing::ReadText(json))["gravity_mps2"].get<double>();
+  };
+  EXPECT_EQ(gravity_used(""), 9.81);
+  EXPECT_EQ(gravity_used("--g=9.8"), 9.8);
+  EXPECT_EQ(gravity_used("--g=9.7"), 9.7);
+}
+
 }  // namespace
 }  // namespace accelcal

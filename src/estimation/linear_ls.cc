@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/format.h"
 #include "estimation/chi_square.h"
 #include "models/tilt_table.h"
 
@@ -76,12 +77,6 @@ void CalibrationAccumulator::AddTest(const CalibrationTest& test) {
 
 namespace {
 
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
-
 // Solves one axis into the rows/columns `first` (bias) and `first + 1` (scale).
 Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                  double noise_variance, const CalibrationAccumulator& statistics,
@@ -96,12 +91,12 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
   if (!(variance_inflation <= max_variance_inflation)) {
     const double span = statistics.theta_max_rad() - statistics.theta_min_rad();
     const double force_spread = std::sqrt(centered_ff / n);
-    return Status::Error("theta spans " + Format("%.3g", span) + " rad: bias_" + axis_name +
+    return Status::Error("theta spans " + StringPrintf("%.3g", span) + " rad: bias_" + axis_name +
                          " and scale_" + axis_name + " cannot be separated (the " + axis_name +
-                         " axis' specific force varies by " + Format("%.2g", force_spread) +
-                         " m/s^2 rms about " + Format("%.3g", mean_force) +
+                         " axis' specific force varies by " + StringPrintf("%.2g", force_spread) +
+                         " m/s^2 rms about " + StringPrintf("%.3g", mean_force) +
                          " m/s^2, so the two estimates would be " +
-                         Format("%.7f", std::sqrt(1.0 - 1.0 / variance_inflation)) +
+                         StringPrintf("%.7f", std::sqrt(1.0 - 1.0 / variance_inflation)) +
                          " correlated); rotate the table through a wider range of angles");
   }
   const double scale = axis.CenteredForceResponse() / centered_ff;
@@ -125,7 +120,7 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
 Status CheckPositive(double value, const char* name, const char* unit) {
   if (!(value > 0.0) || !std::isfinite(value)) {
     return Status::Error(std::string(name) + " must be a positive finite number in " + unit +
-                         ", got " + Format("%g", value));
+                         ", got " + StringPrintf("%g", value));
   }
   return Status::Ok();
 }

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <set>
 
+#include "common/format.h"
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/mat_file.h"
@@ -33,12 +34,6 @@ std::string Shape(const MatMatrix& matrix) {
   return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
 }
 
-std::string Number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", value);
-  return text;
-}
-
 // A column vector (Nx1) or a row vector (1xN), as MATLAB users write either.
 Status ReadVector(MatFileReader* reader, const std::string& name, const std::string& meaning,
                   std::vector<double>* values) {
@@ -51,8 +46,8 @@ Status ReadVector(MatFileReader* reader, const std::string& name, const std::str
   *values = matrix.values;
   for (size_t i = 0; i < values->size(); ++i) {
     if (!std::isfinite((*values)[i])) {
-      return Status::Error(name + "(" + std::to_string(i + 1) + ") is " + Number((*values)[i]) +
-                           "; remove or repair the sample");
+      return Status::Error(name + "(" + std::to_string(i + 1) + ") is " +
+                           StringPrintf("%.6g", (*values)[i]) + "; remove or repair the sample");
     }
   }
   return Status::Ok();
@@ -79,7 +74,8 @@ Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expect
     for (int row = 0; row < matrix.rows; ++row) {
       if (!std::isfinite(matrix(row, col))) {
         return Status::Error(name + "(" + std::to_string(row + 1) + "," + std::to_string(col + 1) +
-                             ") is " + Number(matrix(row, col)) + "; remove or repair the sample");
+                             ") is " + StringPrintf("%.6g", matrix(row, col)) +
+                             "; remove or repair the sample");
       }
     }
   }
@@ -101,8 +97,8 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
     steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
     if (!(steps[j - 1] > 0.0)) {
       return Status::Error(name + " is not strictly increasing: " + name + "(" +
-                           std::to_string(j + 1) + ") = " + Number(timestamp_s[j]) + " s after " +
-                           Number(timestamp_s[j - 1]) + " s");
+                           std::to_string(j + 1) + ") = " + StringPrintf("%.6g", timestamp_s[j]) +
+                           " s after " + StringPrintf("%.6g", timestamp_s[j - 1]) + " s");
     }
   }
   std::vector<double> sorted = steps;
@@ -110,10 +106,10 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
   const double dt = sorted[sorted.size() / 2];
   for (size_t j = 0; j < steps.size(); ++j) {
     if (std::abs(steps[j] - dt) > 1e-6 * dt) {
-      return Status::Error(name + " is not uniformly spaced: " + name + "(" +
-                           std::to_string(j + 2) + ") - " + name + "(" + std::to_string(j + 1) +
-                           ") = " + Number(steps[j]) + " s, expected dt = " + Number(dt) +
-                           " s; resample the run");
+      return Status::Error(
+          name + " is not uniformly spaced: " + name + "(" + std::to_string(j + 2) + ") - " + name +
+          "(" + std::to_string(j + 1) + ") = " + StringPrintf("%.6g", steps[j]) +
+          " s, expected dt = " + StringPrintf("%.6g", dt) + " s; resample the run");
     }
   }
   return Status::Ok();
@@ -188,6 +184,17 @@ Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
   return Status::Error(data_dir +
                        ": no course data here: expected ensayo.mat (course layout) "
                        "or calibration.csv (CSV layout)");
+}
+
+Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides, DataFiles* files) {
+  DataFiles resolved;
+  if (!data_dir.empty()) ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &resolved));
+  for (const auto member :
+       {&DataFiles::calibration, &DataFiles::run, &DataFiles::landmarks, &DataFiles::conditions}) {
+    if (!(overrides.*member).empty()) resolved.*member = overrides.*member;
+  }
+  *files = resolved;
+  return Status::Ok();
 }
 
 Status LoadCalibrationTest(const std::string& path, CalibrationTest* test) {

@@ -39,6 +39,11 @@ struct DataFiles {
 // layout when calibration.csv is. Files are not opened here.
 Status ResolveDataFiles(const std::string& data_dir, DataFiles* files);
 
+// The same, then every non-empty path of `overrides` replaces the folder's file (the
+// binaries' --calibration_file, --run_file, ... flags). With an empty `data_dir` the
+// files are the overrides alone.
+Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides, DataFiles* files);
+
 Status LoadCalibrationTest(const std::string& path, CalibrationTest* test);
 Status LoadVehicleRun(const std::string& path, VehicleRun* run);
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);

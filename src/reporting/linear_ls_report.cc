@@ -1,19 +1,9 @@
 #include "reporting/linear_ls_report.h"
 
-#include <cstdarg>
-#include <cstdio>
+#include "common/format.h"
 
 namespace accelcal {
 namespace {
-
-std::string Printf(const char* format, ...) {
-  char buffer[512];
-  va_list arguments;
-  va_start(arguments, format);
-  std::vsnprintf(buffer, sizeof(buffer), format, arguments);
-  va_end(arguments);
-  return buffer;
-}
 
 nlohmann::json Named(const Eigen::Vector4d& values) {
   nlohmann::json object = nlohmann::json::object();
@@ -44,7 +34,7 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   std::string text =
       "accelcal linear_ls: bias and scale factor from the tilt-table test (linear least squares)\n";
   if (report.simulation_seed) {
-    text += Printf(
+    text += StringPrintf(
         "  data         simulated in-process (seed %llu): %d samples, theta %.3f to %.3f rad\n",
         static_cast<unsigned long long>(*report.simulation_seed), fit.sample_count,
         report.theta_min_rad, report.theta_max_rad);
@@ -54,47 +44,49 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
       const auto found = report.input_files.find(role);
       return found == report.input_files.end() ? std::string("-") : found->second;
     };
-    text += Printf("  calibration  %s (%d samples, theta %.3f to %.3f rad)\n",
-                   file("calibration").c_str(), fit.sample_count, report.theta_min_rad,
-                   report.theta_max_rad);
-    text += Printf("  conditions   %s\n", file("conditions").c_str());
+    text += StringPrintf("  calibration  %s (%d samples, theta %.3f to %.3f rad)\n",
+                         file("calibration").c_str(), fit.sample_count, report.theta_min_rad,
+                         report.theta_max_rad);
+    text += StringPrintf("  conditions   %s\n", file("conditions").c_str());
   }
-  text += Printf("  stated noise variance x %g, y %g (m/s^2)^2; g = %g m/s^2\n\n",
-                 report.noise_variance_x, report.noise_variance_y, report.gravity_mps2);
+  text += StringPrintf("  stated noise variance x %g, y %g (m/s^2)^2; g = %g m/s^2\n\n",
+                       report.noise_variance_x, report.noise_variance_y, report.gravity_mps2);
 
   text += report.truth
               ? "  parameter      estimate     1 sigma  unit        truth  (est-truth)/sigma\n"
               : "  parameter      estimate     1 sigma  unit\n";
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text +=
-        Printf("  %-9s  %+.4e  %.4e  ", kBaselineParameterNames[i], fit.parameters[i], sigma[i]);
-    text += report.truth ? Printf("%-5s", kBaselineParameterUnits[i]) : kBaselineParameterUnits[i];
+    text += StringPrintf("  %-9s  %+.4e  %.4e  ", kBaselineParameterNames[i], fit.parameters[i],
+                         sigma[i]);
+    text += report.truth ? StringPrintf("%-5s", kBaselineParameterUnits[i])
+                         : kBaselineParameterUnits[i];
     if (report.truth) {
-      text += Printf("  %+.4e  %+6.2f", (*report.truth)[i],
-                     (fit.parameters[i] - (*report.truth)[i]) / sigma[i]);
+      text += StringPrintf("  %+.4e  %+6.2f", (*report.truth)[i],
+                           (fit.parameters[i] - (*report.truth)[i]) / sigma[i]);
     }
     text += "\n";
   }
 
   const Eigen::Matrix4d correlation = fit.Correlation();
   text += "\n  correlation ";
-  for (const char* name : kBaselineParameterNames) text += Printf(" %7s", name);
+  for (const char* name : kBaselineParameterNames) text += StringPrintf(" %7s", name);
   text += "\n";
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text += Printf("  %-11s ", kBaselineParameterNames[i]);
-    for (int j = 0; j < kBaselineParameterCount; ++j) text += Printf(" %+7.4f", correlation(i, j));
+    text += StringPrintf("  %-11s ", kBaselineParameterNames[i]);
+    for (int j = 0; j < kBaselineParameterCount; ++j)
+      text += StringPrintf(" %+7.4f", correlation(i, j));
     text += "\n";
   }
 
   text += "\n  fit vs stated noise        chi2    dof  chi2/dof  p (two-sided)\n";
   for (const auto& [name, chi2] :
        {std::make_pair("x", fit.chi2_x), std::make_pair("y", fit.chi2_y)}) {
-    text += Printf("  axis %s             %12.1f  %5d  %8.4f  %.3g\n", name, chi2.chi2, chi2.dof,
-                   chi2.chi2 / chi2.dof, chi2.p_value);
+    text += StringPrintf("  axis %s             %12.1f  %5d  %8.4f  %.3g\n", name, chi2.chi2,
+                         chi2.dof, chi2.chi2 / chi2.dof, chi2.p_value);
   }
 
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
-  text += Printf(
+  text += StringPrintf(
       "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e "
       "(relative to sqrt(C_ii C_jj))\n",
       difference.parameters, difference.covariance);

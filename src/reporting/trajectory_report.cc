@@ -1,20 +1,11 @@
 #include "reporting/trajectory_report.h"
 
 #include <cmath>
-#include <cstdarg>
-#include <cstdio>
+
+#include "common/format.h"
 
 namespace accelcal {
 namespace {
-
-std::string Printf(const char* format, ...) {
-  char buffer[1024];
-  va_list arguments;
-  va_start(arguments, format);
-  std::vsnprintf(buffer, sizeof(buffer), format, arguments);
-  va_end(arguments);
-  return buffer;
-}
 
 nlohmann::json Matrix2(const Eigen::Matrix2d& m) {
   return {{m(0, 0), m(0, 1)}, {m(1, 0), m(1, 1)}};
@@ -26,12 +17,12 @@ std::string DecisionLine(const LandmarkDecision& decision) {
   if (decision.best < 0) return "no landmarks to decide among";
   const LandmarkScore& best = decision.scores[decision.best];
   if (decision.consistent) {
-    return Printf(
+    return StringPrintf(
         "the vehicle reached %s (posterior %.4f under equal priors; its Mahalanobis "
         "distance %.2f has p-value %.3g)",
         best.landmark.name.c_str(), best.posterior, std::sqrt(best.mahalanobis2), best.p_value);
   }
-  return Printf(
+  return StringPrintf(
       "no landmark is consistent with the endpoint: the closest, %s, is at Mahalanobis "
       "distance %.2f (p-value %.3g < alpha %.3g)",
       best.landmark.name.c_str(), std::sqrt(best.mahalanobis2), best.p_value, decision.alpha);
@@ -47,36 +38,39 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
     const auto found = report.input_files.find(role);
     return found == report.input_files.end() ? std::string("-") : found->second;
   };
-  text += Printf("  run          %s (%d samples, dt %.4g s, %.2f s)\n", file("run").c_str(),
-                 t.sample_count, t.dt_s, t.duration_s);
-  text += Printf("  start        p0 = (%g, %g) m, v0 = (%g, %g) m/s  [%s]\n",
-                 report.conditions.initial_position_x_m, report.conditions.initial_position_y_m,
-                 report.conditions.initial_velocity_x_mps, report.conditions.initial_velocity_y_mps,
-                 file("conditions").c_str());
-  text += Printf("  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
-                 file("calibration").c_str(), report.fit.parameters[kBiasX],
-                 report.fit.parameters[kScaleX], report.fit.parameters[kBiasY],
-                 report.fit.parameters[kScaleY]);
+  text += StringPrintf("  run          %s (%d samples, dt %.4g s, %.2f s)\n", file("run").c_str(),
+                       t.sample_count, t.dt_s, t.duration_s);
+  text +=
+      StringPrintf("  start        p0 = (%g, %g) m, v0 = (%g, %g) m/s  [%s]\n",
+                   report.conditions.initial_position_x_m, report.conditions.initial_position_y_m,
+                   report.conditions.initial_velocity_x_mps,
+                   report.conditions.initial_velocity_y_mps, file("conditions").c_str());
+  text += StringPrintf(
+      "  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
+      file("calibration").c_str(), report.fit.parameters[kBiasX], report.fit.parameters[kScaleX],
+      report.fit.parameters[kBiasY], report.fit.parameters[kScaleY]);
   text += "\n  verdict: " + DecisionLine(report.decision) + "\n\n";
 
   text += "  endpoint            x (m)      y (m)   1 sigma x, y (m)\n";
-  text += Printf("  corrected      %10.3f %10.3f   %.2f, %.2f\n", t.endpoint.x(), t.endpoint.y(),
-                 std::sqrt(t.covariance(0, 0)), std::sqrt(t.covariance(1, 1)));
-  text += Printf("  raw            %10.3f %10.3f\n\n", t.raw_endpoint.x(), t.raw_endpoint.y());
+  text +=
+      StringPrintf("  corrected      %10.3f %10.3f   %.2f, %.2f\n", t.endpoint.x(), t.endpoint.y(),
+                   std::sqrt(t.covariance(0, 0)), std::sqrt(t.covariance(1, 1)));
+  text +=
+      StringPrintf("  raw            %10.3f %10.3f\n\n", t.raw_endpoint.x(), t.raw_endpoint.y());
 
   text += "  endpoint covariance (m^2)        xx         xy         yy\n";
   for (const auto& [name, m] :
        {std::make_pair("parameters J S J^T", t.parameter_part),
         std::make_pair("run's own noise", t.noise_part), std::make_pair("total", t.covariance)}) {
-    text += Printf("  %-26s %10.3f %10.3f %10.3f\n", name, m(0, 0), m(0, 1), m(1, 1));
+    text += StringPrintf("  %-26s %10.3f %10.3f %10.3f\n", name, m(0, 0), m(0, 1), m(1, 1));
   }
 
   text +=
       "\n  landmark        x (m)      y (m)  distance (m)  Mahalanobis^2   posterior    p-value\n";
   for (const LandmarkScore& score : report.decision.scores) {
-    text += Printf("  %-8s %10.3f %10.3f  %12.2f  %13.3f  %10.3g  %9.3g\n",
-                   score.landmark.name.c_str(), score.landmark.x_m, score.landmark.y_m,
-                   score.distance_m, score.mahalanobis2, score.posterior, score.p_value);
+    text += StringPrintf("  %-8s %10.3f %10.3f  %12.2f  %13.3f  %10.3g  %9.3g\n",
+                         score.landmark.name.c_str(), score.landmark.x_m, score.landmark.y_m,
+                         score.distance_m, score.mahalanobis2, score.posterior, score.p_value);
   }
 
   text += "\n  the report's bound (section 4) against the correct 3-sigma of each term (m)\n";
@@ -85,17 +79,17 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
     for (const auto& [name, term] :
          {std::make_pair("bias", b.bias), std::make_pair("scale", b.scale),
           std::make_pair("noise", b.noise)}) {
-      text += Printf("  %-4s  %-6s %14.2f %17.2f %18.1f%%\n", b.axis, name, term.report_m,
-                     term.three_sigma_m, 100.0 * term.variance_share);
+      text += StringPrintf("  %-4s  %-6s %14.2f %17.2f %18.1f%%\n", b.axis, name, term.report_m,
+                           term.three_sigma_m, 100.0 * term.variance_share);
     }
-    text +=
-        Printf("  %-4s  %-6s %14.2f %17.2f\n", b.axis, "total", b.report_bound_m, b.three_sigma_m);
+    text += StringPrintf("  %-4s  %-6s %14.2f %17.2f\n", b.axis, "total", b.report_bound_m,
+                         b.three_sigma_m);
   }
   for (const AxisErrorBudget& b : report.budget) {
     const BudgetTerm& dominant = std::string(b.dominant) == "bias"    ? b.bias
                                  : std::string(b.dominant) == "scale" ? b.scale
                                                                       : b.noise;
-    text += Printf(
+    text += StringPrintf(
         "  %s: the %s term dominates (%.0f%% of the endpoint variance). The report's noise "
         "term, 3 sigma_eta = %.2f m, is %.1f times too %s: the correct one is %.2f m, because "
         "the run's noise is integrated twice over %.0f s and grows as sigma sqrt(dt T^3/3).\n",
@@ -178,11 +172,11 @@ std::string TrajectoryPathCsv(const DeadReckoningResult& trajectory) {
       "parameter_cov_yy,noise_cov_xx,noise_cov_yy\n";
   for (const PathPoint& p : trajectory.path) {
     const Eigen::Matrix2d total = p.parameter_covariance + p.noise_covariance;
-    text +=
-        Printf("%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", p.timestamp_s,
-               p.position.x(), p.position.y(), p.raw_position.x(), p.raw_position.y(), total(0, 0),
-               total(0, 1), total(1, 1), p.parameter_covariance(0, 0), p.parameter_covariance(0, 1),
-               p.parameter_covariance(1, 1), p.noise_covariance(0, 0), p.noise_covariance(1, 1));
+    text += StringPrintf(
+        "%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", p.timestamp_s,
+        p.position.x(), p.position.y(), p.raw_position.x(), p.raw_position.y(), total(0, 0),
+        total(0, 1), total(1, 1), p.parameter_covariance(0, 0), p.parameter_covariance(0, 1),
+        p.parameter_covariance(1, 1), p.noise_covariance(0, 0), p.noise_covariance(1, 1));
   }
   return text;
 }
