@@ -81,13 +81,14 @@ Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsRepor
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
     const SimulationTruth truth = CourseTableOneTruth();
-    TiltTestDesign design;
+    TiltSchedule design;
     design.sample_count = FLAGS_samples;
     *test = SimulateTiltTest(design, truth, FLAGS_seed);
-    options->noise_variance_x = truth.noise_variance_x;
-    options->noise_variance_y = truth.noise_variance_y;
+    options->noise_variance_x = truth.stated_noise_variance_x;
+    options->noise_variance_y = truth.stated_noise_variance_y;
     report->simulation_seed = FLAGS_seed;
-    report->truth = Eigen::Vector4d(truth.x.bias, truth.x.scale, truth.y.bias, truth.y.scale);
+    const SensorErrors<double>& sensor = truth.parameters.sensor;
+    report->truth = Eigen::Vector4d(sensor.x.bias, sensor.x.scale, sensor.y.bias, sensor.y.scale);
     return Status::Ok();
   }
   DataFiles overrides;

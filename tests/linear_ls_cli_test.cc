@@ -29,7 +29,7 @@ CommandResult RunLinearLs(const std::string& arguments) {
 
 // A course-layout folder with a simulated test; `edit` may spoil it.
 std::string MakeDataDir(const ScratchDir& scratch, int samples = 400) {
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = samples;
   const CalibrationTest test = SimulateTiltTest(design, CourseTableOneTruth(), 8);
   MatMatrix tita{samples, 1, test.theta_rad};
@@ -180,7 +180,7 @@ TEST(LinearLsBinary, RefusesBadConditions) {
 
 TEST(LinearLsBinary, RefusesATestThatCannotSeparateBiasFromScale) {
   ScratchDir scratch;
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 500;
   design.theta_end_rad = 0.02;
   const CalibrationTest test = SimulateTiltTest(design, CourseTableOneTruth(), 4);
@@ -221,10 +221,9 @@ TEST(LinearLsBinary, RefusesAJsonPathInAMissingFolderAfterPrintingNothingPartial
       << result.stderr_text;
 }
 
-
 TEST(LinearLsBinary, UsesTheScenariosGravityUnlessTheFlagIsGiven) {
   ScratchDir scratch;
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 300;
   ASSERT_TRUE(WriteCalibrationCsv(scratch.File("calibration.csv"),
                                   SimulateTiltTest(design, CourseTableOneTruth(), 6))

@@ -23,13 +23,14 @@ namespace {
 LinearLsOptions OptionsFor(const SimulationTruth& truth) {
   LinearLsOptions options;
   options.gravity_mps2 = truth.gravity_mps2;
-  options.noise_variance_x = truth.noise_variance_x;
-  options.noise_variance_y = truth.noise_variance_y;
+  options.noise_variance_x = truth.stated_noise_variance_x;
+  options.noise_variance_y = truth.stated_noise_variance_y;
   return options;
 }
 
 Eigen::Vector4d TruthVector(const SimulationTruth& truth) {
-  return Eigen::Vector4d(truth.x.bias, truth.x.scale, truth.y.bias, truth.y.scale);
+  const SensorErrors<double>& sensor = truth.parameters.sensor;
+  return Eigen::Vector4d(sensor.x.bias, sensor.x.scale, sensor.y.bias, sensor.y.scale);
 }
 
 // Independent reference: the normal equations of one axis solved in long double.
@@ -56,7 +57,7 @@ TEST(LinearLs, ClosedFormAndCeresAgreeToOneInABillion) {
   const SimulationTruth truth = CourseTableOneTruth();
   for (const int samples : {50, 2001, 20001}) {
     for (const uint64_t seed : {1u, 2u, 3u}) {
-      TiltTestDesign design;
+      TiltSchedule design;
       design.sample_count = samples;
       const CalibrationTest test = SimulateTiltTest(design, truth, seed);
       BaselineFit closed_form;
@@ -79,7 +80,7 @@ TEST(LinearLs, MatchesALongDoubleBatchSolutionOnANarrowOffCentreDesign) {
   // Angles in [1.0, 1.3] rad: the specific force has a large mean and a small spread,
   // where naive sums lose digits; the shifted sums must not.
   SimulationTruth truth = CourseTableOneTruth();
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 5000;
   design.theta_begin_rad = 1.0;
   design.theta_end_rad = 1.3;
@@ -96,7 +97,7 @@ TEST(LinearLs, MatchesALongDoubleBatchSolutionOnANarrowOffCentreDesign) {
 
 TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
   const SimulationTruth truth = CourseTableOneTruth();
-  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), truth, 11);
+  const CalibrationTest test = SimulateTiltTest(TiltSchedule(), truth, 11);
   CalibrationAccumulator whole(9.8);
   whole.AddTest(test);
   AxisRegressionAccumulator first;
@@ -121,7 +122,7 @@ TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
 
 TEST(LinearLs, RecoversTheTruthWithinThreeSigma) {
   const SimulationTruth truth = CourseTableOneTruth();
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 20001;
   const CalibrationTest test = SimulateTiltTest(design, truth, 42);
   BaselineFit fit;
@@ -137,7 +138,7 @@ TEST(LinearLs, RecoversTheTruthWithinThreeSigma) {
 // nominal 95% interval has a binomial sd of 0.49%; the tolerance is 2%.
 TEST(LinearLs, ReportedSigmaMatchesMonteCarloSpreadAndCovers95Percent) {
   const SimulationTruth truth = CourseTableOneTruth();
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 200;
   design.theta_begin_rad = 0.2;  // an asymmetric design, so bias and scale correlate
   design.theta_end_rad = 4.0;
@@ -178,7 +179,7 @@ TEST(LinearLs, ReportedSigmaMatchesMonteCarloSpreadAndCovers95Percent) {
 
 TEST(LinearLs, ChiSquareFollowsItsDistributionUnderTheStatedNoise) {
   const SimulationTruth truth = CourseTableOneTruth();
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 500;
   const int trials = 1000;
   double sum = 0.0;
@@ -197,9 +198,9 @@ TEST(LinearLs, ChiSquareFollowsItsDistributionUnderTheStatedNoise) {
 
 TEST(LinearLs, WrongStatedVarianceShowsInChiSquare) {
   SimulationTruth truth = CourseTableOneTruth();
-  truth.noise_variance_x = 0.5;  // twice what will be stated
-  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), truth, 5);
-  LinearLsOptions options = OptionsFor(CourseTableOneTruth());
+  truth.parameters.noise_variance_ratio_x = 2.0;  // twice the stated variance
+  const CalibrationTest test = SimulateTiltTest(TiltSchedule(), truth, 5);
+  LinearLsOptions options = OptionsFor(truth);
   BaselineFit fit;
   ASSERT_TRUE(EstimateLinearLs(test, options, &fit).ok());
   EXPECT_NEAR(fit.chi2_x.chi2 / fit.chi2_x.dof, 2.0, 0.15);
@@ -208,7 +209,7 @@ TEST(LinearLs, WrongStatedVarianceShowsInChiSquare) {
 }
 
 TEST(LinearLs, RefusesATestThatSpansTooLittleToSeparateBiasFromScale) {
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 1000;
   design.theta_begin_rad = 0.0;
   design.theta_end_rad = 0.02;
@@ -243,7 +244,7 @@ TEST(LinearLs, RefusesASingleAngleAndTooFewSamples) {
 }
 
 TEST(LinearLs, RefusesNonPositiveVariances) {
-  const CalibrationTest test = SimulateTiltTest(TiltTestDesign(), CourseTableOneTruth(), 3);
+  const CalibrationTest test = SimulateTiltTest(TiltSchedule(), CourseTableOneTruth(), 3);
   LinearLsOptions options = OptionsFor(CourseTableOneTruth());
   options.noise_variance_y = 0.0;
   BaselineFit fit;

@@ -25,7 +25,7 @@ CommandResult RunTrajectory(const std::string& arguments) {
 
 // A CSV-layout folder with a simulated test, a 200-sample run and two landmarks.
 void MakeCsvDataDir(const ScratchDir& scratch) {
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 500;
   ASSERT_TRUE(WriteCalibrationCsv(scratch.File("calibration.csv"),
                                   SimulateTiltTest(design, CourseTableOneTruth(), 1))

@@ -159,7 +159,7 @@ TEST(DeadReckon, ReportedCovarianceMatchesMonteCarloAndThe95PercentEllipseCovers
   const RunConditions conditions = CourseConditions();
   const TrueRun truth = MakeTrueRun(conditions);
   const SimulationTruth sensor = CourseTableOneTruth();
-  TiltTestDesign design;
+  TiltSchedule design;
   design.sample_count = 2001;
   TrajectoryOptions options;
   options.path_stride = 1 << 20;  // the endpoint only

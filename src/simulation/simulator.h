@@ -1,48 +1,63 @@
 #ifndef ACCELCAL_SIMULATION_SIMULATOR_H_
 #define ACCELCAL_SIMULATION_SIMULATOR_H_
 
-// The tilt-table test and the vehicle run synthesised from the spec's model (models/tilt_table.h
-// and models/sensor_model.h, the functions the estimators use) plus white Gaussian noise. It
-// already honours every term of the sensor model; the simulator issue grows the design (schedules,
-// static positions) and the vehicle run around it.
+// The tilt-table test and the vehicle run synthesised from the spec's model
+// (models/tilt_table.h, models/sensor_model.h, the functions the estimators use) plus
+// white Gaussian noise, with every effect of the catalogue (models/effects.h): the
+// angle offset and the drift only in the test, the run bias shift only in the run, and
+// noise whose true variance is the stated one times noise_variance_k.
 
 #include <cstdint>
 #include <vector>
 
 #include "common/measurements.h"
-#include "models/sensor_model.h"
+#include "models/effects.h"
 
 namespace accelcal {
 
-// Angles uniformly spaced from theta_begin to theta_end, both included (the course's
-// test: 20001 samples over [0, 2 pi]).
-struct TiltTestDesign {
+// The angles of a tilt test. kUniform: sample_count angles evenly spaced from
+// theta_begin to theta_end, both included (the course: 20001 over [0, 2 pi]).
+// kStaticPositions: sample_count samples split as evenly as possible among the
+// positions, in order. kList: the angles as given.
+struct TiltSchedule {
+  enum class Kind { kUniform, kStaticPositions, kList };
+  Kind kind = Kind::kUniform;
   int sample_count = 2001;
   double theta_begin_rad = 0.0;
   double theta_end_rad = 6.283185307179586;
+  std::vector<double> positions_rad;  // kStaticPositions
+  std::vector<double> angles_rad;     // kList
 };
 
-// The truth behind a simulated experiment (tilt test and vehicle run).
+std::vector<double> TiltAngles(const TiltSchedule& schedule);
+
+// The truth behind a simulated experiment.
 struct SimulationTruth {
-  AxisErrors<double> x;
-  AxisErrors<double> y;
-  double nonorthogonality_rad = 0.0;
-  double angle_offset_rad = 0.0;
+  ModelParameters<double> parameters;  // every effect neutral unless set
   double gravity_mps2 = 9.8;
-  double noise_variance_x = 0.25;  // true sigma_x^2, (m/s^2)^2
-  double noise_variance_y = 0.64;  // true sigma_y^2, (m/s^2)^2
+  double stated_noise_variance_x = 0.25;  // (m/s^2)^2, as datos.txt would state it
+  double stated_noise_variance_y = 0.64;
+
+  double TrueNoiseVarianceX() const {
+    return stated_noise_variance_x * parameters.noise_variance_ratio_x;
+  }
+  double TrueNoiseVarianceY() const {
+    return stated_noise_variance_y * parameters.noise_variance_ratio_y;
+  }
 };
 
-// The truth of the embedded default: the reference report's Table 1 as the sensor's
-// errors, the course's stated noise variances and g.
+// The reference report's Table 1 as the sensor's errors, the course's stated noise
+// variances and g; every other effect neutral.
 SimulationTruth CourseTableOneTruth();
 
-CalibrationTest SimulateTiltTest(const TiltTestDesign& design, const SimulationTruth& truth,
+// Noise streams: (seed, stream) selects an independent sequence, so that a Monte Carlo
+// trial's data depends on its index only, not on how trials are spread over threads.
+CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationTruth& truth,
                                  uint64_t seed, uint64_t stream = 0);
 
 // The vehicle run's outputs for the true accelerations (reference frame, m/s^2) at the
-// given times: the spec's forward model in the run phase (no angle offset, no drift,
-// the run bias shift) plus white noise of the true variances.
+// given times. Its noise comes from a stream of its own, independent of the tilt test's
+// for the same (seed, stream).
 VehicleRun SimulateVehicleRun(const std::vector<double>& timestamp_s,
                               const std::vector<double>& true_acceleration_x,
                               const std::vector<double>& true_acceleration_y,
