@@ -8,7 +8,8 @@
 //
 // Inputs: a data directory in the course layout (ensayo.mat + datos.txt) or the CSV layout
 // (calibration.csv + scenario.json), or single files; without any, a synthetic test with
-// the reference report's Table 1 as truth. Outputs: a table on stdout, JSON with --json.
+// the course's setting simulated (data/scenarios/tp2-2018.json, Table 1 as truth). Outputs: a table
+// on stdout, JSON with --json.
 //
 //   build/bin/linear_ls --data_dir=../shared/data/tp2-2018 --json=linear_ls.json
 
@@ -25,7 +26,8 @@
 #include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/linear_ls_report.h"
-#include "simulation/simulator.h"
+#include "simulation/embedded_scenarios.h"
+#include "simulation/scenario.h"
 
 DEFINE_string(data_dir, "",
               "Folder with the course layout (ensayo.mat, datos.txt, ...) or the CSV layout "
@@ -41,10 +43,13 @@ DEFINE_double(g, 9.8,
               "an error here moves scale_x and scale_y. A 'gravity' in scenario.json is used "
               "unless this flag is given.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
-DEFINE_uint64(seed, 1, "Seed of the embedded synthetic test (used only without data).");
-DEFINE_int32(samples, 2001,
-             "Samples of the embedded synthetic test, uniform over [0, 2 pi] rad (>= 3; used "
-             "only without data).");
+DEFINE_string(scenario, "",
+              "Without data: the scenario to simulate (JSON, see data/scenarios/); empty: the "
+              "embedded tp2-2018 scenario, the course's setting with Table 1 as truth.");
+DEFINE_string(set, "",
+              "Without data: overrides of the scenario, name=value,... (as simulate --set), e.g. "
+              "--set=angle_offset=0.004 to see what an unmodelled effect does.");
+DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
 
 namespace accelcal {
@@ -56,14 +61,11 @@ constexpr char kUsage[] =
     "chi-square against the stated noise variances ((m/s^2)^2). Angles are in radians.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  linear_ls --data_dir=../shared/data/tp2-2018 [--json=out.json] [--g=9.8]\n"
-    "  linear_ls                      # embedded synthetic test, Table 1 of the report as truth";
+    "  linear_ls [--set=angle_offset=0.004]   # simulated tp2-2018 scenario, Table 1 as truth";
 
 Status ValidateFlags() {
   if (!(FLAGS_g > 0.0) || !std::isfinite(FLAGS_g)) {
     return Status::Error("--g must be a positive number of m/s^2, got " + std::to_string(FLAGS_g));
-  }
-  if (FLAGS_samples < 3) {
-    return Status::Error("--samples must be at least 3, got " + std::to_string(FLAGS_samples));
   }
   if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
   const bool has_data = !FLAGS_data_dir.empty() || !FLAGS_calibration_file.empty();
@@ -80,15 +82,23 @@ Status ValidateFlags() {
 Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsReport* report) {
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
-    const SimulationTruth truth = CourseTableOneTruth();
-    TiltSchedule design;
-    design.sample_count = FLAGS_samples;
-    *test = SimulateTiltTest(design, truth, FLAGS_seed);
-    options->noise_variance_x = truth.stated_noise_variance_x;
-    options->noise_variance_y = truth.stated_noise_variance_y;
+    Scenario scenario;
+    ACCELCAL_RETURN_IF_ERROR(FLAGS_scenario.empty() ? LoadDefaultScenario(&scenario)
+                                                    : LoadScenario(FLAGS_scenario, &scenario));
+    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
+    const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
+    *test = data.test;
+    options->noise_variance_x = data.conditions.noise_variance_x;
+    options->noise_variance_y = data.conditions.noise_variance_y;
+    options->gravity_mps2 = ChooseGravity(data.conditions, FLAGS_g);
     report->simulation_seed = FLAGS_seed;
-    const SensorErrors<double>& sensor = truth.parameters.sensor;
-    report->truth = Eigen::Vector4d(sensor.x.bias, sensor.x.scale, sensor.y.bias, sensor.y.scale);
+    report->scenario_name = scenario.name;
+    Eigen::Vector4d truth;
+    for (int i = 0; i < kBaselineParameterCount; ++i) {
+      truth[i] = ParameterValue(scenario.truth.parameters,
+                                FindParameter(kBaselineParameterNames[i])->parameter);
+    }
+    report->truth = truth;
     return Status::Ok();
   }
   DataFiles overrides;

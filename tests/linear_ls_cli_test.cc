@@ -90,8 +90,10 @@ TEST(LinearLsBinary, ReproducesTableOneOnTheCourseDataAndWritesJson) {
 TEST(LinearLsBinary, RunsTheEmbeddedDefaultWithoutData) {
   const CommandResult result = RunLinearLs("");
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
-  EXPECT_NE(result.stdout_text.find("simulated in-process (seed 1): 2001 samples"),
-            std::string::npos);
+  EXPECT_NE(
+      result.stdout_text.find("simulated in-process: scenario tp2-2018, seed 1, 20001 samples"),
+      std::string::npos)
+      << result.stdout_text;
   EXPECT_NE(result.stdout_text.find("(est-truth)/sigma"), std::string::npos);
 }
 
@@ -113,8 +115,8 @@ TEST(LinearLsBinary, RefusesBadFlags) {
   ExpectRefused("stray", "unknown flag or argument 'stray'");
   ExpectRefused("--g=-9.8", "--g must be a positive number of m/s^2");
   ExpectRefused("--g=abc", "--g='abc' is not a valid double");
-  ExpectRefused("--samples=2.5", "--samples='2.5' is not a valid int32");
-  ExpectRefused("--samples=2", "--samples must be at least 3");
+  ExpectRefused("--seed=2.5", "--seed='2.5' is not a valid uint64");
+  ExpectRefused("--set=angle=1", "--set: 'angle' is neither a parameter");
   ExpectRefused("--calibration_file=x.csv", "--calibration_file needs --conditions_file");
 }
 

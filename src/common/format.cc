@@ -2,6 +2,7 @@
 
 #include <cstdarg>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 namespace accelcal {
@@ -17,6 +18,14 @@ std::string StringPrintf(const char* format, ...) {
   if (length > 0) std::vsnprintf(buffer.data(), buffer.size(), format, arguments);
   va_end(arguments);
   return std::string(buffer.data(), length > 0 ? length : 0);
+}
+
+std::string RoundTripDouble(double value) {
+  for (int precision = 15; precision < 17; ++precision) {
+    const std::string text = StringPrintf("%.*g", precision, value);
+    if (std::strtod(text.c_str(), nullptr) == value) return text;
+  }
+  return StringPrintf("%.17g", value);
 }
 
 }  // namespace accelcal

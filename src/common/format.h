@@ -9,6 +9,10 @@ namespace accelcal {
 
 std::string StringPrintf(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
+// The shortest decimal (15 to 17 significant digits) that reads back as exactly `value`:
+// 0.64 rather than 0.64000000000000001.
+std::string RoundTripDouble(double value);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_COMMON_FORMAT_H_

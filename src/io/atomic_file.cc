@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <vector>
 
 namespace accelcal {
@@ -71,6 +72,47 @@ Status WriteFileAtomically(const std::string& path, const std::string& contents)
     }
     return Status::Ok();
   });
+}
+
+Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
+                                const std::function<Status(const std::string&)>& write) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  std::string target = dir;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const bool exists = fs::exists(target, error);
+  if (exists && !fs::is_directory(target, error)) {
+    return Status::Error(target + " exists and is not a folder");
+  }
+  if (exists && !fs::is_empty(target, error) && !overwrite) {
+    return Status::Error(target + " exists and is not empty; pass --overwrite to replace it");
+  }
+  std::vector<char> pattern(target.begin(), target.end());
+  const std::string suffix = ".tmp.XXXXXX";
+  pattern.insert(pattern.end(), suffix.begin(), suffix.end());
+  pattern.push_back('\0');
+  if (mkdtemp(pattern.data()) == nullptr) {
+    return Status::Error("cannot create a folder beside " + target + " (" + ErrnoText() +
+                         "); check that the parent folder exists and is writable");
+  }
+  const std::string temporary_dir = pattern.data();
+  chmod(temporary_dir.c_str(), 0755);
+  Status status = write(temporary_dir);
+  if (status.ok() && exists) {
+    const std::string old_dir = temporary_dir + ".old";
+    fs::rename(target, old_dir, error);
+    if (!error) fs::rename(temporary_dir, target, error);
+    if (error) {
+      status = Status::Error("cannot replace " + target + " (" + error.message() + ")");
+    } else {
+      fs::remove_all(old_dir, error);
+    }
+  } else if (status.ok()) {
+    fs::rename(temporary_dir, target, error);
+    if (error) status = Status::Error("cannot create " + target + " (" + error.message() + ")");
+  }
+  if (!status.ok()) fs::remove_all(temporary_dir, error);
+  return status;
 }
 
 }  // namespace accelcal

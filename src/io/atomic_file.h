@@ -19,6 +19,13 @@ Status WriteFileAtomically(const std::string& path, const std::string& contents)
 Status WriteAtomicallyWith(const std::string& path,
                            const std::function<Status(const std::string& temporary_path)>& write);
 
+// The same for a whole folder: `write` fills a temporary sibling of `dir`, which then
+// replaces `dir`. An existing non-empty `dir` is replaced only with `overwrite`; on any
+// failure the temporary folder is removed and `dir` is left as it was.
+Status WriteDirectoryAtomically(
+    const std::string& dir, bool overwrite,
+    const std::function<Status(const std::string& temporary_dir)>& write);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_ATOMIC_FILE_H_

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <set>
@@ -11,6 +12,7 @@
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/mat_file.h"
+#include "io/run_conditions.h"
 
 namespace accelcal {
 namespace {
@@ -264,6 +266,86 @@ Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test)
     text += line;
   }
   return WriteFileAtomically(path, text);
+}
+
+namespace {
+
+Status WriteThreeColumnCsv(const std::string& path, const char* header,
+                           const std::vector<double>& first, const std::vector<double>& second,
+                           const std::vector<double>& third) {
+  std::string text = std::string(header) + "\n";
+  text.reserve(text.size() + 72 * first.size());
+  for (size_t i = 0; i < first.size(); ++i) {
+    text += StringPrintf("%.17g,%.17g,%.17g\n", first[i], second[i], third[i]);
+  }
+  return WriteFileAtomically(path, text);
+}
+
+bool IsMatlabIdentifier(const std::string& name) {
+  if (name.empty() || name.size() > 63 || !std::isalpha(static_cast<unsigned char>(name[0])))
+    return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
+
+MatMatrix Columns(const std::vector<const std::vector<double>*>& columns) {
+  MatMatrix matrix;
+  matrix.rows = static_cast<int>(columns[0]->size());
+  matrix.cols = static_cast<int>(columns.size());
+  for (const std::vector<double>* column : columns) {
+    matrix.values.insert(matrix.values.end(), column->begin(), column->end());
+  }
+  return matrix;
+}
+
+}  // namespace
+
+Status WriteDataDirectory(const std::string& dir, DataLayout layout, const CalibrationTest& test,
+                          const VehicleRun& run, const std::vector<Landmark>& landmarks,
+                          const RunConditions& conditions, std::vector<std::string>* written) {
+  written->clear();
+  auto path = [&](const char* name) {
+    written->push_back(dir + "/" + name);
+    return written->back();
+  };
+  if (layout == DataLayout::kCsv) {
+    ACCELCAL_RETURN_IF_ERROR(WriteCalibrationCsv(path("calibration.csv"), test));
+    ACCELCAL_RETURN_IF_ERROR(WriteThreeColumnCsv(path("trajectory.csv"), "t,ax,ay", run.timestamp_s,
+                                                 run.measured_x, run.measured_y));
+    std::string text = "name,x,y\n";
+    for (const Landmark& landmark : landmarks) {
+      text += StringPrintf("%s,%.17g,%.17g\n", landmark.name.c_str(), landmark.x_m, landmark.y_m);
+    }
+    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(path("landmarks.csv"), text));
+    return WriteFileAtomically(path("scenario.json"), ScenarioJson(conditions));
+  }
+  ACCELCAL_RETURN_IF_ERROR(
+      WriteMatFile(path("ensayo.mat"), {{"tita", Columns({&test.theta_rad})},
+                                        {"datos", Columns({&test.measured_x, &test.measured_y})}}));
+  ACCELCAL_RETURN_IF_ERROR(WriteMatFile(
+      path("acel.mat"),
+      {{"t", Columns({&run.timestamp_s})}, {"Aerr", Columns({&run.measured_x, &run.measured_y})}}));
+  std::vector<std::pair<std::string, MatMatrix>> points;
+  for (const Landmark& landmark : landmarks) {
+    if (!IsMatlabIdentifier(landmark.name)) {
+      return Status::Error("landmark '" + landmark.name +
+                           "' cannot be a MATLAB variable name; use the CSV layout or rename it");
+    }
+    points.push_back({landmark.name, MatMatrix{1, 2, {landmark.x_m, landmark.y_m}}});
+  }
+  ACCELCAL_RETURN_IF_ERROR(WriteMatFile(path("puntos.mat"), points));
+  auto pair = [](double first, double second) {
+    return "[" + RoundTripDouble(first) + " " + RoundTripDouble(second) + "]";
+  };
+  const std::string datos =
+      "Posici\xC3\xB3n inicial = " +
+      pair(conditions.initial_position_x_m, conditions.initial_position_y_m) +
+      "\nVelocidad inicial = " +
+      pair(conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps) +
+      "\nvarianza del ruido de los aceler\xC3\xB3metros = " +
+      pair(conditions.noise_variance_x, conditions.noise_variance_y) + "\n";
+  return WriteFileAtomically(path("datos.txt"), datos);
 }
 
 }  // namespace accelcal

@@ -51,6 +51,14 @@ Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);
 // Writes the CSV layout's calibration.csv (full double precision), atomically.
 Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test);
 
+// Writes the four files of a layout into the existing folder `dir`, each atomically and
+// at full double precision: ensayo.mat, acel.mat, puntos.mat (landmark names must be
+// MATLAB identifiers) and datos.txt; or calibration.csv, trajectory.csv, landmarks.csv
+// and scenario.json. Returns the paths written.
+Status WriteDataDirectory(const std::string& dir, DataLayout layout, const CalibrationTest& test,
+                          const VehicleRun& run, const std::vector<Landmark>& landmarks,
+                          const RunConditions& conditions, std::vector<std::string>* written);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_COURSE_DATA_H_

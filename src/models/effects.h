@@ -39,6 +39,9 @@ struct ParameterInfo {
   const char* meaning;
   bool baseline;   // part of the reference report's model
   double neutral;  // the value at which the effect is absent
+  // A size at which the effect is plainly visible on the course-sized experiment (the
+  // simulator's demonstration knob, used by the coverage study's effect table).
+  double example_size;
 };
 
 // Every parameter, baseline first, in the spec's order.

@@ -35,9 +35,10 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
       "accelcal linear_ls: bias and scale factor from the tilt-table test (linear least squares)\n";
   if (report.simulation_seed) {
     text += StringPrintf(
-        "  data         simulated in-process (seed %llu): %d samples, theta %.3f to %.3f rad\n",
-        static_cast<unsigned long long>(*report.simulation_seed), fit.sample_count,
-        report.theta_min_rad, report.theta_max_rad);
+        "  data         simulated in-process: scenario %s, seed %llu, %d samples, theta %.3f to "
+        "%.3f rad\n",
+        report.scenario_name.c_str(), static_cast<unsigned long long>(*report.simulation_seed),
+        fit.sample_count, report.theta_min_rad, report.theta_max_rad);
     text += "               (no --data_dir given; try --data_dir=../shared/data/tp2-2018)\n";
   } else {
     auto file = [&](const char* role) {
@@ -111,7 +112,9 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   json["theta_range_rad"] = {report.theta_min_rad, report.theta_max_rad};
   json["input_files"] = report.input_files;
   if (report.simulation_seed) {
-    json["simulation"] = {{"seed", *report.simulation_seed}, {"truth", Named(*report.truth)}};
+    json["simulation"] = {{"scenario", report.scenario_name},
+                          {"seed", *report.simulation_seed},
+                          {"truth", Named(*report.truth)}};
   }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
   nlohmann::json ceres = FitJson(report.ceres.fit);

@@ -27,6 +27,7 @@ struct LinearLsReport {
   std::map<std::string, std::string> input_files;  // role ("calibration", ...) -> path
   // Set when the data were simulated: the seed and the true parameters.
   std::optional<uint64_t> simulation_seed;
+  std::string scenario_name;
   std::optional<Eigen::Vector4d> truth;
 };
 

@@ -1,0 +1,469 @@
+#include "simulation/scenario.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "common/format.h"
+#include "io/csv_reader.h"
+#include "models/dead_reckoning.h"
+#include "simulation/random.h"
+
+namespace accelcal {
+namespace {
+
+using nlohmann::json;
+
+Status CheckKeys(const json& object, const std::vector<std::string>& allowed,
+                 const std::string& where) {
+  if (!object.is_object()) return Status::Error(where + " must be a JSON object");
+  for (const auto& item : object.items()) {
+    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
+      std::string list;
+      for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
+      return Status::Error(where + ": unknown key \"" + item.key() + "\"; expected " + list);
+    }
+  }
+  return Status::Ok();
+}
+
+Status ReadNumber(const json& object, const char* key, const std::string& where, double* value) {
+  if (!object.contains(key)) return Status::Ok();  // keep the default
+  const json& item = object.at(key);
+  if (!item.is_number() || !std::isfinite(item.get<double>())) {
+    return Status::Error(where + "." + key + " must be a finite number");
+  }
+  *value = item.get<double>();
+  return Status::Ok();
+}
+
+Status ReadPair(const json& object, const char* key, const std::string& where, double* first,
+                double* second) {
+  if (!object.contains(key)) return Status::Ok();
+  const json& item = object.at(key);
+  if (!item.is_array() || item.size() != 2 || !item[0].is_number() || !item[1].is_number() ||
+      !std::isfinite(item[0].get<double>()) || !std::isfinite(item[1].get<double>())) {
+    return Status::Error(where + "." + key + " must be two finite numbers [x, y]");
+  }
+  *first = item[0].get<double>();
+  *second = item[1].get<double>();
+  return Status::Ok();
+}
+
+Status ReadAngles(const json& object, const char* key, const std::string& where,
+                  std::vector<double>* angles) {
+  if (!object.contains(key) || !object.at(key).is_array() || object.at(key).empty()) {
+    return Status::Error(where + "." + key + " must be a non-empty array of angles in radians");
+  }
+  for (const json& item : object.at(key)) {
+    if (!item.is_number() || !std::isfinite(item.get<double>())) {
+      return Status::Error(where + "." + key + " must hold finite numbers (radians)");
+    }
+    angles->push_back(item.get<double>());
+  }
+  return Status::Ok();
+}
+
+Status ParseTilt(const json& tilt, TiltSchedule* schedule) {
+  ACCELCAL_RETURN_IF_ERROR(CheckKeys(
+      tilt, {"schedule", "samples", "from_rad", "to_rad", "positions_rad", "angles_rad"}, "tilt"));
+  const std::string kind = tilt.value("schedule", std::string("uniform"));
+  double samples = schedule->sample_count;
+  ACCELCAL_RETURN_IF_ERROR(ReadNumber(tilt, "samples", "tilt", &samples));
+  if (kind != "list" && (samples < 3 || samples > 1e9 || samples != std::floor(samples))) {
+    return Status::Error("tilt.samples must be a whole number of at least 3");
+  }
+  schedule->sample_count = static_cast<int>(samples);
+  if (kind == "uniform") {
+    schedule->kind = TiltSchedule::Kind::kUniform;
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(tilt, "from_rad", "tilt", &schedule->theta_begin_rad));
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(tilt, "to_rad", "tilt", &schedule->theta_end_rad));
+  } else if (kind == "static") {
+    schedule->kind = TiltSchedule::Kind::kStaticPositions;
+    ACCELCAL_RETURN_IF_ERROR(ReadAngles(tilt, "positions_rad", "tilt", &schedule->positions_rad));
+  } else if (kind == "list") {
+    schedule->kind = TiltSchedule::Kind::kList;
+    ACCELCAL_RETURN_IF_ERROR(ReadAngles(tilt, "angles_rad", "tilt", &schedule->angles_rad));
+    schedule->sample_count = static_cast<int>(schedule->angles_rad.size());
+  } else {
+    return Status::Error("tilt.schedule is \"" + kind + "\"; expected uniform, static or list");
+  }
+  return Status::Ok();
+}
+
+Status ParseRun(const json& run, const std::string& base_dir, RunProfile* profile) {
+  ACCELCAL_RETURN_IF_ERROR(CheckKeys(run, {"dt", "duration", "profile"}, "run"));
+  ACCELCAL_RETURN_IF_ERROR(ReadNumber(run, "dt", "run", &profile->dt_s));
+  ACCELCAL_RETURN_IF_ERROR(ReadNumber(run, "duration", "run", &profile->duration_s));
+  if (!(profile->dt_s > 0.0) || !(profile->duration_s >= 2 * profile->dt_s) ||
+      profile->duration_s / profile->dt_s > 1e8) {
+    return Status::Error("run.dt must be positive and run.duration between 2 dt and 1e8 dt");
+  }
+  if (!run.contains("profile")) return Status::Error("run.profile is missing");
+  const json& shape = run.at("profile");
+  ACCELCAL_RETURN_IF_ERROR(CheckKeys(shape, {"segments", "smoothing", "csv"}, "run.profile"));
+  const int count = static_cast<int>(std::llround(profile->duration_s / profile->dt_s));
+  if (shape.contains("csv")) {
+    if (!shape.at("csv").is_string()) return Status::Error("run.profile.csv must be a file name");
+    std::string path = shape.at("csv").get<std::string>();
+    if (!path.empty() && path[0] != '/') path = base_dir + "/" + path;
+    CsvTable table;
+    ACCELCAL_RETURN_IF_ERROR(ReadCsvFile(path, {{"t"}, {"ax"}, {"ay"}}, &table).WithContext(path));
+    if (table.row_count != count) {
+      return Status::Error(path + ": " + std::to_string(table.row_count) +
+                           " rows, but the run has " + std::to_string(count) +
+                           " samples (duration / dt)");
+    }
+    for (int j = 0; j < count; ++j) {
+      if (std::abs(table.numbers[0][j] - j * profile->dt_s) > 1e-6 * profile->dt_s + 1e-12) {
+        return Status::Error(path + ": row " + std::to_string(j + 1) +
+                             " has t = " + StringPrintf("%g", table.numbers[0][j]) +
+                             " s, expected " + StringPrintf("%g", j * profile->dt_s));
+      }
+    }
+    profile->csv_acceleration_x = table.numbers[1];
+    profile->csv_acceleration_y = table.numbers[2];
+    return Status::Ok();
+  }
+  ACCELCAL_RETURN_IF_ERROR(ReadNumber(shape, "smoothing", "run.profile", &profile->smoothing_s));
+  if (profile->smoothing_s < 0.0) return Status::Error("run.profile.smoothing must be >= 0 (s)");
+  if (!shape.contains("segments") || !shape.at("segments").is_array() ||
+      shape.at("segments").empty()) {
+    return Status::Error("run.profile needs \"segments\" (or \"csv\")");
+  }
+  double covered = 0.0;
+  for (const json& item : shape.at("segments")) {
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckKeys(item, {"duration", "acceleration"}, "run.profile.segments[]"));
+    AccelerationSegment segment;
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(item, "duration", "segment", &segment.duration_s));
+    ACCELCAL_RETURN_IF_ERROR(ReadPair(item, "acceleration", "segment", &segment.acceleration_x,
+                                      &segment.acceleration_y));
+    if (!(segment.duration_s > 0.0))
+      return Status::Error("every segment needs a positive duration (s)");
+    covered += segment.duration_s;
+    profile->segments.push_back(segment);
+  }
+  if (covered < profile->duration_s - 1e-9) {
+    return Status::Error(StringPrintf("run.profile.segments cover %g s of a %g s run", covered,
+                                      profile->duration_s));
+  }
+  return Status::Ok();
+}
+
+Status ParseLandmarks(const json& landmarks, LandmarkSpec* spec) {
+  ACCELCAL_RETURN_IF_ERROR(CheckKeys(landmarks, {"listed", "decoys"}, "landmarks"));
+  if (landmarks.contains("listed") == landmarks.contains("decoys")) {
+    return Status::Error("landmarks needs exactly one of \"listed\" and \"decoys\"");
+  }
+  if (landmarks.contains("decoys")) {
+    const json& decoys = landmarks.at("decoys");
+    ACCELCAL_RETURN_IF_ERROR(CheckKeys(decoys, {"count", "min_distance"}, "landmarks.decoys"));
+    double count = spec->decoy_count;
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(decoys, "count", "landmarks.decoys", &count));
+    ACCELCAL_RETURN_IF_ERROR(
+        ReadNumber(decoys, "min_distance", "landmarks.decoys", &spec->decoy_min_distance_m));
+    if (count < 1 || count > 25 || count != std::floor(count) ||
+        !(spec->decoy_min_distance_m > 0.0)) {
+      return Status::Error(
+          "landmarks.decoys needs a count from 1 to 25 and a positive min_distance (m)");
+    }
+    spec->decoys = true;
+    spec->decoy_count = static_cast<int>(count);
+    return Status::Ok();
+  }
+  const json& listed = landmarks.at("listed");
+  if (!listed.is_array() || listed.empty())
+    return Status::Error("landmarks.listed must be a non-empty array");
+  for (const json& item : listed) {
+    ACCELCAL_RETURN_IF_ERROR(CheckKeys(item, {"name", "position"}, "landmarks.listed[]"));
+    Landmark landmark;
+    if (!item.contains("name") || !item.at("name").is_string() ||
+        item.at("name").get<std::string>().empty()) {
+      return Status::Error("every listed landmark needs a name");
+    }
+    landmark.name = item.at("name").get<std::string>();
+    if (!item.contains("position"))
+      return Status::Error("landmark " + landmark.name + " needs a position");
+    ACCELCAL_RETURN_IF_ERROR(
+        ReadPair(item, "position", "landmark " + landmark.name, &landmark.x_m, &landmark.y_m));
+    for (const Landmark& other : spec->listed) {
+      if (other.name == landmark.name)
+        return Status::Error("landmark " + landmark.name + " is listed twice");
+    }
+    spec->listed.push_back(landmark);
+  }
+  return Status::Ok();
+}
+
+Status SetParameter(const std::string& name, double value, SimulationTruth* truth) {
+  const ParameterInfo* info = FindParameter(name);
+  if (info == nullptr) return Status::Error("'" + name + "' is not a parameter of the spec");
+  if (!std::isfinite(value)) return Status::Error(name + " must be finite");
+  if ((info->parameter == Parameter::kNoiseVarianceX ||
+       info->parameter == Parameter::kNoiseVarianceY) &&
+      !(value > 0.0)) {
+    return Status::Error(name + " (a variance ratio) must be positive");
+  }
+  ParameterValue(&truth->parameters, info->parameter) = value;
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status ParseScenario(const std::string& json_text, const std::string& base_dir,
+                     Scenario* scenario) {
+  json document;
+  try {
+    document = json::parse(json_text);
+  } catch (const json::parse_error& error) {
+    return Status::Error(std::string("not valid JSON (") + error.what() + ")");
+  }
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckKeys(document,
+                {"name", "description", "gravity", "noise_variance", "initial_position",
+                 "initial_velocity", "tilt", "run", "landmarks", "truth"},
+                "scenario"));
+  Scenario parsed;
+  parsed.name = document.value("name", std::string("unnamed"));
+  parsed.description = document.value("description", std::string());
+  SimulationTruth& truth = parsed.truth;
+  ACCELCAL_RETURN_IF_ERROR(ReadNumber(document, "gravity", "scenario", &truth.gravity_mps2));
+  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "noise_variance", "scenario",
+                                    &truth.stated_noise_variance_x,
+                                    &truth.stated_noise_variance_y));
+  if (!(truth.gravity_mps2 > 0.0) || !(truth.stated_noise_variance_x > 0.0) ||
+      !(truth.stated_noise_variance_y > 0.0)) {
+    return Status::Error("gravity and noise_variance must be positive");
+  }
+  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "initial_position", "scenario",
+                                    &parsed.initial_position_x_m, &parsed.initial_position_y_m));
+  ACCELCAL_RETURN_IF_ERROR(ReadPair(document, "initial_velocity", "scenario",
+                                    &parsed.initial_velocity_x_mps,
+                                    &parsed.initial_velocity_y_mps));
+  if (document.contains("tilt"))
+    ACCELCAL_RETURN_IF_ERROR(ParseTilt(document.at("tilt"), &parsed.tilt));
+  if (!document.contains("run")) return Status::Error("scenario.run is missing");
+  ACCELCAL_RETURN_IF_ERROR(ParseRun(document.at("run"), base_dir, &parsed.run));
+  if (!document.contains("landmarks")) return Status::Error("scenario.landmarks is missing");
+  ACCELCAL_RETURN_IF_ERROR(ParseLandmarks(document.at("landmarks"), &parsed.landmarks));
+  if (document.contains("truth")) {
+    const json& values = document.at("truth");
+    if (!values.is_object())
+      return Status::Error("scenario.truth must be an object of name: value");
+    for (const auto& item : values.items()) {
+      if (!item.value().is_number())
+        return Status::Error("truth." + item.key() + " must be a number");
+      ACCELCAL_RETURN_IF_ERROR(
+          SetParameter(item.key(), item.value().get<double>(), &truth).WithContext("truth"));
+    }
+  }
+  *scenario = parsed;
+  return Status::Ok();
+}
+
+Status LoadScenario(const std::string& path, Scenario* scenario) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Status::Error(path + ": cannot open the file; check the path");
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  const size_t slash = path.find_last_of('/');
+  const std::string base_dir = slash == std::string::npos ? "." : path.substr(0, slash);
+  return ParseScenario(buffer.str(), base_dir, scenario).WithContext(path);
+}
+
+Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario) {
+  std::istringstream stream(assignments);
+  std::string assignment;
+  while (std::getline(stream, assignment, ',')) {
+    if (assignment.empty()) continue;
+    const size_t equals = assignment.find('=');
+    double value;
+    if (equals == std::string::npos || !ParseFiniteNumber(assignment.substr(equals + 1), &value)) {
+      return Status::Error("'" + assignment + "' is not name=number");
+    }
+    const std::string name = assignment.substr(0, equals);
+    SimulationTruth& truth = scenario->truth;
+    if (name == "gravity" || name == "noise_variance_x_stated" ||
+        name == "noise_variance_y_stated" || name == "run_dt" || name == "run_duration") {
+      if (!(value > 0.0)) return Status::Error(name + " must be positive");
+      if (name == "gravity") truth.gravity_mps2 = value;
+      if (name == "noise_variance_x_stated") truth.stated_noise_variance_x = value;
+      if (name == "noise_variance_y_stated") truth.stated_noise_variance_y = value;
+      if (name == "run_dt") scenario->run.dt_s = value;
+      if (name == "run_duration") scenario->run.duration_s = value;
+    } else if (name == "tilt_samples") {
+      if (value < 3 || value != std::floor(value) ||
+          scenario->tilt.kind == TiltSchedule::Kind::kList) {
+        return Status::Error(
+            "tilt_samples must be a whole number >= 3 (and the schedule not a list)");
+      }
+      scenario->tilt.sample_count = static_cast<int>(value);
+    } else if (FindParameter(name) != nullptr) {
+      ACCELCAL_RETURN_IF_ERROR(SetParameter(name, value, &truth));
+    } else {
+      std::string names;
+      for (const ParameterInfo& info : ParameterCatalogue())
+        names += std::string(names.empty() ? "" : ", ") + info.name;
+      return Status::Error(
+          "'" + name + "' is neither a parameter (" + names +
+          ") nor a setting (gravity, noise_variance_x_stated, noise_variance_y_stated, "
+          "tilt_samples, run_duration, run_dt)");
+    }
+  }
+  const RunProfile& run = scenario->run;
+  double covered = 0.0;
+  for (const AccelerationSegment& segment : run.segments) covered += segment.duration_s;
+  if (!run.segments.empty() && covered < run.duration_s - 1e-9) {
+    return Status::Error(
+        StringPrintf("the profile's segments cover %g s of the %g s run", covered, run.duration_s));
+  }
+  if (!run.csv_acceleration_x.empty() &&
+      std::llround(run.duration_s / run.dt_s) !=
+          static_cast<long long>(run.csv_acceleration_x.size())) {
+    return Status::Error("run_duration and run_dt cannot change a run given as a CSV profile");
+  }
+  return Status::Ok();
+}
+
+void TrueRunAcceleration(const RunProfile& profile, std::vector<double>* timestamp_s,
+                         std::vector<double>* acceleration_x, std::vector<double>* acceleration_y) {
+  const int count = static_cast<int>(std::llround(profile.duration_s / profile.dt_s));
+  timestamp_s->resize(count);
+  for (int j = 0; j < count; ++j) (*timestamp_s)[j] = j * profile.dt_s;
+  if (!profile.csv_acceleration_x.empty()) {
+    *acceleration_x = profile.csv_acceleration_x;
+    *acceleration_y = profile.csv_acceleration_y;
+    return;
+  }
+  std::vector<double> raw_x(count);
+  std::vector<double> raw_y(count);
+  size_t segment = 0;
+  double segment_end = profile.segments[0].duration_s;
+  for (int j = 0; j < count; ++j) {
+    // A sample on a boundary belongs to the segment that starts there.
+    while (segment + 1 < profile.segments.size() &&
+           (*timestamp_s)[j] >= segment_end - 1e-9 * profile.dt_s) {
+      ++segment;
+      segment_end += profile.segments[segment].duration_s;
+    }
+    raw_x[j] = profile.segments[segment].acceleration_x;
+    raw_y[j] = profile.segments[segment].acceleration_y;
+  }
+  // Centred moving average over `window` samples, truncated at the ends.
+  const int half = static_cast<int>(std::llround(0.5 * profile.smoothing_s / profile.dt_s));
+  acceleration_x->resize(count);
+  acceleration_y->resize(count);
+  std::vector<double> prefix_x(count + 1, 0.0);
+  std::vector<double> prefix_y(count + 1, 0.0);
+  for (int j = 0; j < count; ++j) {
+    prefix_x[j + 1] = prefix_x[j] + raw_x[j];
+    prefix_y[j + 1] = prefix_y[j] + raw_y[j];
+  }
+  for (int j = 0; j < count; ++j) {
+    const int begin = std::max(0, j - half);
+    const int end = std::min(count, j + half + 1);
+    (*acceleration_x)[j] = half == 0 ? raw_x[j] : (prefix_x[end] - prefix_x[begin]) / (end - begin);
+    (*acceleration_y)[j] = half == 0 ? raw_y[j] : (prefix_y[end] - prefix_y[begin]) / (end - begin);
+  }
+}
+
+SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t trial) {
+  SimulatedData data;
+  data.test = SimulateTiltTest(scenario.tilt, scenario.truth, seed, trial);
+  std::vector<double> timestamp_s;
+  TrueRunAcceleration(scenario.run, &timestamp_s, &data.true_acceleration_x,
+                      &data.true_acceleration_y);
+  data.run = SimulateVehicleRun(timestamp_s, data.true_acceleration_x, data.true_acceleration_y,
+                                scenario.truth, seed, trial);
+  RunConditions& conditions = data.conditions;
+  conditions.initial_position_x_m = scenario.initial_position_x_m;
+  conditions.initial_position_y_m = scenario.initial_position_y_m;
+  conditions.initial_velocity_x_mps = scenario.initial_velocity_x_mps;
+  conditions.initial_velocity_y_mps = scenario.initial_velocity_y_mps;
+  conditions.noise_variance_x = scenario.truth.stated_noise_variance_x;
+  conditions.noise_variance_y = scenario.truth.stated_noise_variance_y;
+  conditions.has_gravity = true;
+  conditions.gravity_mps2 = scenario.truth.gravity_mps2;
+
+  AxisKinematics<double> x{scenario.initial_position_x_m, scenario.initial_velocity_x_mps};
+  AxisKinematics<double> y{scenario.initial_position_y_m, scenario.initial_velocity_y_mps};
+  for (size_t j = 1; j < timestamp_s.size(); ++j) {
+    TrapezoidalStep(scenario.run.dt_s, data.true_acceleration_x[j - 1], data.true_acceleration_x[j],
+                    &x);
+    TrapezoidalStep(scenario.run.dt_s, data.true_acceleration_y[j - 1], data.true_acceleration_y[j],
+                    &y);
+  }
+  data.true_endpoint = Eigen::Vector2d(x.position, y.position);
+
+  if (scenario.landmarks.decoys) {
+    // Decoys at min_distance to 2 min_distance from the true endpoint and at least
+    // min_distance from each other; the true endpoint hides among them under a letter.
+    RandomSource random(seed ^ 0x6C616E646D61726Bull, trial);
+    const double d = scenario.landmarks.decoy_min_distance_m;
+    std::vector<Eigen::Vector2d> points = {data.true_endpoint};
+    for (int k = 0; k < scenario.landmarks.decoy_count; ++k) {
+      Eigen::Vector2d candidate;
+      for (int attempt = 0; attempt < 10000; ++attempt) {
+        const double angle = 2.0 * M_PI * random.Uniform();
+        const double radius = d * (1.0 + random.Uniform() * (1.0 + attempt / 100.0));
+        candidate = data.true_endpoint + radius * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+        bool far_enough = true;
+        for (const Eigen::Vector2d& point : points)
+          far_enough = far_enough && (candidate - point).norm() >= d;
+        if (far_enough) break;
+      }
+      points.push_back(candidate);
+    }
+    const int true_slot = static_cast<int>(random.Uniform() * points.size());
+    std::swap(points[0], points[true_slot]);
+    for (size_t k = 0; k < points.size(); ++k) {
+      data.landmarks.push_back(
+          {std::string(1, static_cast<char>('A' + k)), points[k].x(), points[k].y()});
+    }
+  } else {
+    data.landmarks = scenario.landmarks.listed;
+  }
+  double nearest = HUGE_VAL;
+  for (const Landmark& landmark : data.landmarks) {
+    const double distance =
+        (Eigen::Vector2d(landmark.x_m, landmark.y_m) - data.true_endpoint).norm();
+    if (distance < nearest) {
+      nearest = distance;
+      data.reached_landmark = landmark.name;
+    }
+  }
+  data.reached_distance_m = nearest;
+  return data;
+}
+
+json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t seed) {
+  json parameters = json::object();
+  for (const ParameterInfo& info : ParameterCatalogue()) {
+    parameters[info.name] = ParameterValue(scenario.truth.parameters, info.parameter);
+  }
+  json landmarks = json::array();
+  for (const Landmark& landmark : data.landmarks) {
+    landmarks.push_back({{"name", landmark.name}, {"x", landmark.x_m}, {"y", landmark.y_m}});
+  }
+  return {
+      {"scenario", scenario.name},
+      {"seed", seed},
+      {"parameters", parameters},
+      {"gravity_mps2", scenario.truth.gravity_mps2},
+      {"stated_noise_variance",
+       {{"x", scenario.truth.stated_noise_variance_x},
+        {"y", scenario.truth.stated_noise_variance_y}}},
+      {"true_noise_variance",
+       {{"x", scenario.truth.TrueNoiseVarianceX()}, {"y", scenario.truth.TrueNoiseVarianceY()}}},
+      {"tilt_samples", data.test.size()},
+      {"run_samples", data.run.size()},
+      {"run_dt_s", scenario.run.dt_s},
+      {"true_endpoint", {{"x", data.true_endpoint.x()}, {"y", data.true_endpoint.y()}}},
+      {"reached_landmark", data.reached_landmark},
+      {"reached_distance_m", data.reached_distance_m},
+      {"landmarks", landmarks}};
+}
+
+}  // namespace accelcal

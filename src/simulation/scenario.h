@@ -1,0 +1,108 @@
+#ifndef ACCELCAL_SIMULATION_SCENARIO_H_
+#define ACCELCAL_SIMULATION_SCENARIO_H_
+
+// A simulated experiment, described in data/scenarios/*.json:
+//
+// {
+//   "name": "tp2-2018", "description": "...",
+//   "gravity": 9.8,                              m/s^2
+//   "noise_variance": [0.25, 0.64],              stated sigma_x^2, sigma_y^2, (m/s^2)^2
+//   "initial_position": [0, 0],                  m
+//   "initial_velocity": [1, 3],                  m/s
+//   "tilt": {"schedule": "uniform", "samples": 20001, "from_rad": 0, "to_rad": 6.283185307179586}
+//        or {"schedule": "static", "positions_rad": [0, 1.5708, 3.1416, 4.7124], "samples": 2000}
+//        or {"schedule": "list", "angles_rad": [...]},
+//   "run": {"dt": 0.01, "duration": 60,          s; samples t_j = j dt, j < duration/dt
+//           "profile": {"segments": [{"duration": 20, "acceleration": [0.5, 0]}, ...],
+//                       "smoothing": 1.0}        moving-average window, s (0: none)
+//                   or {"csv": "profile.csv"}},  columns t,ax,ay (m/s^2), one row per sample
+//   "landmarks": {"listed": [{"name": "A", "position": [353.6, 73.2]}, ...]}
+//             or {"decoys": {"count": 3, "min_distance": 100}},  the true endpoint + decoys
+//   "truth": {"bias_x": 0.07667, "angle_offset": 0.004, ...}    any name of models/effects.h
+// }
+//
+// Every key is checked; an unknown one is an error (a typo must not silently simulate
+// the wrong experiment). Omitted truths are neutral (no effect).
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "simulation/simulator.h"
+
+namespace accelcal {
+
+struct AccelerationSegment {
+  double duration_s = 0.0;
+  double acceleration_x = 0.0;  // m/s^2
+  double acceleration_y = 0.0;
+};
+
+struct RunProfile {
+  double dt_s = 0.01;
+  double duration_s = 60.0;
+  std::vector<AccelerationSegment> segments;
+  double smoothing_s = 0.0;
+  // From a CSV instead of segments (filled when the scenario names one).
+  std::vector<double> csv_acceleration_x;
+  std::vector<double> csv_acceleration_y;
+};
+
+struct LandmarkSpec {
+  std::vector<Landmark> listed;
+  bool decoys = false;  // the true endpoint plus decoy_count decoys
+  int decoy_count = 3;
+  double decoy_min_distance_m = 100.0;
+};
+
+struct Scenario {
+  std::string name;
+  std::string description;
+  SimulationTruth truth;  // g, stated variances and every parameter
+  double initial_position_x_m = 0.0;
+  double initial_position_y_m = 0.0;
+  double initial_velocity_x_mps = 0.0;
+  double initial_velocity_y_mps = 0.0;
+  TiltSchedule tilt;
+  RunProfile run;
+  LandmarkSpec landmarks;
+};
+
+// `base_dir` resolves a relative profile CSV path.
+Status ParseScenario(const std::string& json_text, const std::string& base_dir, Scenario* scenario);
+Status LoadScenario(const std::string& path, Scenario* scenario);
+
+// Applies "name=value,name=value": any parameter of models/effects.h, or one of the
+// settings gravity, noise_variance_x_stated, noise_variance_y_stated, tilt_samples,
+// run_duration, run_dt.
+Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario);
+
+// One simulated experiment with its truth.
+struct SimulatedData {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;  // what datos.txt states: p0, v0, stated variances
+  std::vector<double> true_acceleration_x;
+  std::vector<double> true_acceleration_y;
+  Eigen::Vector2d true_endpoint = Eigen::Vector2d::Zero();
+  std::string reached_landmark;     // the landmark nearest the true endpoint
+  double reached_distance_m = 0.0;  // its distance from the true endpoint
+};
+
+// The true accelerations of the run (segments smoothed, or the CSV) at t_j = j dt.
+void TrueRunAcceleration(const RunProfile& profile, std::vector<double>* timestamp_s,
+                         std::vector<double>* acceleration_x, std::vector<double>* acceleration_y);
+
+// Deterministic for (seed, trial) on any machine.
+SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t trial = 0);
+
+// Every true value and setting, named as in the spec (for truth.json).
+nlohmann::json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t seed);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_SIMULATION_SCENARIO_H_
