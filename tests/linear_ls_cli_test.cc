@@ -24,7 +24,7 @@ constexpr char kDatos[] =
     "varianza del ruido de los aceler\xC3\xB3metros = [0.25 0.64]\n";
 
 CommandResult RunLinearLs(const std::string& arguments) {
-  return RunCommand("'" + testing::BinaryPath("linear_ls") + "' " + arguments);
+  return testing::RunBinary("linear_ls", arguments);
 }
 
 // A course-layout folder with a simulated test; `edit` may spoil it.
@@ -45,14 +45,8 @@ std::string MakeDataDir(const ScratchDir& scratch, int samples = 400) {
 void ExpectRefused(const std::string& arguments, const std::string& fragment) {
   ScratchDir out;
   const std::string json = out.File("out.json");
-  const CommandResult result = RunLinearLs(arguments + " --json='" + json + "'");
-  EXPECT_EQ(result.exit_status, 2) << arguments << "\nstderr: " << result.stderr_text;
-  EXPECT_EQ(testing::CountLines(result.stderr_text), 1) << result.stderr_text;
-  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
-      << "stderr: " << result.stderr_text << "expected: " << fragment;
-  EXPECT_EQ(result.stderr_text.rfind("linear_ls: error: ", 0), 0u) << result.stderr_text;
-  EXPECT_TRUE(result.stdout_text.empty()) << result.stdout_text;
-  EXPECT_FALSE(testing::PathExists(json));
+  testing::ExpectBadInputContract(RunLinearLs(arguments + " --json='" + json + "'"), "linear_ls",
+                                  fragment);
   EXPECT_EQ(RunCommand("ls -A '" + out.path() + "'").stdout_text, "") << "partial output left";
 }
 

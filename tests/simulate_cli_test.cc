@@ -14,9 +14,7 @@ using testing::CommandResult;
 using testing::RunCommand;
 using testing::ScratchDir;
 
-CommandResult RunBinary(const std::string& binary, const std::string& arguments) {
-  return RunCommand("'" + testing::BinaryPath(binary) + "' " + arguments);
-}
+using testing::RunBinary;
 
 TEST(SimulateBinary, SameSeedSameBytesAndTheTruthIsWrittenBeside) {
   ScratchDir scratch;
@@ -60,11 +58,7 @@ TEST(SimulateBinary, WritesTheCsvLayoutThatTheEstimatorsRead) {
 
 void ExpectRefused(const std::string& binary, const std::string& arguments,
                    const std::string& fragment) {
-  const CommandResult result = RunBinary(binary, arguments);
-  EXPECT_EQ(result.exit_status, 2) << arguments;
-  EXPECT_EQ(testing::CountLines(result.stderr_text), 1) << result.stderr_text;
-  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
-      << result.stderr_text << "expected: " << fragment;
+  testing::ExpectBadInputContract(RunBinary(binary, arguments), binary, fragment);
 }
 
 TEST(SimulateBinary, RefusesBadInputAndLeavesNothingBehind) {

@@ -111,6 +111,25 @@ inline CommandResult RunCommand(const std::string& command) {
   return result;
 }
 
+// Runs build/bin/<binary> with `arguments` (already shell-quoted where needed).
+inline CommandResult RunBinary(const std::string& binary, const std::string& arguments) {
+  return RunCommand("'" + BinaryPath(binary) + "' " + arguments);
+}
+
+inline int CountLines(const std::string& text);
+
+// The project's contract for bad input: exit status 2, exactly one line on stderr that
+// starts with "<binary>: error: " and contains `fragment`, and nothing on stdout.
+inline void ExpectBadInputContract(const CommandResult& result, const std::string& binary,
+                                   const std::string& fragment) {
+  EXPECT_EQ(result.exit_status, 2) << "stderr: " << result.stderr_text;
+  EXPECT_EQ(CountLines(result.stderr_text), 1) << result.stderr_text;
+  EXPECT_EQ(result.stderr_text.rfind(binary + ": error: ", 0), 0u) << result.stderr_text;
+  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
+      << "stderr: " << result.stderr_text << "expected: " << fragment;
+  EXPECT_TRUE(result.stdout_text.empty()) << result.stdout_text;
+}
+
 inline int CountLines(const std::string& text) {
   int lines = 0;
   for (char c : text) lines += c == '\n';

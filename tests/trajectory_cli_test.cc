@@ -20,7 +20,7 @@ using testing::RunCommand;
 using testing::ScratchDir;
 
 CommandResult RunTrajectory(const std::string& arguments) {
-  return RunCommand("'" + testing::BinaryPath("trajectory") + "' " + arguments);
+  return testing::RunBinary("trajectory", arguments);
 }
 
 // A CSV-layout folder with a simulated test, a 200-sample run and two landmarks.
@@ -41,13 +41,9 @@ void MakeCsvDataDir(const ScratchDir& scratch) {
 
 void ExpectRefused(const std::string& arguments, const std::string& fragment) {
   ScratchDir out;
-  const CommandResult result = RunTrajectory(arguments + " --json='" + out.File("t.json") +
-                                             "' --path_csv='" + out.File("path.csv") + "'");
-  EXPECT_EQ(result.exit_status, 2) << arguments << "\nstderr: " << result.stderr_text;
-  EXPECT_EQ(testing::CountLines(result.stderr_text), 1) << result.stderr_text;
-  EXPECT_NE(result.stderr_text.find(fragment), std::string::npos)
-      << "stderr: " << result.stderr_text << "expected: " << fragment;
-  EXPECT_TRUE(result.stdout_text.empty()) << result.stdout_text;
+  testing::ExpectBadInputContract(RunTrajectory(arguments + " --json='" + out.File("t.json") +
+                                                "' --path_csv='" + out.File("path.csv") + "'"),
+                                  "trajectory", fragment);
   EXPECT_EQ(RunCommand("ls -A '" + out.path() + "'").stdout_text, "") << "partial output left";
 }
 
