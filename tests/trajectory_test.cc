@@ -120,6 +120,51 @@ TEST(DeadReckon, JacobianIsTheAnalyticDerivative) {
               conditions.initial_position_x_m + 1.0 * result.duration_s + sum_wm_x / 0.97, 1e-8);
 }
 
+TEST(DeadReckon, JacobianOfEveryRunParameterMatchesFiniteDifferences) {
+  const RunConditions conditions = CourseConditions();
+  const TrueRun truth = MakeTrueRun(conditions, 2000);
+  const VehicleRun run =
+      SimulateVehicleRun(truth.timestamp_s, truth.ax, truth.ay, CourseTableOneTruth(), 6);
+  ParameterEstimate estimate;
+  for (const ParameterInfo& info : ParameterCatalogue()) {
+    if (info.parameter == Parameter::kNoiseVarianceX ||
+        info.parameter == Parameter::kNoiseVarianceY)
+      continue;
+    estimate.free.push_back(info.parameter);
+  }
+  estimate.covariance =
+      Eigen::MatrixXd::Identity(estimate.free.size(), estimate.free.size()) * 1e-8;
+  estimate.values.sensor.x.bias = 0.07;
+  estimate.values.sensor.x.scale = -0.03;
+  estimate.values.sensor.x.scale_nonlinearity = 0.002;
+  estimate.values.sensor.y.run_bias_shift = 0.01;
+  estimate.values.sensor.nonorthogonality = 0.003;
+  TrajectoryOptions options;
+  options.path_stride = 1 << 20;
+  DeadReckoningResult result;
+  ASSERT_TRUE(DeadReckon(run, conditions, estimate, options, &result).ok());
+  ASSERT_EQ(result.jacobian.cols(), static_cast<int>(estimate.free.size()));
+  for (size_t c = 0; c < estimate.free.size(); ++c) {
+    const double step = 1e-6;
+    ParameterEstimate plus = estimate;
+    ParameterEstimate minus = estimate;
+    ParameterValue(&plus.values, estimate.free[c]) += step;
+    ParameterValue(&minus.values, estimate.free[c]) -= step;
+    DeadReckoningResult up;
+    DeadReckoningResult down;
+    ASSERT_TRUE(DeadReckon(run, conditions, plus, options, &up).ok());
+    ASSERT_TRUE(DeadReckon(run, conditions, minus, options, &down).ok());
+    const Eigen::Vector2d numeric = (up.endpoint - down.endpoint) / (2 * step);
+    EXPECT_NEAR(result.jacobian(0, c), numeric.x(), 1e-4 * (1 + std::abs(numeric.x())))
+        << Info(estimate.free[c]).name;
+    EXPECT_NEAR(result.jacobian(1, c), numeric.y(), 1e-4 * (1 + std::abs(numeric.y())))
+        << Info(estimate.free[c]).name;
+  }
+  // The calibration-only parameters do not act in the run.
+  EXPECT_EQ(result.jacobian.col(estimate.IndexOf(Parameter::kAngleOffset)).norm(), 0.0);
+  EXPECT_EQ(result.jacobian.col(estimate.IndexOf(Parameter::kBiasDriftX)).norm(), 0.0);
+}
+
 TEST(DeadReckon, PathEndsAtTheEndpointAndItsNoiseGrowsMonotonically) {
   const RunConditions conditions = CourseConditions();
   const TrueRun truth = MakeTrueRun(conditions, 1001);

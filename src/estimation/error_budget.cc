@@ -28,6 +28,8 @@ std::array<AxisErrorBudget, 2> ComputeErrorBudget(const DeadReckoningResult& tra
     budget.noise.report_m = 3.0 * sigma_eta;
     budget.report_bound_m = budget.bias.report_m + budget.scale.report_m + budget.noise.report_m;
 
+    // The trajectory was dead-reckoned with the baseline fit: its columns are in
+    // the baseline's order.
     const double bias_variance = std::pow(trajectory.jacobian(k, bias) * sigma_b, 2);
     const double scale_variance = std::pow(trajectory.jacobian(k, scale) * sigma_s, 2);
     const double noise_variance = trajectory.noise_part(k, k);

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "models/dead_reckoning.h"
@@ -12,7 +13,17 @@
 namespace accelcal {
 namespace {
 
-using Jet = ceres::Jet<double, kBaselineParameterCount>;
+// The parameters that act in the run, one Jet variable each.
+constexpr std::array<Parameter, 9> kRunParameters = {Parameter::kBiasX,
+                                                     Parameter::kScaleX,
+                                                     Parameter::kScaleNonlinearityX,
+                                                     Parameter::kRunBiasShiftX,
+                                                     Parameter::kBiasY,
+                                                     Parameter::kScaleY,
+                                                     Parameter::kScaleNonlinearityY,
+                                                     Parameter::kRunBiasShiftY,
+                                                     Parameter::kNonorthogonality};
+using Jet = ceres::Jet<double, kRunParameters.size()>;
 
 // Covariance of (p, v, a_prev) of one axis under white acceleration noise of variance q.
 // One trapezoidal step with the new acceleration noise n:
@@ -44,10 +55,19 @@ class AxisNoisePropagator {
 
 Eigen::Vector2d Values(const Jet& x, const Jet& y) { return Eigen::Vector2d(x.a, y.a); }
 
-Eigen::Matrix<double, 2, kBaselineParameterCount> Jacobian(const Jet& x, const Jet& y) {
-  Eigen::Matrix<double, 2, kBaselineParameterCount> jacobian;
-  jacobian.row(0) = x.v.transpose();
-  jacobian.row(1) = y.v.transpose();
+// d (x, y) / d (the estimate's free parameters); zero for those that do not act in the run.
+Eigen::Matrix<double, 2, Eigen::Dynamic> Jacobian(const Jet& x, const Jet& y,
+                                                  const std::vector<Parameter>& columns) {
+  Eigen::Matrix<double, 2, Eigen::Dynamic> jacobian =
+      Eigen::Matrix<double, 2, Eigen::Dynamic>::Zero(2, columns.size());
+  for (size_t c = 0; c < columns.size(); ++c) {
+    for (size_t r = 0; r < kRunParameters.size(); ++r) {
+      if (kRunParameters[r] == columns[c]) {
+        jacobian(0, c) = x.v[r];
+        jacobian(1, c) = y.v[r];
+      }
+    }
+  }
   return jacobian;
 }
 
@@ -55,6 +75,12 @@ Eigen::Matrix<double, 2, kBaselineParameterCount> Jacobian(const Jet& x, const J
 
 Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const BaselineFit& fit,
                   const TrajectoryOptions& options, DeadReckoningResult* result) {
+  return DeadReckon(run, conditions, FromBaselineFit(fit), options, result);
+}
+
+Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
+                  const ParameterEstimate& estimate, const TrajectoryOptions& options,
+                  DeadReckoningResult* result) {
   const int count = run.size();
   if (count < 2) {
     return Status::Error("the run has " + std::to_string(count) +
@@ -66,18 +92,21 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const 
   if (!(conditions.noise_variance_x > 0.0) || !(conditions.noise_variance_y > 0.0)) {
     return Status::Error("the run's stated noise variances must be positive");
   }
-  if (!(1.0 + fit.parameters[kScaleX] > 0.0) || !(1.0 + fit.parameters[kScaleY] > 0.0)) {
+  const double one_plus_scale_x = 1.0 + estimate.Value(Parameter::kScaleX);
+  const double one_plus_scale_y = 1.0 + estimate.Value(Parameter::kScaleY);
+  if (!(one_plus_scale_x > 0.0) || !(one_plus_scale_y > 0.0)) {
     return Status::Error("a scale factor error of -1 or less cannot be inverted");
   }
   const int stride = std::max(1, options.path_stride);
 
   // Each parameter is a Jet variable, so every corrected acceleration, velocity and
   // position carries its exact derivative with respect to the four parameters.
-  SensorErrors<Jet> errors;
-  errors.x.bias = Jet(fit.parameters[kBiasX], kBiasX);
-  errors.x.scale = Jet(fit.parameters[kScaleX], kScaleX);
-  errors.y.bias = Jet(fit.parameters[kBiasY], kBiasY);
-  errors.y.scale = Jet(fit.parameters[kScaleY], kScaleY);
+  ModelParameters<Jet> jets;
+  for (size_t r = 0; r < kRunParameters.size(); ++r) {
+    ParameterValue(&jets, kRunParameters[r]) =
+        Jet(estimate.Value(kRunParameters[r]), static_cast<int>(r));
+  }
+  const SensorErrors<Jet>& errors = jets.sensor;
 
   AxisKinematics<Jet> x{Jet(conditions.initial_position_x_m),
                         Jet(conditions.initial_velocity_x_mps)};
@@ -88,12 +117,10 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const 
 
   // The baseline's inverse is (m - b)/(1 + s): the run's noise reaches the corrected
   // acceleration divided by (1 + s).
-  const double one_plus_scale_x = 1.0 + fit.parameters[kScaleX];
-  const double one_plus_scale_y = 1.0 + fit.parameters[kScaleY];
-  AxisNoisePropagator noise_x(dt_s,
-                              conditions.noise_variance_x / (one_plus_scale_x * one_plus_scale_x));
-  AxisNoisePropagator noise_y(dt_s,
-                              conditions.noise_variance_y / (one_plus_scale_y * one_plus_scale_y));
+  const double variance_x = conditions.noise_variance_x * estimate.values.noise_variance_ratio_x;
+  const double variance_y = conditions.noise_variance_y * estimate.values.noise_variance_ratio_y;
+  AxisNoisePropagator noise_x(dt_s, variance_x / (one_plus_scale_x * one_plus_scale_x));
+  AxisNoisePropagator noise_y(dt_s, variance_y / (one_plus_scale_y * one_plus_scale_y));
 
   result->path.clear();
   result->path.reserve(count / stride + 2);
@@ -102,8 +129,9 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const 
     point.timestamp_s = run.timestamp_s[j];
     point.position = Values(x.position, y.position);
     point.raw_position = Eigen::Vector2d(raw_x.position, raw_y.position);
-    const auto jacobian = Jacobian(x.position, y.position);
-    point.parameter_covariance = jacobian * fit.covariance * jacobian.transpose();
+    const Eigen::Matrix<double, 2, Eigen::Dynamic> jacobian =
+        Jacobian(x.position, y.position, estimate.free);
+    point.parameter_covariance = jacobian * estimate.covariance * jacobian.transpose();
     point.noise_covariance =
         Eigen::Vector2d(noise_x.PositionVariance(), noise_y.PositionVariance()).asDiagonal();
     result->path.push_back(point);
@@ -133,7 +161,8 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const 
   result->endpoint = Values(x.position, y.position);
   result->raw_endpoint = Eigen::Vector2d(raw_x.position, raw_y.position);
   result->end_velocity = Values(x.velocity, y.velocity);
-  result->jacobian = Jacobian(x.position, y.position);
+  result->jacobian = Jacobian(x.position, y.position, estimate.free);
+  result->jacobian_columns = estimate.free;
   result->parameter_part = result->path.back().parameter_covariance;
   result->noise_part = result->path.back().noise_covariance;
   result->covariance = result->parameter_part + result->noise_part;

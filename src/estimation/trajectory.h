@@ -4,12 +4,15 @@
 // Dead reckoning of the vehicle run with the baseline's estimates, and the endpoint's
 // covariance, exact for the linear-Gaussian case. It has two independent parts:
 //
-//   parameter part  J Sigma_params J^T,  J = d p_end / d (bias_x, scale_x, bias_y, scale_y),
-//                   computed exactly by running the same trapezoidal recursion in
-//                   ceres::Jet (no finite differences);
+//   parameter part  J Sigma_params J^T, J = d p_end / d (estimated parameters), computed
+//                   exactly by running the same trapezoidal recursion in ceres::Jet over
+//                   the nine parameters that act in the run (bias, scale, quadratic term
+//                   and run bias shift of each axis, and the non-orthogonality); the
+//                   calibration-only parameters (angle offset, drift) have zero columns;
 //   noise part      the run's own white noise through the integration,
 //                   sum_j w_j^2 sigma_k^2 / (1 + s_k)^2 per axis, which no calibration
-//                   can shrink.
+//                   can shrink (exact for the baseline; with a quadratic term, the
+//                   first-order value at zero acceleration).
 //
 // Along the path the noise part is propagated as the covariance of (p, v, a_prev):
 // a_j enters two consecutive trapezoidal steps, so the previous acceleration's noise
@@ -21,6 +24,7 @@
 #include "common/measurements.h"
 #include "common/status.h"
 #include "estimation/baseline_parameters.h"
+#include "estimation/parameter_estimate.h"
 
 namespace accelcal {
 
@@ -41,9 +45,9 @@ struct DeadReckoningResult {
   Eigen::Vector2d endpoint = Eigen::Vector2d::Zero();      // corrected, m
   Eigen::Vector2d raw_endpoint = Eigen::Vector2d::Zero();  // uncorrected, m
   Eigen::Vector2d end_velocity = Eigen::Vector2d::Zero();  // corrected, m/s
-  // d endpoint / d (bias_x, scale_x, bias_y, scale_y): m/(m/s^2) and m.
-  Eigen::Matrix<double, 2, kBaselineParameterCount> jacobian =
-      Eigen::Matrix<double, 2, kBaselineParameterCount>::Zero();
+  // d endpoint / d (the estimate's free parameters, in its order), in m per unit.
+  Eigen::Matrix<double, 2, Eigen::Dynamic> jacobian;
+  std::vector<Parameter> jacobian_columns;
   Eigen::Matrix2d parameter_part = Eigen::Matrix2d::Zero();  // m^2
   Eigen::Matrix2d noise_part = Eigen::Matrix2d::Zero();      // m^2
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();      // sum of the two, m^2
@@ -53,9 +57,14 @@ struct DeadReckoningResult {
   std::vector<PathPoint> path;
 };
 
-// Corrects every run sample with `fit` (inverting the sensor model), integrates from the
-// initial conditions, and propagates both covariance parts. The noise part uses the
-// stated variances of `conditions`.
+// Corrects every run sample with the estimate (inverting the sensor model), integrates
+// from the initial conditions, and propagates both covariance parts. The noise part
+// uses the stated variances of `conditions` times the estimate's noise_variance ratios.
+Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
+                  const ParameterEstimate& estimate, const TrajectoryOptions& options,
+                  DeadReckoningResult* result);
+
+// The same for the baseline fit (its columns are bias_x, scale_x, bias_y, scale_y).
 Status DeadReckon(const VehicleRun& run, const RunConditions& conditions, const BaselineFit& fit,
                   const TrajectoryOptions& options, DeadReckoningResult* result);
 

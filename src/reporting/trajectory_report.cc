@@ -136,8 +136,12 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
   for (int i = 0; i < kBaselineParameterCount; ++i) {
     parameters[kBaselineParameterNames[i]] = report.fit.parameters[i];
   }
+  nlohmann::json columns = nlohmann::json::array();
+  for (const Parameter parameter : t.jacobian_columns) columns.push_back(Info(parameter).name);
   for (int r = 0; r < 2; ++r) {
-    jacobian.push_back({t.jacobian(r, 0), t.jacobian(r, 1), t.jacobian(r, 2), t.jacobian(r, 3)});
+    nlohmann::json row = nlohmann::json::array();
+    for (int c = 0; c < t.jacobian.cols(); ++c) row.push_back(t.jacobian(r, c));
+    jacobian.push_back(row);
   }
   const LandmarkDecision& decision = report.decision;
   nlohmann::json json = {
@@ -148,10 +152,7 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
       {"endpoint_covariance", Matrix2(t.covariance)},
       {"parameter_part", Matrix2(t.parameter_part)},
       {"noise_part", Matrix2(t.noise_part)},
-      {"jacobian",
-       {{"rows", {"x", "y"}},
-        {"columns", {"bias_x", "scale_x", "bias_y", "scale_y"}},
-        {"matrix", jacobian}}},
+      {"jacobian", {{"rows", {"x", "y"}}, {"columns", columns}, {"matrix", jacobian}}},
       {"landmarks", landmarks},
       {"reached",
        decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)},
