@@ -93,19 +93,25 @@ struct SensorErrors {
   T nonorthogonality = T(0.0);  // eps, rad
 };
 
+// Undoes ProjectOnSensingAxes: the reference-frame force from the forces along the
+// sensing axes, fx = f_along_x, fy = (f_along_y - fx sin(eps)) / cos(eps). Linear in the
+// forces, so it may be applied to weighted sums of them as well as to one sample.
+template <typename T>
+void UndoProjection(const T& along_x, const T& along_y, const T& nonorthogonality_rad,
+                    T* specific_force_x, T* specific_force_y) {
+  using std::cos;
+  using std::sin;
+  *specific_force_x = along_x;
+  *specific_force_y = (along_y - along_x * sin(nonorthogonality_rad)) / cos(nonorthogonality_rad);
+}
+
 // The vehicle's acceleration (reference frame) recovered from one run sample: each axis
-// inverted, then the projection of ProjectOnSensingAxes undone,
-// fy = (f_along_y - fx sin(eps)) / cos(eps).
+// inverted (InvertAxisOutput), then the projection undone (UndoProjection).
 template <typename T>
 void CorrectRunSample(const T& measured_x, const T& measured_y, const SensorErrors<T>& errors,
                       T* acceleration_x, T* acceleration_y) {
-  using std::cos;
-  using std::sin;
-  const T along_x = InvertAxisOutput(measured_x, errors.x);
-  const T along_y = InvertAxisOutput(measured_y, errors.y);
-  *acceleration_x = along_x;
-  *acceleration_y =
-      (along_y - along_x * sin(errors.nonorthogonality)) / cos(errors.nonorthogonality);
+  UndoProjection(InvertAxisOutput(measured_x, errors.x), InvertAxisOutput(measured_y, errors.y),
+                 errors.nonorthogonality, acceleration_x, acceleration_y);
 }
 
 }  // namespace accelcal

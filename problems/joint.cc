@@ -1,0 +1,160 @@
+// joint: the extended error model in one nonlinear Ceres problem, beside the linear
+// baseline. Bias and scale of each axis plus any effects of the catalogue are fitted to
+// every tilt-test sample and, when the run is tied to a landmark, to the dead-reckoned
+// endpoint; the covariance comes from ceres::Covariance on the whitened problem.
+//
+//   m_k,i = (1 + s_k) f_along_k(theta_i + delta, eps) + k2_k f^2 + b_k + d_k u_i + noise
+//   p_end(params) = p0 + v0 T + sum_j w_j a_j(params)  ~  landmark,  a_j = model^-1(m_j)
+//
+//   build/bin/joint --data_dir=../shared/data/tp2-2018 --effects=angle_offset,nonorthogonality \
+//       --landmark=auto --json=joint.json
+
+#include <gflags/gflags.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "estimation/joint_estimator.h"
+#include "estimation/linear_ls.h"
+#include "io/atomic_file.h"
+#include "io/course_data.h"
+#include "io/run_conditions.h"
+#include "problem_support.h"
+#include "reporting/joint_report.h"
+#include "simulation/embedded_scenarios.h"
+
+DEFINE_string(data_dir, "",
+              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
+              "tp2-2018 scenario.");
+DEFINE_string(
+    set, "",
+    "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
+DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
+DEFINE_string(effects, "",
+              "Effects to estimate beyond bias and scale, comma-separated: angle_offset (rad), "
+              "nonorthogonality (rad), bias_drift_x/y (m/s^2), scale_nonlinearity_x/y "
+              "(1/(m/s^2)), run_bias_shift_x/y (m/s^2, needs a landmark); 'all'; empty: none.");
+DEFINE_string(landmark, "auto",
+              "NAME: tie the run's endpoint to that landmark; auto: solve once per landmark and "
+              "report each hypothesis' posterior; none: leave the run out.");
+DEFINE_double(landmark_sigma, 0.0, "The landmarks' position uncertainty (m, >= 0).");
+DEFINE_string(loss, "none", "Robust loss on the tilt-test residuals: none, huber or cauchy.");
+DEFINE_double(loss_scale, 1.345, "The robust loss' scale, in units of sigma (> 0).");
+DEFINE_double(g, 9.8, "Gravity in m/s^2.");
+DEFINE_double(alpha, 0.01,
+              "Significance level of the landmark decision on each endpoint, in (0, 1).");
+DEFINE_string(json, "", "Write both solutions as JSON to this file (atomically).");
+DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+
+namespace accelcal {
+namespace {
+
+constexpr char kUsage[] =
+    "Fits the joint nonlinear error model (bias and scale per axis plus chosen effects, in the\n"
+    "spec's units) to the tilt test and the run tied to a landmark, and prints it beside the\n"
+    "linear baseline with every parameter +- 1 sigma, the shift in sigmas, chi-square per\n"
+    "residual group, and the endpoint (m) with its landmark table.\n"
+    "Exit status: 0 on success, 2 on bad input or a problem that is not identifiable.\n\n"
+    "  joint --data_dir=../shared/data/tp2-2018 --effects=angle_offset,nonorthogonality "
+    "--landmark=auto";
+
+struct Inputs {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+};
+
+Status Load(Inputs* inputs) {
+  if (FLAGS_data_dir.empty()) {
+    Scenario scenario;
+    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
+    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
+    SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
+    inputs->test = std::move(data.test);
+    inputs->run = std::move(data.run);
+    inputs->landmarks = std::move(data.landmarks);
+    inputs->conditions = data.conditions;
+    return Status::Ok();
+  }
+  DataFiles files;
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
+  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
+  return LoadRunConditions(files.conditions, &inputs->conditions);
+}
+
+Status Options(const Inputs& inputs, JointOptions* options) {
+  if (!(FLAGS_landmark_sigma >= 0.0)) return Status::Error("--landmark_sigma must be >= 0 (m)");
+  if (FLAGS_loss != "none" && FLAGS_loss != "huber" && FLAGS_loss != "cauchy") {
+    return Status::Error("--loss must be none, huber or cauchy, got '" + FLAGS_loss + "'");
+  }
+  if (!(FLAGS_loss_scale > 0.0)) return Status::Error("--loss_scale must be positive (sigmas)");
+  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 1.0)) return Status::Error("--alpha must be in (0, 1)");
+  if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
+  ACCELCAL_RETURN_IF_ERROR(ParseEffects(FLAGS_effects, &options->effects).WithContext("--effects"));
+  options->gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
+  options->noise_variance_x = inputs.conditions.noise_variance_x;
+  options->noise_variance_y = inputs.conditions.noise_variance_y;
+  if (FLAGS_landmark == "none") {
+    options->landmark_mode = JointOptions::Landmark::kNone;
+  } else if (FLAGS_landmark == "auto") {
+    options->landmark_mode = JointOptions::Landmark::kAuto;
+  } else {
+    options->landmark_mode = JointOptions::Landmark::kNamed;
+    options->landmark_name = FLAGS_landmark;
+  }
+  options->landmark_sigma_m = FLAGS_landmark_sigma;
+  options->loss = FLAGS_loss;
+  options->loss_scale = FLAGS_loss_scale;
+  options->num_threads = FLAGS_num_threads;
+  return Status::Ok();
+}
+
+Status Solve(const Inputs& inputs, const JointOptions& options, JointReport* report) {
+  LinearLsOptions linear;
+  linear.gravity_mps2 = options.gravity_mps2;
+  linear.noise_variance_x = options.noise_variance_x;
+  linear.noise_variance_y = options.noise_variance_y;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, linear, &report->linear));
+  TrajectoryOptions trajectory;
+  trajectory.path_stride = inputs.run.size();
+  ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->linear, trajectory,
+                                      &report->linear_trajectory));
+  report->linear_decision =
+      DecideLandmark(report->linear_trajectory.endpoint, report->linear_trajectory.covariance,
+                     inputs.landmarks, FLAGS_alpha);
+  ACCELCAL_RETURN_IF_ERROR(SolveJoint(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
+                                      options, &report->joint));
+  ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->joint.estimate,
+                                      trajectory, &report->joint_trajectory));
+  report->joint_decision =
+      DecideLandmark(report->joint_trajectory.endpoint, report->joint_trajectory.covariance,
+                     inputs.landmarks, FLAGS_alpha);
+  report->effects = FLAGS_effects;
+  return Status::Ok();
+}
+
+int Run(int argc, char** argv) {
+  if (!InitProblem("joint", kUsage, "problems/joint", &argc, &argv)) return kExitBadInput;
+  Inputs inputs;
+  JointOptions options;
+  JointReport report;
+  Status status = Load(&inputs);
+  if (status.ok()) status = Options(inputs, &options);
+  if (status.ok()) status = Solve(inputs, options, &report);
+  if (!status.ok()) return ExitWithError("joint", status);
+  std::cout << JointTable(report, FLAGS_v >= 1) << std::flush;
+  if (!FLAGS_json.empty()) {
+    status =
+        WriteFileAtomically(FLAGS_json, JointJson(report).dump(2) + "\n").WithContext("--json");
+    if (!status.ok()) return ExitWithError("joint", status);
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace accelcal
+
+int main(int argc, char** argv) { return accelcal::Run(argc, argv); }

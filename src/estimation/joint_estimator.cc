@@ -1,0 +1,325 @@
+#include "estimation/joint_estimator.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "common/format.h"
+#include "estimation/linear_ls.h"
+#include "estimation/trajectory.h"
+#include "residuals/calibration_residual.h"
+#include "residuals/endpoint_residual.h"
+
+namespace accelcal {
+namespace {
+
+bool IsNoiseRatio(Parameter parameter) {
+  return parameter == Parameter::kNoiseVarianceX || parameter == Parameter::kNoiseVarianceY;
+}
+
+bool IsRunShift(Parameter parameter) {
+  return parameter == Parameter::kRunBiasShiftX || parameter == Parameter::kRunBiasShiftY;
+}
+
+std::unique_ptr<ceres::LossFunction> MakeLoss(const JointOptions& options) {
+  if (options.loss == "huber") return std::make_unique<ceres::HuberLoss>(options.loss_scale);
+  if (options.loss == "cauchy") return std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+  return nullptr;
+}
+
+// One solve with the run tied to `landmark` (or to none).
+class JointProblem {
+ public:
+  JointProblem(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,
+               const JointOptions& options, const BaselineFit& start)
+      : test_(test), run_(run), conditions_(conditions), options_(options), start_(start) {}
+
+  Status Solve(const Landmark* landmark, JointResult* result) {
+    ParameterEstimate& estimate = result->estimate;
+    estimate = ParameterEstimate();
+    ModelParameters<double>& values = estimate.values;
+    // Start from the closed-form baseline; every effect from its neutral value.
+    const ParameterEstimate baseline = FromBaselineFit(start_);
+    for (const Parameter parameter : baseline.free) {
+      ParameterValue(&values, parameter) = baseline.Value(parameter);
+    }
+    estimate.free = baseline.free;
+    for (const Parameter effect : options_.effects) estimate.free.push_back(effect);
+
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    loss_ = MakeLoss(options_);
+    auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
+    const double sigma_x = std::sqrt(options_.noise_variance_x);
+    const double sigma_y = std::sqrt(options_.noise_variance_y);
+    std::vector<ceres::ResidualBlockId> x_blocks;
+    std::vector<ceres::ResidualBlockId> y_blocks;
+    const int n = test_.size();
+    for (int i = 0; i < n; ++i) {
+      const double u = DriftCoordinate(i, n);
+      x_blocks.push_back(problem.AddResidualBlock(
+          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
+                                      options_.gravity_mps2, sigma_x),
+          loss_.get(), block(Parameter::kBiasX), block(Parameter::kScaleX),
+          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+      y_blocks.push_back(problem.AddResidualBlock(
+          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_y[i], SensingAxis::kY, u,
+                                      options_.gravity_mps2, sigma_y),
+          loss_.get(), block(Parameter::kBiasY), block(Parameter::kScaleY),
+          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+    }
+    ceres::ResidualBlockId endpoint_block = nullptr;
+    if (landmark != nullptr) {
+      // The endpoint's noise covariance at the starting point (the baseline): the
+      // whitening must not move with the parameters, or the cost would not be a chi-square.
+      TrajectoryOptions trajectory_options;
+      trajectory_options.path_stride = run_.size();
+      DeadReckoningResult baseline_trajectory;
+      ACCELCAL_RETURN_IF_ERROR(
+          DeadReckon(run_, conditions_, start_, trajectory_options, &baseline_trajectory));
+      const double dt = (run_.timestamp_s.back() - run_.timestamp_s.front()) / (run_.size() - 1);
+      auto* functor = new EndpointResidual(
+          run_.measured_x, run_.measured_y, dt,
+          Eigen::Vector2d(conditions_.initial_position_x_m, conditions_.initial_position_y_m),
+          Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
+          Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory.noise_part,
+          options_.landmark_sigma_m);
+      endpoint_block = problem.AddResidualBlock(
+          EndpointResidual::Create(functor), nullptr, block(Parameter::kBiasX),
+          block(Parameter::kScaleX), block(Parameter::kScaleNonlinearityX),
+          block(Parameter::kRunBiasShiftX), block(Parameter::kBiasY), block(Parameter::kScaleY),
+          block(Parameter::kScaleNonlinearityY), block(Parameter::kRunBiasShiftY),
+          block(Parameter::kNonorthogonality));
+      result->landmark = landmark->name;
+    }
+    // Every parameter not estimated stays where it is.
+    for (const ParameterInfo& info : ParameterCatalogue()) {
+      if (IsNoiseRatio(info.parameter)) continue;
+      double* pointer = block(info.parameter);
+      if (!problem.HasParameterBlock(pointer)) continue;
+      if (std::find(estimate.free.begin(), estimate.free.end(), info.parameter) ==
+          estimate.free.end()) {
+        problem.SetParameterBlockConstant(pointer);
+      }
+    }
+
+    ceres::Solver::Options solver_options;
+    solver_options.linear_solver_type = ceres::DENSE_QR;
+    solver_options.max_num_iterations = options_.max_iterations;
+    solver_options.function_tolerance = 1e-14;
+    solver_options.gradient_tolerance = 1e-14;
+    solver_options.parameter_tolerance = 1e-14;
+    solver_options.num_threads = options_.num_threads;
+    solver_options.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solver_options, &problem, &summary);
+    result->brief_report = summary.BriefReport();
+    result->full_report = summary.FullReport();
+    result->iterations = static_cast<int>(summary.iterations.size());
+    result->converged = summary.termination_type == ceres::CONVERGENCE;
+    if (!result->converged) return Status::Error("Ceres did not converge: " + summary.message);
+
+    std::vector<double*> free_blocks;
+    for (const Parameter parameter : estimate.free) free_blocks.push_back(block(parameter));
+    ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(&problem, free_blocks, estimate.free));
+
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = ceres::DENSE_SVD;
+    covariance_options.num_threads = options_.num_threads;
+    ceres::Covariance covariance(covariance_options);
+    std::vector<const double*> const_blocks(free_blocks.begin(), free_blocks.end());
+    if (!covariance.Compute(const_blocks, &problem)) {
+      return Status::Error("ceres::Covariance could not invert the information matrix");
+    }
+    estimate.covariance.resize(free_blocks.size(), free_blocks.size());
+    covariance.GetCovarianceMatrix(const_blocks, estimate.covariance.data());
+
+    auto chi_square = [&](const std::vector<ceres::ResidualBlockId>& blocks) {
+      ceres::Problem::EvaluateOptions evaluate_options;
+      evaluate_options.residual_blocks = blocks;
+      evaluate_options.apply_loss_function = false;
+      double cost = 0.0;
+      problem.Evaluate(evaluate_options, &cost, nullptr, nullptr, nullptr);
+      return 2.0 * cost;
+    };
+    result->chi2_x = chi_square(x_blocks);
+    result->chi2_y = chi_square(y_blocks);
+    result->chi2_endpoint = endpoint_block != nullptr ? chi_square({endpoint_block}) : 0.0;
+    result->samples = n;
+    return Status::Ok();
+  }
+
+ private:
+  // Looks for directions in which the data do not constrain the free parameters: the
+  // eigenvectors of the column-scaled J^T J with tiny eigenvalues. A column of zeros (a
+  // parameter no residual depends on) is the extreme case.
+  Status CheckIdentifiable(ceres::Problem* problem, const std::vector<double*>& blocks,
+                           const std::vector<Parameter>& names) {
+    ceres::Problem::EvaluateOptions evaluate_options;
+    evaluate_options.parameter_blocks = blocks;
+    ceres::CRSMatrix jacobian;
+    problem->Evaluate(evaluate_options, nullptr, nullptr, nullptr, &jacobian);
+    const int p = static_cast<int>(blocks.size());
+    Eigen::MatrixXd information = Eigen::MatrixXd::Zero(p, p);
+    for (int row = 0; row < jacobian.num_rows; ++row) {
+      for (int a = jacobian.rows[row]; a < jacobian.rows[row + 1]; ++a) {
+        for (int b = jacobian.rows[row]; b < jacobian.rows[row + 1]; ++b) {
+          information(jacobian.cols[a], jacobian.cols[b]) +=
+              jacobian.values[a] * jacobian.values[b];
+        }
+      }
+    }
+    std::string unconstrained;
+    for (int i = 0; i < p; ++i) {
+      if (!(information(i, i) > 0.0)) {
+        unconstrained += std::string(unconstrained.empty() ? "" : ", ") + Info(names[i]).name;
+      }
+    }
+    if (!unconstrained.empty()) {
+      std::string hint;
+      for (const Parameter parameter : names) {
+        if (IsRunShift(parameter))
+          hint = "; a run bias shift is observable only through a landmark (--landmark)";
+      }
+      return Status::Error("not identifiable: no residual depends on " + unconstrained + hint);
+    }
+    const Eigen::VectorXd scale = information.diagonal().cwiseSqrt().cwiseInverse();
+    const Eigen::MatrixXd normalized = scale.asDiagonal() * information * scale.asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normalized);
+    const double largest = eigen.eigenvalues().maxCoeff();
+    for (int k = 0; k < p; ++k) {
+      if (eigen.eigenvalues()[k] > options_.identifiability_threshold * largest) continue;
+      std::string together;
+      const Eigen::VectorXd direction = eigen.eigenvectors().col(k);
+      for (int i = 0; i < p; ++i) {
+        if (std::abs(direction[i]) > 0.1) {
+          together += std::string(together.empty() ? "" : ", ") + Info(names[i]).name;
+        }
+      }
+      return Status::Error(StringPrintf(
+          "not identifiable: %s cannot be separated with these data (their information "
+          "matrix has a near-null direction, eigenvalue ratio %.1e); fix one of them or "
+          "change the test design",
+          together.c_str(), eigen.eigenvalues()[k] / largest));
+    }
+    return Status::Ok();
+  }
+
+  const CalibrationTest& test_;
+  const VehicleRun& run_;
+  const RunConditions& conditions_;
+  const JointOptions& options_;
+  const BaselineFit& start_;
+  std::unique_ptr<ceres::LossFunction> loss_;
+};
+
+}  // namespace
+
+Status ParseEffects(const std::string& list, std::vector<Parameter>* effects) {
+  effects->clear();
+  if (list.empty() || list == "none") return Status::Ok();
+  std::istringstream stream(list);
+  std::string name;
+  while (std::getline(stream, name, ',')) {
+    if (name.empty()) continue;
+    if (name == "all") {
+      for (const ParameterInfo& info : ParameterCatalogue()) {
+        if (!info.baseline && !IsNoiseRatio(info.parameter)) effects->push_back(info.parameter);
+      }
+      continue;
+    }
+    const ParameterInfo* info = FindParameter(name);
+    if (info == nullptr || info->baseline) {
+      std::string names;
+      for (const ParameterInfo& entry : ParameterCatalogue()) {
+        if (!entry.baseline && !IsNoiseRatio(entry.parameter))
+          names += std::string(names.empty() ? "" : ", ") + entry.name;
+      }
+      return Status::Error("'" + name +
+                           "' is not an effect the joint model estimates; choose from " + names +
+                           " (bias and scale are always estimated)");
+    }
+    if (IsNoiseRatio(info->parameter)) {
+      return Status::Error(std::string(info->name) +
+                           " is not a model parameter: it is read from chi-square (see discover)");
+    }
+    if (std::find(effects->begin(), effects->end(), info->parameter) == effects->end()) {
+      effects->push_back(info->parameter);
+    }
+  }
+  return Status::Ok();
+}
+
+Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
+                  const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                  const JointOptions& options, JointResult* result) {
+  *result = JointResult();
+  for (const Parameter effect : options.effects) {
+    if (IsNoiseRatio(effect) || Info(effect).baseline) {
+      return Status::Error(std::string(Info(effect).name) + " cannot be a joint effect");
+    }
+    if (IsRunShift(effect) && options.landmark_mode == JointOptions::Landmark::kNone) {
+      return Status::Error(std::string("not identifiable: ") + Info(effect).name +
+                           " is observable only through the run's endpoint; tie the run to a "
+                           "landmark (--landmark=NAME or --landmark=auto)");
+    }
+  }
+  LinearLsOptions linear;
+  linear.gravity_mps2 = options.gravity_mps2;
+  linear.noise_variance_x = options.noise_variance_x;
+  linear.noise_variance_y = options.noise_variance_y;
+  BaselineFit start;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
+  JointProblem problem(test, run, conditions, options, start);
+  if (options.landmark_mode == JointOptions::Landmark::kNone) return problem.Solve(nullptr, result);
+  if (options.landmark_mode == JointOptions::Landmark::kNamed) {
+    for (const Landmark& landmark : landmarks) {
+      if (landmark.name == options.landmark_name) return problem.Solve(&landmark, result);
+    }
+    std::string names;
+    for (const Landmark& landmark : landmarks) names += (names.empty() ? "" : ", ") + landmark.name;
+    return Status::Error("--landmark=" + options.landmark_name + " is not one of the landmarks (" +
+                         names + ")");
+  }
+  // One solve per landmark; the hypotheses share every residual and its whitening, so
+  // their costs compare directly: posterior_k = exp(-cost_k) / sum_i exp(-cost_i).
+  if (landmarks.empty()) return Status::Error("--landmark=auto needs landmarks");
+  std::vector<JointResult> solutions(landmarks.size());
+  double best_cost = HUGE_VAL;
+  size_t best = 0;
+  for (size_t k = 0; k < landmarks.size(); ++k) {
+    ACCELCAL_RETURN_IF_ERROR(
+        problem.Solve(&landmarks[k], &solutions[k]).WithContext("landmark " + landmarks[k].name));
+    const double cost =
+        0.5 * (solutions[k].chi2_x + solutions[k].chi2_y + solutions[k].chi2_endpoint);
+    if (cost < best_cost) {
+      best_cost = cost;
+      best = k;
+    }
+  }
+  std::vector<LandmarkHypothesis> hypotheses;
+  double sum = 0.0;
+  for (size_t k = 0; k < landmarks.size(); ++k) {
+    LandmarkHypothesis hypothesis;
+    hypothesis.name = landmarks[k].name;
+    hypothesis.cost =
+        0.5 * (solutions[k].chi2_x + solutions[k].chi2_y + solutions[k].chi2_endpoint);
+    hypothesis.chi2_endpoint = solutions[k].chi2_endpoint;
+    hypothesis.posterior = std::exp(-(hypothesis.cost - best_cost));
+    sum += hypothesis.posterior;
+    hypotheses.push_back(hypothesis);
+  }
+  for (LandmarkHypothesis& hypothesis : hypotheses) hypothesis.posterior /= sum;
+  *result = solutions[best];
+  result->hypotheses = hypotheses;
+  return Status::Ok();
+}
+
+}  // namespace accelcal

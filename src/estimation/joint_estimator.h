@@ -1,0 +1,77 @@
+#ifndef ACCELCAL_ESTIMATION_JOINT_ESTIMATOR_H_
+#define ACCELCAL_ESTIMATION_JOINT_ESTIMATOR_H_
+
+// The joint nonlinear problem: bias and scale of each axis plus any chosen effects of the
+// catalogue (angle_offset, nonorthogonality, bias_drift_k, scale_nonlinearity_k,
+// run_bias_shift_k), estimated in one Ceres problem from every tilt-test sample
+// (residuals/calibration_residual.h) and, when the run is tied to a landmark, from the
+// dead-reckoned endpoint (residuals/endpoint_residual.h). Every residual is whitened by
+// the stated noise, so 2 x cost is a chi-square and ceres::Covariance gives the
+// parameters' covariance in the spec's units.
+//
+// Before the covariance, the information matrix J^T J (columns scaled to unit norm) is
+// checked for near-null directions; parameters that move together along one are
+// reported as not separable, and no covariance is claimed for them.
+
+#include <string>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/parameter_estimate.h"
+
+namespace accelcal {
+
+struct JointOptions {
+  std::vector<Parameter> effects;  // estimated beyond bias and scale (no noise_variance_k)
+  double gravity_mps2 = 9.8;
+  double noise_variance_x = 0.0;  // stated, (m/s^2)^2
+  double noise_variance_y = 0.0;
+  enum class Landmark { kNone, kNamed, kAuto };
+  Landmark landmark_mode = Landmark::kNone;
+  std::string landmark_name;      // with kNamed
+  double landmark_sigma_m = 0.0;  // the landmark's position uncertainty
+  // Robust loss on the calibration residuals: "none", "huber" or "cauchy"; the scale is
+  // in units of the (whitened) residual, i.e. of sigma.
+  std::string loss = "none";
+  double loss_scale = 1.345;
+  int max_iterations = 100;
+  int num_threads = 1;
+  // A near-null direction of the scaled information matrix: eigenvalue ratio below this.
+  double identifiability_threshold = 1e-10;
+};
+
+struct LandmarkHypothesis {
+  std::string name;
+  double cost = 0.0;           // half the total chi-square at the optimum
+  double chi2_endpoint = 0.0;  // the endpoint residual's share
+  double posterior = 0.0;      // equal priors: exp(-cost) normalised
+};
+
+struct JointResult {
+  ParameterEstimate estimate;
+  double chi2_x = 0.0;  // tilt-test residuals of each axis (without the robust loss)
+  double chi2_y = 0.0;
+  int samples = 0;
+  double chi2_endpoint = 0.0;                  // 0 without a landmark
+  std::string landmark;                        // the landmark the run was tied to, or empty
+  std::vector<LandmarkHypothesis> hypotheses;  // with Landmark::kAuto, one per landmark
+  bool converged = false;
+  int iterations = 0;
+  std::string brief_report;
+  std::string full_report;
+};
+
+// Fails (naming the parameters) when the chosen effects cannot be separated with these
+// data, e.g. run_bias_shift_x without a landmark, or bias, scale and scale_nonlinearity
+// from a test with two static positions.
+Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
+                  const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                  const JointOptions& options, JointResult* result);
+
+// Parses "angle_offset,nonorthogonality,..." (or "none", or "all") into effects.
+Status ParseEffects(const std::string& list, std::vector<Parameter>* effects);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_JOINT_ESTIMATOR_H_

@@ -1,0 +1,144 @@
+#include "reporting/joint_report.h"
+
+#include <cmath>
+
+#include "common/format.h"
+#include "estimation/parameter_estimate.h"
+
+namespace accelcal {
+namespace {
+
+nlohmann::json EstimateJson(const ParameterEstimate& estimate, double chi2_x, double chi2_y,
+                            double chi2_endpoint, const DeadReckoningResult& trajectory,
+                            const LandmarkDecision& decision) {
+  nlohmann::json parameters = nlohmann::json::object();
+  nlohmann::json stddev = nlohmann::json::object();
+  nlohmann::json order = nlohmann::json::array();
+  for (const Parameter parameter : estimate.free) {
+    parameters[Info(parameter).name] = estimate.Value(parameter);
+    stddev[Info(parameter).name] = estimate.StandardDeviation(parameter);
+    order.push_back(Info(parameter).name);
+  }
+  nlohmann::json covariance = nlohmann::json::array();
+  for (int r = 0; r < estimate.covariance.rows(); ++r) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int c = 0; c < estimate.covariance.cols(); ++c) row.push_back(estimate.covariance(r, c));
+    covariance.push_back(row);
+  }
+  nlohmann::json landmarks = nlohmann::json::array();
+  for (const LandmarkScore& score : decision.scores) {
+    landmarks.push_back({{"name", score.landmark.name},
+                         {"mahalanobis2", score.mahalanobis2},
+                         {"posterior", score.posterior},
+                         {"p_value", score.p_value}});
+  }
+  const Eigen::Matrix2d& c = trajectory.covariance;
+  return {{"parameters", parameters},
+          {"stddev", stddev},
+          {"parameter_order", order},
+          {"covariance", covariance},
+          {"chi2", {{"x", chi2_x}, {"y", chi2_y}, {"endpoint", chi2_endpoint}}},
+          {"endpoint", {{"x", trajectory.endpoint.x()}, {"y", trajectory.endpoint.y()}}},
+          {"endpoint_covariance", {{c(0, 0), c(0, 1)}, {c(1, 0), c(1, 1)}}},
+          {"landmarks", landmarks},
+          {"reached",
+           decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)}};
+}
+
+std::string Cell(double value, double sigma) { return StringPrintf("%+.4e +- %.2e", value, sigma); }
+
+}  // namespace
+
+std::string JointTable(const JointReport& report, bool full_solver_report) {
+  const ParameterEstimate linear = FromBaselineFit(report.linear);
+  const ParameterEstimate& joint = report.joint.estimate;
+  std::string text = StringPrintf(
+      "accelcal joint: the linear baseline and the joint nonlinear model (effects: %s; run %s)\n\n",
+      report.effects.empty() ? "none" : report.effects.c_str(),
+      report.joint.landmark.empty() ? "not tied to a landmark"
+                                    : ("tied to " + report.joint.landmark).c_str());
+  text +=
+      "  parameter              unit        linear (bias, scale only)       joint                  "
+      "   shift\n";
+  for (const Parameter parameter : joint.free) {
+    const ParameterInfo& info = Info(parameter);
+    const int linear_index = linear.IndexOf(parameter);
+    const std::string linear_cell =
+        linear_index >= 0 ? Cell(linear.Value(parameter), linear.StandardDeviation(parameter))
+                          : StringPrintf("%-26s", "(not in the model)");
+    const std::string shift =
+        linear_index >= 0
+            ? StringPrintf("%+7.2f sigma", (joint.Value(parameter) - linear.Value(parameter)) /
+                                               linear.StandardDeviation(parameter))
+            : "";
+    text += StringPrintf("  %-22s %-10s  %s   %s  %s\n", info.name, info.unit, linear_cell.c_str(),
+                         Cell(joint.Value(parameter), joint.StandardDeviation(parameter)).c_str(),
+                         shift.c_str());
+  }
+  text += StringPrintf("\n  chi-square           linear          joint\n");
+  text += StringPrintf("  tilt test x    %12.1f   %12.1f\n", report.linear.chi2_x.chi2,
+                       report.joint.chi2_x);
+  text += StringPrintf("  tilt test y    %12.1f   %12.1f\n", report.linear.chi2_y.chi2,
+                       report.joint.chi2_y);
+  if (!report.joint.landmark.empty()) {
+    text += StringPrintf("  endpoint       %12s   %12.2f   (2 residuals, tied to %s)\n", "-",
+                         report.joint.chi2_endpoint, report.joint.landmark.c_str());
+  }
+  text += StringPrintf("  (degrees of freedom: linear %d per axis; joint %d over both axes%s)\n",
+                       report.linear.chi2_x.dof,
+                       2 * report.joint.samples + (report.joint.landmark.empty() ? 0 : 2) -
+                           static_cast<int>(joint.free.size()),
+                       report.joint.landmark.empty() ? "" : " and the endpoint");
+
+  text += "\n  endpoint (m)            x          y     1 sigma x, y    reached\n";
+  for (const auto& [name, trajectory, decision] :
+       {std::make_tuple("linear", &report.linear_trajectory, &report.linear_decision),
+        std::make_tuple("joint", &report.joint_trajectory, &report.joint_decision)}) {
+    text += StringPrintf("  %-10s     %10.3f %10.3f   %6.2f, %6.2f   %s\n", name,
+                         trajectory->endpoint.x(), trajectory->endpoint.y(),
+                         std::sqrt(trajectory->covariance(0, 0)),
+                         std::sqrt(trajectory->covariance(1, 1)),
+                         decision->reached.empty() ? "none consistent" : decision->reached.c_str());
+  }
+  if (!report.joint.hypotheses.empty()) {
+    text += "\n  landmark hypotheses (one joint solve each)   cost   endpoint chi2   posterior\n";
+    for (const LandmarkHypothesis& hypothesis : report.joint.hypotheses) {
+      text += StringPrintf("  %-40s %10.2f %15.2f %11.3g\n", hypothesis.name.c_str(),
+                           hypothesis.cost, hypothesis.chi2_endpoint, hypothesis.posterior);
+    }
+    text +=
+        "  (when the run is tied to a landmark, the joint endpoint is pulled toward it: choose "
+        "the\n"
+        "   landmark by the hypotheses' posteriors, not by the joint endpoint's table)\n";
+  }
+  text += "\n  " + report.joint.brief_report + "\n";
+  if (full_solver_report) text += report.joint.full_report + "\n";
+  return text;
+}
+
+nlohmann::json JointJson(const JointReport& report) {
+  nlohmann::json hypotheses = nlohmann::json::array();
+  for (const LandmarkHypothesis& hypothesis : report.joint.hypotheses) {
+    hypotheses.push_back({{"name", hypothesis.name},
+                          {"cost", hypothesis.cost},
+                          {"chi2_endpoint", hypothesis.chi2_endpoint},
+                          {"posterior", hypothesis.posterior}});
+  }
+  return {{"problem", "joint"},
+          {"effects", report.effects},
+          {"landmark", report.joint.landmark.empty() ? nlohmann::json(nullptr)
+                                                     : nlohmann::json(report.joint.landmark)},
+          {"linear", EstimateJson(FromBaselineFit(report.linear), report.linear.chi2_x.chi2,
+                                  report.linear.chi2_y.chi2, 0.0, report.linear_trajectory,
+                                  report.linear_decision)},
+          {"joint", EstimateJson(report.joint.estimate, report.joint.chi2_x, report.joint.chi2_y,
+                                 report.joint.chi2_endpoint, report.joint_trajectory,
+                                 report.joint_decision)},
+          {"hypotheses", hypotheses},
+          {"solver",
+           {{"converged", report.joint.converged},
+            {"iterations", report.joint.iterations},
+            {"brief_report", report.joint.brief_report}}}};
+}
+
+}  // namespace accelcal
