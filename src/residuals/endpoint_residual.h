@@ -23,6 +23,7 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <Eigen/LU>
 #include <vector>
 
 #include "models/dead_reckoning.h"
