@@ -36,7 +36,80 @@ class JointProblem {
  public:
   JointProblem(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,
                const JointOptions& options, const BaselineFit& start)
-      : test_(test), run_(run), conditions_(conditions), options_(options), start_(start) {}
+      : test_(test),
+        run_(run),
+        conditions_(conditions),
+        options_(options),
+        start_(start),
+        loss_(MakeLoss(options)) {}
+
+  // The residual blocks of each group, for chi-square per group.
+  struct Groups {
+    std::vector<ceres::ResidualBlockId> x;
+    std::vector<ceres::ResidualBlockId> y;
+    ceres::ResidualBlockId endpoint = nullptr;
+  };
+
+  // Adds every residual at `values` (which must outlive `problem`); the parameters not in
+  // `free` are held constant.
+  Status Build(const Landmark* landmark, const std::vector<Parameter>& free,
+               ModelParameters<double>* values, ceres::Problem* problem, Groups* groups) {
+    auto block = [&](Parameter parameter) { return &ParameterValue(values, parameter); };
+    const double sigma_x = std::sqrt(options_.noise_variance_x);
+    const double sigma_y = std::sqrt(options_.noise_variance_y);
+    const int n = test_.size();
+    for (int i = 0; i < n; ++i) {
+      const double u = DriftCoordinate(i, n);
+      groups->x.push_back(problem->AddResidualBlock(
+          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
+                                      options_.gravity_mps2, sigma_x),
+          loss_.get(), block(Parameter::kBiasX), block(Parameter::kScaleX),
+          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+      groups->y.push_back(problem->AddResidualBlock(
+          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_y[i], SensingAxis::kY, u,
+                                      options_.gravity_mps2, sigma_y),
+          loss_.get(), block(Parameter::kBiasY), block(Parameter::kScaleY),
+          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+    }
+    if (landmark != nullptr) {
+      // The endpoint's noise covariance at the starting point (the baseline): the
+      // whitening must not move with the parameters, or the cost would not be a chi-square.
+      TrajectoryOptions trajectory_options;
+      trajectory_options.path_stride = run_.size();
+      ParameterEstimate start = FromBaselineFit(start_);
+      start.values.noise_variance_ratio_x =
+          options_.noise_variance_x / conditions_.noise_variance_x;
+      start.values.noise_variance_ratio_y =
+          options_.noise_variance_y / conditions_.noise_variance_y;
+      DeadReckoningResult baseline_trajectory;
+      ACCELCAL_RETURN_IF_ERROR(
+          DeadReckon(run_, conditions_, start, trajectory_options, &baseline_trajectory));
+      const double dt = (run_.timestamp_s.back() - run_.timestamp_s.front()) / (run_.size() - 1);
+      auto* functor = new EndpointResidual(
+          run_.measured_x, run_.measured_y, dt,
+          Eigen::Vector2d(conditions_.initial_position_x_m, conditions_.initial_position_y_m),
+          Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
+          Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory.noise_part,
+          options_.landmark_sigma_m);
+      groups->endpoint = problem->AddResidualBlock(
+          EndpointResidual::Create(functor), nullptr, block(Parameter::kBiasX),
+          block(Parameter::kScaleX), block(Parameter::kScaleNonlinearityX),
+          block(Parameter::kRunBiasShiftX), block(Parameter::kBiasY), block(Parameter::kScaleY),
+          block(Parameter::kScaleNonlinearityY), block(Parameter::kRunBiasShiftY),
+          block(Parameter::kNonorthogonality));
+    }
+    for (const ParameterInfo& info : ParameterCatalogue()) {
+      if (IsNoiseRatio(info.parameter)) continue;
+      double* pointer = block(info.parameter);
+      if (!problem->HasParameterBlock(pointer)) continue;
+      if (std::find(free.begin(), free.end(), info.parameter) == free.end()) {
+        problem->SetParameterBlockConstant(pointer);
+      }
+    }
+    return Status::Ok();
+  }
 
   Status Solve(const Landmark* landmark, JointResult* result) {
     ParameterEstimate& estimate = result->estimate;
@@ -47,68 +120,18 @@ class JointProblem {
     for (const Parameter parameter : baseline.free) {
       ParameterValue(&values, parameter) = baseline.Value(parameter);
     }
+    values.noise_variance_ratio_x = options_.noise_variance_x / conditions_.noise_variance_x;
+    values.noise_variance_ratio_y = options_.noise_variance_y / conditions_.noise_variance_y;
     estimate.free = baseline.free;
     for (const Parameter effect : options_.effects) estimate.free.push_back(effect);
 
     ceres::Problem::Options problem_options;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
-    loss_ = MakeLoss(options_);
+    Groups groups;
+    ACCELCAL_RETURN_IF_ERROR(Build(landmark, estimate.free, &values, &problem, &groups));
+    if (landmark != nullptr) result->landmark = landmark->name;
     auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
-    const double sigma_x = std::sqrt(options_.noise_variance_x);
-    const double sigma_y = std::sqrt(options_.noise_variance_y);
-    std::vector<ceres::ResidualBlockId> x_blocks;
-    std::vector<ceres::ResidualBlockId> y_blocks;
-    const int n = test_.size();
-    for (int i = 0; i < n; ++i) {
-      const double u = DriftCoordinate(i, n);
-      x_blocks.push_back(problem.AddResidualBlock(
-          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
-                                      options_.gravity_mps2, sigma_x),
-          loss_.get(), block(Parameter::kBiasX), block(Parameter::kScaleX),
-          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
-      y_blocks.push_back(problem.AddResidualBlock(
-          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_y[i], SensingAxis::kY, u,
-                                      options_.gravity_mps2, sigma_y),
-          loss_.get(), block(Parameter::kBiasY), block(Parameter::kScaleY),
-          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
-    }
-    ceres::ResidualBlockId endpoint_block = nullptr;
-    if (landmark != nullptr) {
-      // The endpoint's noise covariance at the starting point (the baseline): the
-      // whitening must not move with the parameters, or the cost would not be a chi-square.
-      TrajectoryOptions trajectory_options;
-      trajectory_options.path_stride = run_.size();
-      DeadReckoningResult baseline_trajectory;
-      ACCELCAL_RETURN_IF_ERROR(
-          DeadReckon(run_, conditions_, start_, trajectory_options, &baseline_trajectory));
-      const double dt = (run_.timestamp_s.back() - run_.timestamp_s.front()) / (run_.size() - 1);
-      auto* functor = new EndpointResidual(
-          run_.measured_x, run_.measured_y, dt,
-          Eigen::Vector2d(conditions_.initial_position_x_m, conditions_.initial_position_y_m),
-          Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
-          Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory.noise_part,
-          options_.landmark_sigma_m);
-      endpoint_block = problem.AddResidualBlock(
-          EndpointResidual::Create(functor), nullptr, block(Parameter::kBiasX),
-          block(Parameter::kScaleX), block(Parameter::kScaleNonlinearityX),
-          block(Parameter::kRunBiasShiftX), block(Parameter::kBiasY), block(Parameter::kScaleY),
-          block(Parameter::kScaleNonlinearityY), block(Parameter::kRunBiasShiftY),
-          block(Parameter::kNonorthogonality));
-      result->landmark = landmark->name;
-    }
-    // Every parameter not estimated stays where it is.
-    for (const ParameterInfo& info : ParameterCatalogue()) {
-      if (IsNoiseRatio(info.parameter)) continue;
-      double* pointer = block(info.parameter);
-      if (!problem.HasParameterBlock(pointer)) continue;
-      if (std::find(estimate.free.begin(), estimate.free.end(), info.parameter) ==
-          estimate.free.end()) {
-        problem.SetParameterBlockConstant(pointer);
-      }
-    }
 
     ceres::Solver::Options solver_options;
     solver_options.linear_solver_type = ceres::DENSE_QR;
@@ -149,10 +172,38 @@ class JointProblem {
       problem.Evaluate(evaluate_options, &cost, nullptr, nullptr, nullptr);
       return 2.0 * cost;
     };
-    result->chi2_x = chi_square(x_blocks);
-    result->chi2_y = chi_square(y_blocks);
-    result->chi2_endpoint = endpoint_block != nullptr ? chi_square({endpoint_block}) : 0.0;
-    result->samples = n;
+    result->chi2_x = chi_square(groups.x);
+    result->chi2_y = chi_square(groups.y);
+    result->chi2_endpoint = groups.endpoint != nullptr ? chi_square({groups.endpoint}) : 0.0;
+    result->samples = test_.size();
+    return Status::Ok();
+  }
+
+  // The whitened residuals and their Jacobian with respect to `columns` at `values`
+  // (rows in the order the residuals were added: x_0, y_0, x_1, y_1, ..., then the endpoint).
+  Status Linearize(const Landmark* landmark, const ModelParameters<double>& at,
+                   const std::vector<Parameter>& columns, Eigen::MatrixXd* jacobian,
+                   Eigen::VectorXd* residual) {
+    ModelParameters<double> values = at;
+    ceres::Problem::Options problem_options;
+    problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    ceres::Problem problem(problem_options);
+    Groups groups;
+    ACCELCAL_RETURN_IF_ERROR(Build(landmark, columns, &values, &problem, &groups));
+    std::vector<double*> blocks;
+    for (const Parameter parameter : columns) blocks.push_back(&ParameterValue(&values, parameter));
+    ceres::Problem::EvaluateOptions evaluate_options;
+    evaluate_options.parameter_blocks = blocks;
+    evaluate_options.apply_loss_function = false;
+    std::vector<double> residuals;
+    ceres::CRSMatrix crs;
+    problem.Evaluate(evaluate_options, nullptr, &residuals, nullptr, &crs);
+    *jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+    for (int row = 0; row < crs.num_rows; ++row) {
+      for (int k = crs.rows[row]; k < crs.rows[row + 1]; ++k)
+        (*jacobian)(row, crs.cols[k]) = crs.values[k];
+    }
+    *residual = Eigen::Map<const Eigen::VectorXd>(residuals.data(), residuals.size());
     return Status::Ok();
   }
 
@@ -255,6 +306,84 @@ Status ParseEffects(const std::string& list, std::vector<Parameter>* effects) {
     }
   }
   return Status::Ok();
+}
+
+Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
+                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                       const JointOptions& options, const JointResult& current,
+                       const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2) {
+  LinearLsOptions linear;
+  linear.gravity_mps2 = options.gravity_mps2;
+  linear.noise_variance_x = options.noise_variance_x;
+  linear.noise_variance_y = options.noise_variance_y;
+  BaselineFit start;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
+  const Landmark* tied = nullptr;
+  for (const Landmark& landmark : landmarks) {
+    if (landmark.name == current.landmark) tied = &landmark;
+  }
+  // The score statistic: with r the whitened residuals, J_A the Jacobian of the current
+  // free parameters and j_c the candidate's column, delta chi2 = (e^T r)^2 / (e^T e),
+  // e = j_c projected off the span of J_A (at an optimum J_A^T r = 0).
+  std::vector<Parameter> columns = current.estimate.free;
+  columns.insert(columns.end(), candidates.begin(), candidates.end());
+  Eigen::MatrixXd jacobian;
+  Eigen::VectorXd r;
+  JointProblem problem(test, run, conditions, options, start);
+  ACCELCAL_RETURN_IF_ERROR(
+      problem.Linearize(tied, current.estimate.values, columns, &jacobian, &r));
+  const int a = static_cast<int>(current.estimate.free.size());
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jacobian.leftCols(a));
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(jacobian.rows(), a);
+  delta_chi2->assign(candidates.size(), 0.0);
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const Eigen::VectorXd column = jacobian.col(a + static_cast<int>(c));
+    const Eigen::VectorXd e = column - q * (q.transpose() * column);
+    const double energy = e.squaredNorm();
+    if (energy > 1e-12 * column.squaredNorm() && energy > 0.0)
+      (*delta_chi2)[c] = std::pow(e.dot(r), 2) / energy;
+  }
+  return Status::Ok();
+}
+
+Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
+                      const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                      const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
+                      Eigen::VectorXd* residual) {
+  LinearLsOptions linear;
+  linear.gravity_mps2 = options.gravity_mps2;
+  linear.noise_variance_x = options.noise_variance_x;
+  linear.noise_variance_y = options.noise_variance_y;
+  BaselineFit start;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
+  const Landmark* tied = nullptr;
+  for (const Landmark& landmark : landmarks) {
+    if (landmark.name == at.landmark) tied = &landmark;
+  }
+  JointProblem problem(test, run, conditions, options, start);
+  return problem.Linearize(tied, at.estimate.values, at.estimate.free, jacobian, residual);
+}
+
+void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
+                          double gravity_mps2, std::vector<double>* residual_x,
+                          std::vector<double>* residual_y) {
+  const int n = test.size();
+  residual_x->resize(n);
+  residual_y->resize(n);
+  for (int i = 0; i < n; ++i) {
+    double force_x;
+    double force_y;
+    TiltTableSpecificForce(test.theta_rad[i], values.angle_offset, gravity_mps2, &force_x,
+                           &force_y);
+    double along_x;
+    double along_y;
+    ProjectOnSensingAxes(force_x, force_y, values.sensor.nonorthogonality, &along_x, &along_y);
+    const double u = DriftCoordinate(i, n);
+    (*residual_x)[i] =
+        test.measured_x[i] - AxisOutput(along_x, values.sensor.x, u, Phase::kCalibrationTest);
+    (*residual_y)[i] =
+        test.measured_y[i] - AxisOutput(along_y, values.sensor.y, u, Phase::kCalibrationTest);
+  }
 }
 
 Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,

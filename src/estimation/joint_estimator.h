@@ -13,6 +13,7 @@
 // checked for near-null directions; parameters that move together along one are
 // reported as not separable, and no covariance is claimed for them.
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,28 @@ struct JointResult {
 Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
                   const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                   const JointOptions& options, JointResult* result);
+
+// The chi-square each candidate would remove if added to the solution `current` (a
+// SolveJoint result for these data and options), by the score statistic: exact for
+// effects linear in their parameter, first order otherwise. One Jacobian evaluation
+// serves all candidates, which is what makes discovery fast.
+Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
+                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                       const JointOptions& options, const JointResult& current,
+                       const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2);
+
+// The whitened residuals of the joint problem at `at` and their Jacobian with respect to
+// at.estimate.free. Rows: x_0, y_0, x_1, y_1, ... for the tilt test, then the endpoint's
+// two when the run is tied to a landmark.
+Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
+                      const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                      const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
+                      Eigen::VectorXd* residual);
+
+// The tilt test's residuals m - prediction (m/s^2) of each axis under `values`.
+void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
+                          double gravity_mps2, std::vector<double>* residual_x,
+                          std::vector<double>* residual_y);
 
 // Parses "angle_offset,nonorthogonality,..." (or "none", or "all") into effects.
 Status ParseEffects(const std::string& list, std::vector<Parameter>* effects);

@@ -1,0 +1,114 @@
+// discover: does the baseline model explain the measured data, and if not, what is
+// missing? Fits the baseline, tests the noise level per axis, then scores every effect
+// of the catalogue (score test, 1 dof each, Holm at --alpha), adds the strongest, refits
+// the joint problem in Ceres, and repeats; reports each named effect +- sigma and what
+// adding it gains (delta chi2, BIC, cross-validation, the endpoint before and after).
+//
+//   build/bin/discover --data_dir=../shared/data/tp2-2018 --json=discover.json --bins_csv=bins.csv
+
+#include <gflags/gflags.h>
+
+#include <iostream>
+
+#include "estimation/discovery.h"
+#include "io/atomic_file.h"
+#include "io/course_data.h"
+#include "io/run_conditions.h"
+#include "problem_support.h"
+#include "reporting/discovery_report.h"
+#include "simulation/embedded_scenarios.h"
+
+DEFINE_string(data_dir, "",
+              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
+              "tp2-2018 scenario.");
+DEFINE_string(set, "",
+              "Without data: effects hidden in the simulated scenario, name=value,... (as simulate "
+              "--set), e.g. --set=angle_offset=0.004.");
+DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
+DEFINE_double(alpha, 0.01, "Family-wise error rate of each step (Holm), in (0, 0.5).");
+DEFINE_double(g, 9.8, "Gravity in m/s^2.");
+DEFINE_int32(bins, 36, "Bins of the residual against theta (>= 4).");
+DEFINE_int32(folds, 5, "Cross-validation folds over contiguous theta blocks (0: none, else >= 2).");
+DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
+DEFINE_string(bins_csv, "",
+              "Write the binned residuals and the named effects' signatures as CSV (for "
+              "tools/plot_discovery.py).");
+DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+
+namespace accelcal {
+namespace {
+
+constexpr char kUsage[] =
+    "Tells whether the baseline (bias and scale per axis) explains the data and, if not, which\n"
+    "effect of the catalogue is missing, how large (in the spec's units), and what adding it "
+    "gains.\n"
+    "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
+    "  discover --data_dir=../shared/data/tp2-2018 [--alpha=0.01] [--json=discover.json]";
+
+struct Inputs {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+};
+
+Status Load(Inputs* inputs) {
+  if (FLAGS_data_dir.empty()) {
+    Scenario scenario;
+    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
+    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
+    SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
+    inputs->test = std::move(data.test);
+    inputs->run = std::move(data.run);
+    inputs->landmarks = std::move(data.landmarks);
+    inputs->conditions = data.conditions;
+    return Status::Ok();
+  }
+  DataFiles files;
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
+  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
+  return LoadRunConditions(files.conditions, &inputs->conditions);
+}
+
+int Run(int argc, char** argv) {
+  if (!InitProblem("discover", kUsage, "problems/discover", &argc, &argv)) return kExitBadInput;
+  Status status;
+  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
+    status = Status::Error("--alpha must be in (0, 0.5)");
+  if (status.ok() && FLAGS_bins < 4) status = Status::Error("--bins must be at least 4");
+  if (status.ok() && (FLAGS_folds == 1 || FLAGS_folds < 0))
+    status = Status::Error("--folds must be 0 or at least 2");
+  if (status.ok() && FLAGS_num_threads < 1)
+    status = Status::Error("--num_threads must be at least 1");
+  Inputs inputs;
+  if (status.ok()) status = Load(&inputs);
+  DiscoveryOptions options;
+  options.alpha = FLAGS_alpha;
+  options.gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
+  options.theta_bins = FLAGS_bins;
+  options.cross_validation_folds = FLAGS_folds;
+  options.num_threads = FLAGS_num_threads;
+  DiscoveryResult result;
+  if (status.ok())
+    status =
+        Discover(inputs.test, inputs.run, inputs.conditions, inputs.landmarks, options, &result);
+  if (!status.ok()) return ExitWithError("discover", status);
+  std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;
+  if (!FLAGS_json.empty()) {
+    status = WriteFileAtomically(FLAGS_json, DiscoveryJson(result, FLAGS_alpha).dump(2) + "\n")
+                 .WithContext("--json");
+  }
+  if (status.ok() && !FLAGS_bins_csv.empty()) {
+    status =
+        WriteFileAtomically(FLAGS_bins_csv, DiscoveryBinsCsv(result)).WithContext("--bins_csv");
+  }
+  if (!status.ok()) return ExitWithError("discover", status);
+  return 0;
+}
+
+}  // namespace
+}  // namespace accelcal
+
+int main(int argc, char** argv) { return accelcal::Run(argc, argv); }

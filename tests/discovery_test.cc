@@ -1,0 +1,208 @@
+// Discovery: an effect hidden in simulated data is named exactly and estimated within
+// 3 sigma of the truth; pairs are both found; a wrong stated noise is reported as noise
+// only; and null data give a false-discovery rate within alpha plus its Monte Carlo error.
+
+#include "estimation/discovery.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "io/course_data.h"
+#include "io/run_conditions.h"
+#include "simulation/embedded_scenarios.h"
+#include "simulation/monte_carlo.h"
+#include "simulation/random.h"
+#include "simulation/scenario.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+DiscoveryResult DiscoverIn(const Scenario& scenario, uint64_t seed, int folds = 5) {
+  const SimulatedData data = SimulateScenario(scenario, seed);
+  DiscoveryOptions options;
+  options.cross_validation_folds = folds;
+  DiscoveryResult result;
+  const Status status =
+      Discover(data.test, data.run, data.conditions, data.landmarks, options, &result);
+  EXPECT_TRUE(status.ok()) << status.message();
+  return result;
+}
+
+// The course's setting; for run bias shifts, the true endpoint hidden among decoys at
+// least 400 m away: with the course's own landmarks, a shift of 0.07 m/s^2 moves the
+// run from C onto B, and "reached B" explains the data as well as "shifted, reached C".
+Scenario ScenarioWith(const std::string& assignments, bool decoys) {
+  Scenario scenario;
+  EXPECT_TRUE(LoadDefaultScenario(&scenario).ok());
+  EXPECT_TRUE(ApplyScenarioOverrides(assignments, &scenario).ok());
+  if (decoys) {
+    scenario.landmarks = LandmarkSpec();
+    scenario.landmarks.decoys = true;
+    scenario.landmarks.decoy_count = 3;
+    scenario.landmarks.decoy_min_distance_m = 400.0;
+  }
+  return scenario;
+}
+
+std::vector<std::string> Names(const DiscoveryResult& result) {
+  std::vector<std::string> names;
+  for (const DiscoveredEffect& effect : result.effects) names.push_back(Info(effect.effect).name);
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+struct Hidden {
+  const char* name;
+  double size;  // about 8 sigma of the effect on the course-sized experiment
+};
+
+class HiddenEffectTest : public ::testing::TestWithParam<Hidden> {};
+
+TEST_P(HiddenEffectTest, IsNamedExactlyAndEstimatedWithinThreeSigma) {
+  const Hidden hidden = GetParam();
+  const std::string name = hidden.name;
+  const bool run_shift = name.rfind("run_bias_shift", 0) == 0;
+  const Scenario scenario = ScenarioWith(name + "=" + std::to_string(hidden.size), run_shift);
+  const DiscoveryResult result = DiscoverIn(scenario, 5);
+  ASSERT_EQ(Names(result), std::vector<std::string>{name}) << result.verdict;
+  const DiscoveredEffect& effect = result.effects[0];
+  EXPECT_LT(std::abs(effect.estimate - hidden.size), 3 * effect.stddev)
+      << name << ": " << effect.estimate << " +- " << effect.stddev << ", truth " << hidden.size;
+  EXPECT_LT(effect.p_value, 1e-6);
+  if (!run_shift && name.rfind("noise", 0) != 0) {
+    // The gain on held-out calibration samples is real, not only in-sample.
+    EXPECT_LT(result.cross_validation.extended, result.cross_validation.baseline) << name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    EveryEffectOfTheCatalogue, HiddenEffectTest,
+    ::testing::Values(Hidden{"angle_offset", 0.0036}, Hidden{"nonorthogonality", 0.0066},
+                      Hidden{"bias_drift_x", 0.16}, Hidden{"bias_drift_y", 0.16},
+                      Hidden{"scale_nonlinearity_x", 0.00085},
+                      Hidden{"scale_nonlinearity_y", 0.0014}, Hidden{"run_bias_shift_x", 0.075},
+                      Hidden{"run_bias_shift_y", 0.11}, Hidden{"noise_variance_x", 1.1},
+                      Hidden{"noise_variance_y", 0.9}),
+    [](const ::testing::TestParamInfo<Hidden>& info) {
+      std::string name = info.param.name;
+      name.erase(std::remove(name.begin(), name.end(), '_'), name.end());
+      return name;
+    });
+
+TEST(Discover, FindsBothEffectsOfAPair) {
+  for (const auto& [assignments, expected] :
+       std::vector<std::pair<std::string, std::vector<std::string>>>{
+           {"angle_offset=0.0036,bias_drift_y=0.16", {"angle_offset", "bias_drift_y"}},
+           {"nonorthogonality=0.0066,scale_nonlinearity_x=0.00085",
+            {"nonorthogonality", "scale_nonlinearity_x"}}}) {
+    const DiscoveryResult result = DiscoverIn(ScenarioWith(assignments, false), 8, 0);
+    EXPECT_EQ(Names(result), expected) << assignments << ": " << result.verdict;
+  }
+}
+
+TEST(Discover, AWrongStatedNoiseIsReportedAsNoiseOnly) {
+  // Both axes' statements off by 10%: the noise is named, and no effect is invented.
+  const DiscoveryResult result =
+      DiscoverIn(ScenarioWith("noise_variance_x=1.1,noise_variance_y=1.1", false), 9, 0);
+  EXPECT_EQ(Names(result), (std::vector<std::string>{"noise_variance_x", "noise_variance_y"}))
+      << result.verdict;
+}
+
+// Over 200 null datasets (the course-sized scenario, nothing hidden), the fraction with
+// any reported effect (noise included) stays within alpha plus 3 binomial sd.
+TEST(Discover, FalseDiscoveryRateOnNullDataIsAtMostAlpha) {
+  Scenario scenario;
+  ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+  const int trials = 200;
+  const double alpha = 0.01;
+  std::vector<int> reported(trials, 0);
+  MonteCarloOptions monte_carlo;
+  monte_carlo.trials = trials;
+  monte_carlo.progress = false;
+  RunTrials(monte_carlo, [&](int trial) {
+    const SimulatedData data = SimulateScenario(scenario, 31337, trial);
+    DiscoveryOptions options;
+    options.alpha = alpha;
+    options.cross_validation_folds = 0;
+    DiscoveryResult result;
+    if (!Discover(data.test, data.run, data.conditions, data.landmarks, options, &result).ok()) {
+      reported[trial] = 2;
+      return;
+    }
+    reported[trial] = !result.effects.empty();
+  });
+  const int failures = std::count(reported.begin(), reported.end(), 2);
+  const int false_discoveries = std::count(reported.begin(), reported.end(), 1);
+  const double rate = false_discoveries / static_cast<double>(trials);
+  const double sd = std::sqrt(alpha * (1 - alpha) / trials);
+  std::printf("false-discovery rate on %d null datasets: %.3f (alpha %.2f, Monte Carlo sd %.3f)\n",
+              trials, rate, alpha, sd);
+  EXPECT_EQ(failures, 0);
+  EXPECT_LE(rate, alpha + 3 * sd);
+}
+
+TEST(Discover, OnTheCourseDataTheBaselineExplainsTheData) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  DataFiles files;
+  ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+  ASSERT_TRUE(LoadCalibrationTest(files.calibration, &test).ok());
+  ASSERT_TRUE(LoadVehicleRun(files.run, &run).ok());
+  ASSERT_TRUE(LoadLandmarks(files.landmarks, &landmarks).ok());
+  ASSERT_TRUE(LoadRunConditions(files.conditions, &conditions).ok());
+  DiscoveryResult result;
+  ASSERT_TRUE(Discover(test, run, conditions, landmarks, DiscoveryOptions(), &result).ok());
+  // What the data support: no effect, the run at C. The strongest candidate is the
+  // non-orthogonality with delta chi2 = 2.29 (p = 0.13), far from Holm's 0.005/8.
+  EXPECT_TRUE(result.effects.empty()) << result.verdict;
+  EXPECT_EQ(result.tied_landmark, "C");
+  EXPECT_EQ(result.extended_decision.reached, "C");
+  double strongest = 0.0;
+  std::string strongest_name;
+  for (const CandidateScore& candidate : result.candidates) {
+    if (candidate.delta_chi2 > strongest) {
+      strongest = candidate.delta_chi2;
+      strongest_name = Info(candidate.effect).name;
+    }
+  }
+  EXPECT_EQ(strongest_name, "nonorthogonality");
+  EXPECT_NEAR(strongest, 2.29, 0.01);
+  EXPECT_FALSE(result.axes[0].noise_flagged);
+  EXPECT_FALSE(result.axes[1].noise_flagged);
+  EXPECT_NEAR(result.axes[0].noise.ratio, 0.9871, 1e-4);
+}
+
+TEST(HolmRejections, StepsDownFromTheSmallestPValue) {
+  // alpha/4 = 0.0025, alpha/3 = 0.00333, alpha/2 = 0.005, alpha = 0.01.
+  EXPECT_EQ(HolmRejections({0.002, 0.003, 0.3, 0.0049}, 0.01),
+            (std::vector<bool>{true, true, false, true}));
+  // 0.004 > alpha/3 stops the descent: the larger 0.0049 is not rejected either.
+  EXPECT_EQ(HolmRejections({0.002, 0.004, 0.3, 0.0049}, 0.01),
+            (std::vector<bool>{true, false, false, false}));
+  EXPECT_EQ(HolmRejections({0.003, 0.001}, 0.01), (std::vector<bool>{true, true}));
+  EXPECT_EQ(HolmRejections({0.006, 0.007}, 0.01), (std::vector<bool>{false, false}));
+}
+
+TEST(NoiseLevelTest, IsCalibratedAndIgnoresSmoothSignals) {
+  RandomSource random(4);
+  const int n = 20001;
+  int rejected = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    std::vector<double> residual(n);
+    for (int i = 0; i < n; ++i)
+      residual[i] = 0.5 * random.StandardNormal() + 0.3 * std::sin(6.28 * i / n);
+    rejected += TestNoiseLevel(residual, 0.25).p_value < 0.05;
+  }
+  // 5% +- 3 sd (1.1%) despite a smooth signal of 0.3 m/s^2 amplitude in every trial.
+  EXPECT_NEAR(rejected / 400.0, 0.05, 0.033);
+}
+
+}  // namespace
+}  // namespace accelcal
