@@ -27,6 +27,8 @@ nlohmann::json Side(const ParameterEstimate& estimate, double chi2_x, double chi
   nlohmann::json landmarks = nlohmann::json::array();
   for (const LandmarkScore& score : decision.scores) {
     landmarks.push_back({{"name", score.landmark.name},
+                         {"x", score.landmark.x_m},
+                         {"y", score.landmark.y_m},
                          {"mahalanobis2", score.mahalanobis2},
                          {"posterior", score.posterior},
                          {"p_value", score.p_value}});
