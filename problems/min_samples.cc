@@ -315,35 +315,52 @@ int Run(int argc, char** argv) {
             model.jacobian * parameters * model.jacobian.transpose() + model.noise_part;
         const double analytic =
             ProbabilityOfWrongLandmark(model.endpoint, spread, decision, inputs.landmarks, truth);
-        const double rate = MonteCarloWrongRate(
-            [&](int trial) {
-              RandomSource random(FLAGS_seed + 11, trial);
-              std::vector<int> order(full);
-              for (int i = 0; i < full; ++i) order[i] = i;
-              for (int i = 0; i < n; ++i)
-                std::swap(order[i], order[i + static_cast<int>(random.Uniform() * (full - i))]);
-              std::sort(order.begin(), order.begin() + n);
-              CalibrationTest subset;
-              for (int i = 0; i < n; ++i) {
-                subset.theta_rad.push_back(inputs.test.theta_rad[order[i]]);
-                subset.measured_x.push_back(inputs.test.measured_x[order[i]]);
-                subset.measured_y.push_back(inputs.test.measured_y[order[i]]);
-              }
-              return subset;
-            },
-            [&](int) { return inputs.run; }, inputs.conditions, inputs.landmarks, truth,
-            FLAGS_repetitions);
-        const double sd = std::sqrt(std::max(analytic * (1 - analytic), 1e-12) / FLAGS_repetitions);
-        text += StringPrintf(
-            "  random subsets of the real test, N = %5d: P(wrong) analytic %.4f, Monte Carlo %.4f "
-            "+- %.4f\n",
-            n, analytic, rate, sd);
-        checks.push_back({{"kind", "real_test_subsets"},
-                          {"n", n},
-                          {"analytic", analytic},
-                          {"monte_carlo", rate},
-                          {"monte_carlo_sd", sd},
-                          {"repetitions", FLAGS_repetitions}});
+        // Random subsets, and evenly spaced ones (every full/N-th sample from a random offset).
+        for (const bool evenly : {false, true}) {
+          const double rate = MonteCarloWrongRate(
+              [&](int trial) {
+                RandomSource random(FLAGS_seed + (evenly ? 13 : 11), trial);
+                std::vector<int> chosen;
+                if (evenly) {
+                  const double stride = static_cast<double>(full) / n;
+                  const double offset = random.Uniform() * stride;
+                  for (int i = 0; i < n; ++i)
+                    chosen.push_back(std::min(full - 1, static_cast<int>(offset + i * stride)));
+                } else {
+                  std::vector<int> order(full);
+                  for (int i = 0; i < full; ++i) order[i] = i;
+                  for (int i = 0; i < n; ++i)
+                    std::swap(order[i], order[i + static_cast<int>(random.Uniform() * (full - i))]);
+                  chosen.assign(order.begin(), order.begin() + n);
+                  std::sort(chosen.begin(), chosen.end());
+                }
+                CalibrationTest subset;
+                for (const int i : chosen) {
+                  subset.theta_rad.push_back(inputs.test.theta_rad[i]);
+                  subset.measured_x.push_back(inputs.test.measured_x[i]);
+                  subset.measured_y.push_back(inputs.test.measured_y[i]);
+                }
+                return subset;
+              },
+              [&](int) { return inputs.run; }, inputs.conditions, inputs.landmarks, truth,
+              FLAGS_repetitions);
+          // Evenly spaced subsets of the real test are at most full/N disjoint ones: the
+          // repetitions draw from that many independent outcomes, not from `repetitions`.
+          const int independent =
+              evenly ? std::min(FLAGS_repetitions, full / n) : FLAGS_repetitions;
+          const double sd = std::sqrt(std::max(analytic * (1 - analytic), 1e-12) / independent);
+          text += StringPrintf(
+              "  %s of the real test, N = %5d: P(wrong) analytic %.4f, Monte Carlo %.4f +- "
+              "%.4f%s\n",
+              evenly ? "evenly spaced subsets" : "random subsets", n, analytic, rate, sd,
+              evenly ? StringPrintf(" (%d disjoint subsets)", independent).c_str() : "");
+          checks.push_back({{"kind", evenly ? "real_test_even_subsets" : "real_test_subsets"},
+                            {"n", n},
+                            {"analytic", analytic},
+                            {"monte_carlo", rate},
+                            {"monte_carlo_sd", sd},
+                            {"repetitions", FLAGS_repetitions}});
+        }
       }
     }
     text += "\n";

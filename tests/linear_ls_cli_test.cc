@@ -3,6 +3,7 @@
 // (or flag), exit status 2, and no output file.
 
 #include <gtest/gtest.h>
+#include <matio.h>
 
 #include <cmath>
 #include <nlohmann/json.hpp>
@@ -148,6 +149,27 @@ TEST(LinearLsBinary, RefusesWrongShapesNonFiniteValuesAndLengthMismatch) {
   ASSERT_TRUE(
       WriteMatFile(ensayo, {{"tita", MatMatrix{0, 1, {}}}, {"datos", MatMatrix{0, 2, {}}}}).ok());
   ExpectRefused("--data_dir='" + dir + "'", ensayo + ": variable 'tita' is empty");
+}
+
+TEST(LinearLsBinary, RefusesAVariableOfTheWrongType) {
+  ScratchDir scratch;
+  const std::string dir = MakeDataDir(scratch);
+  const std::string ensayo = scratch.File("ensayo.mat");
+  mat_t* mat = Mat_CreateVer(ensayo.c_str(), nullptr, MAT_FT_MAT5);
+  ASSERT_NE(mat, nullptr);
+  int32_t angles[3] = {0, 1, 2};
+  double values[6] = {1, 2, 3, 4, 5, 6};
+  size_t angle_dims[2] = {3, 1};
+  size_t value_dims[2] = {3, 2};
+  matvar_t* tita = Mat_VarCreate("tita", MAT_C_INT32, MAT_T_INT32, 2, angle_dims, angles, 0);
+  matvar_t* datos = Mat_VarCreate("datos", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, value_dims, values, 0);
+  Mat_VarWrite(mat, tita, MAT_COMPRESSION_NONE);
+  Mat_VarWrite(mat, datos, MAT_COMPRESSION_NONE);
+  Mat_VarFree(tita);
+  Mat_VarFree(datos);
+  Mat_Close(mat);
+  ExpectRefused("--data_dir='" + dir + "'",
+                ensayo + ": variable 'tita' is int32; expected a real double matrix");
 }
 
 TEST(LinearLsBinary, RefusesTruncatedAndEmptyMatFiles) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "common/format.h"
 #include "estimation/linear_ls.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
@@ -123,6 +124,32 @@ TEST(Scenario, OverridesSetEffectsAndSettingsByName) {
   EXPECT_NE(ApplyScenarioOverrides("run_duration=90", &scenario)
                 .message()
                 .find("cover 60 s of the 90 s run"),
+            std::string::npos);
+}
+
+TEST(Scenario, ARunProfileFromCsvIsReadExactly) {
+  testing::ScratchDir scratch;
+  std::string csv = "t,ax,ay\n";
+  for (int j = 0; j < 300; ++j) csv += StringPrintf("%.2f,%g,%g\n", 0.01 * j, 0.001 * j, -0.5);
+  scratch.Write("profile.csv", csv);
+  scratch.Write("s.json", R"({"run": {"dt": 0.01, "duration": 3, "profile": {"csv": "profile.csv"}},
+                             "landmarks": {"listed": [{"name": "A", "position": [0, 0]}]}})");
+  Scenario scenario;
+  const Status status = LoadScenario(scratch.File("s.json"), &scenario);
+  ASSERT_TRUE(status.ok()) << status.message();
+  std::vector<double> t;
+  std::vector<double> ax;
+  std::vector<double> ay;
+  TrueRunAcceleration(scenario.run, &t, &ax, &ay);
+  ASSERT_EQ(t.size(), 300u);
+  EXPECT_EQ(ax[123], 0.123);
+  EXPECT_EQ(ay[299], -0.5);
+  // A profile whose rows do not match the run is refused with the file and the counts.
+  scratch.Write("s.json", R"({"run": {"dt": 0.01, "duration": 4, "profile": {"csv": "profile.csv"}},
+                             "landmarks": {"listed": [{"name": "A", "position": [0, 0]}]}})");
+  EXPECT_NE(LoadScenario(scratch.File("s.json"), &scenario)
+                .message()
+                .find("profile.csv: 300 rows, but the run has 400 samples"),
             std::string::npos);
 }
 
