@@ -27,6 +27,7 @@
 #include "io/course_data.h"
 #include "io/run_conditions.h"
 #include "problem_support.h"
+#include "reporting/min_samples_report.h"
 #include "simulation/embedded_scenarios.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
@@ -239,13 +240,7 @@ int Run(int argc, char** argv) {
                            design.theta_b * 180 / M_PI);
     text += StringPrintf("  N_min = %d   N_min_3sigma = %d\n", design.n_min, design.n_min_3sigma);
     text += "        N    sigma x (m)  sigma y (m)   P(wrong)   landmarks in 3 sigma\n";
-    nlohmann::json curve = nlohmann::json::array();
     for (const CurvePoint& point : design.curve) {
-      curve.push_back({{"n", point.samples},
-                       {"p_wrong", point.p_wrong},
-                       {"sigma_x_m", std::sqrt(point.endpoint_covariance(0, 0))},
-                       {"sigma_y_m", std::sqrt(point.endpoint_covariance(1, 1))},
-                       {"landmarks_in_3sigma", point.landmarks_in_3sigma}});
       const bool near = design.n_min > 0 && point.samples >= design.n_min / 4 &&
                         point.samples <= 4 * design.n_min;
       if (near || point.samples == full) {
@@ -364,12 +359,7 @@ int Run(int argc, char** argv) {
       }
     }
     text += "\n";
-    json_designs.push_back({{"name", name},
-                            {"n_min", design.n_min},
-                            {"n_min_3sigma", design.n_min_3sigma},
-                            {"positions_rad", {design.theta_a, design.theta_b}},
-                            {"curve", curve},
-                            {"monte_carlo", checks}});
+    json_designs.push_back(DesignJson(design, checks));
   }
   text += Explanation(model, inputs.landmarks, truth, uniform_n_min);
   std::cout << text << std::flush;

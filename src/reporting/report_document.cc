@@ -1,0 +1,124 @@
+#include "reporting/report_document.h"
+
+#include <fstream>
+#include <sstream>
+
+namespace accelcal {
+namespace {
+
+std::string Escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
+}
+
+bool ReadFile(const std::string& path, std::string* bytes) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return false;
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  *bytes = buffer.str();
+  return true;
+}
+
+}  // namespace
+
+std::string Base64(const std::string& bytes) {
+  static const char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    const unsigned a = static_cast<unsigned char>(bytes[i]);
+    const unsigned b = i + 1 < bytes.size() ? static_cast<unsigned char>(bytes[i + 1]) : 0;
+    const unsigned c = i + 2 < bytes.size() ? static_cast<unsigned char>(bytes[i + 2]) : 0;
+    const unsigned triple = (a << 16) | (b << 8) | c;
+    out += kAlphabet[(triple >> 18) & 63];
+    out += kAlphabet[(triple >> 12) & 63];
+    out += i + 1 < bytes.size() ? kAlphabet[(triple >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? kAlphabet[triple & 63] : '=';
+  }
+  return out;
+}
+
+std::string RenderMarkdown(const ReportDocument& document) {
+  std::string md = "# " + document.title + "\n\n**Verdict.** " + document.verdict + "\n";
+  for (const ReportSection& section : document.sections) {
+    md += "\n## " + section.title + "\n\n";
+    for (const std::string& paragraph : section.paragraphs) md += paragraph + "\n\n";
+    for (size_t r = 0; r < section.table.size(); ++r) {
+      md += "|";
+      for (const std::string& cell : section.table[r]) md += " " + cell + " |";
+      md += "\n";
+      if (r == 0) {
+        md += "|";
+        for (size_t c = 0; c < section.table[r].size(); ++c) md += "---|";
+        md += "\n";
+      }
+    }
+    if (!section.table.empty()) md += "\n";
+    if (!section.figure.empty())
+      md += "![" + section.figure_caption + "](" + section.figure + ")\n";
+  }
+  return md;
+}
+
+std::string RenderHtml(const ReportDocument& document, const std::string& folder) {
+  std::string html =
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+      Escape(document.title) +
+      "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em "
+      "auto;line-height:1.45}"
+      "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
+      "8px;text-align:right}"
+      "th{background:#eee}.verdict{background:#eef6ee;border-left:5px solid #4a4;padding:.6em 1em}"
+      "img{max-width:100%}.missing{color:#a33}</style></head><body>\n<h1>" +
+      Escape(document.title) + "</h1>\n<p class=\"verdict\"><b>Verdict.</b> " +
+      Escape(document.verdict) + "</p>\n";
+  for (const ReportSection& section : document.sections) {
+    html += "<h2>" + Escape(section.title) + "</h2>\n";
+    for (const std::string& paragraph : section.paragraphs)
+      html += "<p>" + Escape(paragraph) + "</p>\n";
+    if (!section.table.empty()) {
+      html += "<table>\n";
+      for (size_t r = 0; r < section.table.size(); ++r) {
+        html += "<tr>";
+        for (const std::string& cell : section.table[r]) {
+          html += (r == 0 ? "<th>" : "<td>") + Escape(cell) + (r == 0 ? "</th>" : "</td>");
+        }
+        html += "</tr>\n";
+      }
+      html += "</table>\n";
+    }
+    if (!section.figure.empty()) {
+      std::string bytes;
+      if (ReadFile(folder + "/" + section.figure, &bytes)) {
+        html += "<figure><img alt=\"" + Escape(section.figure_caption) +
+                "\" src=\"data:image/png;base64," + Base64(bytes) + "\"><figcaption>" +
+                Escape(section.figure_caption) + "</figcaption></figure>\n";
+      } else {
+        html += "<p class=\"missing\">Figure " + Escape(section.figure) + " is absent.</p>\n";
+      }
+    }
+  }
+  return html + "</body></html>\n";
+}
+
+}  // namespace accelcal
