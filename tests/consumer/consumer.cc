@@ -1,0 +1,18 @@
+// Links the installed library: simulate the course's setting, fit the baseline, print bias_x.
+#include <cstdio>
+
+#include "estimation/linear_ls.h"
+#include "simulation/embedded_scenarios.h"
+
+int main() {
+  accelcal::Scenario scenario;
+  if (!accelcal::LoadDefaultScenario(&scenario).ok()) return 1;
+  const accelcal::SimulatedData data = accelcal::SimulateScenario(scenario, 1);
+  accelcal::LinearLsOptions options;
+  options.noise_variance_x = data.conditions.noise_variance_x;
+  options.noise_variance_y = data.conditions.noise_variance_y;
+  accelcal::BaselineFit fit;
+  if (!accelcal::EstimateLinearLs(data.test, options, &fit).ok()) return 1;
+  std::printf("bias_x %.5f\n", fit.parameters[accelcal::kBiasX]);
+  return 0;
+}

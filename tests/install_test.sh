@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# cmake --install into a scratch prefix, then configure, build and run a project outside the
+# tree that uses find_package(accelcal).
+set -euo pipefail
+build_dir=$1
+source_dir=$2
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+cmake --install "$build_dir" --prefix "$scratch/prefix" >/dev/null
+cmake -S "$source_dir/tests/consumer" -B "$scratch/build" -DCMAKE_PREFIX_PATH="$scratch/prefix" -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build "$scratch/build" >/dev/null
+output=$("$scratch/build/consumer")
+echo "$output"
+[[ "$output" == bias_x* ]]
