@@ -65,15 +65,7 @@ constexpr char kUsage[] =
     "Exit status: 0 on success, 2 on bad input; an interrupted run leaves no partial report.\n\n"
     "  analyze --data_dir=../shared/data/tp2-2018 --out_dir=report [--overwrite]";
 
-struct Inputs {
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
-  std::string source;  // one line saying where the data came from
-  nlohmann::json truth = nullptr;
-  std::map<std::string, std::string> files;
-};
+using Inputs = Experiment;
 
 // A progress line per stage, on a terminal only.
 class Progress {
@@ -93,34 +85,7 @@ class Progress {
 };
 
 Status Load(Inputs* inputs) {
-  if (FLAGS_data_dir.empty()) {
-    Scenario scenario;
-    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
-    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
-    SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
-    inputs->truth = TruthJson(scenario, data, FLAGS_seed);
-    inputs->source =
-        StringPrintf("simulated from the embedded scenario %s (seed %llu) with %s hidden in it",
-                     scenario.name.c_str(), static_cast<unsigned long long>(FLAGS_seed),
-                     FLAGS_set.empty() ? "nothing" : FLAGS_set.c_str());
-    inputs->test = std::move(data.test);
-    inputs->run = std::move(data.run);
-    inputs->landmarks = std::move(data.landmarks);
-    inputs->conditions = data.conditions;
-    return Status::Ok();
-  }
-  DataFiles files;
-  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
-  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
-  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &inputs->conditions));
-  inputs->source = "measured data in " + FLAGS_data_dir;
-  inputs->files = {{"calibration", files.calibration},
-                   {"run", files.run},
-                   {"landmarks", files.landmarks},
-                   {"conditions", files.conditions}};
-  return Status::Ok();
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, inputs);
 }
 
 struct Results {

@@ -45,31 +45,10 @@ constexpr char kUsage[] =
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  discover --data_dir=../shared/data/tp2-2018 [--alpha=0.01] [--json=discover.json]";
 
-struct Inputs {
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
-};
+using Inputs = Experiment;
 
 Status Load(Inputs* inputs) {
-  if (FLAGS_data_dir.empty()) {
-    Scenario scenario;
-    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
-    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
-    SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
-    inputs->test = std::move(data.test);
-    inputs->run = std::move(data.run);
-    inputs->landmarks = std::move(data.landmarks);
-    inputs->conditions = data.conditions;
-    return Status::Ok();
-  }
-  DataFiles files;
-  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
-  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
-  return LoadRunConditions(files.conditions, &inputs->conditions);
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, inputs);
 }
 
 int Run(int argc, char** argv) {

@@ -59,30 +59,13 @@ constexpr char kUsage[] =
     "Exit status: 0 on success, 2 on bad input.\n\n"
     "  min_samples --data_dir=../shared/data/tp2-2018 [--design=all] [--max_error=0.01]";
 
-struct Inputs {
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
+struct Inputs : Experiment {
   Scenario scenario;  // for the full-simulation check
 };
 
 Status Load(Inputs* inputs) {
   ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&inputs->scenario));
-  if (FLAGS_data_dir.empty()) {
-    SimulatedData data = SimulateScenario(inputs->scenario, FLAGS_seed);
-    inputs->test = std::move(data.test);
-    inputs->run = std::move(data.run);
-    inputs->landmarks = std::move(data.landmarks);
-    inputs->conditions = data.conditions;
-    return Status::Ok();
-  }
-  DataFiles files;
-  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
-  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
-  return LoadRunConditions(files.conditions, &inputs->conditions);
+  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, inputs);
 }
 
 // The endpoint model of a dataset: fit, dead-reckon, and the landmark it decides.

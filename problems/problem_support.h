@@ -11,10 +11,16 @@
 
 #include <cstring>
 #include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/measurements.h"
 #include "common/status.h"
+#include "io/course_data.h"
+#include "io/run_conditions.h"
+#include "simulation/embedded_scenarios.h"
+#include "simulation/scenario.h"
 
 namespace accelcal {
 
@@ -95,6 +101,49 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
 inline double ChooseGravity(const RunConditions& conditions, double flag_g) {
   const bool flag_given = !gflags::GetCommandLineFlagInfoOrDie("g").is_default;
   return conditions.has_gravity && !flag_given ? conditions.gravity_mps2 : flag_g;
+}
+
+// The data a problem works on: a data folder read as is (either layout) or, without one,
+// the embedded tp2-2018 scenario simulated with `assignments` (name=value,...) hidden in it.
+struct Experiment {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+  std::map<std::string, std::string> files;  // role -> path; empty when simulated
+  nlohmann::json truth = nullptr;            // truth.json's content when simulated
+  std::string source;                        // one line saying where the data came from
+};
+
+inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
+                             uint64_t seed, Experiment* experiment) {
+  if (data_dir.empty()) {
+    Scenario scenario;
+    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
+    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(assignments, &scenario).WithContext("--set"));
+    SimulatedData data = SimulateScenario(scenario, seed);
+    experiment->truth = TruthJson(scenario, data, seed);
+    experiment->source =
+        "simulated from the embedded scenario " + scenario.name + " (seed " + std::to_string(seed) +
+        ") with " + (assignments.empty() ? std::string("nothing") : assignments) + " hidden in it";
+    experiment->test = std::move(data.test);
+    experiment->run = std::move(data.run);
+    experiment->landmarks = std::move(data.landmarks);
+    experiment->conditions = data.conditions;
+    return Status::Ok();
+  }
+  DataFiles files;
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &files));
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &experiment->test));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &experiment->run));
+  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &experiment->landmarks));
+  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &experiment->conditions));
+  experiment->source = "measured data in " + data_dir;
+  experiment->files = {{"calibration", files.calibration},
+                       {"run", files.run},
+                       {"landmarks", files.landmarks},
+                       {"conditions", files.conditions}};
+  return Status::Ok();
 }
 
 }  // namespace accelcal

@@ -271,6 +271,23 @@ class JointProblem {
   std::unique_ptr<ceres::LossFunction> loss_;
 };
 
+// The closed-form baseline every joint solve starts from (and whose run-noise covariance
+// whitens the endpoint residual).
+Status BaselineStart(const CalibrationTest& test, const JointOptions& options, BaselineFit* start) {
+  LinearLsOptions linear;
+  linear.gravity_mps2 = options.gravity_mps2;
+  linear.noise_variance_x = options.noise_variance_x;
+  linear.noise_variance_y = options.noise_variance_y;
+  return EstimateLinearLs(test, linear, start);
+}
+
+const Landmark* FindLandmark(const std::vector<Landmark>& landmarks, const std::string& name) {
+  for (const Landmark& landmark : landmarks) {
+    if (landmark.name == name) return &landmark;
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 Status ParseEffects(const std::string& list, std::vector<Parameter>* effects) {
@@ -312,16 +329,9 @@ Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
                        const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                        const JointOptions& options, const JointResult& current,
                        const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2) {
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = options.noise_variance_x;
-  linear.noise_variance_y = options.noise_variance_y;
   BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
-  const Landmark* tied = nullptr;
-  for (const Landmark& landmark : landmarks) {
-    if (landmark.name == current.landmark) tied = &landmark;
-  }
+  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
+  const Landmark* tied = FindLandmark(landmarks, current.landmark);
   // The score statistic: with r the whitened residuals, J_A the Jacobian of the current
   // free parameters and j_c the candidate's column, delta chi2 = (e^T r)^2 / (e^T e),
   // e = j_c projected off the span of J_A (at an optimum J_A^T r = 0).
@@ -350,16 +360,9 @@ Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                       const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
                       Eigen::VectorXd* residual) {
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = options.noise_variance_x;
-  linear.noise_variance_y = options.noise_variance_y;
   BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
-  const Landmark* tied = nullptr;
-  for (const Landmark& landmark : landmarks) {
-    if (landmark.name == at.landmark) tied = &landmark;
-  }
+  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
+  const Landmark* tied = FindLandmark(landmarks, at.landmark);
   JointProblem problem(test, run, conditions, options, start);
   return problem.Linearize(tied, at.estimate.values, at.estimate.free, jacobian, residual);
 }
@@ -400,17 +403,13 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
                            "landmark (--landmark=NAME or --landmark=auto)");
     }
   }
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = options.noise_variance_x;
-  linear.noise_variance_y = options.noise_variance_y;
   BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &start));
+  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
   JointProblem problem(test, run, conditions, options, start);
   if (options.landmark_mode == JointOptions::Landmark::kNone) return problem.Solve(nullptr, result);
   if (options.landmark_mode == JointOptions::Landmark::kNamed) {
-    for (const Landmark& landmark : landmarks) {
-      if (landmark.name == options.landmark_name) return problem.Solve(&landmark, result);
+    if (const Landmark* landmark = FindLandmark(landmarks, options.landmark_name)) {
+      return problem.Solve(landmark, result);
     }
     std::string names;
     for (const Landmark& landmark : landmarks) names += (names.empty() ? "" : ", ") + landmark.name;
