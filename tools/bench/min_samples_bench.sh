@@ -6,8 +6,9 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 data=${1:-$root/../shared/data/tp2-2018}
 for run in 1 2 3; do
-  start=$(date +%s.%N)
+  start=$(date +%s%N)
   "$root/build/bin/min_samples" --data_dir="$data" --design=all >/dev/null
-  end=$(date +%s.%N)
-  echo "run $run: $(echo "$end - $start" | bc) s"
+  end=$(date +%s%N)
+  elapsed_ms=$(((end - start) / 1000000))
+  printf 'run %d: %d.%03d s\n' "$run" $((elapsed_ms / 1000)) $((elapsed_ms % 1000))
 done
