@@ -13,6 +13,7 @@
 #include <gflags/gflags.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -163,6 +164,12 @@ Status Analyse(const Inputs& inputs, double gravity, Results* results) {
 
 std::string Num(double value, const char* format = "%.4g") { return StringPrintf(format, value); }
 
+// `text` with its first letter capitalised, to start a sentence.
+std::string Sentence(std::string text) {
+  if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
 // Runs a plot script; returns "" or why the figure is absent.
 std::string Plot(const std::string& script, const std::string& arguments) {
   const std::string path = FLAGS_tools_dir + "/" + script;
@@ -253,7 +260,7 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
       StringPrintf("Noise level against the statement (von Neumann): ratio %.4f +- %.4f (x), %.4f "
                    "+- %.4f (y). %s.",
                    d.axes[0].noise.ratio, d.axes[0].noise.ratio_stddev, d.axes[1].noise.ratio,
-                   d.axes[1].noise.ratio_stddev, d.landmark_note.c_str()));
+                   d.axes[1].noise.ratio_stddev, Sentence(d.landmark_note).c_str()));
   discovery.table.push_back({"step", "candidate", "delta chi2", "p-value", "significant"});
   for (const CandidateScore& c : d.candidates) {
     if (c.step == 1 || c.significant) {
