@@ -28,14 +28,12 @@
 #include "estimation/trajectory.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
-#include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
 #include "reporting/linear_ls_report.h"
 #include "reporting/min_samples_report.h"
 #include "reporting/report_document.h"
 #include "reporting/trajectory_report.h"
-#include "simulation/embedded_scenarios.h"
 #include "studies/min_samples.h"
 
 DEFINE_string(data_dir, "",

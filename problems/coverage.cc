@@ -43,10 +43,7 @@ int Run(int argc, char** argv) {
   }
   if (status.ok() && FLAGS_threads < 0) status = Status::Error("--threads must be >= 0");
   Scenario scenario;
-  if (status.ok())
-    status = FLAGS_scenario.empty() ? LoadDefaultScenario(&scenario)
-                                    : LoadScenario(FLAGS_scenario, &scenario);
-  if (status.ok()) status = ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set");
+  if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
   if (!status.ok()) return ExitWithError("coverage", status);
 
   CoverageOptions options;

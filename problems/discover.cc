@@ -13,10 +13,8 @@
 #include "estimation/discovery.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
-#include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
-#include "simulation/embedded_scenarios.h"
 
 DEFINE_string(data_dir, "",
               "Folder with the course layout or the CSV layout. Empty: simulate the embedded "

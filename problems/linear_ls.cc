@@ -83,9 +83,7 @@ Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsRepor
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
     Scenario scenario;
-    ACCELCAL_RETURN_IF_ERROR(FLAGS_scenario.empty() ? LoadDefaultScenario(&scenario)
-                                                    : LoadScenario(FLAGS_scenario, &scenario));
-    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set"));
+    ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario));
     const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
     *test = data.test;
     options->noise_variance_x = data.conditions.noise_variance_x;

@@ -25,7 +25,6 @@
 #include "estimation/trajectory.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
-#include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/min_samples_report.h"
 #include "simulation/embedded_scenarios.h"

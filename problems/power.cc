@@ -52,10 +52,7 @@ int Run(int argc, char** argv) {
   if (status.ok() && !(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
     status = Status::Error("--alpha must be in (0, 0.5)");
   Scenario scenario;
-  if (status.ok())
-    status = FLAGS_scenario.empty() ? LoadDefaultScenario(&scenario)
-                                    : LoadScenario(FLAGS_scenario, &scenario);
-  if (status.ok()) status = ApplyScenarioOverrides(FLAGS_set, &scenario).WithContext("--set");
+  if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
   if (!status.ok()) return ExitWithError("power", status);
   options.trials = FLAGS_trials;
   options.alpha = FLAGS_alpha;

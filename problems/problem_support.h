@@ -105,11 +105,7 @@ inline double ChooseGravity(const RunConditions& conditions, double flag_g) {
 
 // The data a problem works on: a data folder read as is (either layout) or, without one,
 // the embedded tp2-2018 scenario simulated with `assignments` (name=value,...) hidden in it.
-struct Experiment {
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
+struct Experiment : CourseData {
   std::map<std::string, std::string> files;  // role -> path; empty when simulated
   nlohmann::json truth = nullptr;            // truth.json's content when simulated
   std::string source;                        // one line saying where the data came from
@@ -119,8 +115,7 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
                              uint64_t seed, Experiment* experiment) {
   if (data_dir.empty()) {
     Scenario scenario;
-    ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&scenario));
-    ACCELCAL_RETURN_IF_ERROR(ApplyScenarioOverrides(assignments, &scenario).WithContext("--set"));
+    ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault("", assignments, &scenario));
     SimulatedData data = SimulateScenario(scenario, seed);
     experiment->truth = TruthJson(scenario, data, seed);
     experiment->source =
@@ -134,15 +129,9 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
   }
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &experiment->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &experiment->run));
-  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &experiment->landmarks));
-  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &experiment->conditions));
+  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment));
   experiment->source = "measured data in " + data_dir;
-  experiment->files = {{"calibration", files.calibration},
-                       {"run", files.run},
-                       {"landmarks", files.landmarks},
-                       {"conditions", files.conditions}};
+  experiment->files = FileRoles(files);
   return Status::Ok();
 }
 

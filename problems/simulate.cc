@@ -58,9 +58,7 @@ Status ValidateFlags() {
 }
 
 Status Load(Scenario* scenario) {
-  ACCELCAL_RETURN_IF_ERROR(FLAGS_scenario.empty() ? LoadDefaultScenario(scenario)
-                                                  : LoadScenario(FLAGS_scenario, scenario));
-  return ApplyScenarioOverrides(FLAGS_set, scenario).WithContext("--set");
+  return LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, scenario);
 }
 
 Status Write(const Scenario& scenario, const SimulatedData& data,

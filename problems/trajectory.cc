@@ -26,7 +26,6 @@
 #include "estimation/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
-#include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/trajectory_report.h"
 
@@ -79,26 +78,15 @@ Status ValidateFlags() {
   return Status::Ok();
 }
 
-struct Inputs {
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
-};
+using Inputs = CourseData;
 
 Status Load(Inputs* inputs, TrajectoryReport* report) {
   const DataFiles overrides{DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file,
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &inputs->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &inputs->run));
-  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &inputs->landmarks));
-  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &inputs->conditions));
-  report->input_files = {{"calibration", files.calibration},
-                         {"run", files.run},
-                         {"landmarks", files.landmarks},
-                         {"conditions", files.conditions}};
+  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs));
+  report->input_files = FileRoles(files);
   return Status::Ok();
 }
 

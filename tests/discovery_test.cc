@@ -149,16 +149,12 @@ TEST(Discover, OnTheCourseDataTheBaselineExplainsTheData) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   DataFiles files;
   ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
-  CalibrationTest test;
-  VehicleRun run;
-  std::vector<Landmark> landmarks;
-  RunConditions conditions;
-  ASSERT_TRUE(LoadCalibrationTest(files.calibration, &test).ok());
-  ASSERT_TRUE(LoadVehicleRun(files.run, &run).ok());
-  ASSERT_TRUE(LoadLandmarks(files.landmarks, &landmarks).ok());
-  ASSERT_TRUE(LoadRunConditions(files.conditions, &conditions).ok());
+  CourseData course;
+  ASSERT_TRUE(LoadDataFiles(files, &course).ok());
   DiscoveryResult result;
-  ASSERT_TRUE(Discover(test, run, conditions, landmarks, DiscoveryOptions(), &result).ok());
+  ASSERT_TRUE(Discover(course.test, course.run, course.conditions, course.landmarks,
+                       DiscoveryOptions(), &result)
+                  .ok());
   // What the data support: no effect, the run at C. The strongest candidate is the
   // non-orthogonality with delta chi2 = 2.29 (p = 0.13), far from Holm's 0.005/8.
   EXPECT_TRUE(result.effects.empty()) << result.verdict;

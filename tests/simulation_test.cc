@@ -196,14 +196,12 @@ TEST(Simulate, WrittenCourseLayoutReadsBackLikeTheCourseFilesAndRecoversTheTruth
   for (const std::string& dir : {mat_dir.path(), csv_dir.path()}) {
     DataFiles files;
     ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
-    CalibrationTest test;
-    VehicleRun run;
-    std::vector<Landmark> landmarks;
-    RunConditions conditions;
-    ASSERT_TRUE(LoadCalibrationTest(files.calibration, &test).ok());
-    ASSERT_TRUE(LoadVehicleRun(files.run, &run).ok());
-    ASSERT_TRUE(LoadLandmarks(files.landmarks, &landmarks).ok());
-    ASSERT_TRUE(LoadRunConditions(files.conditions, &conditions).ok());
+    CourseData loaded;
+    ASSERT_TRUE(LoadDataFiles(files, &loaded).ok());
+    const CalibrationTest& test = loaded.test;
+    const VehicleRun& run = loaded.run;
+    const std::vector<Landmark>& landmarks = loaded.landmarks;
+    const RunConditions& conditions = loaded.conditions;
     // Exactly what was simulated, bit for bit.
     EXPECT_EQ(test.theta_rad, data.test.theta_rad);
     EXPECT_EQ(test.measured_y, data.test.measured_y);

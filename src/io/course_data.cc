@@ -256,6 +256,20 @@ Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) 
   return status.WithContext(path);
 }
 
+std::map<std::string, std::string> FileRoles(const DataFiles& files) {
+  return {{"calibration", files.calibration},
+          {"run", files.run},
+          {"landmarks", files.landmarks},
+          {"conditions", files.conditions}};
+}
+
+Status LoadDataFiles(const DataFiles& files, CourseData* data) {
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &data->test));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &data->run));
+  ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &data->landmarks));
+  return LoadRunConditions(files.conditions, &data->conditions);
+}
+
 Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test) {
   std::string text = "theta,ax,ay\n";
   text.reserve(text.size() + 72 * test.theta_rad.size());

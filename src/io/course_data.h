@@ -16,6 +16,7 @@
 // can be named directly. Every loader validates what it reads (shape, finiteness,
 // lengths, time uniformly increasing) and fails with the file name first.
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -47,6 +48,20 @@ Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides,
 Status LoadCalibrationTest(const std::string& path, CalibrationTest* test);
 Status LoadVehicleRun(const std::string& path, VehicleRun* run);
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);
+
+// Everything a data folder holds, read from resolved files.
+struct CourseData {
+  CalibrationTest test;
+  VehicleRun run;
+  std::vector<Landmark> landmarks;
+  RunConditions conditions;
+};
+
+// The files by role ("calibration", "run", "landmarks", "conditions"), as outputs name them.
+std::map<std::string, std::string> FileRoles(const DataFiles& files);
+
+// Reads the four files of `files` (each with its own checks and messages).
+Status LoadDataFiles(const DataFiles& files, CourseData* data);
 
 // Writes the CSV layout's calibration.csv (full double precision), atomically.
 Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test);

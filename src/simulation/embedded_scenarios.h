@@ -12,6 +12,11 @@ namespace accelcal {
 const char* DefaultScenarioJson();
 Status LoadDefaultScenario(Scenario* scenario);
 
+// The scenario in `path` (the embedded one when `path` is empty) with `assignments`
+// (name=value,..., as ApplyScenarioOverrides) applied: what every --scenario/--set means.
+Status LoadScenarioOrDefault(const std::string& path, const std::string& assignments,
+                             Scenario* scenario);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_SIMULATION_EMBEDDED_SCENARIOS_H_
