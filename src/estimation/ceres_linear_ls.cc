@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "estimation/ceres_solve.h"
 #include "estimation/chi_square.h"
 #include "residuals/baseline_calibration_residual.h"
 
@@ -47,24 +48,12 @@ Status EstimateLinearLsWithCeres(const CalibrationTest& test, const CeresLinearL
   // The problem is linear: Levenberg-Marquardt with a large initial trust region takes a
   // Gauss-Newton step at once and then only confirms it; the tolerances are tight so
   // the comparison with the closed form is limited by rounding, not by stopping early.
-  ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.initial_trust_region_radius = 1e12;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = 1e-15;
-  solver_options.gradient_tolerance = 1e-15;
-  solver_options.parameter_tolerance = 1e-15;
-  solver_options.num_threads = options.num_threads;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  result->brief_report = summary.BriefReport();
-  result->full_report = summary.FullReport();
-  result->iterations = static_cast<int>(summary.iterations.size());
-  result->converged = summary.termination_type == ceres::CONVERGENCE;
-  if (!result->converged) {
-    return Status::Error("Ceres did not converge: " + summary.message);
-  }
+  QuietSolveOptions solve;
+  solve.max_iterations = options.max_iterations;
+  solve.num_threads = options.num_threads;
+  solve.tolerance = 1e-15;
+  solve.initial_trust_region_radius = 1e12;
+  ACCELCAL_RETURN_IF_ERROR(SolveQuietly(solve, &problem, &result->solver));
 
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::DENSE_SVD;

@@ -13,6 +13,7 @@
 #include "common/status.h"
 #include "estimation/baseline_parameters.h"
 #include "estimation/linear_ls.h"
+#include "estimation/solver_report.h"
 
 namespace accelcal {
 
@@ -24,10 +25,7 @@ struct CeresLinearLsOptions {
 
 struct CeresLinearLsResult {
   BaselineFit fit;
-  bool converged = false;
-  int iterations = 0;
-  std::string brief_report;  // ceres::Solver::Summary::BriefReport()
-  std::string full_report;   // ceres::Solver::Summary::FullReport()
+  SolverReport solver;
 };
 
 // Validates like EstimateLinearLs (same messages for the same bad input), solves, and

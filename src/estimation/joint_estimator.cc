@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "estimation/ceres_solve.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "residuals/calibration_residual.h"
@@ -133,21 +134,10 @@ class JointProblem {
     if (landmark != nullptr) result->landmark = landmark->name;
     auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
 
-    ceres::Solver::Options solver_options;
-    solver_options.linear_solver_type = ceres::DENSE_QR;
-    solver_options.max_num_iterations = options_.max_iterations;
-    solver_options.function_tolerance = 1e-14;
-    solver_options.gradient_tolerance = 1e-14;
-    solver_options.parameter_tolerance = 1e-14;
-    solver_options.num_threads = options_.num_threads;
-    solver_options.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(solver_options, &problem, &summary);
-    result->brief_report = summary.BriefReport();
-    result->full_report = summary.FullReport();
-    result->iterations = static_cast<int>(summary.iterations.size());
-    result->converged = summary.termination_type == ceres::CONVERGENCE;
-    if (!result->converged) return Status::Error("Ceres did not converge: " + summary.message);
+    QuietSolveOptions solve;
+    solve.max_iterations = options_.max_iterations;
+    solve.num_threads = options_.num_threads;
+    ACCELCAL_RETURN_IF_ERROR(SolveQuietly(solve, &problem, &result->solver));
 
     std::vector<double*> free_blocks;
     for (const Parameter parameter : estimate.free) free_blocks.push_back(block(parameter));

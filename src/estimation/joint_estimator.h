@@ -20,6 +20,7 @@
 #include "common/measurements.h"
 #include "common/status.h"
 #include "estimation/parameter_estimate.h"
+#include "estimation/solver_report.h"
 
 namespace accelcal {
 
@@ -57,10 +58,7 @@ struct JointResult {
   double chi2_endpoint = 0.0;                  // 0 without a landmark
   std::string landmark;                        // the landmark the run was tied to, or empty
   std::vector<LandmarkHypothesis> hypotheses;  // with Landmark::kAuto, one per landmark
-  bool converged = false;
-  int iterations = 0;
-  std::string brief_report;
-  std::string full_report;
+  SolverReport solver;
 };
 
 // Fails (naming the parameters) when the chosen effects cannot be separated with these

@@ -111,8 +111,8 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
         "the\n"
         "   landmark by the hypotheses' posteriors, not by the joint endpoint's table)\n";
   }
-  text += "\n  " + report.joint.brief_report + "\n";
-  if (full_solver_report) text += report.joint.full_report + "\n";
+  text += "\n  " + report.joint.solver.brief_report + "\n";
+  if (full_solver_report) text += report.joint.solver.full_report + "\n";
   return text;
 }
 
@@ -136,9 +136,9 @@ nlohmann::json JointJson(const JointReport& report) {
                                  report.joint_decision)},
           {"hypotheses", hypotheses},
           {"solver",
-           {{"converged", report.joint.converged},
-            {"iterations", report.joint.iterations},
-            {"brief_report", report.joint.brief_report}}}};
+           {{"converged", report.joint.solver.converged},
+            {"iterations", report.joint.solver.iterations},
+            {"brief_report", report.joint.solver.brief_report}}}};
 }
 
 }  // namespace accelcal

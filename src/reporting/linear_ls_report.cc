@@ -91,8 +91,8 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
       "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e "
       "(relative to sqrt(C_ii C_jj))\n",
       difference.parameters, difference.covariance);
-  text += "  " + report.ceres.brief_report + "\n";
-  if (full_solver_report) text += report.ceres.full_report + "\n";
+  text += "  " + report.ceres.solver.brief_report + "\n";
+  if (full_solver_report) text += report.ceres.solver.full_report + "\n";
   return text;
 }
 
@@ -118,9 +118,9 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
   nlohmann::json ceres = FitJson(report.ceres.fit);
-  ceres["converged"] = report.ceres.converged;
-  ceres["iterations"] = report.ceres.iterations;
-  ceres["brief_report"] = report.ceres.brief_report;
+  ceres["converged"] = report.ceres.solver.converged;
+  ceres["iterations"] = report.ceres.solver.iterations;
+  ceres["brief_report"] = report.ceres.solver.brief_report;
   json["solvers"] = {
       {"closed_form", FitJson(fit)},
       {"ceres", ceres},

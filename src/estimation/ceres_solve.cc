@@ -1,0 +1,26 @@
+#include "estimation/ceres_solve.h"
+
+namespace accelcal {
+
+Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
+                    SolverReport* report) {
+  ceres::Solver::Options solver_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.initial_trust_region_radius = options.initial_trust_region_radius;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.tolerance;
+  solver_options.gradient_tolerance = options.tolerance;
+  solver_options.parameter_tolerance = options.tolerance;
+  solver_options.num_threads = options.num_threads;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, problem, &summary);
+  report->brief_report = summary.BriefReport();
+  report->full_report = summary.FullReport();
+  report->iterations = static_cast<int>(summary.iterations.size());
+  report->converged = summary.termination_type == ceres::CONVERGENCE;
+  if (!report->converged) return Status::Error("Ceres did not converge: " + summary.message);
+  return Status::Ok();
+}
+
+}  // namespace accelcal
