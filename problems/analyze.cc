@@ -43,6 +43,7 @@ DEFINE_string(set, "angle_offset=0.004",
               "Without data: the effects hidden in the simulated data, name=value,... in the "
               "spec's units (the report states them as the truth).");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_string(out_dir, "report", "The report folder to create (replaced only with --overwrite).");
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 DEFINE_double(alpha, 0.01,
@@ -84,7 +85,9 @@ class Progress {
 };
 
 Status Load(Inputs* inputs) {
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, inputs);
+  LoadOptions options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
 }
 
 struct Results {

@@ -23,6 +23,7 @@ DEFINE_string(set, "",
               "Without data: effects hidden in the simulated scenario, name=value,... (as simulate "
               "--set), e.g. --set=angle_offset=0.004.");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(alpha, 0.01, "Family-wise error rate of each step (Holm), in (0, 0.5).");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
 DEFINE_int32(bins, 36, "Bins of the residual against theta (>= 4).");
@@ -46,7 +47,9 @@ constexpr char kUsage[] =
 using Inputs = Experiment;
 
 Status Load(Inputs* inputs) {
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, inputs);
+  LoadOptions options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
 }
 
 int Run(int argc, char** argv) {

@@ -28,6 +28,7 @@ DEFINE_string(
     set, "",
     "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_string(effects, "",
               "Effects to estimate beyond bias and scale, comma-separated: angle_offset (rad), "
               "nonorthogonality (rad), bias_drift_x/y (m/s^2), scale_nonlinearity_x/y "
@@ -59,7 +60,9 @@ constexpr char kUsage[] =
 using Inputs = Experiment;
 
 Status Load(Inputs* inputs) {
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, inputs);
+  LoadOptions options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {

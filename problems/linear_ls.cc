@@ -50,6 +50,7 @@ DEFINE_string(set, "",
               "Without data: overrides of the scenario, name=value,... (as simulate --set), e.g. "
               "--set=angle_offset=0.004 to see what an unmodelled effect does.");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
 
 namespace accelcal {
@@ -104,7 +105,11 @@ Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsRepor
   overrides.conditions = FLAGS_conditions_file;
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, test));
+  LoadOptions load_options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
+  std::vector<std::string> notes;
+  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, test, load_options, &notes));
+  PrintInputNotes(notes);
   RunConditions conditions;
   ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &conditions));
   options->noise_variance_x = conditions.noise_variance_x;

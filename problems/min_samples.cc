@@ -42,6 +42,7 @@ DEFINE_double(
     "The criterion: the largest acceptable probability of deciding a wrong landmark, in (0, 0.5).");
 DEFINE_int32(repetitions, 1000, "Monte Carlo repetitions per checked N (0: no Monte Carlo).");
 DEFINE_uint64(seed, 1, "Seed of the Monte Carlo.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_int32(threads, 0, "Threads for the Monte Carlo (0: all cores).");
 DEFINE_string(json, "",
               "Write the designs, their curves and N_min as JSON to this file (atomically).");
@@ -64,7 +65,9 @@ struct Inputs : Experiment {
 
 Status Load(Inputs* inputs) {
   ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&inputs->scenario));
-  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, inputs);
+  LoadOptions options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, options, inputs);
 }
 
 // The endpoint model of a dataset: fit, dead-reckon, and the landmark it decides.

@@ -96,6 +96,26 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
   return true;
 }
 
+// --theta_unit, defined in each binary that reads a tilt test (so that its --help lists it)
+// with one help text.
+#define ACCELCAL_DEFINE_THETA_UNIT_FLAG()                                                 \
+  DEFINE_string(theta_unit, "auto",                                                       \
+                "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span " \
+                "over two turns is refused as likely degrees).")
+
+// The load options the binary's --theta_unit asks for.
+inline Status LoadOptionsFromFlags(const std::string& theta_unit, LoadOptions* options) {
+  return ParseAngleUnit(theta_unit, &options->theta_unit);
+}
+
+// What the loaders read correctly but want said (e.g. a transposed matrix): one line each on
+// stderr, "program: note: ...".
+inline void PrintInputNotes(const std::vector<std::string>& notes) {
+  for (const std::string& note : notes) {
+    std::cerr << gflags::ProgramInvocationShortName() << ": note: " << note << "\n";
+  }
+}
+
 // g for the tilt test: `flag_g` (the binary's --g) when given on the command line, else
 // the data's own (scenario.json may state it), else the flag's default.
 inline double ChooseGravity(const RunConditions& conditions, double flag_g) {
@@ -112,7 +132,7 @@ struct Experiment : CourseData {
 };
 
 inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
-                             uint64_t seed, Experiment* experiment) {
+                             uint64_t seed, const LoadOptions& options, Experiment* experiment) {
   if (data_dir.empty()) {
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault("", assignments, &scenario));
@@ -129,7 +149,8 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
   }
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment));
+  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment, options));
+  PrintInputNotes(experiment->notes);
   experiment->source = "measured data in " + data_dir;
   experiment->files = FileRoles(files);
   return Status::Ok();

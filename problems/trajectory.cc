@@ -42,6 +42,7 @@ DEFINE_string(landmarks_file, "",
 DEFINE_string(conditions_file, "",
               "Initial position (m), initial velocity (m/s) and stated noise variances "
               "((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
+ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test.");
 DEFINE_double(alpha, 0.01,
               "Significance level in (0, 1): the most probable landmark is reported as reached "
@@ -85,7 +86,10 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
-  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs));
+  LoadOptions load_options;
+  ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
+  ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs, load_options));
+  PrintInputNotes(inputs->notes);
   report->input_files = FileRoles(files);
   return Status::Ok();
 }

@@ -73,7 +73,7 @@ TEST(DatosTxt, RefusesBadInputWithTheLine) {
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Posición inicial = [0 0\n", &conditions),
                         "line 1: unbalanced brackets");
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Velocidad inicial = [1]\n", &conditions),
-                        "line 1: 'Velocidad inicial' has 1 values, expected 2");
+                        "line 1: 'Velocidad inicial' has 1 value, expected 2");
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Velocidad inicial = [0,5 1,5]\n", &conditions),
                         "decimal commas");
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Velocidad inicial = [1 x]\n", &conditions),
@@ -188,9 +188,8 @@ TEST(MatFile, NamesTheFileAndVariableOfEveryShapeProblem) {
   std::string path = WriteEnsayo(scratch, 50, 50, 3);
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test),
                         path + ": variable 'datos' is 50x3; expected 50x2 (x then y, m/s^2)");
-  path = WriteEnsayo(scratch, 50, 2, 50);
-  EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test),
-                        "is 2x50; expected 50x2 (x then y, m/s^2); it looks transposed");
+  path = WriteEnsayo(scratch, 50, 3, 50);
+  EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test), "is 3x50; expected 50x2");
   path = WriteEnsayo(scratch, 50, 49, 2);
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test),
                         "variable 'datos' has 49 rows but 'tita' has 50; they must match");
@@ -202,6 +201,43 @@ TEST(MatFile, NamesTheFileAndVariableOfEveryShapeProblem) {
                         "variable 'tita' is 5x2; expected Nx1 angles (rad)");
   ASSERT_TRUE(WriteMatFile(path, {{"tita", Matrix(0, 1)}, {"datos", Matrix(0, 2)}}).ok());
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test), "variable 'tita' is empty (0x1)");
+}
+
+TEST(MatFile, ReadsA2xNMatrixAsItsTransposeAndSaysSo) {
+  testing::ScratchDir scratch;
+  const std::string path = scratch.File("ensayo.mat");
+  // datos = [ax; ay]: row 0 holds x, row 1 holds y.
+  MatMatrix rows{2, 4, {10, 20, 11, 21, 12, 22, 13, 23}};
+  ASSERT_TRUE(WriteMatFile(path, {{"tita", Matrix(4, 1)}, {"datos", rows}}).ok());
+  CalibrationTest test;
+  std::vector<std::string> notes;
+  ASSERT_TRUE(LoadCalibrationTest(path, &test, {}, &notes).ok());
+  EXPECT_EQ(test.measured_x, std::vector<double>({10, 11, 12, 13}));
+  EXPECT_EQ(test.measured_y, std::vector<double>({20, 21, 22, 23}));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_EQ(notes[0], path + ": variable 'datos' is 2x4; read as its transpose (4x2, x then y)");
+}
+
+TEST(CalibrationTest, RefusesAngleSpansThatLookLikeDegreesUnlessTold) {
+  testing::ScratchDir scratch;
+  const std::string path = scratch.File("calibration.csv");
+  ASSERT_TRUE(WriteFileAtomically(path, "theta,ax,ay\n0,1,2\n90,1,2\n180,1,2\n359,1,2\n").ok());
+  CalibrationTest test;
+  EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test),
+                        path +
+                            ": theta spans 359 (from 0 to 359) over 4 samples, more than two "
+                            "turns if it were radians: it looks like degrees; pass "
+                            "--theta_unit=deg");
+  ASSERT_TRUE(LoadCalibrationTest(path, &test, {AngleUnit::kDegree}).ok());
+  EXPECT_DOUBLE_EQ(test.theta_rad[1], M_PI / 2);
+  EXPECT_DOUBLE_EQ(test.theta_rad[3], 359 * M_PI / 180);
+  ASSERT_TRUE(LoadCalibrationTest(path, &test, {AngleUnit::kRadian}).ok());
+  EXPECT_EQ(test.theta_rad[3], 359.0);
+  // Two full turns in radians are a plausible test and pass.
+  ASSERT_TRUE(WriteFileAtomically(path, "theta,ax,ay\n0,1,2\n12.566,1,2\n").ok());
+  EXPECT_TRUE(LoadCalibrationTest(path, &test).ok());
+  AngleUnit unit;
+  EXPECT_ERROR_CONTAINS(ParseAngleUnit("degrees", &unit), "is not one of auto, rad, deg");
 }
 
 TEST(MatFile, RefusesNonFiniteSamplesWithTheirIndex) {
@@ -268,15 +304,23 @@ TEST(MatFile, ReadsAnyNumberOfLandmarksByVariableName) {
   testing::ScratchDir scratch;
   const std::string path = scratch.File("puntos.mat");
   std::vector<std::pair<std::string, MatMatrix>> variables;
-  for (const char* name : {"P1", "Q", "north_gate", "B", "Z9"})
-    variables.push_back({name, Matrix(1, 2, 10.0)});
+  double start = 10.0;
+  for (const char* name : {"P1", "Q", "north_gate", "B", "Z9"}) {
+    variables.push_back({name, Matrix(1, 2, start)});
+    start += 5.0;
+  }
   ASSERT_TRUE(WriteMatFile(path, variables).ok());
   std::vector<Landmark> landmarks;
   ASSERT_TRUE(LoadLandmarks(path, &landmarks).ok());
   ASSERT_EQ(landmarks.size(), 5u);
   EXPECT_EQ(landmarks[2].name, "north_gate");
-  EXPECT_EQ(landmarks[2].x_m, 10.0);
-  EXPECT_EQ(landmarks[2].y_m, 10.001);
+  EXPECT_EQ(landmarks[2].x_m, 20.0);
+  EXPECT_EQ(landmarks[2].y_m, 20.001);
+  // Two landmarks at one place cannot be told apart.
+  ASSERT_TRUE(WriteMatFile(path, {{"A", Matrix(1, 2)}, {"B", Matrix(1, 2)}}).ok());
+  EXPECT_ERROR_CONTAINS(LoadLandmarks(path, &landmarks),
+                        "landmarks 'A' and 'B' are both at (0, 0.001) m, so no data can tell them "
+                        "apart");
   ASSERT_TRUE(WriteMatFile(path, {{"A", Matrix(1, 2)}, {"E", Matrix(3, 1)}}).ok());
   EXPECT_ERROR_CONTAINS(LoadLandmarks(path, &landmarks),
                         "variable 'E' is 3x1; every landmark must be a 1x2");

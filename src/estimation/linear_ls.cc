@@ -100,6 +100,16 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                          " correlated); rotate the table through a wider range of angles");
   }
   const double scale = axis.CenteredForceResponse() / centered_ff;
+  if (!(1.0 + scale > 0.0)) {
+    // The output falls as the model's specific force rises: an inverted axis, theta turning
+    // the other way, or swapped axes. No scale factor *error* explains that, and the run
+    // could not be corrected with it, so say what the model expects instead.
+    return Status::Error(StringPrintf(
+        "the tilt test gives scale_%s = %.4g (1 + scale_%s <= 0): the %s output falls as the "
+        "model's specific force rises; check the axis' sign, the order x then y, and that theta "
+        "follows the spec (f_x = -g sin(theta), f_y = -g cos(theta))",
+        axis_name, scale, axis_name, axis_name));
+  }
   const double bias = axis.MeanResponse() - scale * mean_force;
   const double residual_sum_squares =
       std::max(0.0, axis.CenteredResponseResponse() - scale * axis.CenteredForceResponse());

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "common/format.h"
+#include "common/landmark_checks.h"
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/mat_file.h"
@@ -30,6 +31,12 @@ bool IsDirectory(const std::string& path) {
 bool HasExtension(const std::string& path, const std::string& extension) {
   return path.size() >= extension.size() &&
          path.compare(path.size() - extension.size(), extension.size(), extension) == 0;
+}
+
+void AddNotes(const std::string& path, const std::vector<std::string>& file_notes,
+              std::vector<std::string>* notes) {
+  if (notes == nullptr) return;
+  for (const std::string& note : file_notes) notes->push_back(path + ": " + note);
 }
 
 std::string Shape(const MatMatrix& matrix) {
@@ -56,16 +63,26 @@ Status ReadVector(MatFileReader* reader, const std::string& name, const std::str
 }
 
 // An Nx2 matrix (x then y) whose row count must equal `expected_rows`.
+// A 2xN matrix (MATLAB users often save [ax; ay]) is read as its transpose and said in
+// `notes`; it cannot be confused with Nx2 unless N is 2.
 Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expected_rows,
                       const std::string& row_variable, std::vector<double>* x,
-                      std::vector<double>* y) {
+                      std::vector<double>* y, std::vector<std::string>* notes) {
   MatMatrix matrix;
   ACCELCAL_RETURN_IF_ERROR(reader->ReadMatrix(name, &matrix));
+  if (matrix.rows == 2 && matrix.cols == expected_rows && expected_rows != 2) {
+    MatMatrix transpose{matrix.cols, 2, std::vector<double>(matrix.values.size())};
+    for (int row = 0; row < matrix.cols; ++row) {
+      transpose.values[row] = matrix(0, row);
+      transpose.values[matrix.cols + row] = matrix(1, row);
+    }
+    notes->push_back("variable '" + name + "' is " + Shape(matrix) + "; read as its transpose (" +
+                     Shape(transpose) + ", x then y)");
+    matrix = std::move(transpose);
+  }
   if (matrix.cols != 2) {
-    const bool transposed = matrix.rows == 2 && matrix.cols == expected_rows;
     return Status::Error("variable '" + name + "' is " + Shape(matrix) + "; expected " +
-                         std::to_string(expected_rows) + "x2 (x then y, m/s^2)" +
-                         (transposed ? "; it looks transposed" : ""));
+                         std::to_string(expected_rows) + "x2 (x then y, m/s^2)");
   }
   if (matrix.rows != expected_rows) {
     return Status::Error("variable '" + name + "' has " + std::to_string(matrix.rows) +
@@ -121,15 +138,16 @@ const std::vector<CsvColumn> kCalibrationColumns = {{"theta"}, {"ax"}, {"ay"}};
 const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
 const std::vector<CsvColumn> kLandmarkColumns = {{"name", false}, {"x"}, {"y"}};
 
-Status LoadCalibrationMat(const std::string& path, CalibrationTest* test) {
+Status LoadCalibrationMat(const std::string& path, CalibrationTest* test,
+                          std::vector<std::string>* notes) {
   MatFileReader reader;
   ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
   ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "tita", "angles (rad)", &test->theta_rad));
   return ReadTwoColumns(&reader, "datos", test->size(), "tita", &test->measured_x,
-                        &test->measured_y);
+                        &test->measured_y, notes);
 }
 
-Status LoadRunMat(const std::string& path, VehicleRun* run) {
+Status LoadRunMat(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
   MatFileReader reader;
   ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
   ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "t", "times (s)", &run->timestamp_s));
@@ -140,7 +158,7 @@ Status LoadRunMat(const std::string& path, VehicleRun* run) {
   const bool has_acel = std::find(names.begin(), names.end(), "acel") != names.end();
   const std::string name = (!has_aerr && has_acel) ? "acel" : "Aerr";
   ACCELCAL_RETURN_IF_ERROR(
-      ReadTwoColumns(&reader, name, run->size(), "t", &run->measured_x, &run->measured_y));
+      ReadTwoColumns(&reader, name, run->size(), "t", &run->measured_x, &run->measured_y, notes));
   return CheckUniformTime(run->timestamp_s, "t");
 }
 
@@ -164,7 +182,39 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
   return Status::Ok();
 }
 
+// Applies `unit` to the angles. A tilt test never needs more than two turns, while any
+// test wider than 12.6 degrees spans more than 4*pi when its degrees are read as radians,
+// so kAuto refuses such a span instead of fitting a wrong model silently.
+Status ApplyThetaUnit(AngleUnit unit, CalibrationTest* test) {
+  if (test->theta_rad.empty()) return Status::Ok();
+  const auto [low, high] = std::minmax_element(test->theta_rad.begin(), test->theta_rad.end());
+  const double span = *high - *low;
+  if (unit == AngleUnit::kDegree) {
+    for (double& theta : test->theta_rad) theta *= M_PI / 180.0;
+  } else if (unit == AngleUnit::kAuto && span > 4.0 * M_PI) {
+    return Status::Error(StringPrintf(
+        "theta spans %.6g (from %.6g to %.6g) over %d samples, more than two turns if it were "
+        "radians: it looks like degrees; pass --theta_unit=deg (or --theta_unit=rad if the "
+        "table really turned that far)",
+        span, *low, *high, test->size()));
+  }
+  return Status::Ok();
+}
+
 }  // namespace
+
+Status ParseAngleUnit(const std::string& text, AngleUnit* unit) {
+  if (text == "auto") {
+    *unit = AngleUnit::kAuto;
+  } else if (text == "rad") {
+    *unit = AngleUnit::kRadian;
+  } else if (text == "deg") {
+    *unit = AngleUnit::kDegree;
+  } else {
+    return Status::Error("--theta_unit='" + text + "' is not one of auto, rad, deg");
+  }
+  return Status::Ok();
+}
 
 Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
   if (!IsDirectory(data_dir)) {
@@ -199,8 +249,10 @@ Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides,
   return Status::Ok();
 }
 
-Status LoadCalibrationTest(const std::string& path, CalibrationTest* test) {
+Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
+                           const LoadOptions& options, std::vector<std::string>* notes) {
   *test = CalibrationTest();
+  std::vector<std::string> file_notes;
   Status status;
   if (HasExtension(path, ".csv")) {
     CsvTable table;
@@ -211,13 +263,16 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test) {
       test->measured_y = std::move(table.numbers[2]);
     }
   } else {
-    status = LoadCalibrationMat(path, test);
+    status = LoadCalibrationMat(path, test, &file_notes);
   }
+  if (status.ok()) status = ApplyThetaUnit(options.theta_unit, test);
+  AddNotes(path, file_notes, notes);
   return status.WithContext(path);
 }
 
-Status LoadVehicleRun(const std::string& path, VehicleRun* run) {
+Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
   *run = VehicleRun();
+  std::vector<std::string> file_notes;
   Status status;
   if (HasExtension(path, ".csv")) {
     CsvTable table;
@@ -229,8 +284,9 @@ Status LoadVehicleRun(const std::string& path, VehicleRun* run) {
       status = CheckUniformTime(run->timestamp_s, "t");
     }
   } else {
-    status = LoadRunMat(path, run);
+    status = LoadRunMat(path, run, &file_notes);
   }
+  AddNotes(path, file_notes, notes);
   return status.WithContext(path);
 }
 
@@ -246,13 +302,7 @@ Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) 
   } else {
     status = LoadLandmarksMat(path, landmarks);
   }
-  if (status.ok() && landmarks->empty()) status = Status::Error("no landmarks in the file");
-  std::set<std::string> names;
-  for (const Landmark& landmark : *landmarks) {
-    if (status.ok() && !names.insert(landmark.name).second) {
-      status = Status::Error("landmark '" + landmark.name + "' is listed twice");
-    }
-  }
+  if (status.ok()) status = CheckLandmarks(*landmarks);
   return status.WithContext(path);
 }
 
@@ -263,9 +313,11 @@ std::map<std::string, std::string> FileRoles(const DataFiles& files) {
           {"conditions", files.conditions}};
 }
 
-Status LoadDataFiles(const DataFiles& files, CourseData* data) {
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, &data->test));
-  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &data->run));
+Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions& options) {
+  data->notes.clear();
+  ACCELCAL_RETURN_IF_ERROR(
+      LoadCalibrationTest(files.calibration, &data->test, options, &data->notes));
+  ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &data->run, &data->notes));
   ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &data->landmarks));
   return LoadRunConditions(files.conditions, &data->conditions);
 }

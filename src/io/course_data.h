@@ -45,8 +45,29 @@ Status ResolveDataFiles(const std::string& data_dir, DataFiles* files);
 // files are the overrides alone.
 Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides, DataFiles* files);
 
-Status LoadCalibrationTest(const std::string& path, CalibrationTest* test);
-Status LoadVehicleRun(const std::string& path, VehicleRun* run);
+// What the files cannot say about themselves.
+enum class AngleUnit {
+  kAuto,    // radians, but a span of theta over two turns is refused as likely degrees
+  kRadian,  // radians, whatever the span
+  kDegree,  // degrees, converted to radians on reading
+};
+
+// "auto", "rad" or "deg" (the binaries' --theta_unit).
+Status ParseAngleUnit(const std::string& text, AngleUnit* unit);
+
+struct LoadOptions {
+  AngleUnit theta_unit = AngleUnit::kAuto;
+};
+
+// Each loader refuses what it cannot read correctly. What it reads correctly but a person
+// should hear about (a 2xN matrix read as its transpose) goes to `notes`, one line each
+// starting with the file name, when `notes` is not null.
+Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
+                           const LoadOptions& options = {},
+                           std::vector<std::string>* notes = nullptr);
+Status LoadVehicleRun(const std::string& path, VehicleRun* run,
+                      std::vector<std::string>* notes = nullptr);
+// At least one landmark, unique names, no two at one place (common/landmark_checks.h).
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);
 
 // Everything a data folder holds, read from resolved files.
@@ -55,13 +76,14 @@ struct CourseData {
   VehicleRun run;
   std::vector<Landmark> landmarks;
   RunConditions conditions;
+  std::vector<std::string> notes;  // the loaders' notes, to be shown to the user
 };
 
 // The files by role ("calibration", "run", "landmarks", "conditions"), as outputs name them.
 std::map<std::string, std::string> FileRoles(const DataFiles& files);
 
 // Reads the four files of `files` (each with its own checks and messages).
-Status LoadDataFiles(const DataFiles& files, CourseData* data);
+Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions& options = {});
 
 // Writes the CSV layout's calibration.csv (full double precision), atomically.
 Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test);

@@ -79,8 +79,13 @@ Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, 
         matches = Lower(Unquote(fields[c])) == Lower(columns[c].name);
       }
       if (!matches) {
+        const bool semicolons = fields.size() == 1 && trimmed.find(';') != std::string::npos;
         return Status::Error(where + ": the header is '" + trimmed + "', expected '" + expected +
-                             "'");
+                             "'" +
+                             (semicolons ? "; the file separates fields with ';' (a spreadsheet "
+                                           "with decimal commas?): export it with ',' between "
+                                           "fields and '.' as the decimal point"
+                                         : ""));
       }
       continue;
     }

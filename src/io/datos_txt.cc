@@ -120,7 +120,8 @@ Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
     if (numbers.size() != 2) {
       return Status::Error(where + ": '" + kKeyNames[k] + "' has " +
                            std::to_string(numbers.size()) +
-                           " values, expected 2 ([x y]; decimal commas are not supported)");
+                           (numbers.size() == 1 ? " value" : " values") +
+                           ", expected 2 ([x y]; decimal commas are not supported)");
     }
     for (int i = 0; i < 2; ++i) {
       if (!ParseFiniteNumber(numbers[i], &values[k][i])) {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "common/landmark_checks.h"
 #include "io/csv_reader.h"
 #include "models/dead_reckoning.h"
 #include "simulation/random.h"
@@ -188,13 +189,9 @@ Status ParseLandmarks(const json& landmarks, LandmarkSpec* spec) {
       return Status::Error("landmark " + landmark.name + " needs a position");
     ACCELCAL_RETURN_IF_ERROR(
         ReadPair(item, "position", "landmark " + landmark.name, &landmark.x_m, &landmark.y_m));
-    for (const Landmark& other : spec->listed) {
-      if (other.name == landmark.name)
-        return Status::Error("landmark " + landmark.name + " is listed twice");
-    }
     spec->listed.push_back(landmark);
   }
-  return Status::Ok();
+  return CheckLandmarks(spec->listed).WithContext("landmarks.listed");
 }
 
 Status SetParameter(const std::string& name, double value, SimulationTruth* truth) {
