@@ -28,6 +28,7 @@
 #include "estimation/trajectory.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
 #include "reporting/linear_ls_report.h"
@@ -351,13 +352,10 @@ Status Write(const Inputs& inputs, const Results& r) {
                                     {"trajectory", TrajectoryJson(r.trajectory)},
                                     {"discover", DiscoveryJson(r.discovery, FLAGS_alpha)},
                                     {"min_samples", min_samples}};
-    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/results.json", results.dump(2) + "\n"));
-    ACCELCAL_RETURN_IF_ERROR(
-        WriteFileAtomically(dir + "/trajectory.json", results["trajectory"].dump(2) + "\n"));
-    ACCELCAL_RETURN_IF_ERROR(
-        WriteFileAtomically(dir + "/discover.json", results["discover"].dump(2) + "\n"));
-    ACCELCAL_RETURN_IF_ERROR(
-        WriteFileAtomically(dir + "/min_samples.json", min_samples.dump(2) + "\n"));
+    ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/results.json", results));
+    ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/trajectory.json", results["trajectory"]));
+    ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/discover.json", results["discover"]));
+    ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/min_samples.json", min_samples));
     ACCELCAL_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/path.csv", TrajectoryPathCsv(r.trajectory.trajectory)));
     ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/bins.csv", DiscoveryBinsCsv(r.discovery)));

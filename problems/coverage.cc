@@ -11,6 +11,7 @@
 #include <iostream>
 
 #include "io/atomic_file.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/coverage_report.h"
 #include "simulation/embedded_scenarios.h"
@@ -63,7 +64,7 @@ int Run(int argc, char** argv) {
     json["scenario"] = scenario.name;
     json["seed"] = FLAGS_seed;
     json["effects"] = EffectImpactJson(effects);
-    status = WriteFileAtomically(FLAGS_json, json.dump(2) + "\n").WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, json).WithContext("--json");
     if (!status.ok()) return ExitWithError("coverage", status);
   }
   return 0;

@@ -13,6 +13,7 @@
 #include "estimation/discovery.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
 
@@ -77,8 +78,8 @@ int Run(int argc, char** argv) {
   if (!status.ok()) return ExitWithError("discover", status);
   std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;
   if (!FLAGS_json.empty()) {
-    status = WriteFileAtomically(FLAGS_json, DiscoveryJson(result, FLAGS_alpha).dump(2) + "\n")
-                 .WithContext("--json");
+    status =
+        WriteJsonAtomically(FLAGS_json, DiscoveryJson(result, FLAGS_alpha)).WithContext("--json");
   }
   if (status.ok() && !FLAGS_bins_csv.empty()) {
     status =

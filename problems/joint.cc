@@ -18,6 +18,7 @@
 #include "estimation/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/joint_report.h"
 
@@ -44,6 +45,8 @@ DEFINE_double(alpha, 0.01,
               "Significance level of the landmark decision on each endpoint, in (0, 1).");
 DEFINE_string(json, "", "Write both solutions as JSON to this file (atomically).");
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+DEFINE_int32(max_iterations, 100,
+             "Levenberg-Marquardt iterations before the solve counts as not converged (>= 1).");
 
 namespace accelcal {
 namespace {
@@ -73,6 +76,7 @@ Status Options(const Inputs& inputs, JointOptions* options) {
   if (!(FLAGS_loss_scale > 0.0)) return Status::Error("--loss_scale must be positive (sigmas)");
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 1.0)) return Status::Error("--alpha must be in (0, 1)");
   if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
+  if (FLAGS_max_iterations < 1) return Status::Error("--max_iterations must be at least 1");
   ACCELCAL_RETURN_IF_ERROR(ParseEffects(FLAGS_effects, &options->effects).WithContext("--effects"));
   options->gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
   options->noise_variance_x = inputs.conditions.noise_variance_x;
@@ -89,6 +93,7 @@ Status Options(const Inputs& inputs, JointOptions* options) {
   options->loss = FLAGS_loss;
   options->loss_scale = FLAGS_loss_scale;
   options->num_threads = FLAGS_num_threads;
+  options->max_iterations = FLAGS_max_iterations;
   return Status::Ok();
 }
 
@@ -127,8 +132,7 @@ int Run(int argc, char** argv) {
   if (!status.ok()) return ExitWithError("joint", status);
   std::cout << JointTable(report, FLAGS_v >= 1) << std::flush;
   if (!FLAGS_json.empty()) {
-    status =
-        WriteFileAtomically(FLAGS_json, JointJson(report).dump(2) + "\n").WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, JointJson(report)).WithContext("--json");
     if (!status.ok()) return ExitWithError("joint", status);
   }
   return 0;

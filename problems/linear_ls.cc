@@ -23,6 +23,7 @@
 #include "estimation/ceres_linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "io/run_conditions.h"
 #include "problem_support.h"
 #include "reporting/linear_ls_report.h"
@@ -156,8 +157,7 @@ int Run(int argc, char** argv) {
 
   std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
   if (!FLAGS_json.empty()) {
-    status =
-        WriteFileAtomically(FLAGS_json, LinearLsJson(report).dump(2) + "\n").WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, LinearLsJson(report)).WithContext("--json");
     if (!status.ok()) return ExitWithError("linear_ls", status);
   }
   return 0;

@@ -25,6 +25,7 @@
 #include "estimation/trajectory.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/min_samples_report.h"
 #include "simulation/embedded_scenarios.h"
@@ -354,7 +355,7 @@ int Run(int argc, char** argv) {
                                  {"max_error", FLAGS_max_error},
                                  {"full_samples", full},
                                  {"designs", json_designs}};
-    status = WriteFileAtomically(FLAGS_json, json.dump(2) + "\n").WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, json).WithContext("--json");
     if (!status.ok()) return ExitWithError("min_samples", status);
   }
   return 0;

@@ -12,6 +12,7 @@
 #include "common/format.h"
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "simulation/embedded_scenarios.h"
 #include "studies/power_study.h"
@@ -85,8 +86,7 @@ int Run(int argc, char** argv) {
       options.trials, options.trials, 50.0 / std::sqrt(options.trials));
   std::cout << text << std::flush;
   if (!FLAGS_json.empty()) {
-    status = WriteFileAtomically(
-                 FLAGS_json, nlohmann::json({{"problem", "power"}, {"rows", rows}}).dump(2) + "\n")
+    status = WriteJsonAtomically(FLAGS_json, nlohmann::json({{"problem", "power"}, {"rows", rows}}))
                  .WithContext("--json");
     if (!status.ok()) return ExitWithError("power", status);
   }

@@ -91,7 +91,11 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
   }
   gflags::ParseCommandLineFlags(argc, argv, true);
   FLAGS_logtostderr = true;
-  if (FLAGS_v <= 0) FLAGS_minloglevel = google::GLOG_WARNING;
+  // Every failure of Ceres reaches the estimators as a return value (a solver summary,
+  // Covariance::Compute() == false) and leaves as one line of ours; Ceres' own warnings and
+  // errors (e.g. a residual block that evaluated to NaN) would only add lines of internals.
+  // --v=1 shows them.
+  if (FLAGS_v <= 0) FLAGS_minloglevel = google::GLOG_FATAL;
   google::InitGoogleLogging(program);
   return true;
 }

@@ -18,6 +18,7 @@
 #include "common/format.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
@@ -67,8 +68,7 @@ Status Write(const Scenario& scenario, const SimulatedData& data,
   return WriteDirectoryAtomically(FLAGS_out_dir, FLAGS_overwrite, [&](const std::string& dir) {
     ACCELCAL_RETURN_IF_ERROR(WriteDataDirectory(dir, layout, data.test, data.run, data.landmarks,
                                                 data.conditions, written));
-    return WriteFileAtomically(dir + "/truth.json",
-                               TruthJson(scenario, data, FLAGS_seed).dump(2) + "\n");
+    return WriteJsonAtomically(dir + "/truth.json", TruthJson(scenario, data, FLAGS_seed));
   });
 }
 

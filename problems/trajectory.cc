@@ -26,6 +26,7 @@
 #include "estimation/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/trajectory_report.h"
 
@@ -116,8 +117,8 @@ Status Solve(const Inputs& inputs, TrajectoryReport* report) {
 
 Status Write(const TrajectoryReport& report) {
   if (!FLAGS_json.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(FLAGS_json, TrajectoryJson(report).dump(2) + "\n")
-                                 .WithContext("--json"));
+    ACCELCAL_RETURN_IF_ERROR(
+        WriteJsonAtomically(FLAGS_json, TrajectoryJson(report)).WithContext("--json"));
   }
   if (!FLAGS_path_csv.empty()) {
     ACCELCAL_RETURN_IF_ERROR(

@@ -255,6 +255,75 @@ TEST(SolveJoint, SaysWhichParametersCannotBeSeparated) {
       std::string::npos);
 }
 
+// The failure paths a user can reach: each ends in one message, never in NaN estimates.
+TEST(SolveJointFailure, ACovarianceThatCannotBeComputedIsAnError) {
+  Scenario scenario;
+  ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+  scenario.tilt.kind = TiltSchedule::Kind::kStaticPositions;
+  scenario.tilt.positions_rad = {0.5, 2.0};
+  scenario.tilt.sample_count = 400;
+  const SimulatedData data = SimulateScenario(scenario, 2);
+  JointOptions options = JointFor(data.conditions);
+  options.effects = {Parameter::kScaleNonlinearityX};
+  // With the identifiability check switched off, the rank-deficient problem reaches
+  // ceres::Covariance, which must refuse it rather than return a covariance of garbage.
+  options.identifiability_threshold = -HUGE_VAL;
+  JointResult result;
+  const Status status =
+      SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &result);
+  EXPECT_NE(status.message().find("ceres::Covariance could not invert the information matrix"),
+            std::string::npos)
+      << status.message();
+}
+
+TEST(SolveJointFailure, NonConvergenceIsAnError) {
+  Scenario scenario;
+  ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+  ASSERT_TRUE(ApplyScenarioOverrides("angle_offset=0.004", &scenario).ok());
+  const SimulatedData data = SimulateScenario(scenario, 3);
+  JointOptions options = JointFor(data.conditions);
+  options.effects = {Parameter::kAngleOffset};
+  options.max_iterations = 1;
+  JointResult result;
+  const Status status =
+      SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &result);
+  EXPECT_NE(status.message().find("Ceres did not converge"), std::string::npos) << status.message();
+  options.max_iterations = 100;
+  EXPECT_TRUE(
+      SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &result).ok());
+}
+
+TEST(SolveJointFailure, AnImplausibleLandmarkIsRefusedByNameAndSkippedInAuto) {
+  Scenario scenario;
+  ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+  SimulatedData data = SimulateScenario(scenario, 4);
+  data.landmarks.push_back({"Far", 1e7, -1e7});
+  JointOptions options = JointFor(data.conditions);
+  options.effects = {Parameter::kAngleOffset};
+  options.landmark_mode = JointOptions::Landmark::kNamed;
+  options.landmark_name = "Far";
+  JointResult result;
+  Status status =
+      SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &result);
+  EXPECT_NE(status.message().find("landmark Far at (1e+07, -1e+07) m is"), std::string::npos)
+      << status.message();
+  EXPECT_NE(status.message().find("sigma from the dead-reckoned endpoint"), std::string::npos);
+  // In auto mode the far landmark is listed, not solved, and gets no posterior; the others
+  // are solved as before and the true one (C) wins.
+  options.landmark_mode = JointOptions::Landmark::kAuto;
+  status = SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &result);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(result.hypotheses.size(), data.landmarks.size());
+  const LandmarkHypothesis& far = result.hypotheses.back();
+  EXPECT_FALSE(far.solved);
+  EXPECT_EQ(far.posterior, 0.0);
+  EXPECT_GT(far.baseline_sigma, 1e3);
+  EXPECT_EQ(result.landmark, data.reached_landmark);
+  for (const LandmarkHypothesis& hypothesis : result.hypotheses) {
+    EXPECT_TRUE(std::isfinite(hypothesis.cost) && std::isfinite(hypothesis.posterior));
+  }
+}
+
 TEST(SolveJoint, ARobustLossResistsOutliersThatBiasThePlainFit) {
   Scenario scenario;
   ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());

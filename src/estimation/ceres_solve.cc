@@ -19,7 +19,21 @@ Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
   report->full_report = summary.FullReport();
   report->iterations = static_cast<int>(summary.iterations.size());
   report->converged = summary.termination_type == ceres::CONVERGENCE;
-  if (!report->converged) return Status::Error("Ceres did not converge: " + summary.message);
+  if (report->converged) return Status::Ok();
+  if (summary.termination_type == ceres::NO_CONVERGENCE) {
+    return Status::Error("Ceres did not converge: " + summary.message +
+                         "; raise --max_iterations or estimate fewer effects");
+  }
+  if (summary.message.find("evaluation failed") != std::string::npos) {
+    // The model has no value where the solver went (e.g. 1 + scale <= 0, or a quadratic
+    // sensor without a real inverse): the data determine the parameters too weakly.
+    return Status::Error(
+        "Ceres did not converge: the model could not be evaluated at the "
+        "parameters it reached (a non-finite residual or Jacobian), so these "
+        "data determine the chosen effects too weakly; estimate fewer effects or "
+        "use a test with more angles");
+  }
+  return Status::Error("Ceres did not converge: " + summary.message);
   return Status::Ok();
 }
 

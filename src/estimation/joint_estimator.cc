@@ -134,13 +134,15 @@ class JointProblem {
     if (landmark != nullptr) result->landmark = landmark->name;
     auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
 
+    std::vector<double*> free_blocks;
+    for (const Parameter parameter : estimate.free) free_blocks.push_back(block(parameter));
+    // Checked at the start, because an unidentifiable direction lets the solver wander
+    // until the residuals overflow, and again at the optimum, where the covariance is taken.
+    ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(&problem, free_blocks, estimate.free));
     QuietSolveOptions solve;
     solve.max_iterations = options_.max_iterations;
     solve.num_threads = options_.num_threads;
     ACCELCAL_RETURN_IF_ERROR(SolveQuietly(solve, &problem, &result->solver));
-
-    std::vector<double*> free_blocks;
-    for (const Parameter parameter : estimate.free) free_blocks.push_back(block(parameter));
     ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(&problem, free_blocks, estimate.free));
 
     ceres::Covariance::Options covariance_options;
@@ -271,6 +273,28 @@ Status BaselineStart(const CalibrationTest& test, const JointOptions& options, B
   return EstimateLinearLs(test, linear, start);
 }
 
+// How many sigma each landmark is from the baseline's dead-reckoned endpoint, with the
+// endpoint covariance (parameters and run noise) plus the landmarks' own uncertainty.
+Status BaselineLandmarkSigmas(const VehicleRun& run, const RunConditions& conditions,
+                              const BaselineFit& start, const std::vector<Landmark>& landmarks,
+                              double landmark_sigma_m, std::vector<double>* sigmas,
+                              Eigen::Vector2d* endpoint) {
+  TrajectoryOptions trajectory_options;
+  trajectory_options.path_stride = std::max(1, run.size());
+  DeadReckoningResult reckoned;
+  ACCELCAL_RETURN_IF_ERROR(DeadReckon(run, conditions, start, trajectory_options, &reckoned));
+  const Eigen::Matrix2d covariance =
+      reckoned.covariance + landmark_sigma_m * landmark_sigma_m * Eigen::Matrix2d::Identity();
+  const Eigen::LDLT<Eigen::Matrix2d> factor(covariance);
+  sigmas->clear();
+  for (const Landmark& landmark : landmarks) {
+    const Eigen::Vector2d offset = Eigen::Vector2d(landmark.x_m, landmark.y_m) - reckoned.endpoint;
+    sigmas->push_back(std::sqrt(std::max(0.0, offset.dot(factor.solve(offset)))));
+  }
+  *endpoint = reckoned.endpoint;
+  return Status::Ok();
+}
+
 const Landmark* FindLandmark(const std::vector<Landmark>& landmarks, const std::string& name) {
   for (const Landmark& landmark : landmarks) {
     if (landmark.name == name) return &landmark;
@@ -397,8 +421,24 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
   ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
   JointProblem problem(test, run, conditions, options, start);
   if (options.landmark_mode == JointOptions::Landmark::kNone) return problem.Solve(nullptr, result);
+  std::vector<double> sigmas;
+  Eigen::Vector2d endpoint;
+  ACCELCAL_RETURN_IF_ERROR(BaselineLandmarkSigmas(run, conditions, start, landmarks,
+                                                  options.landmark_sigma_m, &sigmas, &endpoint));
+  auto implausible = [&](size_t k) {
+    return StringPrintf(
+        "landmark %s at (%.6g, %.6g) m is %.3g sigma from the dead-reckoned endpoint (%.6g, "
+        "%.6g) m, beyond what any sensor error of the model can explain (%.0f sigma); check its "
+        "coordinates (m)",
+        landmarks[k].name.c_str(), landmarks[k].x_m, landmarks[k].y_m, sigmas[k], endpoint.x(),
+        endpoint.y(), options.implausible_landmark_sigma);
+  };
   if (options.landmark_mode == JointOptions::Landmark::kNamed) {
     if (const Landmark* landmark = FindLandmark(landmarks, options.landmark_name)) {
+      const size_t k = static_cast<size_t>(landmark - landmarks.data());
+      if (!(sigmas[k] <= options.implausible_landmark_sigma)) {
+        return Status::Error(implausible(k) + " or choose another with --landmark");
+      }
       return problem.Solve(landmark, result);
     }
     std::string names;
@@ -411,8 +451,9 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
   if (landmarks.empty()) return Status::Error("--landmark=auto needs landmarks");
   std::vector<JointResult> solutions(landmarks.size());
   double best_cost = HUGE_VAL;
-  size_t best = 0;
+  size_t best = landmarks.size();
   for (size_t k = 0; k < landmarks.size(); ++k) {
+    if (!(sigmas[k] <= options.implausible_landmark_sigma)) continue;
     ACCELCAL_RETURN_IF_ERROR(
         problem.Solve(&landmarks[k], &solutions[k]).WithContext("landmark " + landmarks[k].name));
     const double cost =
@@ -422,15 +463,26 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
       best = k;
     }
   }
+  if (best == landmarks.size()) {
+    size_t nearest = 0;
+    for (size_t k = 1; k < landmarks.size(); ++k) {
+      if (sigmas[k] < sigmas[nearest]) nearest = k;
+    }
+    return Status::Error("no landmark is plausible: the nearest, " + implausible(nearest));
+  }
   std::vector<LandmarkHypothesis> hypotheses;
   double sum = 0.0;
   for (size_t k = 0; k < landmarks.size(); ++k) {
     LandmarkHypothesis hypothesis;
     hypothesis.name = landmarks[k].name;
-    hypothesis.cost =
-        0.5 * (solutions[k].chi2_x + solutions[k].chi2_y + solutions[k].chi2_endpoint);
-    hypothesis.chi2_endpoint = solutions[k].chi2_endpoint;
-    hypothesis.posterior = std::exp(-(hypothesis.cost - best_cost));
+    hypothesis.baseline_sigma = sigmas[k];
+    hypothesis.solved = sigmas[k] <= options.implausible_landmark_sigma;
+    if (hypothesis.solved) {
+      hypothesis.cost =
+          0.5 * (solutions[k].chi2_x + solutions[k].chi2_y + solutions[k].chi2_endpoint);
+      hypothesis.chi2_endpoint = solutions[k].chi2_endpoint;
+      hypothesis.posterior = std::exp(-(hypothesis.cost - best_cost));
+    }
     sum += hypothesis.posterior;
     hypotheses.push_back(hypothesis);
   }

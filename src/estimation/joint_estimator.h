@@ -41,13 +41,22 @@ struct JointOptions {
   int num_threads = 1;
   // A near-null direction of the scaled information matrix: eigenvalue ratio below this.
   double identifiability_threshold = 1e-10;
+  // A landmark farther than this many sigma from the baseline's dead-reckoned endpoint
+  // (Mahalanobis distance, parameters + run noise + landmark_sigma) is not a hypothesis any
+  // sensor error of the catalogue can produce: a named one is refused, an auto one is not
+  // solved (its posterior is 0). Tying the run to it would drive the scale factors past -1
+  // and the residuals to NaN. A run bias shift of 0.5 m/s^2 over the course's 60 s run is
+  // about 90 sigma, so the bound leaves room for every effect discovery looks for.
+  double implausible_landmark_sigma = 1000.0;
 };
 
 struct LandmarkHypothesis {
   std::string name;
-  double cost = 0.0;           // half the total chi-square at the optimum
-  double chi2_endpoint = 0.0;  // the endpoint residual's share
-  double posterior = 0.0;      // equal priors: exp(-cost) normalised
+  double cost = 0.0;            // half the total chi-square at the optimum
+  double chi2_endpoint = 0.0;   // the endpoint residual's share
+  double posterior = 0.0;       // equal priors: exp(-cost) normalised
+  double baseline_sigma = 0.0;  // Mahalanobis distance from the baseline endpoint
+  bool solved = true;           // false: beyond implausible_landmark_sigma, not solved, posterior 0
 };
 
 struct JointResult {

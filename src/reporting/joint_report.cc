@@ -103,6 +103,11 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
   if (!report.joint.hypotheses.empty()) {
     text += "\n  landmark hypotheses (one joint solve each)   cost   endpoint chi2   posterior\n";
     for (const LandmarkHypothesis& hypothesis : report.joint.hypotheses) {
+      if (!hypothesis.solved) {
+        text += StringPrintf("  %-40s not solved: %.3g sigma from the baseline endpoint\n",
+                             hypothesis.name.c_str(), hypothesis.baseline_sigma);
+        continue;
+      }
       text += StringPrintf("  %-40s %10.2f %15.2f %11.3g\n", hypothesis.name.c_str(),
                            hypothesis.cost, hypothesis.chi2_endpoint, hypothesis.posterior);
     }
@@ -119,9 +124,14 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
 nlohmann::json JointJson(const JointReport& report) {
   nlohmann::json hypotheses = nlohmann::json::array();
   for (const LandmarkHypothesis& hypothesis : report.joint.hypotheses) {
+    const auto if_solved = [&](double value) {
+      return hypothesis.solved ? nlohmann::json(value) : nlohmann::json(nullptr);
+    };
     hypotheses.push_back({{"name", hypothesis.name},
-                          {"cost", hypothesis.cost},
-                          {"chi2_endpoint", hypothesis.chi2_endpoint},
+                          {"solved", hypothesis.solved},
+                          {"baseline_sigma", hypothesis.baseline_sigma},
+                          {"cost", if_solved(hypothesis.cost)},
+                          {"chi2_endpoint", if_solved(hypothesis.chi2_endpoint)},
                           {"posterior", hypothesis.posterior}});
   }
   return {{"problem", "joint"},

@@ -11,6 +11,11 @@ import struct
 
 import numpy as np
 import scipy.io
+import scipy.io.matlab._mio5
+
+# The MAT header records when the file was made; a fixed date keeps regenerated files
+# byte-identical, so a re-run shows no change unless the corpus itself changed.
+scipy.io.matlab._mio5.time.asctime = lambda *args: "Thu Jan  1 00:00:00 2026"
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 G = 9.8
@@ -79,6 +84,9 @@ def main():
     nan[6, 1] = np.nan
     save("ensayo_nan.mat", {"tita": theta, "datos": nan})
     save("ensayo_degrees.mat", {"tita": np.degrees(theta), "datos": datos})
+    two = np.where(np.arange(len(theta)) < len(theta) // 2, 0.5, 2.0)
+    save("ensayo_two_positions.mat",
+         {"tita": two, "datos": np.column_stack([-G * np.sin(two), -G * np.cos(two)])})
     save("ensayo_one_angle.mat", {"tita": np.full_like(theta, 0.3), "datos": datos})
 
     # A header that claims 10^9 rows for tita in a 1 kB file: its dimensions are the
@@ -128,6 +136,9 @@ def main():
     save("puntos_identical.mat", {name: np.array([[120.0, 45.0]]) for name in "ABCD"})
     save("puntos_no_variables.mat", {})
     save("puntos_column.mat", {"A": np.array([[1.0], [2.0]]), "B": np.array([[3.0, 4.0]])})
+    # The course's landmarks and one 10^4 km away: a typo in the units or a sign.
+    far = {"A": [[353.6, 73.2]], "B": [[592.5, 17.3]], "C": [[459.8, 60.0]], "Far": [[1e7, -1e7]]}
+    save("puntos_far.mat", {name: np.array(xy) for name, xy in far.items()})
     write_text("landmarks_identical.csv", "name,x,y\nA,120,45\nB,120,45\nC,120,45\n")
     write_text("landmarks_empty_name.csv", "name,x,y\nA,1,2\n,3,4\n")
 
