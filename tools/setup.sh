@@ -6,14 +6,24 @@
 ACCELCAL_PACKAGES=(
   build-essential cmake pkg-config
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
-  libgtest-dev libgmock-dev libmatio-dev nlohmann-json3-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libmatio-dev zlib1g-dev nlohmann-json3-dev libbenchmark-dev
   python3-matplotlib python3-numpy python3-scipy
 )
 
+# The sanitizer suite and the fuzzers (./tools/test.sh --sanitize, tools/fuzz.sh) build with
+# clang and its runtimes (libFuzzer, ASan, UBSan, LSan) into build-sanitize/.
+ACCELCAL_SANITIZE_PACKAGES=(clang libclang-rt-14-dev)
+ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha|DeadReckon\.ReportedCovarianceMatchesMonteCarlo.*|MinSamplesBinary\.AnswersTheReportsQuestionOnTheCourseData|AnalyseDesign\.AnalyticCurveAgreesWithFullSimulation|CoverageStudy\.TheBaselinesReportedCovarianceIsRightOnTheCourseScenario)$'
+ACCELCAL_SANITIZE_CMAKE_ARGS=(
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DACCELCAL_FUZZ=ON
+  -DACCELCAL_BUILD_BENCHMARKS=OFF
+)
+
+# accelcal_install_packages [extra packages...]: the project's packages and any extra ones.
 accelcal_install_packages() {
   local missing=()
   local package
-  for package in "${ACCELCAL_PACKAGES[@]}"; do
+  for package in "${ACCELCAL_PACKAGES[@]}" "$@"; do
     if ! dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q "install ok installed"; then
       missing+=("$package")
     fi

@@ -1,6 +1,7 @@
 #include "io/mat_file.h"
 
 #include <matio.h>
+#include <zlib.h>
 
 #include <cstdint>
 #include <cstring>
@@ -74,9 +75,95 @@ uint32_t ReadUint32(const unsigned char* bytes, bool swap) {
   return value;
 }
 
+constexpr uint32_t kMiInt8 = 1;
+constexpr uint32_t kMiInt32 = 5;
+constexpr uint32_t kMiUint32 = 6;
+constexpr uint32_t kMiMatrix = 14;
+constexpr uint32_t kMiCompressed = 15;
+constexpr uint32_t kMaxRank = 32;
+
+// One tag of a data element: the full form (type, bytes) or the small form that packs up
+// to 4 bytes of data with the type and size into 8 bytes.
+struct Tag {
+  uint32_t type = 0;
+  uint32_t bytes = 0;
+  size_t header_bytes = 8;  // 4 for the small form
+};
+
+Tag ReadTag(const unsigned char* at, bool swap) {
+  Tag tag;
+  const uint32_t first = ReadUint32(at, swap);
+  if ((first >> 16) != 0) {
+    tag.type = first & 0xffff;
+    tag.bytes = first >> 16;
+    tag.header_bytes = 4;
+  } else {
+    tag.type = first;
+    tag.bytes = ReadUint32(at + 4, swap);
+  }
+  return tag;
+}
+
+// Checks the header of a miMATRIX element (`body`, `size` bytes after its tag): the array
+// flags, a dimensions subelement of a sane rank with no negative size, and a name that fits.
+// matio allocates what these subelements declare before reading them, so a corrupted rank
+// of 10^9 would otherwise ask for gigabytes (found by tests/fuzz/mat_file_fuzzer).
+Status CheckMatrixHeader(const unsigned char* body, size_t size, bool swap, size_t offset) {
+  const std::string where = "the variable at byte " + std::to_string(offset);
+  if (size == 0) return Status::Ok();  // an empty element: matio skips it
+  if (size < 16) return Status::Error(where + " is too short for a matrix header");
+  const Tag flags = ReadTag(body, swap);
+  if (flags.type != kMiUint32 || flags.bytes != 8 || flags.header_bytes != 8) {
+    return Status::Error(where + " has corrupt array flags; the file is damaged");
+  }
+  size_t at = 16;
+  if (size < at + 8) return Status::Error(where + " ends before its dimensions");
+  const Tag dims = ReadTag(body + at, swap);
+  if (dims.type != kMiInt32 || dims.bytes % 4 != 0 || dims.bytes < 8 || dims.bytes > 4 * kMaxRank) {
+    return Status::Error(where + " declares corrupt dimensions (" + std::to_string(dims.bytes) +
+                         " bytes); the file is damaged");
+  }
+  at += dims.header_bytes;
+  if (size < at + dims.bytes) return Status::Error(where + " ends inside its dimensions");
+  for (uint32_t k = 0; k < dims.bytes / 4; ++k) {
+    if (static_cast<int32_t>(ReadUint32(body + at + 4 * k, swap)) < 0) {
+      return Status::Error(where + " declares a negative dimension; the file is damaged");
+    }
+  }
+  at += (dims.bytes + 7) / 8 * 8;
+  if (size < at + 8) return Status::Error(where + " ends before its name");
+  const Tag name = ReadTag(body + at, swap);
+  if (name.type != kMiInt8 || size < at + name.header_bytes + name.bytes) {
+    return Status::Error(where + " has a corrupt name; the file is damaged");
+  }
+  return Status::Ok();
+}
+
+// The first bytes of a compressed element, inflated, so that its matrix header can be
+// checked like an uncompressed one. Fails when the stream does not inflate.
+Status InflatePrefix(const unsigned char* compressed, size_t size, std::string* prefix,
+                     size_t offset) {
+  prefix->assign(512, '\0');
+  z_stream stream{};
+  if (inflateInit(&stream) != Z_OK) return Status::Error("zlib cannot be initialised");
+  stream.next_in = const_cast<unsigned char*>(compressed);
+  stream.avail_in = static_cast<uInt>(size);
+  stream.next_out = reinterpret_cast<unsigned char*>(&(*prefix)[0]);
+  stream.avail_out = static_cast<uInt>(prefix->size());
+  const int result = inflate(&stream, Z_SYNC_FLUSH);
+  prefix->resize(prefix->size() - stream.avail_out);
+  inflateEnd(&stream);
+  if (result != Z_OK && result != Z_STREAM_END && result != Z_BUF_ERROR) {
+    return Status::Error("the compressed variable at byte " + std::to_string(offset) +
+                         " does not inflate (zlib: " + (stream.msg ? stream.msg : "error") +
+                         "); the file is damaged");
+  }
+  return Status::Ok();
+}
+
 // Walks the top-level data elements of a version 5 MAT file and fails when one of them
-// declares more bytes than the file has left (a truncated copy). Version 7.3 (HDF5)
-// and version 4 files are left to matio.
+// declares more bytes than the file has left (a truncated copy) or has a corrupt matrix
+// header (CheckMatrixHeader). Version 7.3 (HDF5) and version 4 files are left to matio.
 Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return Status::Error("cannot open the file; check the path and permissions");
@@ -97,7 +184,6 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   std::memcpy(&version, data + 124, 2);
   if (swap) version = __builtin_bswap16(version);
   if (version != 0x0100) return Status::Ok();
-  constexpr uint32_t kMiMatrix = 14;
   size_t offset = kHeaderBytes;
   while (offset < bytes.size()) {
     const size_t remaining = bytes.size() - offset;
@@ -114,6 +200,29 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
       return Status::Error("the file is truncated: a variable at byte " + std::to_string(offset) +
                            " declares " + std::to_string(element_bytes) + " bytes but only " +
                            std::to_string(remaining - 8) + " remain; copy the file again");
+    }
+    if (type == kMiMatrix) {
+      ACCELCAL_RETURN_IF_ERROR(CheckMatrixHeader(data + offset + 8, element_bytes, swap, offset));
+    } else if (type == kMiCompressed) {
+      std::string prefix;
+      ACCELCAL_RETURN_IF_ERROR(InflatePrefix(data + offset + 8, element_bytes, &prefix, offset));
+      const auto* inflated = reinterpret_cast<const unsigned char*>(prefix.data());
+      if (prefix.size() < 8 || ReadUint32(inflated, swap) != kMiMatrix) {
+        return Status::Error("the compressed variable at byte " + std::to_string(offset) +
+                             " is not a matrix; the file is damaged");
+      }
+      // zlib expands by at most about 1032:1; a larger claim is corrupt.
+      const uint64_t declared = ReadUint32(inflated + 4, swap);
+      if (declared > 1032 * element_bytes + 64) {
+        return Status::Error("the compressed variable at byte " + std::to_string(offset) +
+                             " declares " + std::to_string(declared) + " bytes, more than its " +
+                             std::to_string(element_bytes) +
+                             " compressed bytes can hold; the file is damaged");
+      }
+      // Only the inflated prefix is at hand: check the header against what it declares,
+      // bounded by the prefix (a header longer than 500 bytes is not one matio writes).
+      ACCELCAL_RETURN_IF_ERROR(CheckMatrixHeader(
+          inflated + 8, std::min<uint64_t>(declared, prefix.size() - 8), swap, offset));
     }
     offset += 8 + element_bytes;
   }

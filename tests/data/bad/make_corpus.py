@@ -69,6 +69,8 @@ def main():
         f.write(whole[: int(len(whole) * 0.6)])  # a copy interrupted at 60%
     write_text("ensayo_empty.mat", "")
     write_text("ensayo_text.mat", "tita = [0 1 2]\ndatos = [1 2; 3 4; 5 6]\n")
+    scipy.io.savemat(path("ensayo_compressed.mat"), {"tita": theta, "datos": datos},
+                     format="5", oned_as="column", do_compression=True)
     save("ensayo_transposed.mat", {"tita": theta, "datos": datos.T})
     save("ensayo_three_columns.mat", {"tita": theta, "datos": np.column_stack([datos, datos[:, 0]])})
     save("ensayo_int32.mat", {"tita": np.round(theta * 1000).astype(np.int32), "datos": datos})

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Fuzzes the readers users feed files to (CSV, datos.txt, .mat) with libFuzzer under
+# AddressSanitizer and UBSan, each for SECONDS (default 30), from the seeds of tests/fuzz/seeds
+# and the bad-input corpus tests/data/bad:
+#
+#   ./tools/fuzz.sh [SECONDS] [TARGET...]      targets: csv datos_txt mat_file (default: all)
+#
+# Builds build-sanitize/ as ./tools/test.sh --sanitize does. The growing corpus stays in
+# build-sanitize/fuzz/corpus/<target> between runs; a crash is written to
+# build-sanitize/fuzz/findings/<target>/ and fails the script. Copy it to
+# tests/fuzz/regressions/ (named after what it found), fix the reader, and ctest replays it
+# from then on.
+set -euo pipefail
+ACCELCAL_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+source "$ACCELCAL_ROOT/tools/setup.sh"
+seconds=${1:-30}
+shift || true
+targets=("$@")
+[ ${#targets[@]} -eq 0 ] && targets=(csv datos_txt mat_file)
+if ! [[ $seconds =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
+  echo "fuzz.sh: SECONDS must be a positive integer, got '$seconds'" >&2
+  exit 2
+fi
+accelcal_install_packages "${ACCELCAL_SANITIZE_PACKAGES[@]}"
+build_dir="$ACCELCAL_ROOT/build-sanitize"
+accelcal_build "$build_dir" "${ACCELCAL_SANITIZE_CMAKE_ARGS[@]}"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$ACCELCAL_ROOT/tests/sanitizer/lsan.supp}
+
+status=0
+for target in "${targets[@]}"; do
+  fuzzer="$build_dir/fuzz/${target}_fuzzer"
+  [ -x "$fuzzer" ] || { echo "fuzz.sh: no fuzz target '$target' ($fuzzer)" >&2; exit 2; }
+  corpus="$build_dir/fuzz/corpus/$target"
+  findings="$build_dir/fuzz/findings/$target"
+  mkdir -p "$corpus" "$findings"
+  log="$build_dir/fuzz/$target.log"
+  echo "fuzz.sh: $target for ${seconds}s (log: $log)" >&2
+  # New inputs go to the first corpus folder; the seeds and the bad corpus are read only.
+  if "$fuzzer" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+      -print_final_stats=1 -artifact_prefix="$findings/" \
+      "$corpus" "$ACCELCAL_ROOT/tests/fuzz/seeds/$target" "$ACCELCAL_ROOT/tests/data/bad" \
+      >"$log" 2>&1; then
+    runs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log")
+    cov=$(grep -Eo 'cov: [0-9]+' "$log" | tail -1)
+    echo "fuzz.sh: $target: ${runs:-?} inputs in ${seconds}s, $cov, corpus $(ls "$corpus" | wc -l) files, no finding" >&2
+  else
+    echo "fuzz.sh: $target: FINDING (see $log and $findings):" >&2
+    grep -E "ERROR|SUMMARY|deadly signal|Test unit written" "$log" | head -5 >&2
+    status=1
+  fi
+done
+exit $status
