@@ -16,9 +16,11 @@
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "residuals/calibration_residual.h"
+#include "residuals/compressed_calibration_residual.h"
 #include "residuals/endpoint_residual.h"
 #include "simulation/embedded_scenarios.h"
 #include "simulation/monte_carlo.h"
+#include "simulation/random.h"
 #include "simulation/scenario.h"
 #include "test_support.h"
 
@@ -55,6 +57,67 @@ TEST(CalibrationResidual, IsZeroAtTheTrueParametersOfTheFullModel) {
       double residual = 1.0;
       ASSERT_TRUE(cost->Evaluate(blocks, &residual, nullptr));
       EXPECT_NEAR(residual, 0.0, 1e-12);
+    }
+  }
+}
+
+// The compressed block's sum of squares and J^T J equal the per-sample residuals' at any
+// parameters, far from the reference too, and for a rank-deficient two-position design.
+TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAnywhere) {
+  const SimulationTruth truth = EveryEffectTruth();
+  for (const bool two_positions : {false, true}) {
+    SCOPED_TRACE(two_positions ? "two positions" : "uniform");
+    TiltSchedule schedule;
+    schedule.sample_count = 2001;
+    if (two_positions) {
+      schedule.kind = TiltSchedule::Kind::kStaticPositions;
+      schedule.positions_rad = {0.5, 2.0};
+    }
+    const CalibrationTest test = SimulateTiltTest(schedule, truth, 3);
+    CompressedCalibrationResidual::Parameters reference[2];
+    reference[0] << 0.07, -0.03, 0.0, 0.0, 0.0, 0.0;  // a baseline fit's neighbourhood
+    reference[1] << -0.02, 0.01, 0.0, 0.0, 0.0, 0.0;
+    const double sigmas[2] = {0.5, 0.8};
+    std::unique_ptr<CompressedCalibrationResidual> functors[2];
+    ASSERT_TRUE(CompressedCalibrationResidual::Make(test, 9.8, sigmas, reference, functors).ok());
+    for (const SensingAxis axis : {SensingAxis::kX, SensingAxis::kY}) {
+      const int a = axis == SensingAxis::kX ? 0 : 1;
+      const std::unique_ptr<ceres::CostFunction> compressed(
+          CompressedCalibrationResidual::Create(functors[a].release()));
+      RandomSource rng(7);
+      for (int trial = 0; trial < 5; ++trial) {
+        CompressedCalibrationResidual::Parameters p = reference[a];
+        for (int k = 0; k < 6; ++k) p[k] += 0.01 * rng.StandardNormal() * (k == 2 ? 0.1 : 1.0);
+        const double* blocks[] = {&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]};
+        double per_sample_sum = 0.0;
+        Eigen::Matrix<double, 6, 6> per_sample_information = Eigen::Matrix<double, 6, 6>::Zero();
+        for (int i = 0; i < test.size(); ++i) {
+          const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::Create(
+              test.theta_rad[i], axis == SensingAxis::kX ? test.measured_x[i] : test.measured_y[i],
+              axis, DriftCoordinate(i, test.size()), 9.8, sigmas[a]));
+          double residual;
+          double jacobian_storage[6];
+          double* jacobians[6];
+          for (int k = 0; k < 6; ++k) jacobians[k] = &jacobian_storage[k];
+          ASSERT_TRUE(cost->Evaluate(blocks, &residual, jacobians));
+          const Eigen::Map<const Eigen::Matrix<double, 6, 1>> row(jacobian_storage);
+          per_sample_sum += residual * residual;
+          per_sample_information += row * row.transpose();
+        }
+        double residuals[7];
+        double jacobian_storage[6][7];
+        double* jacobians[6];
+        for (int k = 0; k < 6; ++k) jacobians[k] = jacobian_storage[k];
+        ASSERT_TRUE(compressed->Evaluate(blocks, residuals, jacobians));
+        const Eigen::Map<const Eigen::Matrix<double, 7, 1>> r(residuals);
+        Eigen::Matrix<double, 7, 6> jacobian;
+        for (int k = 0; k < 6; ++k) {
+          jacobian.col(k) = Eigen::Map<const Eigen::Matrix<double, 7, 1>>(jacobian_storage[k]);
+        }
+        EXPECT_NEAR(r.squaredNorm(), per_sample_sum, 1e-10 * per_sample_sum);
+        EXPECT_LT((jacobian.transpose() * jacobian - per_sample_information).norm(),
+                  1e-10 * per_sample_information.norm());
+      }
     }
   }
 }
@@ -253,6 +316,61 @@ TEST(SolveJoint, SaysWhichParametersCannotBeSeparated) {
   EXPECT_NE(
       ParseEffects("noise_variance_x", &options.effects).message().find("read from chi-square"),
       std::string::npos);
+}
+
+// The compressed tilt-test residuals (one block of 7 per axis) and the linear endpoint
+// shortcut must give the per-sample problem's solution: the same estimates, covariance and
+// chi-squares, for every shape of effect set.
+TEST(SolveJoint, CompressedResidualsGiveThePerSampleSolution) {
+  Scenario scenario;
+  ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+  ASSERT_TRUE(ApplyScenarioOverrides("angle_offset=0.004,nonorthogonality=0.002,bias_drift_x=0.03,"
+                                     "scale_nonlinearity_y=0.0004,run_bias_shift_x=0.02",
+                                     &scenario)
+                  .ok());
+  const SimulatedData data = SimulateScenario(scenario, 11);
+  const std::vector<std::pair<std::string, JointOptions::Landmark>> cases = {
+      {"none", JointOptions::Landmark::kNone},
+      {"angle_offset,nonorthogonality", JointOptions::Landmark::kNamed},
+      {"bias_drift_x,scale_nonlinearity_y", JointOptions::Landmark::kNone},
+      {"all", JointOptions::Landmark::kNamed}};
+  for (const auto& [effects, landmark_mode] : cases) {
+    SCOPED_TRACE(effects);
+    JointOptions options = JointFor(data.conditions);
+    ASSERT_TRUE(ParseEffects(effects, &options.effects).ok());
+    options.landmark_mode = landmark_mode;
+    options.landmark_name = data.reached_landmark;
+    JointResult per_sample;
+    JointResult compressed;
+    options.compress_calibration = false;
+    ASSERT_TRUE(
+        SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &per_sample)
+            .ok());
+    options.compress_calibration = true;
+    ASSERT_TRUE(
+        SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &compressed)
+            .ok());
+    ASSERT_EQ(compressed.estimate.free, per_sample.estimate.free);
+    for (size_t k = 0; k < per_sample.estimate.free.size(); ++k) {
+      const Parameter parameter = per_sample.estimate.free[k];
+      const double sigma = std::sqrt(per_sample.estimate.covariance(k, k));
+      // Both stop where Ceres' tolerances say; with every effect free the problem is
+      // ill-conditioned and the two stopping points differ by ~1e-5 sigma (1e-8 sigma with
+      // fewer effects). Either is the optimum for any statistical purpose.
+      EXPECT_NEAR(compressed.estimate.Value(parameter), per_sample.estimate.Value(parameter),
+                  1e-4 * sigma)
+          << Info(parameter).name;
+    }
+    const double scale = per_sample.estimate.covariance.norm();
+    EXPECT_LT((compressed.estimate.covariance - per_sample.estimate.covariance).norm(),
+              1e-7 * scale);
+    EXPECT_NEAR(compressed.chi2_x, per_sample.chi2_x, 1e-7 * per_sample.chi2_x);
+    EXPECT_NEAR(compressed.chi2_y, per_sample.chi2_y, 1e-7 * per_sample.chi2_y);
+    EXPECT_NEAR(compressed.chi2_endpoint, per_sample.chi2_endpoint,
+                1e-7 * (1.0 + per_sample.chi2_endpoint));
+    // One block per axis instead of one per sample is what makes it fast.
+    EXPECT_LT(compressed.solver.iterations, 50);
+  }
 }
 
 // The failure paths a user can reach: each ends in one message, never in NaN estimates.

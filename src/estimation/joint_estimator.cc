@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "common/format.h"
@@ -13,6 +14,7 @@
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "residuals/calibration_residual.h"
+#include "residuals/compressed_calibration_residual.h"
 #include "residuals/endpoint_residual.h"
 
 namespace accelcal {
@@ -52,14 +54,51 @@ class JointProblem {
   };
 
   // Adds every residual at `values` (which must outlive `problem`); the parameters not in
-  // `free` are held constant.
+  // `free` are held constant. With `compress`, each axis's tilt-test residuals become one
+  // CompressedCalibrationResidual (the same cost and J^T J at any parameters, evaluated
+  // in time independent of the sample count); without it (robust losses act per sample,
+  // and Linearize wants one row per sample) each sample is its own block.
   Status Build(const Landmark* landmark, const std::vector<Parameter>& free,
-               ModelParameters<double>* values, ceres::Problem* problem, Groups* groups) {
+               ModelParameters<double>* values, ceres::Problem* problem, Groups* groups,
+               bool compress) {
     auto block = [&](Parameter parameter) { return &ParameterValue(values, parameter); };
+    auto is_free = [&](Parameter parameter) {
+      return std::find(free.begin(), free.end(), parameter) != free.end();
+    };
     const double sigma_x = std::sqrt(options_.noise_variance_x);
     const double sigma_y = std::sqrt(options_.noise_variance_y);
     const int n = test_.size();
-    for (int i = 0; i < n; ++i) {
+    std::unique_ptr<CompressedCalibrationResidual> compressed[2];
+    if (compress && loss_ == nullptr) {
+      CompressedCalibrationResidual::Parameters reference[2];
+      for (int a = 0; a < 2; ++a) {
+        const AxisErrors<double>& axis = a == 0 ? values->sensor.x : values->sensor.y;
+        reference[a] << axis.bias, axis.scale, axis.scale_nonlinearity, axis.bias_drift,
+            values->angle_offset, values->sensor.nonorthogonality;
+      }
+      const double sigmas[2] = {sigma_x, sigma_y};
+      // A model outside the compressed basis falls back to the per-sample residuals.
+      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, sigmas, reference,
+                                               compressed)
+               .ok()) {
+        compressed[0].reset();
+        compressed[1].reset();
+      }
+    }
+    const bool per_sample = compressed[0] == nullptr;
+    if (!per_sample) {
+      groups->x.push_back(problem->AddResidualBlock(
+          CompressedCalibrationResidual::Create(compressed[0].release()), nullptr,
+          block(Parameter::kBiasX), block(Parameter::kScaleX),
+          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+      groups->y.push_back(problem->AddResidualBlock(
+          CompressedCalibrationResidual::Create(compressed[1].release()), nullptr,
+          block(Parameter::kBiasY), block(Parameter::kScaleY),
+          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
+          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+    }
+    for (int i = 0; per_sample && i < n; ++i) {
       const double u = DriftCoordinate(i, n);
       groups->x.push_back(problem->AddResidualBlock(
           CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
@@ -77,23 +116,19 @@ class JointProblem {
     if (landmark != nullptr) {
       // The endpoint's noise covariance at the starting point (the baseline): the
       // whitening must not move with the parameters, or the cost would not be a chi-square.
-      TrajectoryOptions trajectory_options;
-      trajectory_options.path_stride = run_.size();
-      ParameterEstimate start = FromBaselineFit(start_);
-      start.values.noise_variance_ratio_x =
-          options_.noise_variance_x / conditions_.noise_variance_x;
-      start.values.noise_variance_ratio_y =
-          options_.noise_variance_y / conditions_.noise_variance_y;
-      DeadReckoningResult baseline_trajectory;
-      ACCELCAL_RETURN_IF_ERROR(
-          DeadReckon(run_, conditions_, start, trajectory_options, &baseline_trajectory));
+      const DeadReckoningResult* baseline_trajectory = nullptr;
+      ACCELCAL_RETURN_IF_ERROR(BaselineTrajectory(&baseline_trajectory));
       const double dt = (run_.timestamp_s.back() - run_.timestamp_s.front()) / (run_.size() - 1);
       auto* functor = new EndpointResidual(
           run_.measured_x, run_.measured_y, dt,
           Eigen::Vector2d(conditions_.initial_position_x_m, conditions_.initial_position_y_m),
           Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
-          Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory.noise_part,
-          options_.landmark_sigma_m);
+          Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory->noise_part,
+          options_.landmark_sigma_m,
+          /*linear_inverse=*/!is_free(Parameter::kScaleNonlinearityX) &&
+              !is_free(Parameter::kScaleNonlinearityY) &&
+              values->sensor.x.scale_nonlinearity == 0.0 &&
+              values->sensor.y.scale_nonlinearity == 0.0);
       groups->endpoint = problem->AddResidualBlock(
           EndpointResidual::Create(functor), nullptr, block(Parameter::kBiasX),
           block(Parameter::kScaleX), block(Parameter::kScaleNonlinearityX),
@@ -109,6 +144,25 @@ class JointProblem {
         problem->SetParameterBlockConstant(pointer);
       }
     }
+    return Status::Ok();
+  }
+
+  // The baseline's dead-reckoned run (endpoint, covariance and its noise part), computed
+  // once however many landmarks are tried.
+  Status BaselineTrajectory(const DeadReckoningResult** trajectory) {
+    if (!baseline_trajectory_) {
+      TrajectoryOptions trajectory_options;
+      trajectory_options.path_stride = std::max(1, run_.size());
+      ParameterEstimate start = FromBaselineFit(start_);
+      start.values.noise_variance_ratio_x =
+          options_.noise_variance_x / conditions_.noise_variance_x;
+      start.values.noise_variance_ratio_y =
+          options_.noise_variance_y / conditions_.noise_variance_y;
+      DeadReckoningResult result;
+      ACCELCAL_RETURN_IF_ERROR(DeadReckon(run_, conditions_, start, trajectory_options, &result));
+      baseline_trajectory_ = std::move(result);
+    }
+    *trajectory = &*baseline_trajectory_;
     return Status::Ok();
   }
 
@@ -130,7 +184,8 @@ class JointProblem {
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     Groups groups;
-    ACCELCAL_RETURN_IF_ERROR(Build(landmark, estimate.free, &values, &problem, &groups));
+    ACCELCAL_RETURN_IF_ERROR(
+        Build(landmark, estimate.free, &values, &problem, &groups, options_.compress_calibration));
     if (landmark != nullptr) result->landmark = landmark->name;
     auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
 
@@ -181,7 +236,8 @@ class JointProblem {
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     Groups groups;
-    ACCELCAL_RETURN_IF_ERROR(Build(landmark, columns, &values, &problem, &groups));
+    ACCELCAL_RETURN_IF_ERROR(
+        Build(landmark, columns, &values, &problem, &groups, /*compress=*/false));
     std::vector<double*> blocks;
     for (const Parameter parameter : columns) blocks.push_back(&ParameterValue(&values, parameter));
     ceres::Problem::EvaluateOptions evaluate_options;
@@ -260,6 +316,7 @@ class JointProblem {
   const RunConditions& conditions_;
   const JointOptions& options_;
   const BaselineFit& start_;
+  std::optional<DeadReckoningResult> baseline_trajectory_;
   std::unique_ptr<ceres::LossFunction> loss_;
 };
 
@@ -275,24 +332,18 @@ Status BaselineStart(const CalibrationTest& test, const JointOptions& options, B
 
 // How many sigma each landmark is from the baseline's dead-reckoned endpoint, with the
 // endpoint covariance (parameters and run noise) plus the landmarks' own uncertainty.
-Status BaselineLandmarkSigmas(const VehicleRun& run, const RunConditions& conditions,
-                              const BaselineFit& start, const std::vector<Landmark>& landmarks,
-                              double landmark_sigma_m, std::vector<double>* sigmas,
-                              Eigen::Vector2d* endpoint) {
-  TrajectoryOptions trajectory_options;
-  trajectory_options.path_stride = std::max(1, run.size());
-  DeadReckoningResult reckoned;
-  ACCELCAL_RETURN_IF_ERROR(DeadReckon(run, conditions, start, trajectory_options, &reckoned));
+std::vector<double> BaselineLandmarkSigmas(const DeadReckoningResult& baseline,
+                                           const std::vector<Landmark>& landmarks,
+                                           double landmark_sigma_m) {
   const Eigen::Matrix2d covariance =
-      reckoned.covariance + landmark_sigma_m * landmark_sigma_m * Eigen::Matrix2d::Identity();
+      baseline.covariance + landmark_sigma_m * landmark_sigma_m * Eigen::Matrix2d::Identity();
   const Eigen::LDLT<Eigen::Matrix2d> factor(covariance);
-  sigmas->clear();
+  std::vector<double> sigmas;
   for (const Landmark& landmark : landmarks) {
-    const Eigen::Vector2d offset = Eigen::Vector2d(landmark.x_m, landmark.y_m) - reckoned.endpoint;
-    sigmas->push_back(std::sqrt(std::max(0.0, offset.dot(factor.solve(offset)))));
+    const Eigen::Vector2d offset = Eigen::Vector2d(landmark.x_m, landmark.y_m) - baseline.endpoint;
+    sigmas.push_back(std::sqrt(std::max(0.0, offset.dot(factor.solve(offset)))));
   }
-  *endpoint = reckoned.endpoint;
-  return Status::Ok();
+  return sigmas;
 }
 
 const Landmark* FindLandmark(const std::vector<Landmark>& landmarks, const std::string& name) {
@@ -421,10 +472,11 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
   ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
   JointProblem problem(test, run, conditions, options, start);
   if (options.landmark_mode == JointOptions::Landmark::kNone) return problem.Solve(nullptr, result);
-  std::vector<double> sigmas;
-  Eigen::Vector2d endpoint;
-  ACCELCAL_RETURN_IF_ERROR(BaselineLandmarkSigmas(run, conditions, start, landmarks,
-                                                  options.landmark_sigma_m, &sigmas, &endpoint));
+  const DeadReckoningResult* baseline = nullptr;
+  ACCELCAL_RETURN_IF_ERROR(problem.BaselineTrajectory(&baseline));
+  const std::vector<double> sigmas =
+      BaselineLandmarkSigmas(*baseline, landmarks, options.landmark_sigma_m);
+  const Eigen::Vector2d& endpoint = baseline->endpoint;
   auto implausible = [&](size_t k) {
     return StringPrintf(
         "landmark %s at (%.6g, %.6g) m is %.3g sigma from the dead-reckoned endpoint (%.6g, "

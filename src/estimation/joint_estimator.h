@@ -38,6 +38,10 @@ struct JointOptions {
   std::string loss = "none";
   double loss_scale = 1.345;
   int max_iterations = 100;
+  // Each axis's tilt-test residuals as one CompressedCalibrationResidual (exact, and its
+  // cost does not grow with the test's size); false: one block per sample, as the robust
+  // losses need anyway. The two give the same solution; a test checks it.
+  bool compress_calibration = true;
   int num_threads = 1;
   // A near-null direction of the scaled information matrix: eigenvalue ratio below this.
   double identifiability_threshold = 1e-10;

@@ -29,23 +29,34 @@ class CalibrationResidual {
         gravity_mps2_(gravity_mps2),
         sqrt_information_(1.0 / noise_stddev_mps2) {}
 
+  // The model's prediction of one axis's output at (theta, u): the one expression both
+  // this per-sample residual and CompressedCalibrationResidual evaluate.
+  template <typename T>
+  static T Predict(double theta_rad, double drift_coordinate, SensingAxis axis, double gravity_mps2,
+                   const T& bias, const T& scale, const T& scale_nonlinearity, const T& bias_drift,
+                   const T& angle_offset, const T& nonorthogonality) {
+    T force_x;
+    T force_y;
+    TiltTableSpecificForce(T(theta_rad), angle_offset, gravity_mps2, &force_x, &force_y);
+    T along_x;
+    T along_y;
+    ProjectOnSensingAxes(force_x, force_y, nonorthogonality, &along_x, &along_y);
+    AxisErrors<T> errors;
+    errors.bias = bias;
+    errors.scale = scale;
+    errors.scale_nonlinearity = scale_nonlinearity;
+    errors.bias_drift = bias_drift;
+    return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, errors, drift_coordinate,
+                      Phase::kCalibrationTest);
+  }
+
   template <typename T>
   bool operator()(const T* const bias, const T* const scale, const T* const scale_nonlinearity,
                   const T* const bias_drift, const T* const angle_offset,
                   const T* const nonorthogonality, T* residual) const {
-    T force_x;
-    T force_y;
-    TiltTableSpecificForce(T(theta_rad_), angle_offset[0], gravity_mps2_, &force_x, &force_y);
-    T along_x;
-    T along_y;
-    ProjectOnSensingAxes(force_x, force_y, nonorthogonality[0], &along_x, &along_y);
-    AxisErrors<T> errors;
-    errors.bias = bias[0];
-    errors.scale = scale[0];
-    errors.scale_nonlinearity = scale_nonlinearity[0];
-    errors.bias_drift = bias_drift[0];
-    const T predicted = AxisOutput(axis_ == SensingAxis::kX ? along_x : along_y, errors,
-                                   drift_coordinate_, Phase::kCalibrationTest);
+    const T predicted =
+        Predict(theta_rad_, drift_coordinate_, axis_, gravity_mps2_, bias[0], scale[0],
+                scale_nonlinearity[0], bias_drift[0], angle_offset[0], nonorthogonality[0]);
     residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
     return true;
   }

@@ -18,6 +18,11 @@
 // costs two InvertAxisOutput calls. The non-orthogonal projection is linear too, so it is
 // undone once on the two sums (UndoProjection) rather than per sample, keeping sin and
 // cos of a Jet out of the loop.
+//
+// With both scale_nonlinearity blocks held at zero (`linear_inverse`), InvertAxisOutput is
+// affine in the measurement, f(m) = f(0) + (f(1) - f(0)) m, so the weighted sum needs only
+// sum_j w_j and sum_j w_j m_j, taken once: an evaluation no longer depends on M. The two
+// values f(0), f(1) come from InvertAxisOutput itself, so the model stays in one place.
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -38,7 +43,8 @@ class EndpointResidual {
   EndpointResidual(std::vector<double> measured_x, std::vector<double> measured_y, double dt_s,
                    const Eigen::Vector2d& initial_position_m,
                    const Eigen::Vector2d& initial_velocity_mps, const Eigen::Vector2d& landmark_m,
-                   const Eigen::Matrix2d& noise_covariance, double landmark_sigma_m)
+                   const Eigen::Matrix2d& noise_covariance, double landmark_sigma_m,
+                   bool linear_inverse = false)
       : measured_x_(std::move(measured_x)),
         measured_y_(std::move(measured_y)),
         weights_(EndpointWeights(static_cast<int>(measured_x_.size()), dt_s)),
@@ -48,6 +54,12 @@ class EndpointResidual {
         noise_covariance + landmark_sigma_m * landmark_sigma_m * Eigen::Matrix2d::Identity();
     const Eigen::Matrix2d lower = covariance.llt().matrixL();
     sqrt_information_ = lower.inverse();
+    linear_inverse_ = linear_inverse;
+    for (size_t j = 0; j < weights_.size(); ++j) {
+      sum_weights_ += weights_[j];
+      weighted_sum_x_ += weights_[j] * measured_x_[j];
+      weighted_sum_y_ += weights_[j] * measured_y_[j];
+    }
   }
 
   template <typename T>
@@ -67,9 +79,19 @@ class EndpointResidual {
     y.run_bias_shift = shift_y[0];
     T sum_along_x(0.0);
     T sum_along_y(0.0);
-    for (size_t j = 0; j < weights_.size(); ++j) {
-      sum_along_x += weights_[j] * InvertAxisOutput(T(measured_x_[j]), x);
-      sum_along_y += weights_[j] * InvertAxisOutput(T(measured_y_[j]), y);
+    if (linear_inverse_) {
+      if (!(x.scale_nonlinearity == T(0.0) && y.scale_nonlinearity == T(0.0))) return false;
+      const T zero_x = InvertAxisOutput(T(0.0), x);
+      const T zero_y = InvertAxisOutput(T(0.0), y);
+      sum_along_x =
+          sum_weights_ * zero_x + weighted_sum_x_ * (InvertAxisOutput(T(1.0), x) - zero_x);
+      sum_along_y =
+          sum_weights_ * zero_y + weighted_sum_y_ * (InvertAxisOutput(T(1.0), y) - zero_y);
+    } else {
+      for (size_t j = 0; j < weights_.size(); ++j) {
+        sum_along_x += weights_[j] * InvertAxisOutput(T(measured_x_[j]), x);
+        sum_along_y += weights_[j] * InvertAxisOutput(T(measured_y_[j]), y);
+      }
     }
     T sum_x;
     T sum_y;
@@ -92,6 +114,10 @@ class EndpointResidual {
   const std::vector<double> weights_;
   const Eigen::Vector2d offset_;  // p0 + v0 T - landmark
   Eigen::Matrix2d sqrt_information_;
+  bool linear_inverse_ = false;
+  double sum_weights_ = 0.0;     // sum_j w_j
+  double weighted_sum_x_ = 0.0;  // sum_j w_j m_x,j
+  double weighted_sum_y_ = 0.0;
 };
 
 }  // namespace accelcal

@@ -1,0 +1,151 @@
+#include "residuals/compressed_calibration_residual.h"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "common/format.h"
+#include "models/sensor_model.h"
+
+namespace accelcal {
+namespace {
+
+using Basis = Eigen::Matrix<double, CompressedCalibrationResidual::kBasisSize, 1>;
+
+Basis BasisAt(double sin_theta, double cos_theta, double drift_coordinate) {
+  Basis phi;
+  phi << 1.0, drift_coordinate, sin_theta, cos_theta, sin_theta * sin_theta, sin_theta * cos_theta;
+  return phi;
+}
+
+double PredictAt(double theta_rad, double drift_coordinate, SensingAxis axis, double gravity_mps2,
+                 const CompressedCalibrationResidual::Parameters& p) {
+  return CalibrationResidual::Predict(theta_rad, drift_coordinate, axis, gravity_mps2, p[0], p[1],
+                                      p[2], p[3], p[4], p[5]);
+}
+
+}  // namespace
+
+Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double gravity_mps2,
+                                           const double noise_stddev_mps2[2],
+                                           const Parameters reference[2],
+                                           std::unique_ptr<CompressedCalibrationResidual> out[2]) {
+  constexpr int kGramEntries = kResidualCount * (kResidualCount + 1) / 2;
+  // Six probe samples whose basis rows are independent: four quadrants and pi/4 at u = 0
+  // separate 1, sin, cos, sin^2 and sin cos; one sample at u = 1/2 separates the drift.
+  const double probe_theta[kBasisSize] = {0.0, M_PI / 2, M_PI, 3 * M_PI / 2, M_PI / 4, 0.0};
+  const double probe_drift[kBasisSize] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.5};
+  Eigen::Matrix<double, kBasisSize, kBasisSize> probes;
+  for (int j = 0; j < kBasisSize; ++j) {
+    probes.row(j) =
+        BasisAt(std::sin(probe_theta[j]), std::cos(probe_theta[j]), probe_drift[j]).transpose();
+  }
+  const Eigen::Matrix<double, kBasisSize, kBasisSize> probe_inverse = probes.inverse();
+
+  std::unique_ptr<CompressedCalibrationResidual> residuals[2];
+  const SensingAxis axes[2] = {SensingAxis::kX, SensingAxis::kY};
+  for (int a = 0; a < 2; ++a) {
+    const SensingAxis axis = axes[a];
+    auto coefficients = [&](const Parameters& p) {
+      Basis predicted;
+      for (int j = 0; j < kBasisSize; ++j) {
+        predicted[j] = PredictAt(probe_theta[j], probe_drift[j], axis, gravity_mps2, p);
+      }
+      return Basis(probe_inverse * predicted);
+    };
+    // The model must lie in span(phi): check it away from the probes, at parameters well
+    // beyond any estimate (every effect at once, an angle offset of 0.3 rad).
+    Parameters wide;
+    wide << 0.3, -0.05, 0.002, 0.07, 0.3, -0.02;
+    for (const Parameters& p : {reference[a], Parameters(reference[a] + wide)}) {
+      const Basis c = coefficients(p);
+      for (const double theta : {0.3, 1.9, 2.71, 4.4, 5.8, -7.1}) {
+        for (const double u : {-0.5, -0.13, 0.41}) {
+          const double direct = PredictAt(theta, u, axis, gravity_mps2, p);
+          const double through_basis = BasisAt(std::sin(theta), std::cos(theta), u).dot(c);
+          if (!(std::abs(direct - through_basis) <= 1e-9 * (1.0 + std::abs(direct)))) {
+            return Status::Error(StringPrintf(
+                "the calibration model is not a combination of the compressed basis (%.3g at "
+                "theta %.3g, u %.3g); use the per-sample residuals",
+                direct - through_basis, theta, u));
+          }
+        }
+      }
+    }
+    residuals[a].reset(new CompressedCalibrationResidual);
+    CompressedCalibrationResidual& r = *residuals[a];
+    r.axis_ = axis;
+    r.gravity_mps2_ = gravity_mps2;
+    r.sample_count_ = test.size();
+    std::copy(probe_theta, probe_theta + kBasisSize, r.probe_theta_rad_);
+    std::copy(probe_drift, probe_drift + kBasisSize, r.probe_drift_);
+    r.probe_inverse_ = probe_inverse;
+    r.reference_coefficients_ = coefficients(reference[a]);
+  }
+
+  // G of both axes about their references, in one pass: one sincos per sample, and the
+  // lower triangles accumulated in plain arrays (fixed sizes the compiler unrolls).
+  const Basis& cx = residuals[0]->reference_coefficients_;
+  const Basis& cy = residuals[1]->reference_coefficients_;
+  double gram_x[kGramEntries] = {};
+  double gram_y[kGramEntries] = {};
+  const int n = test.size();
+  for (int i = 0; i < n; ++i) {
+    const double sin_theta = std::sin(test.theta_rad[i]);
+    const double cos_theta = std::cos(test.theta_rad[i]);
+    const double u = DriftCoordinate(i, n);
+    double row_x[kResidualCount] = {
+        1.0, u, sin_theta, cos_theta, sin_theta * sin_theta, sin_theta * cos_theta, 0.0};
+    double row_y[kResidualCount];
+    double predicted_x = 0.0;
+    double predicted_y = 0.0;
+    for (int k = 0; k < kBasisSize; ++k) {
+      row_y[k] = row_x[k];
+      predicted_x += row_x[k] * cx[k];
+      predicted_y += row_x[k] * cy[k];
+    }
+    row_x[kBasisSize] = test.measured_x[i] - predicted_x;
+    row_y[kBasisSize] = test.measured_y[i] - predicted_y;
+    int entry = 0;
+    for (int row = 0; row < kResidualCount; ++row) {
+      for (int col = 0; col <= row; ++col, ++entry) {
+        gram_x[entry] += row_x[row] * row_x[col];
+        gram_y[entry] += row_y[row] * row_y[col];
+      }
+    }
+  }
+
+  for (int a = 0; a < 2; ++a) {
+    const double* packed = a == 0 ? gram_x : gram_y;
+    Eigen::Matrix<double, kResidualCount, kResidualCount> gram;
+    int entry = 0;
+    for (int row = 0; row < kResidualCount; ++row) {
+      for (int col = 0; col <= row; ++col, ++entry) {
+        gram(row, col) = gram(col, row) = packed[entry];
+      }
+    }
+    // z^T G z = |Lambda^1/2 V^T D z|^2 with D the columns' norms; rounding can leave tiny
+    // negative eigenvalues in rank-deficient directions, which are zero.
+    Eigen::Matrix<double, kResidualCount, 1> norms = gram.diagonal().cwiseSqrt();
+    for (int k = 0; k < kResidualCount; ++k) {
+      if (!(norms[k] > 0.0)) norms[k] = 1.0;
+    }
+    const Eigen::Matrix<double, kResidualCount, kResidualCount> normalized =
+        norms.cwiseInverse().asDiagonal() * gram * norms.cwiseInverse().asDiagonal();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kResidualCount, kResidualCount>>
+        eigen(normalized);
+    if (eigen.info() != Eigen::Success) {
+      return Status::Error("the eigendecomposition of the tilt test's Gram matrix failed");
+    }
+    const Eigen::Matrix<double, kResidualCount, 1> root =
+        eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+    residuals[a]->weights_ = root.asDiagonal() * eigen.eigenvectors().transpose() *
+                             norms.asDiagonal() / noise_stddev_mps2[a];
+  }
+  out[0] = std::move(residuals[0]);
+  out[1] = std::move(residuals[1]);
+  return Status::Ok();
+}
+
+}  // namespace accelcal
