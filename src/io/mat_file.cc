@@ -173,13 +173,16 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   *file_size = bytes.size();
   if (bytes.empty()) return Status::Error("the file is empty (0 bytes); it is not a MAT file");
   constexpr size_t kHeaderBytes = 128;
-  if (bytes.compare(0, 6, "MATLAB") != 0) return Status::Ok();  // v4 or not MAT: matio says
   if (bytes.size() < kHeaderBytes) {
+    if (bytes.compare(0, 6, "MATLAB") != 0) return Status::Ok();  // v4 or not MAT: matio says
     return Status::Error("the file is truncated: " + std::to_string(bytes.size()) +
                          " bytes, less than a MAT file's 128-byte header");
   }
+  // matio recognises version 5 by the version and endian fields alone (bytes 124-127), not
+  // by the "MATLAB" text, so neither does this walk (mat_file_fuzzer's second finding).
   const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   const bool swap = data[126] == 'M' && data[127] == 'I';
+  if (!swap && !(data[126] == 'I' && data[127] == 'M')) return Status::Ok();
   uint16_t version;
   std::memcpy(&version, data + 124, 2);
   if (swap) version = __builtin_bswap16(version);
