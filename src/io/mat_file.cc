@@ -3,6 +3,7 @@
 #include <matio.h>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -104,37 +105,108 @@ Tag ReadTag(const unsigned char* at, bool swap) {
   return tag;
 }
 
-// Checks the header of a miMATRIX element (`body`, `size` bytes after its tag): the array
-// flags, a dimensions subelement of a sane rank with no negative size, and a name that fits.
-// matio allocates what these subelements declare before reading them, so a corrupted rank
-// of 10^9 would otherwise ask for gigabytes (found by tests/fuzz/mat_file_fuzzer).
-Status CheckMatrixHeader(const unsigned char* body, size_t size, bool swap, size_t offset) {
+// Checks a miMATRIX element (`body`: the `size` bytes after its tag, of which `available`
+// are at hand; less for a compressed one, whose inflated prefix is all there is): the array
+// flags, a dimensions subelement of a sane rank with no negative size, a name that fits and,
+// for structs, objects and cells, their field names and nested elements, `depth` levels
+// down. matio allocates what these subelements declare before reading them, so a corrupted
+// rank or field-name length would otherwise ask for gigabytes or terabytes (found by
+// tests/fuzz/mat_file_fuzzer).
+Status CheckMatrixElement(const unsigned char* body, size_t size, size_t available, bool swap,
+                          size_t offset, int depth) {
+  constexpr uint32_t kCellClass = 1;
+  constexpr uint32_t kStructClass = 2;
+  constexpr uint32_t kObjectClass = 3;
+  constexpr int kMaxDepth = 16;
+  constexpr uint32_t kMaxFieldNameBytes = 4096;
   const std::string where = "the variable at byte " + std::to_string(offset);
+  const std::string damaged = "; the file is damaged";
   if (size == 0) return Status::Ok();  // an empty element: matio skips it
-  if (size < 16) return Status::Error(where + " is too short for a matrix header");
+  const size_t limit = std::min(size, available);
+  if (limit < 16) {
+    return limit < size ? Status::Ok() : Status::Error(where + " is too short for a header");
+  }
   const Tag flags = ReadTag(body, swap);
   if (flags.type != kMiUint32 || flags.bytes != 8 || flags.header_bytes != 8) {
-    return Status::Error(where + " has corrupt array flags; the file is damaged");
+    return Status::Error(where + " has corrupt array flags" + damaged);
   }
+  const uint32_t class_type = ReadUint32(body + 8, swap) & 0xff;
   size_t at = 16;
-  if (size < at + 8) return Status::Error(where + " ends before its dimensions");
+  // Reads the next subelement's tag into `tag` and moves `at` past its data, or fails.
+  auto next = [&](const char* what, Tag* tag) -> Status {
+    if (limit < at + 8) return Status::Error(where + " ends before its " + what + damaged);
+    *tag = ReadTag(body + at, swap);
+    const size_t data_at = at + tag->header_bytes;
+    if (size < data_at + tag->bytes) {
+      return Status::Error(where + " has a corrupt " + what + damaged);
+    }
+    at = tag->header_bytes == 4 ? at + 8 : data_at + (tag->bytes + 7) / 8 * 8;
+    return Status::Ok();
+  };
+  if (limit < at + 8) return Status::Error(where + " ends before its dimensions" + damaged);
   const Tag dims = ReadTag(body + at, swap);
   if (dims.type != kMiInt32 || dims.bytes % 4 != 0 || dims.bytes < 8 || dims.bytes > 4 * kMaxRank) {
     return Status::Error(where + " declares corrupt dimensions (" + std::to_string(dims.bytes) +
-                         " bytes); the file is damaged");
+                         " bytes)" + damaged);
   }
-  at += dims.header_bytes;
-  if (size < at + dims.bytes) return Status::Error(where + " ends inside its dimensions");
+  const size_t dims_at = at + dims.header_bytes;
+  if (limit < dims_at + dims.bytes) return Status::Error(where + " ends inside its dimensions");
+  uint64_t element_count = 1;  // saturates at 2^40, far beyond any file
   for (uint32_t k = 0; k < dims.bytes / 4; ++k) {
-    if (static_cast<int32_t>(ReadUint32(body + at + 4 * k, swap)) < 0) {
-      return Status::Error(where + " declares a negative dimension; the file is damaged");
-    }
+    const int32_t dimension = static_cast<int32_t>(ReadUint32(body + dims_at + 4 * k, swap));
+    if (dimension < 0) return Status::Error(where + " declares a negative dimension" + damaged);
+    element_count =
+        std::min<uint64_t>(element_count * static_cast<uint64_t>(dimension), 1ull << 40);
   }
-  at += (dims.bytes + 7) / 8 * 8;
-  if (size < at + 8) return Status::Error(where + " ends before its name");
-  const Tag name = ReadTag(body + at, swap);
-  if (name.type != kMiInt8 || size < at + name.header_bytes + name.bytes) {
-    return Status::Error(where + " has a corrupt name; the file is damaged");
+  at = dims_at + (dims.bytes + 7) / 8 * 8;
+  Tag name;
+  ACCELCAL_RETURN_IF_ERROR(next("name", &name));
+  if (name.type != kMiInt8) return Status::Error(where + " has a corrupt name" + damaged);
+  if (class_type != kCellClass && class_type != kStructClass && class_type != kObjectClass) {
+    return Status::Ok();  // numeric data: ReadMatrix checks its size against the file
+  }
+  if (depth >= kMaxDepth) {
+    return Status::Error(where + " nests cells or structs more than " + std::to_string(kMaxDepth) +
+                         " deep" + damaged);
+  }
+  uint64_t nested_count = element_count;  // cells: one value each; structs: one per field
+  if (class_type != kCellClass) {
+    if (class_type == kObjectClass) {
+      Tag class_name;
+      ACCELCAL_RETURN_IF_ERROR(next("class name", &class_name));
+    }
+    const size_t length_at = at;
+    Tag length;
+    ACCELCAL_RETURN_IF_ERROR(next("field name length", &length));
+    if (length.type != kMiInt32 || length.bytes != 4) {
+      return Status::Error(where + " has a corrupt field name length" + damaged);
+    }
+    const uint32_t field_name_bytes = ReadUint32(body + length_at + length.header_bytes, swap);
+    Tag names;
+    ACCELCAL_RETURN_IF_ERROR(next("field names", &names));
+    if (field_name_bytes == 0 || field_name_bytes > kMaxFieldNameBytes ||
+        names.bytes % field_name_bytes != 0) {
+      return Status::Error(where + " declares field names of " + std::to_string(field_name_bytes) +
+                           " bytes" + damaged);
+    }
+    nested_count = std::min<uint64_t>(element_count * (names.bytes / field_name_bytes), 1ull << 40);
+  }
+  // matio allocates a pointer per value before reading them; each value is an element of at
+  // least 8 bytes, so the count is bounded by the bytes left.
+  if (nested_count > (size - std::min(size, at)) / 8) {
+    return Status::Error(where + " declares " + std::to_string(nested_count) +
+                         " cells or fields, more than its " + std::to_string(size) +
+                         " bytes can hold" + damaged);
+  }
+  // The fields' or cells' values: nested matrices, checked as far as the bytes are at hand.
+  while (at + 8 <= limit) {
+    const Tag nested = ReadTag(body + at, swap);
+    if (nested.type != kMiMatrix || nested.header_bytes != 8 || size < at + 8 + nested.bytes) {
+      return Status::Error(where + " holds a corrupt nested element" + damaged);
+    }
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckMatrixElement(body + at + 8, nested.bytes, limit - (at + 8), swap, offset, depth + 1));
+    at += 8 + (nested.bytes + 7) / 8 * 8;
   }
   return Status::Ok();
 }
@@ -163,7 +235,7 @@ Status InflatePrefix(const unsigned char* compressed, size_t size, std::string* 
 
 // Walks the top-level data elements of a version 5 MAT file and fails when one of them
 // declares more bytes than the file has left (a truncated copy) or has a corrupt matrix
-// header (CheckMatrixHeader). Version 7.3 (HDF5) and version 4 files are left to matio.
+// header (CheckMatrixElement). Version 7.3 (HDF5) and version 4 files are left to matio.
 Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return Status::Error("cannot open the file; check the path and permissions");
@@ -205,7 +277,8 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
                            std::to_string(remaining - 8) + " remain; copy the file again");
     }
     if (type == kMiMatrix) {
-      ACCELCAL_RETURN_IF_ERROR(CheckMatrixHeader(data + offset + 8, element_bytes, swap, offset));
+      ACCELCAL_RETURN_IF_ERROR(
+          CheckMatrixElement(data + offset + 8, element_bytes, element_bytes, swap, offset, 0));
     } else if (type == kMiCompressed) {
       std::string prefix;
       ACCELCAL_RETURN_IF_ERROR(InflatePrefix(data + offset + 8, element_bytes, &prefix, offset));
@@ -222,10 +295,9 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
                              std::to_string(element_bytes) +
                              " compressed bytes can hold; the file is damaged");
       }
-      // Only the inflated prefix is at hand: check the header against what it declares,
-      // bounded by the prefix (a header longer than 500 bytes is not one matio writes).
-      ACCELCAL_RETURN_IF_ERROR(CheckMatrixHeader(
-          inflated + 8, std::min<uint64_t>(declared, prefix.size() - 8), swap, offset));
+      // Only the inflated prefix is at hand: the element is checked as far as it reaches.
+      ACCELCAL_RETURN_IF_ERROR(
+          CheckMatrixElement(inflated + 8, declared, prefix.size() - 8, swap, offset, 0));
     }
     offset += 8 + element_bytes;
   }
