@@ -39,6 +39,14 @@ class AxisRegressionAccumulator {
   double CenteredResponseResponse() const;
 
  private:
+  friend class CalibrationAccumulator;  // AddTest sets the shifts and adds whole blocks
+
+  // Adds sums taken about this accumulator's shifts, as Add takes them, over `count`
+  // samples.
+  void AddShiftedSums(long long count, double sum_force, double sum_response,
+                      double sum_force_force, double sum_force_response,
+                      double sum_response_response);
+
   long long count_ = 0;
   double shift_force_ = 0.0;
   double shift_response_ = 0.0;
@@ -54,7 +62,18 @@ class CalibrationAccumulator {
  public:
   explicit CalibrationAccumulator(double gravity_mps2) : gravity_mps2_(gravity_mps2) {}
 
+  // Samples per block of AddTest.
+  static constexpr int kAddTestBlockSamples = 512;
+
+  // One sample, with std::sin and std::cos.
   void Add(double theta_rad, double measured_x, double measured_y);
+  // Every sample of `test`, as Add would, but 4.5 times as fast (twice without AVX2): in
+  // blocks of kAddTestBlockSamples from the start of `test`, each with the batch SinCos
+  // (common/sincos.h) and sums kept in vector lanes. The sums differ from Add's in the last
+  // bits (sin and cos rounded differently, added in another order; more accurately, as the
+  // partial sums are shorter). They depend on where the blocks start, so a test passed in
+  // several calls gives the same statistics bit for bit when every call but the last has a
+  // multiple of kAddTestBlockSamples samples, and equal to rounding otherwise.
   void AddTest(const CalibrationTest& test);
 
   const AxisRegressionAccumulator& x() const { return x_; }
