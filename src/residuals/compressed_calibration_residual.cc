@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "common/sincos.h"
 #include "models/sensor_model.h"
 
 namespace accelcal {
@@ -84,16 +85,22 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
     r.reference_coefficients_ = coefficients(reference[a]);
   }
 
-  // G of both axes about their references, in one pass: one sincos per sample, and the
+  // G of both axes about their references, in one pass: sin and cos by blocks (SinCos), the
   // lower triangles accumulated in plain arrays (fixed sizes the compiler unrolls).
   const Basis& cx = residuals[0]->reference_coefficients_;
   const Basis& cy = residuals[1]->reference_coefficients_;
   double gram_x[kGramEntries] = {};
   double gram_y[kGramEntries] = {};
   const int n = test.size();
+  constexpr int kBlock = 512;
+  double sines[kBlock];
+  double cosines[kBlock];
   for (int i = 0; i < n; ++i) {
-    const double sin_theta = std::sin(test.theta_rad[i]);
-    const double cos_theta = std::cos(test.theta_rad[i]);
+    if (i % kBlock == 0) {
+      SinCos(test.theta_rad.data() + i, std::min(kBlock, n - i), sines, cosines);
+    }
+    const double sin_theta = sines[i % kBlock];
+    const double cos_theta = cosines[i % kBlock];
     const double u = DriftCoordinate(i, n);
     double row_x[kResidualCount] = {
         1.0, u, sin_theta, cos_theta, sin_theta * sin_theta, sin_theta * cos_theta, 0.0};
