@@ -11,6 +11,11 @@
 // the course's setting simulated (data/scenarios/tp2-2018.json, Table 1 as truth). Outputs: a table
 // on stdout, JSON with --json.
 //
+// The closed form needs only sufficient statistics, so a CSV test is streamed through them
+// (io/calibration_stream.h) in bounded memory whatever its length; the samples are kept only
+// for the Ceres cross-check, which holds them all with their residuals (about 1 KB per
+// sample) and is skipped, saying so, above --ceres_max_samples.
+//
 //   build/bin/linear_ls --data_dir=../shared/data/tp2-2018 --json=linear_ls.json
 
 #include "estimation/linear_ls.h"
@@ -19,9 +24,12 @@
 
 #include <cmath>
 #include <iostream>
+#include <limits>
+#include <optional>
 
 #include "estimation/ceres_linear_ls.h"
 #include "io/atomic_file.h"
+#include "io/calibration_stream.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
 #include "io/run_conditions.h"
@@ -53,6 +61,11 @@ DEFINE_string(set, "",
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+DEFINE_int64(ceres_max_samples, 1000000,
+             "The Ceres cross-check runs on tests of at most this many samples; it holds every "
+             "sample and its residuals in memory (about 1 GB and 8 s at 10^6 samples). A larger "
+             "test is solved in closed form only, which streams a CSV file in bounded memory "
+             "whatever its size, and the output says that Ceres was skipped. 0: never run Ceres.");
 
 namespace accelcal {
 namespace {
@@ -70,6 +83,7 @@ Status ValidateFlags() {
     return Status::Error("--g must be a positive number of m/s^2, got " + std::to_string(FLAGS_g));
   }
   if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
+  if (FLAGS_ceres_max_samples < 0) return Status::Error("--ceres_max_samples must be at least 0");
   const bool has_data = !FLAGS_data_dir.empty() || !FLAGS_calibration_file.empty();
   if (has_data && FLAGS_data_dir.empty() &&
       (FLAGS_calibration_file.empty() || FLAGS_conditions_file.empty())) {
@@ -80,14 +94,57 @@ Status ValidateFlags() {
   return Status::Ok();
 }
 
+// The tilt test as the two solvers need it: the closed form its sufficient statistics, Ceres
+// its samples.
+struct TiltTest {
+  CalibrationTest samples;  // empty when not kept
+  bool samples_kept = true;
+  // Set when a CSV file was streamed; otherwise the statistics are taken from `samples`.
+  std::optional<CalibrationAccumulator> streamed_statistics;
+};
+
+bool IsCsv(const std::string& path) {
+  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".csv") == 0;
+}
+
+// One pass over the file: every batch goes into the statistics, and into `test->samples`
+// while they stay within --ceres_max_samples (beyond it they are dropped and freed).
+Status StreamCalibration(const std::string& path, AngleUnit theta_unit, double gravity_mps2,
+                         TiltTest* test) {
+  test->streamed_statistics.emplace(gravity_mps2);
+  CalibrationAccumulator& statistics = *test->streamed_statistics;
+  CalibrationTest& samples = test->samples;
+  const auto keep_limit = static_cast<size_t>(FLAGS_ceres_max_samples);
+  CalibrationStreamOptions options;
+  options.theta_unit = theta_unit;
+  return StreamCalibrationCsv(
+      path, options,
+      [&](const CalibrationTest& batch) {
+        statistics.AddTest(batch);
+        if (!test->samples_kept) return;
+        if (samples.theta_rad.size() + batch.theta_rad.size() > keep_limit) {
+          test->samples_kept = false;
+          samples = CalibrationTest();
+          return;
+        }
+        samples.theta_rad.insert(samples.theta_rad.end(), batch.theta_rad.begin(),
+                                 batch.theta_rad.end());
+        samples.measured_x.insert(samples.measured_x.end(), batch.measured_x.begin(),
+                                  batch.measured_x.end());
+        samples.measured_y.insert(samples.measured_y.end(), batch.measured_y.begin(),
+                                  batch.measured_y.end());
+      },
+      nullptr);
+}
+
 // Load (or simulate) the tilt test and the options it is solved with.
-Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsReport* report) {
+Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* report) {
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario));
     const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
-    *test = data.test;
+    test->samples = data.test;
     options->noise_variance_x = data.conditions.noise_variance_x;
     options->noise_variance_y = data.conditions.noise_variance_y;
     options->gravity_mps2 = ChooseGravity(data.conditions, FLAGS_g);
@@ -108,35 +165,82 @@ Status LoadInputs(CalibrationTest* test, LinearLsOptions* options, LinearLsRepor
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
   LoadOptions load_options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
-  std::vector<std::string> notes;
-  ACCELCAL_RETURN_IF_ERROR(LoadCalibrationTest(files.calibration, test, load_options, &notes));
-  PrintInputNotes(notes);
+  // The conditions are read first because streaming needs g, but a fault of the calibration
+  // file is still reported before one of the conditions.
   RunConditions conditions;
-  ACCELCAL_RETURN_IF_ERROR(LoadRunConditions(files.conditions, &conditions));
+  const Status conditions_status = LoadRunConditions(files.conditions, &conditions);
+  options->gravity_mps2 =
+      conditions_status.ok() ? ChooseGravity(conditions, FLAGS_g) : options->gravity_mps2;
+  if (IsCsv(files.calibration)) {
+    ACCELCAL_RETURN_IF_ERROR(
+        StreamCalibration(files.calibration, load_options.theta_unit, options->gravity_mps2, test));
+  } else {
+    std::vector<std::string> notes;
+    ACCELCAL_RETURN_IF_ERROR(
+        LoadCalibrationTest(files.calibration, &test->samples, load_options, &notes));
+    PrintInputNotes(notes);
+  }
+  ACCELCAL_RETURN_IF_ERROR(conditions_status);
   options->noise_variance_x = conditions.noise_variance_x;
   options->noise_variance_y = conditions.noise_variance_y;
-  options->gravity_mps2 = ChooseGravity(conditions, FLAGS_g);
   report->input_files = {{"calibration", files.calibration}, {"conditions", files.conditions}};
   return Status::Ok();
 }
 
-Status Solve(const CalibrationTest& test, const LinearLsOptions& options,
+Status Solve(const TiltTest& test, const LinearLsOptions& options,
              const std::string& calibration_name, LinearLsReport* report) {
   CalibrationAccumulator statistics(options.gravity_mps2);
-  statistics.AddTest(test);
+  if (test.streamed_statistics) {
+    statistics = *test.streamed_statistics;
+  } else {
+    statistics.AddTest(test.samples);
+  }
+  // BaselineFit counts samples in an int.
+  if (statistics.x().count() > std::numeric_limits<int>::max()) {
+    return Status::Error(calibration_name + ": " + std::to_string(statistics.x().count()) +
+                         " samples, more than the 2^31 - 1 this program can count");
+  }
   // A degenerate design is a fault of the calibration file: name it.
   ACCELCAL_RETURN_IF_ERROR(
       SolveLinearLs(statistics, options, &report->closed_form).WithContext(calibration_name));
-  CeresLinearLsOptions ceres_options;
-  ceres_options.model = options;
-  ceres_options.num_threads = FLAGS_num_threads;
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLsWithCeres(test, ceres_options, &report->ceres));
   report->gravity_mps2 = options.gravity_mps2;
   report->noise_variance_x = options.noise_variance_x;
   report->noise_variance_y = options.noise_variance_y;
   report->theta_min_rad = statistics.theta_min_rad();
   report->theta_max_rad = statistics.theta_max_rad();
-  return Status::Ok();
+  if (!test.samples_kept || statistics.x().count() > FLAGS_ceres_max_samples) return Status::Ok();
+  CeresLinearLsOptions ceres_options;
+  ceres_options.model = options;
+  ceres_options.num_threads = FLAGS_num_threads;
+  return EstimateLinearLsWithCeres(test.samples, ceres_options, &report->ceres);
+}
+
+// Why Ceres did not run, or "" when it did.
+std::string CeresSkippedReason(const LinearLsReport& report) {
+  const int samples = report.closed_form.sample_count;
+  if (samples <= FLAGS_ceres_max_samples) return "";
+  return "Ceres skipped: " + std::to_string(samples) +
+         " samples, more than --ceres_max_samples=" + std::to_string(FLAGS_ceres_max_samples) +
+         " (it would hold them all with their residuals in memory)";
+}
+
+// LinearLsTable and LinearLsJson always describe the Ceres cross-check; when it was skipped,
+// its part is replaced by the reason.
+std::string Table(const LinearLsReport& report, const std::string& ceres_skipped) {
+  std::string table = LinearLsTable(report, FLAGS_v >= 1);
+  if (ceres_skipped.empty()) return table;
+  const size_t ceres_part = table.find("\n  closed form vs Ceres:");
+  if (ceres_part != std::string::npos) table.erase(ceres_part);
+  return table + "\n  closed form only; " + ceres_skipped + "\n";
+}
+
+nlohmann::json Json(const LinearLsReport& report, const std::string& ceres_skipped) {
+  nlohmann::json json = LinearLsJson(report);
+  if (ceres_skipped.empty()) return json;
+  json["solvers"].erase("ceres");
+  json["solvers"].erase("max_relative_difference");
+  json["solvers"]["ceres_skipped"] = ceres_skipped;
+  return json;
 }
 
 int Run(int argc, char** argv) {
@@ -144,7 +248,7 @@ int Run(int argc, char** argv) {
   Status status = ValidateFlags();
   if (!status.ok()) return ExitWithError("linear_ls", status);
 
-  CalibrationTest test;
+  TiltTest test;
   LinearLsOptions options;
   LinearLsReport report;
   status = LoadInputs(&test, &options, &report);
@@ -155,9 +259,10 @@ int Run(int argc, char** argv) {
   status = Solve(test, options, calibration_name, &report);
   if (!status.ok()) return ExitWithError("linear_ls", status);
 
-  std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
+  const std::string ceres_skipped = CeresSkippedReason(report);
+  std::cout << Table(report, ceres_skipped) << std::flush;
   if (!FLAGS_json.empty()) {
-    status = WriteJsonAtomically(FLAGS_json, LinearLsJson(report)).WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, Json(report, ceres_skipped)).WithContext("--json");
     if (!status.ok()) return ExitWithError("linear_ls", status);
   }
   return 0;

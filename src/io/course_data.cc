@@ -11,6 +11,7 @@
 #include "common/format.h"
 #include "common/landmark_checks.h"
 #include "io/atomic_file.h"
+#include "io/calibration_stream.h"
 #include "io/csv_reader.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
@@ -134,7 +135,6 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
   return Status::Ok();
 }
 
-const std::vector<CsvColumn> kCalibrationColumns = {{"theta"}, {"ax"}, {"ay"}};
 const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
 const std::vector<CsvColumn> kLandmarkColumns = {{"name", false}, {"x"}, {"y"}};
 
@@ -182,26 +182,34 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
   return Status::Ok();
 }
 
-// Applies `unit` to the angles. A tilt test never needs more than two turns, while any
-// test wider than 12.6 degrees spans more than 4*pi when its degrees are read as radians,
-// so kAuto refuses such a span instead of fitting a wrong model silently.
+// Applies `unit` to the angles (CheckThetaSpan). The streaming reader converts degrees
+// with the same expression.
 Status ApplyThetaUnit(AngleUnit unit, CalibrationTest* test) {
   if (test->theta_rad.empty()) return Status::Ok();
   const auto [low, high] = std::minmax_element(test->theta_rad.begin(), test->theta_rad.end());
-  const double span = *high - *low;
   if (unit == AngleUnit::kDegree) {
     for (double& theta : test->theta_rad) theta *= M_PI / 180.0;
-  } else if (unit == AngleUnit::kAuto && span > 4.0 * M_PI) {
-    return Status::Error(StringPrintf(
-        "theta spans %.6g (from %.6g to %.6g) over %d samples, more than two turns if it were "
-        "radians: it looks like degrees; pass --theta_unit=deg (or --theta_unit=rad if the "
-        "table really turned that far)",
-        span, *low, *high, test->size()));
+    return Status::Ok();
   }
-  return Status::Ok();
+  return CheckThetaSpan(unit, *low, *high, test->size());
 }
 
 }  // namespace
+
+// A tilt test never needs more than two turns, while any test wider than 12.6 degrees spans
+// more than 4*pi when its degrees are read as radians, so kAuto refuses such a span instead
+// of fitting a wrong model silently.
+Status CheckThetaSpan(AngleUnit unit, double theta_min, double theta_max, long long sample_count) {
+  const double span = theta_max - theta_min;
+  if (unit == AngleUnit::kAuto && span > 4.0 * M_PI) {
+    return Status::Error(StringPrintf(
+        "theta spans %.6g (from %.6g to %.6g) over %lld samples, more than two turns if it were "
+        "radians: it looks like degrees; pass --theta_unit=deg (or --theta_unit=rad if the "
+        "table really turned that far)",
+        span, theta_min, theta_max, sample_count));
+  }
+  return Status::Ok();
+}
 
 Status ParseAngleUnit(const std::string& text, AngleUnit* unit) {
   if (text == "auto") {
@@ -255,16 +263,25 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
   std::vector<std::string> file_notes;
   Status status;
   if (HasExtension(path, ".csv")) {
-    CsvTable table;
-    status = ReadCsvFile(path, kCalibrationColumns, &table);
-    if (status.ok()) {
-      test->theta_rad = std::move(table.numbers[0]);
-      test->measured_x = std::move(table.numbers[1]);
-      test->measured_y = std::move(table.numbers[2]);
-    }
-  } else {
-    status = LoadCalibrationMat(path, test, &file_notes);
+    // The streaming reader, so that a CSV test is read by one code path whether it is kept
+    // or only accumulated; it applies the angle unit and names the file itself.
+    CalibrationStreamOptions stream_options;
+    stream_options.theta_unit = options.theta_unit;
+    status = StreamCalibrationCsv(
+        path, stream_options,
+        [test](const CalibrationTest& batch) {
+          test->theta_rad.insert(test->theta_rad.end(), batch.theta_rad.begin(),
+                                 batch.theta_rad.end());
+          test->measured_x.insert(test->measured_x.end(), batch.measured_x.begin(),
+                                  batch.measured_x.end());
+          test->measured_y.insert(test->measured_y.end(), batch.measured_y.begin(),
+                                  batch.measured_y.end());
+        },
+        nullptr);
+    if (!status.ok()) *test = CalibrationTest();
+    return status;
   }
+  status = LoadCalibrationMat(path, test, &file_notes);
   if (status.ok()) status = ApplyThetaUnit(options.theta_unit, test);
   AddNotes(path, file_notes, notes);
   return status.WithContext(path);

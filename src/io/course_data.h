@@ -59,6 +59,11 @@ struct LoadOptions {
   AngleUnit theta_unit = AngleUnit::kAuto;
 };
 
+// What kAuto refuses in a test's angles, from their extremes (for readers that see the
+// angles once, in a stream): a span of more than two turns, as likely degrees. Other units
+// pass.
+Status CheckThetaSpan(AngleUnit unit, double theta_min, double theta_max, long long sample_count);
+
 // Each loader refuses what it cannot read correctly. What it reads correctly but a person
 // should hear about (a 2xN matrix read as its transpose) goes to `notes`, one line each
 // starting with the file name, when `notes` is not null.

@@ -9,6 +9,7 @@
 // with '#' are comments.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "common/status.h"
@@ -34,7 +35,44 @@ Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& column
 Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, CsvTable* table);
 
 // Parses one finite decimal number (leading/trailing blanks allowed); false otherwise.
-bool ParseFiniteNumber(const std::string& text, double* value);
+bool ParseFiniteNumber(std::string_view text, double* value);
+
+// The rules above applied one line at a time, so that ParseCsv (text in memory) and the
+// streaming reader (io/calibration_stream.h) accept the same files and fail with the same
+// messages. Nothing is allocated per line once the first data row has been parsed: the
+// cells are views into the line, numbers are read with std::from_chars.
+class CsvLineParser {
+ public:
+  enum class LineKind { kSkipped, kHeader, kRow };  // kSkipped: blank or '#' comment
+
+  explicit CsvLineParser(std::vector<CsvColumn> columns);
+
+  // Parses the next line of the file, without its '\n'. After kRow, number(c) holds
+  // numeric column c and text(c) text column c, valid until the next call (text(c) views
+  // `line`). Failures say "line N..." as ParseCsv does.
+  Status ParseLine(std::string_view line, LineKind* kind);
+  double number(size_t column) const { return numbers_[column]; }
+  std::string_view text(size_t column) const { return texts_[column]; }
+
+  // After the last line: fails when there was no header or no data row.
+  Status Finish() const;
+
+  long long line_number() const { return line_number_; }  // of the last line parsed
+  long long row_count() const { return row_count_; }
+
+ private:
+  Status CheckHeader(std::string_view trimmed, size_t field_count) const;
+  Status ParseRow();
+
+  std::vector<CsvColumn> columns_;
+  std::string expected_header_;  // "theta,ax,ay"
+  std::vector<std::string_view> fields_;
+  std::vector<double> numbers_;
+  std::vector<std::string_view> texts_;
+  long long line_number_ = 0;
+  long long row_count_ = 0;
+  bool header_seen_ = false;
+};
 
 }  // namespace accelcal
 
