@@ -233,9 +233,81 @@ Status InflatePrefix(const unsigned char* compressed, size_t size, std::string* 
   return Status::Ok();
 }
 
+// Whether `type`, a version 4 matrix's MOPT field, is one matio reads: M (the number
+// format) 0-4, O 0, P (the value type) 0-5, T (full, text, sparse) 0-2.
+bool IsMat4Type(int64_t type) {
+  return type >= 0 && type / 1000 <= 4 && type / 100 % 10 == 0 && type / 10 % 10 <= 5 &&
+         type % 10 <= 2;
+}
+
+// matio reads a file that is neither version 5 nor 7.3 as version 4: matrices one after
+// the other, each a 20-byte header (type, mrows, ncols, imagf, namlen as int32 in the
+// writer's byte order), the name, then the real and imaginary values. It allocates namlen
+// bytes, and later the values, before reading them, so a corrupted header would ask for
+// gigabytes (mat_file_fuzzer's fourth finding: a namlen of 1.4e9 in a 638-byte file).
+// Each matrix must fit in the bytes left.
+Status CheckMat4Integrity(const unsigned char* data, size_t size) {
+  constexpr size_t kHeaderBytes = 20;
+  constexpr uint64_t kValueBytes[] = {8, 4, 4, 2, 2, 1};  // by P: double ... uint8
+  const std::string not_mat = "not a readable MAT file (";
+  const std::string advice = "; save it from MATLAB/Octave with save -v7 or -v6";
+  size_t offset = 0;
+  while (offset < size) {
+    const std::string where = "the version 4 matrix at byte " + std::to_string(offset);
+    const size_t remaining = size - offset;
+    if (remaining < kHeaderBytes) {
+      return Status::Error(offset == 0 ? not_mat + "too short for any header)" + advice
+                                       : "the file is truncated: it ends inside the header of " +
+                                             where + "; copy the file again");
+    }
+    bool swap = false;
+    int64_t type = static_cast<int32_t>(ReadUint32(data + offset, false));
+    if (!IsMat4Type(type)) {
+      swap = true;
+      type = static_cast<int32_t>(ReadUint32(data + offset, true));
+    }
+    if (!IsMat4Type(type)) {
+      return Status::Error(
+          offset == 0 ? not_mat + "neither a version 5/7 header nor a version 4 matrix)" + advice
+                      : where + " has a corrupt type field; the file is damaged");
+    }
+    const auto field = [&](int index) {
+      return static_cast<int64_t>(
+          static_cast<int32_t>(ReadUint32(data + offset + 4 * index, swap)));
+    };
+    const int64_t rows = field(1);
+    const int64_t cols = field(2);
+    const int64_t imaginary = field(3);
+    const int64_t name_bytes = field(4);
+    if (rows < 0 || cols < 0 || name_bytes < 1) {
+      return Status::Error(where + " declares " + std::to_string(rows) + "x" +
+                           std::to_string(cols) + " values and a " + std::to_string(name_bytes) +
+                           "-byte name; the file is damaged");
+    }
+    uint64_t left = remaining - kHeaderBytes;
+    if (static_cast<uint64_t>(name_bytes) > left) {
+      return Status::Error("the file is truncated or damaged: " + where + " declares a " +
+                           std::to_string(name_bytes) + "-byte name but only " +
+                           std::to_string(left) + " bytes remain");
+    }
+    left -= name_bytes;
+    // rows, cols < 2^31: the count fits; its bytes are compared without overflow.
+    const uint64_t values = static_cast<uint64_t>(rows) * static_cast<uint64_t>(cols);
+    const uint64_t value_bytes = kValueBytes[type / 10 % 10] * (imaginary != 0 ? 2 : 1);
+    if (values > left / value_bytes) {
+      return Status::Error("the file is truncated or damaged: " + where + " declares " +
+                           std::to_string(rows) + "x" + std::to_string(cols) + " values but only " +
+                           std::to_string(left) + " bytes remain");
+    }
+    offset += kHeaderBytes + name_bytes + values * value_bytes;
+  }
+  return Status::Ok();
+}
+
 // Walks the top-level data elements of a version 5 MAT file and fails when one of them
 // declares more bytes than the file has left (a truncated copy) or has a corrupt matrix
-// header (CheckMatrixElement). Version 7.3 (HDF5) and version 4 files are left to matio.
+// header (CheckMatrixElement). A version 4 file is walked by CheckMat4Integrity; version
+// 7.3 (HDF5) is left to matio.
 Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   std::ifstream file(path, std::ios::binary);
   if (!file) return Status::Error("cannot open the file; check the path and permissions");
@@ -245,20 +317,23 @@ Status CheckMat5Integrity(const std::string& path, uint64_t* file_size) {
   *file_size = bytes.size();
   if (bytes.empty()) return Status::Error("the file is empty (0 bytes); it is not a MAT file");
   constexpr size_t kHeaderBytes = 128;
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
   if (bytes.size() < kHeaderBytes) {
-    if (bytes.compare(0, 6, "MATLAB") != 0) return Status::Ok();  // v4 or not MAT: matio says
+    if (bytes.compare(0, 6, "MATLAB") != 0) return CheckMat4Integrity(data, bytes.size());
     return Status::Error("the file is truncated: " + std::to_string(bytes.size()) +
                          " bytes, less than a MAT file's 128-byte header");
   }
   // matio recognises version 5 by the version and endian fields alone (bytes 124-127), not
   // by the "MATLAB" text, so neither does this walk (mat_file_fuzzer's second finding).
-  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  // Like matio: version 5 (0x0100), 7.3 (0x0200, HDF5, left to matio), else version 4.
   const bool swap = data[126] == 'M' && data[127] == 'I';
-  if (!swap && !(data[126] == 'I' && data[127] == 'M')) return Status::Ok();
+  if (!swap && !(data[126] == 'I' && data[127] == 'M'))
+    return CheckMat4Integrity(data, bytes.size());
   uint16_t version;
   std::memcpy(&version, data + 124, 2);
   if (swap) version = __builtin_bswap16(version);
-  if (version != 0x0100) return Status::Ok();
+  if (version == 0x0200) return Status::Ok();
+  if (version != 0x0100) return CheckMat4Integrity(data, bytes.size());
   size_t offset = kHeaderBytes;
   while (offset < bytes.size()) {
     const size_t remaining = bytes.size() - offset;

@@ -103,6 +103,19 @@ def main():
     with open(path("ensayo_huge_claim.mat"), "wb") as f:
         f.write(bytes(data))
 
+    # Version 4 (Octave's save -v4): read as it is; a corrupted header is refused before matio
+    # allocates what it declares (mat_file_fuzzer's fourth finding).
+    scipy.io.savemat(path("ensayo_v4.mat"), {"tita": theta, "datos": datos}, format="4",
+                     oned_as="column")
+    with open(path("ensayo_v4.mat"), "rb") as f:
+        v4 = f.read()
+    # The first matrix's header: type, mrows, ncols, imagf, namlen (int32, little endian).
+    assert struct.unpack_from("<5i", v4, 0)[1:] == (len(theta), 1, 0, len("tita") + 1)
+    with open(path("ensayo_v4_huge_name.mat"), "wb") as f:
+        f.write(v4[:16] + struct.pack("<i", 1413565728) + v4[20:])
+    with open(path("ensayo_v4_huge_claim.mat"), "wb") as f:
+        f.write(v4[:4] + struct.pack("<i", 10**9) + v4[8:])
+
     # --- calibration.csv ---
     rows = number_rows(theta, datos[:, 0], datos[:, 1])
     csv("calibration_missing_column.csv", "theta,ax", [r[:2] for r in rows])
