@@ -55,7 +55,7 @@ std::vector<Version> Versions() {
   return versions;
 }
 
-// The acceptance bound, in ulps of the exact result. The kernel measures 0.81 at most
+// The acceptance bound, in ulps of the exact result. The kernel measures 0.79 at most
 // (each test prints its figures); 2 leaves room for a compiler that rounds differently
 // (fusing other products into FMAs, say) without letting a real loss of bits through.
 constexpr double kMaxUlp = 2.0;

@@ -9,14 +9,14 @@
 // (tools/bench/monte_carlo_bench.cc, BM_SinCos).
 //
 // How: x = k pi/2 + r with k the nearest integer to x 2/pi and |r| <= pi/4 (Cody-Waite
-// reduction with pi/2 split in three parts, below), then Taylor polynomials for sin r and
+// reduction with pi/2 split in three parts, below), then minimax polynomials for sin r and
 // cos r, and the quadrant k mod 4 picks which one, with which sign, goes where:
 //
 //   k mod 4:     0        1        2        3
 //   sin x    =  sin r    cos r   -sin r   -cos r
 //   cos x    =  cos r   -sin r   -cos r    sin r
 //
-// Accuracy: within 1 ulp of the exact result for |x| <= kSinCosFastPathLimitRad (0.81
+// Accuracy: within 1 ulp of the exact result for |x| <= kSinCosFastPathLimitRad (0.79
 // ulp at most over millions of arguments, against long double sinl/cosl in
 // tests/sincos_test.cc), including at the doubles nearest to multiples of pi/2, where
 // the result is tiny and a reduction with too few bits of pi/2 would lose all of its
