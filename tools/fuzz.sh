@@ -10,6 +10,15 @@
 # build-sanitize/fuzz/findings/<target>/ and fails the script. Copy it to
 # tests/fuzz/regressions/ (named after what it found), fix the reader, and ctest replays it
 # from then on.
+#
+# Memory: one allocation may not exceed 1 GB, nor the process 4 GB. A 64 KB input can hold a
+# zlib stream that legitimately inflates to 66 MB of int8 values, which matio returns as
+# 528 MB of doubles, copied once more by the loader; anything beyond that is a finding.
+#
+# ACCELCAL_FUZZ_SEED=N fixes libFuzzer's random seed (default: a new one each run), so that a
+# run from an empty corpus can be repeated: CI fuzzes with seed 1 from a clean clone, and
+#   rm -rf build-sanitize/fuzz/corpus && ACCELCAL_FUZZ_SEED=1 ./tools/fuzz.sh 600
+# goes over the same first inputs and further.
 set -euo pipefail
 ACCELCAL_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$ACCELCAL_ROOT/tools/setup.sh"
@@ -17,6 +26,10 @@ seconds=${1:-30}
 shift || true
 targets=("$@")
 [ ${#targets[@]} -eq 0 ] && targets=(csv datos_txt mat_file)
+if [ -n "${ACCELCAL_FUZZ_SEED:-}" ] && ! [[ $ACCELCAL_FUZZ_SEED =~ ^[1-9][0-9]*$ ]]; then
+  echo "fuzz.sh: ACCELCAL_FUZZ_SEED must be a positive integer, got '$ACCELCAL_FUZZ_SEED'" >&2
+  exit 2
+fi
 if ! [[ $seconds =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
   echo "fuzz.sh: SECONDS must be a positive integer, got '$seconds'" >&2
   exit 2
@@ -38,7 +51,9 @@ for target in "${targets[@]}"; do
   log="$build_dir/fuzz/$target.log"
   echo "fuzz.sh: $target for ${seconds}s (log: $log)" >&2
   # New inputs go to the first corpus folder; the seeds and the bad corpus are read only.
-  if "$fuzzer" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=2048 \
+  seed_flag=()
+  [ -n "${ACCELCAL_FUZZ_SEED:-}" ] && seed_flag=(-seed="$ACCELCAL_FUZZ_SEED")
+  if "$fuzzer" "${seed_flag[@]}" -max_total_time="$seconds" -max_len=65536 -timeout=10 -rss_limit_mb=4096 -malloc_limit_mb=1024 \
       -print_final_stats=1 -artifact_prefix="$findings/" \
       "$corpus" "$ACCELCAL_ROOT/tests/fuzz/seeds/$target" "$ACCELCAL_ROOT/tests/data/bad" \
       >"$log" 2>&1; then
