@@ -3,10 +3,10 @@
 
 // Sine and cosine of a whole array at once, for the loops that need both per sample (the
 // tilt table's f_x = -g sin(theta), f_y = -g cos(theta) over tens of thousands of angles).
-// std::sin plus std::cos cost about 7.5 ns per element: two scalar calls, each handling
+// std::sin plus std::cos cost 7.5 to 12 ns per element: two scalar calls, each handling
 // any argument with branches. This kernel is one branch-free loop that the compiler
-// vectorizes: about 2 ns per element for both with AVX2 + FMA, 4.5 ns with SSE2
-// (tools/bench/monte_carlo_bench.cc, BM_SinCos).
+// vectorizes: 1.9 ns per element for both with AVX2 + FMA, 5.3 ns with SSE2 (2-core AMD
+// EPYC VM; tools/bench/monte_carlo_bench.cc, BM_SinCos; docs/performance.md).
 //
 // How: x = k pi/2 + r with k the nearest integer to x 2/pi and |r| <= pi/4 (Cody-Waite
 // reduction with pi/2 split in three parts, below), then minimax polynomials for sin r and
