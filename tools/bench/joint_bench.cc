@@ -1,6 +1,7 @@
 // The joint nonlinear solve with covariance on course-sized data (the tp2-2018 scenario:
-// 20001 tilt samples, a 6000-sample run), for several effect sets, and one evaluation of
-// the endpoint residual with its Jacobian (cost per run sample).
+// 20001 tilt samples, a 6000-sample run), for several effect sets; the baseline as a
+// per-sample Ceres problem (estimation/ceres_linear_ls.h, the cross-check of the closed
+// form); and one evaluation of the endpoint residual with its Jacobian (cost per run sample).
 //
 //   build/bin/joint_bench --benchmark_min_time=2
 
@@ -8,6 +9,7 @@
 
 #include <memory>
 
+#include "estimation/ceres_linear_ls.h"
 #include "estimation/joint_estimator.h"
 #include "residuals/endpoint_residual.h"
 #include "simulation/embedded_scenarios.h"
@@ -54,6 +56,24 @@ BENCHMARK_CAPTURE(BM_JointSolveWithCovariance, all_effects_landmark_C, std::stri
 BENCHMARK_CAPTURE(BM_JointSolveWithCovariance, angle_nonorth_auto_4_landmarks,
                   std::string("angle_offset,nonorthogonality"), JointOptions::Landmark::kAuto)
     ->Unit(benchmark::kMillisecond);
+
+void BM_CeresBaselineWithCovariance(benchmark::State& state) {
+  const SimulatedData& data = CourseSizedData();
+  CeresLinearLsOptions options;
+  options.model.gravity_mps2 = data.conditions.gravity_mps2;
+  options.model.noise_variance_x = data.conditions.noise_variance_x;
+  options.model.noise_variance_y = data.conditions.noise_variance_y;
+  for (auto _ : state) {
+    CeresLinearLsResult result;
+    if (!EstimateLinearLsWithCeres(data.test, options, &result).ok()) {
+      state.SkipWithError("solve failed");
+      break;
+    }
+    benchmark::DoNotOptimize(result.fit.covariance.data());
+  }
+  state.SetItemsProcessed(state.iterations() * data.test.size());
+}
+BENCHMARK(BM_CeresBaselineWithCovariance)->Unit(benchmark::kMillisecond);
 
 void BM_EndpointResidualWithJacobian(benchmark::State& state) {
   const SimulatedData& data = CourseSizedData();

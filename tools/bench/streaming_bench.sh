@@ -13,7 +13,7 @@ set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 bin=${ACCELCAL_BUILD_DIR:-$root/build}/bin
 max_samples=${ACCELCAL_BENCH_MAX_SAMPLES:-100000000}
-python=${PYTHON:-python3}
+python=${PYTHON:-/usr/bin/python3}  # Debian's; the python3 first on PATH may differ
 
 for binary in streaming_bench linear_ls; do
   [ -x "$bin/$binary" ] || { echo "no $bin/$binary: build first (or set ACCELCAL_BUILD_DIR)" >&2; exit 2; }
