@@ -60,7 +60,9 @@ DEFINE_string(set, "",
               "--set=angle_offset=0.004 to see what an unmodelled effect does.");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+DEFINE_int32(num_threads, 1,
+             "Threads (>= 1) for Ceres and for the closed form's pass over a test held in memory "
+             "(which splits only tests of at least 2^18 samples per thread).");
 DEFINE_int64(ceres_max_samples, 1000000,
              "The Ceres cross-check runs on tests of at most this many samples; it holds every "
              "sample and its residuals in memory (about 1 GB and 8 s at 10^6 samples). A larger "
@@ -193,7 +195,7 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options,
   if (test.streamed_statistics) {
     statistics = *test.streamed_statistics;
   } else {
-    statistics.AddTest(test.samples);
+    statistics.AddTest(test.samples, FLAGS_num_threads);
   }
   // BaselineFit counts samples in an int.
   if (statistics.x().count() > std::numeric_limits<int>::max()) {

@@ -14,6 +14,7 @@
 #include "estimation/ceres_linear_ls.h"
 #include "estimation/chi_square.h"
 #include "models/tilt_table.h"
+#include "simulation/random.h"
 #include "simulation/simulator.h"
 #include "test_support.h"
 
@@ -118,6 +119,92 @@ TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
       1e-11 * std::sqrt(whole.x().CenteredForceForce() * whole.x().CenteredResponseResponse()));
   EXPECT_NEAR(first.CenteredResponseResponse(), whole.x().CenteredResponseResponse(),
               1e-11 * whole.x().CenteredResponseResponse());
+}
+
+// A test long enough for several threads: the course's table turned over and over, with
+// noise, and a length that is not a multiple of the block.
+CalibrationTest LongTiltTest() {
+  const int size = 3 * CalibrationAccumulator::kParallelMinSamples + 1234;
+  CalibrationTest test;
+  RandomSource random(5);
+  for (int i = 0; i < size; ++i) {
+    const double theta = 0.3 + 40.0 * M_PI * i / size;  // 20 turns
+    double fx;
+    double fy;
+    TiltTableSpecificForce(theta, 0.0, 9.8, &fx, &fy);
+    test.theta_rad.push_back(theta);
+    test.measured_x.push_back(0.07 + (1 - 0.03) * fx + 0.5 * random.StandardNormal());
+    test.measured_y.push_back(-0.02 + (1 + 0.01) * fy + 0.8 * random.StandardNormal());
+  }
+  return test;
+}
+
+void ExpectSameStatistics(const AxisRegressionAccumulator& a, const AxisRegressionAccumulator& b) {
+  EXPECT_EQ(a.count(), b.count());
+  EXPECT_NEAR(a.MeanForce(), b.MeanForce(), 1e-12);
+  EXPECT_NEAR(a.MeanResponse(), b.MeanResponse(), 1e-12);
+  EXPECT_NEAR(a.CenteredForceForce(), b.CenteredForceForce(), 1e-12 * b.CenteredForceForce());
+  EXPECT_NEAR(a.CenteredForceResponse(), b.CenteredForceResponse(),
+              1e-12 * std::sqrt(b.CenteredForceForce() * b.CenteredResponseResponse()));
+  EXPECT_NEAR(a.CenteredResponseResponse(), b.CenteredResponseResponse(),
+              1e-12 * b.CenteredResponseResponse());
+}
+
+TEST(CalibrationAccumulator, ThreadedPassEqualsOnePassAndRepeatsBitForBit) {
+  const CalibrationTest test = LongTiltTest();
+  CalibrationAccumulator serial(9.8);
+  serial.AddTest(test);
+  for (const int threads : {2, 3, 7}) {
+    SCOPED_TRACE(threads);
+    CalibrationAccumulator threaded(9.8);
+    threaded.AddTest(test, threads);
+    ExpectSameStatistics(threaded.x(), serial.x());
+    ExpectSameStatistics(threaded.y(), serial.y());
+    EXPECT_EQ(threaded.theta_min_rad(), serial.theta_min_rad());
+    EXPECT_EQ(threaded.theta_max_rad(), serial.theta_max_rad());
+    CalibrationAccumulator again(9.8);
+    again.AddTest(test, threads);
+    EXPECT_EQ(again.x().CenteredForceResponse(), threaded.x().CenteredForceResponse());
+    EXPECT_EQ(again.y().CenteredResponseResponse(), threaded.y().CenteredResponseResponse());
+  }
+  // Too short to split: the one-thread pass, bit for bit.
+  CalibrationTest short_test = test;
+  short_test.theta_rad.resize(CalibrationAccumulator::kParallelMinSamples + 7);
+  short_test.measured_x.resize(short_test.theta_rad.size());
+  short_test.measured_y.resize(short_test.theta_rad.size());
+  CalibrationAccumulator one(9.8);
+  one.AddTest(short_test);
+  CalibrationAccumulator asked_for_two(9.8);
+  asked_for_two.AddTest(short_test, 2);
+  EXPECT_EQ(asked_for_two.x().CenteredForceForce(), one.x().CenteredForceForce());
+  EXPECT_EQ(asked_for_two.y().MeanResponse(), one.y().MeanResponse());
+}
+
+TEST(CalibrationAccumulator, MergeTakesTheAngleSpanAndIgnoresAnEmptySide) {
+  const CalibrationTest test = LongTiltTest();
+  CalibrationTest first;
+  CalibrationTest second;
+  for (int i = 0; i < 5000; ++i) {
+    CalibrationTest& part = i < 2000 ? first : second;
+    part.theta_rad.push_back(test.theta_rad[i]);
+    part.measured_x.push_back(test.measured_x[i]);
+    part.measured_y.push_back(test.measured_y[i]);
+  }
+  CalibrationAccumulator a(9.8);
+  a.AddTest(second);
+  CalibrationAccumulator b(9.8);
+  b.AddTest(first);
+  CalibrationAccumulator empty(9.8);
+  a.Merge(empty);
+  empty.Merge(b);
+  empty.Merge(a);  // first, then second, as one test
+  EXPECT_EQ(empty.theta_min_rad(), test.theta_rad[0]);
+  EXPECT_EQ(empty.theta_max_rad(), test.theta_rad[4999]);
+  CalibrationAccumulator whole(9.8);
+  for (int i = 0; i < 5000; ++i)
+    whole.Add(test.theta_rad[i], test.measured_x[i], test.measured_y[i]);
+  ExpectSameStatistics(empty.x(), whole.x());
+  ExpectSameStatistics(empty.y(), whole.y());
 }
 
 TEST(LinearLs, RecoversTheTruthWithinThreeSigma) {

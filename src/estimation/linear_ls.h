@@ -75,6 +75,17 @@ class CalibrationAccumulator {
   // several calls gives the same statistics bit for bit when every call but the last has a
   // multiple of kAddTestBlockSamples samples, and equal to rounding otherwise.
   void AddTest(const CalibrationTest& test);
+  // AddTest on up to `num_threads` threads, each over a contiguous part of the test that
+  // starts on a block boundary and holds at least kParallelMinSamples samples (starting a
+  // thread costs tens of microseconds), the parts then merged in order. The statistics
+  // equal AddTest's to rounding (each part's sums are taken about its own first sample),
+  // and are the same bit for bit for a given test and num_threads. When a thread cannot be
+  // started, its part runs on the calling thread.
+  void AddTest(const CalibrationTest& test, int num_threads);
+  static constexpr int kParallelMinSamples = 1 << 18;
+
+  // Adds another accumulator's samples (as if they followed this one's).
+  void Merge(const CalibrationAccumulator& other);
 
   const AxisRegressionAccumulator& x() const { return x_; }
   const AxisRegressionAccumulator& y() const { return y_; }
@@ -83,6 +94,10 @@ class CalibrationAccumulator {
   double theta_max_rad() const { return theta_max_rad_; }
 
  private:
+  // AddTest's work on `count` samples given as three arrays.
+  void AddSamples(const double* theta_rad, const double* measured_x, const double* measured_y,
+                  int count);
+
   double gravity_mps2_;
   AxisRegressionAccumulator x_;
   AxisRegressionAccumulator y_;

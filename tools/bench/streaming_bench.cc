@@ -1,11 +1,12 @@
 // The closed-form baseline at scale (issue 9, "Scale"), and the references its figures are
 // stated against:
 //
-//   BM_BaselineInMemory/N  CalibrationAccumulator::AddTest over a test held in memory
-//                          (24 bytes per sample: theta, m_x, m_y as doubles).
-//   BM_MemoryBandwidth/N   a plain pass summing the same three arrays, the same bytes: the
-//                          most any one-pass method could do on one core. The baseline's
-//                          bytes/s over this one's is the fraction of the limit it reaches.
+//   BM_BaselineInMemory/N/T  CalibrationAccumulator::AddTest over a test held in memory
+//                            (24 bytes per sample: theta, m_x, m_y as doubles), T threads.
+//   BM_MemoryBandwidth/N/T   a plain pass summing the same three arrays, the same bytes, on
+//                            T threads: the most any one-pass method could do on T cores.
+//                            The baseline's bytes/s over this one's is the fraction of the
+//                            limit it reaches.
 //   BM_ReadCsvFile/N       read(2) of a calibration.csv of N samples in 4 MiB chunks,
 //                          touching every byte: the same reference for the CSV path.
 //   BM_ParseCsv/N          the streaming reader (io/calibration_stream.h) on that file, the
@@ -41,6 +42,7 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "estimation/linear_ls.h"
@@ -103,10 +105,11 @@ void SetThroughput(benchmark::State& state, int64_t samples_per_iteration,
 
 void BM_BaselineInMemory(benchmark::State& state) {
   const int64_t sample_count = state.range(0);
+  const int threads = static_cast<int>(state.range(1));
   const CalibrationTest& test = InMemoryTest(sample_count);
   for (auto _ : state) {
     CalibrationAccumulator statistics(kGravity);
-    statistics.AddTest(test);
+    statistics.AddTest(test, threads);
     benchmark::DoNotOptimize(statistics);
   }
   SetThroughput(state, sample_count, sample_count * kBytesPerSample);
@@ -134,12 +137,32 @@ double SumArrays(const double* a, const double* b, const double* c, size_t n) {
   return total;
 }
 
+// SumArrays over `threads` contiguous parts at once, as AddTest splits the test (each part
+// on its own thread, the first on the calling one).
+double SumArraysThreaded(const CalibrationTest& test, int threads) {
+  const size_t size = test.theta_rad.size();
+  std::vector<double> totals(threads, 0.0);
+  const auto sum_part = [&](int part) {
+    const size_t begin = size * part / threads;
+    const size_t end = size * (part + 1) / threads;
+    totals[part] = SumArrays(test.theta_rad.data() + begin, test.measured_x.data() + begin,
+                             test.measured_y.data() + begin, end - begin);
+  };
+  std::vector<std::thread> workers;
+  for (int part = 1; part < threads; ++part) workers.emplace_back(sum_part, part);
+  sum_part(0);
+  for (std::thread& worker : workers) worker.join();
+  double total = 0.0;
+  for (double part_total : totals) total += part_total;
+  return total;
+}
+
 void BM_MemoryBandwidth(benchmark::State& state) {
   const int64_t sample_count = state.range(0);
+  const int threads = static_cast<int>(state.range(1));
   const CalibrationTest& test = InMemoryTest(sample_count);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(SumArrays(test.theta_rad.data(), test.measured_x.data(),
-                                       test.measured_y.data(), test.theta_rad.size()));
+    benchmark::DoNotOptimize(SumArraysThreaded(test, threads));
   }
   SetThroughput(state, sample_count, sample_count * kBytesPerSample);
 }
@@ -322,12 +345,18 @@ void BM_StreamCsv(benchmark::State& state) { StreamCsv(state, /*accumulate=*/tru
 void RegisterBenchmarks(int64_t max_samples) {
   for (const int64_t n : {20000LL, 100000LL, 1000000LL, 10000000LL, 100000000LL}) {
     if (n > max_samples) break;
-    benchmark::RegisterBenchmark("BM_BaselineInMemory", BM_BaselineInMemory)
-        ->Arg(n)
-        ->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark("BM_MemoryBandwidth", BM_MemoryBandwidth)
-        ->Arg(n)
-        ->Unit(benchmark::kMillisecond);
+    // Two threads only where AddTest splits the test (at least kParallelMinSamples each).
+    const int max_threads = n >= 2 * CalibrationAccumulator::kParallelMinSamples ? 2 : 1;
+    for (int threads = 1; threads <= max_threads; ++threads) {
+      benchmark::RegisterBenchmark("BM_BaselineInMemory", BM_BaselineInMemory)
+          ->Args({n, threads})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+      benchmark::RegisterBenchmark("BM_MemoryBandwidth", BM_MemoryBandwidth)
+          ->Args({n, threads})
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   }
   for (const int64_t n : {1000000LL, 10000000LL, 100000000LL}) {
     if (n > max_samples) break;
