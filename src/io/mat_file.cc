@@ -309,10 +309,15 @@ Status CheckMat4Integrity(const unsigned char* data, size_t size) {
     const int64_t cols = field(2);
     const int64_t imaginary = field(3);
     const int64_t name_bytes = field(4);
-    if (rows < 0 || cols < 0 || name_bytes < 1) {
+    // Neither dimension may exceed the file's bytes, even when the other is 0 (an empty
+    // 0 x 1.1e9 matrix made matio ask for 1.9 GB: mat_file_fuzzer's sixth finding), and
+    // imagf is a flag.
+    if (rows < 0 || cols < 0 || name_bytes < 1 || static_cast<uint64_t>(rows) > size ||
+        static_cast<uint64_t>(cols) > size || (imaginary != 0 && imaginary != 1)) {
       return Status::Error(where + " declares " + std::to_string(rows) + "x" +
-                           std::to_string(cols) + " values and a " + std::to_string(name_bytes) +
-                           "-byte name; the file is damaged");
+                           std::to_string(cols) + " values, imagf " + std::to_string(imaginary) +
+                           " and a " + std::to_string(name_bytes) + "-byte name in a " +
+                           std::to_string(size) + "-byte file; the file is damaged");
     }
     uint64_t left = remaining - kHeaderBytes;
     if (static_cast<uint64_t>(name_bytes) > left) {

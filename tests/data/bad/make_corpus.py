@@ -115,6 +115,8 @@ def main():
         f.write(v4[:16] + struct.pack("<i", 1413565728) + v4[20:])
     with open(path("ensayo_v4_huge_claim.mat"), "wb") as f:
         f.write(v4[:4] + struct.pack("<i", 10**9) + v4[8:])
+    with open(path("ensayo_v4_truncated.mat"), "wb") as f:
+        f.write(v4[: int(len(v4) * 0.6)])  # a copy interrupted at 60%
 
     # --- calibration.csv ---
     rows = number_rows(theta, datos[:, 0], datos[:, 1])
