@@ -129,12 +129,7 @@ Status StreamCalibration(const std::string& path, AngleUnit theta_unit, double g
           samples = CalibrationTest();
           return;
         }
-        samples.theta_rad.insert(samples.theta_rad.end(), batch.theta_rad.begin(),
-                                 batch.theta_rad.end());
-        samples.measured_x.insert(samples.measured_x.end(), batch.measured_x.begin(),
-                                  batch.measured_x.end());
-        samples.measured_y.insert(samples.measured_y.end(), batch.measured_y.begin(),
-                                  batch.measured_y.end());
+        samples.Append(batch);
       },
       nullptr);
 }

@@ -17,6 +17,13 @@ struct CalibrationTest {
   std::vector<double> measured_y;  // m_y, m/s^2
 
   int size() const { return static_cast<int>(theta_rad.size()); }
+
+  // Appends `more`'s samples after these (a test read or simulated in batches).
+  void Append(const CalibrationTest& more) {
+    theta_rad.insert(theta_rad.end(), more.theta_rad.begin(), more.theta_rad.end());
+    measured_x.insert(measured_x.end(), more.measured_x.begin(), more.measured_x.end());
+    measured_y.insert(measured_y.end(), more.measured_y.begin(), more.measured_y.end());
+  }
 };
 
 // The vehicle run: uniformly sampled outputs of both sensors.

@@ -268,15 +268,7 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
     CalibrationStreamOptions stream_options;
     stream_options.theta_unit = options.theta_unit;
     status = StreamCalibrationCsv(
-        path, stream_options,
-        [test](const CalibrationTest& batch) {
-          test->theta_rad.insert(test->theta_rad.end(), batch.theta_rad.begin(),
-                                 batch.theta_rad.end());
-          test->measured_x.insert(test->measured_x.end(), batch.measured_x.begin(),
-                                  batch.measured_x.end());
-          test->measured_y.insert(test->measured_y.end(), batch.measured_y.begin(),
-                                  batch.measured_y.end());
-        },
+        path, stream_options, [test](const CalibrationTest& batch) { test->Append(batch); },
         nullptr);
     if (!status.ok()) *test = CalibrationTest();
     return status;

@@ -87,11 +87,7 @@ const CalibrationTest& InMemoryTest(int64_t sample_count) {
       const int64_t count = std::min(kBlockSamples, sample_count - first);
       const CalibrationTest block =
           SimulateBlock(sample_count, first, count, static_cast<uint64_t>(first / kBlockSamples));
-      test->theta_rad.insert(test->theta_rad.end(), block.theta_rad.begin(), block.theta_rad.end());
-      test->measured_x.insert(test->measured_x.end(), block.measured_x.begin(),
-                              block.measured_x.end());
-      test->measured_y.insert(test->measured_y.end(), block.measured_y.begin(),
-                              block.measured_y.end());
+      test->Append(block);
     }
   }
   return *test;
