@@ -221,25 +221,6 @@ std::string CeresSkippedReason(const LinearLsReport& report) {
          " (it would hold them all with their residuals in memory)";
 }
 
-// LinearLsTable and LinearLsJson always describe the Ceres cross-check; when it was skipped,
-// its part is replaced by the reason.
-std::string Table(const LinearLsReport& report, const std::string& ceres_skipped) {
-  std::string table = LinearLsTable(report, FLAGS_v >= 1);
-  if (ceres_skipped.empty()) return table;
-  const size_t ceres_part = table.find("\n  closed form vs Ceres:");
-  if (ceres_part != std::string::npos) table.erase(ceres_part);
-  return table + "\n  closed form only; " + ceres_skipped + "\n";
-}
-
-nlohmann::json Json(const LinearLsReport& report, const std::string& ceres_skipped) {
-  nlohmann::json json = LinearLsJson(report);
-  if (ceres_skipped.empty()) return json;
-  json["solvers"].erase("ceres");
-  json["solvers"].erase("max_relative_difference");
-  json["solvers"]["ceres_skipped"] = ceres_skipped;
-  return json;
-}
-
 int Run(int argc, char** argv) {
   if (!InitProblem("linear_ls", kUsage, "problems/linear_ls", &argc, &argv)) return kExitBadInput;
   Status status = ValidateFlags();
@@ -256,10 +237,10 @@ int Run(int argc, char** argv) {
   status = Solve(test, options, calibration_name, &report);
   if (!status.ok()) return ExitWithError("linear_ls", status);
 
-  const std::string ceres_skipped = CeresSkippedReason(report);
-  std::cout << Table(report, ceres_skipped) << std::flush;
+  report.ceres_skipped = CeresSkippedReason(report);
+  std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
   if (!FLAGS_json.empty()) {
-    status = WriteJsonAtomically(FLAGS_json, Json(report, ceres_skipped)).WithContext("--json");
+    status = WriteJsonAtomically(FLAGS_json, LinearLsJson(report)).WithContext("--json");
     if (!status.ok()) return ExitWithError("linear_ls", status);
   }
   return 0;

@@ -86,6 +86,9 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
                          chi2.dof, chi2.chi2 / chi2.dof, chi2.p_value);
   }
 
+  if (!report.ceres_skipped.empty()) {
+    return text + "\n  closed form only; " + report.ceres_skipped + "\n";
+  }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
   text += StringPrintf(
       "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e "
@@ -115,6 +118,10 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
     json["simulation"] = {{"scenario", report.scenario_name},
                           {"seed", *report.simulation_seed},
                           {"truth", Named(*report.truth)}};
+  }
+  if (!report.ceres_skipped.empty()) {
+    json["solvers"] = {{"closed_form", FitJson(fit)}, {"ceres_skipped", report.ceres_skipped}};
+    return json;
   }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
   nlohmann::json ceres = FitJson(report.ceres.fit);
