@@ -99,15 +99,10 @@ Status ValidateFlags() {
 // The tilt test as the two solvers need it: the closed form its sufficient statistics, Ceres
 // its samples.
 struct TiltTest {
-  CalibrationTest samples;  // empty when not kept
-  bool samples_kept = true;
+  CalibrationTest samples;  // empty beyond --ceres_max_samples when streamed
   // Set when a CSV file was streamed; otherwise the statistics are taken from `samples`.
   std::optional<CalibrationAccumulator> streamed_statistics;
 };
-
-bool IsCsv(const std::string& path) {
-  return path.size() >= 4 && path.compare(path.size() - 4, 4, ".csv") == 0;
-}
 
 // One pass over the file: every batch goes into the statistics, and into `test->samples`
 // while they stay within --ceres_max_samples (beyond it they are dropped and freed).
@@ -116,17 +111,14 @@ Status StreamCalibration(const std::string& path, AngleUnit theta_unit, double g
   test->streamed_statistics.emplace(gravity_mps2);
   CalibrationAccumulator& statistics = *test->streamed_statistics;
   CalibrationTest& samples = test->samples;
-  const auto keep_limit = static_cast<size_t>(FLAGS_ceres_max_samples);
   CalibrationStreamOptions options;
   options.theta_unit = theta_unit;
   return StreamCalibrationCsv(
       path, options,
       [&](const CalibrationTest& batch) {
         statistics.AddTest(batch);
-        if (!test->samples_kept) return;
-        if (samples.theta_rad.size() + batch.theta_rad.size() > keep_limit) {
-          test->samples_kept = false;
-          samples = CalibrationTest();
+        if (statistics.x().count() > FLAGS_ceres_max_samples) {
+          if (samples.size() > 0) samples = CalibrationTest();
           return;
         }
         samples.Append(batch);
@@ -168,7 +160,7 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
   const Status conditions_status = LoadRunConditions(files.conditions, &conditions);
   options->gravity_mps2 =
       conditions_status.ok() ? ChooseGravity(conditions, FLAGS_g) : options->gravity_mps2;
-  if (IsCsv(files.calibration)) {
+  if (IsCsvPath(files.calibration)) {
     ACCELCAL_RETURN_IF_ERROR(
         StreamCalibration(files.calibration, load_options.theta_unit, options->gravity_mps2, test));
   } else {
@@ -182,6 +174,14 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
   options->noise_variance_y = conditions.noise_variance_y;
   report->input_files = {{"calibration", files.calibration}, {"conditions", files.conditions}};
   return Status::Ok();
+}
+
+// Why Ceres does not run on a test of `samples` samples, or "" when it does.
+std::string CeresSkippedReason(long long samples) {
+  if (samples <= FLAGS_ceres_max_samples) return "";
+  return "Ceres skipped: " + std::to_string(samples) +
+         " samples, more than --ceres_max_samples=" + std::to_string(FLAGS_ceres_max_samples) +
+         " (it would hold them all with their residuals in memory)";
 }
 
 Status Solve(const TiltTest& test, const LinearLsOptions& options,
@@ -205,20 +205,12 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options,
   report->noise_variance_y = options.noise_variance_y;
   report->theta_min_rad = statistics.theta_min_rad();
   report->theta_max_rad = statistics.theta_max_rad();
-  if (!test.samples_kept || statistics.x().count() > FLAGS_ceres_max_samples) return Status::Ok();
+  report->ceres_skipped = CeresSkippedReason(report->closed_form.sample_count);
+  if (!report->ceres_skipped.empty()) return Status::Ok();
   CeresLinearLsOptions ceres_options;
   ceres_options.model = options;
   ceres_options.num_threads = FLAGS_num_threads;
   return EstimateLinearLsWithCeres(test.samples, ceres_options, &report->ceres);
-}
-
-// Why Ceres did not run, or "" when it did.
-std::string CeresSkippedReason(const LinearLsReport& report) {
-  const int samples = report.closed_form.sample_count;
-  if (samples <= FLAGS_ceres_max_samples) return "";
-  return "Ceres skipped: " + std::to_string(samples) +
-         " samples, more than --ceres_max_samples=" + std::to_string(FLAGS_ceres_max_samples) +
-         " (it would hold them all with their residuals in memory)";
 }
 
 int Run(int argc, char** argv) {
@@ -237,7 +229,6 @@ int Run(int argc, char** argv) {
   status = Solve(test, options, calibration_name, &report);
   if (!status.ok()) return ExitWithError("linear_ls", status);
 
-  report.ceres_skipped = CeresSkippedReason(report);
   std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
   if (!FLAGS_json.empty()) {
     status = WriteJsonAtomically(FLAGS_json, LinearLsJson(report)).WithContext("--json");

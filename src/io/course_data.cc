@@ -196,6 +196,8 @@ Status ApplyThetaUnit(AngleUnit unit, CalibrationTest* test) {
 
 }  // namespace
 
+bool IsCsvPath(const std::string& path) { return HasExtension(path, ".csv"); }
+
 // A tilt test never needs more than two turns, while any test wider than 12.6 degrees spans
 // more than 4*pi when its degrees are read as radians, so kAuto refuses such a span instead
 // of fitting a wrong model silently.
@@ -262,7 +264,7 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
   *test = CalibrationTest();
   std::vector<std::string> file_notes;
   Status status;
-  if (HasExtension(path, ".csv")) {
+  if (IsCsvPath(path)) {
     // The streaming reader, so that a CSV test is read by one code path whether it is kept
     // or only accumulated; it applies the angle unit and names the file itself.
     CalibrationStreamOptions stream_options;
@@ -283,7 +285,7 @@ Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std:
   *run = VehicleRun();
   std::vector<std::string> file_notes;
   Status status;
-  if (HasExtension(path, ".csv")) {
+  if (IsCsvPath(path)) {
     CsvTable table;
     status = ReadCsvFile(path, kRunColumns, &table);
     if (status.ok()) {
@@ -302,7 +304,7 @@ Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std:
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) {
   landmarks->clear();
   Status status;
-  if (HasExtension(path, ".csv")) {
+  if (IsCsvPath(path)) {
     CsvTable table;
     status = ReadCsvFile(path, kLandmarkColumns, &table);
     for (int i = 0; status.ok() && i < table.row_count; ++i) {

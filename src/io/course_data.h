@@ -64,6 +64,9 @@ struct LoadOptions {
 // pass.
 Status CheckThetaSpan(AngleUnit unit, double theta_min, double theta_max, long long sample_count);
 
+// Whether the loaders read `path` as CSV (it ends in ".csv"); anything else is read as .mat.
+bool IsCsvPath(const std::string& path);
+
 // Each loader refuses what it cannot read correctly. What it reads correctly but a person
 // should hear about (a 2xN matrix read as its transpose) goes to `notes`, one line each
 // starting with the file name, when `notes` is not null.
