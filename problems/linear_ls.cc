@@ -141,8 +141,7 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     report->scenario_name = scenario.name;
     Eigen::Vector4d truth;
     for (int i = 0; i < kBaselineParameterCount; ++i) {
-      truth[i] = ParameterValue(scenario.truth.parameters,
-                                FindParameter(kBaselineParameterNames[i])->parameter);
+      truth[i] = scenario.truth.parameters[FindParameter(kBaselineParameterNames[i])->parameter];
     }
     report->truth = truth;
     return Status::Ok();

@@ -81,7 +81,7 @@ std::string Summary(const Scenario& scenario, const SimulatedData& data) {
   text += StringPrintf("  vehicle run  %d samples, dt %g s\n", data.run.size(), scenario.run.dt_s);
   text += "  truth       ";
   for (const ParameterInfo& info : ParameterCatalogue()) {
-    const double value = ParameterValue(scenario.truth.parameters, info.parameter);
+    const double value = scenario.truth.parameters[info.parameter];
     if (value != info.neutral) text += StringPrintf(" %s=%g", info.name, value);
   }
   text += StringPrintf("\n  endpoint     true (%.3f, %.3f) m; nearest landmark %s at %.3g m\n",

@@ -30,12 +30,12 @@ namespace {
 SimulationTruth EveryEffectTruth() {
   SimulationTruth truth = CourseTableOneTruth();
   ModelParameters<double>& p = truth.parameters;
-  p.angle_offset = 0.003;
-  p.sensor.nonorthogonality = -0.002;
-  p.sensor.x.bias_drift = 0.05;
-  p.sensor.y.bias_drift = -0.04;
-  p.sensor.x.scale_nonlinearity = 0.001;
-  p.sensor.y.scale_nonlinearity = -0.0015;
+  p[Parameter::kAngleOffset] = 0.003;
+  p[Parameter::kNonorthogonality] = -0.002;
+  p[Parameter::kBiasDriftX] = 0.05;
+  p[Parameter::kBiasDriftY] = -0.04;
+  p[Parameter::kScaleNonlinearityX] = 0.001;
+  p[Parameter::kScaleNonlinearityY] = -0.0015;
   return truth;
 }
 
@@ -48,14 +48,13 @@ TEST(CalibrationResidual, IsZeroAtTheTrueParametersOfTheFullModel) {
   const ModelParameters<double>& p = truth.parameters;
   for (int i = 0; i < test.size(); i += 7) {
     for (const SensingAxis axis : {SensingAxis::kX, SensingAxis::kY}) {
-      const AxisErrors<double>& e = axis == SensingAxis::kX ? p.sensor.x : p.sensor.y;
       const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::Create(
           test.theta_rad[i], axis == SensingAxis::kX ? test.measured_x[i] : test.measured_y[i],
           axis, DriftCoordinate(i, test.size()), 9.8, 0.5));
-      const double* blocks[] = {&e.bias,       &e.scale,        &e.scale_nonlinearity,
-                                &e.bias_drift, &p.angle_offset, &p.sensor.nonorthogonality};
+      const std::vector<const double*> blocks =
+          testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
       double residual = 1.0;
-      ASSERT_TRUE(cost->Evaluate(blocks, &residual, nullptr));
+      ASSERT_TRUE(cost->Evaluate(blocks.data(), &residual, nullptr));
       EXPECT_NEAR(residual, 0.0, 1e-12);
     }
   }
@@ -64,6 +63,7 @@ TEST(CalibrationResidual, IsZeroAtTheTrueParametersOfTheFullModel) {
 // The compressed block's sum of squares and J^T J equal the per-sample residuals' at any
 // parameters, far from the reference too, and for a rank-deficient two-position design.
 TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAnywhere) {
+  constexpr int kP = CalibrationResidual::kBlockCount;
   const SimulationTruth truth = EveryEffectTruth();
   for (const bool two_positions : {false, true}) {
     SCOPED_TRACE(two_positions ? "two positions" : "uniform");
@@ -74,9 +74,11 @@ TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAny
       schedule.positions_rad = {0.5, 2.0};
     }
     const CalibrationTest test = SimulateTiltTest(schedule, truth, 3);
-    CompressedCalibrationResidual::Parameters reference[2];
-    reference[0] << 0.07, -0.03, 0.0, 0.0, 0.0, 0.0;  // a baseline fit's neighbourhood
-    reference[1] << -0.02, 0.01, 0.0, 0.0, 0.0, 0.0;
+    ModelParameters<double> reference;  // a baseline fit's neighbourhood
+    reference[Parameter::kBiasX] = 0.07;
+    reference[Parameter::kScaleX] = -0.03;
+    reference[Parameter::kBiasY] = -0.02;
+    reference[Parameter::kScaleY] = 0.01;
     const double sigmas[2] = {0.5, 0.8};
     std::unique_ptr<CompressedCalibrationResidual> functors[2];
     ASSERT_TRUE(CompressedCalibrationResidual::Make(test, 9.8, sigmas, reference, functors).ok());
@@ -86,32 +88,37 @@ TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAny
           CompressedCalibrationResidual::Create(functors[a].release()));
       RandomSource rng(7);
       for (int trial = 0; trial < 5; ++trial) {
-        CompressedCalibrationResidual::Parameters p = reference[a];
-        for (int k = 0; k < 6; ++k) p[k] += 0.01 * rng.StandardNormal() * (k == 2 ? 0.1 : 1.0);
-        const double* blocks[] = {&p[0], &p[1], &p[2], &p[3], &p[4], &p[5]};
+        ModelParameters<double> p = reference;
+        for (const Parameter parameter : CalibrationResidual::Blocks(axis)) {
+          const bool nonlinearity = EffectOf(parameter).force_degree == 2;
+          p[parameter] += 0.01 * rng.StandardNormal() * (nonlinearity ? 0.1 : 1.0);
+        }
+        const std::vector<const double*> pointers =
+            testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
+        const double* const* blocks = pointers.data();
         double per_sample_sum = 0.0;
-        Eigen::Matrix<double, 6, 6> per_sample_information = Eigen::Matrix<double, 6, 6>::Zero();
+        Eigen::Matrix<double, kP, kP> per_sample_information = Eigen::Matrix<double, kP, kP>::Zero();
         for (int i = 0; i < test.size(); ++i) {
           const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::Create(
               test.theta_rad[i], axis == SensingAxis::kX ? test.measured_x[i] : test.measured_y[i],
               axis, DriftCoordinate(i, test.size()), 9.8, sigmas[a]));
           double residual;
-          double jacobian_storage[6];
-          double* jacobians[6];
-          for (int k = 0; k < 6; ++k) jacobians[k] = &jacobian_storage[k];
+          double jacobian_storage[kP];
+          double* jacobians[kP];
+          for (int k = 0; k < kP; ++k) jacobians[k] = &jacobian_storage[k];
           ASSERT_TRUE(cost->Evaluate(blocks, &residual, jacobians));
-          const Eigen::Map<const Eigen::Matrix<double, 6, 1>> row(jacobian_storage);
+          const Eigen::Map<const Eigen::Matrix<double, kP, 1>> row(jacobian_storage);
           per_sample_sum += residual * residual;
           per_sample_information += row * row.transpose();
         }
         double residuals[7];
-        double jacobian_storage[6][7];
-        double* jacobians[6];
-        for (int k = 0; k < 6; ++k) jacobians[k] = jacobian_storage[k];
+        double jacobian_storage[kP][7];
+        double* jacobians[kP];
+        for (int k = 0; k < kP; ++k) jacobians[k] = jacobian_storage[k];
         ASSERT_TRUE(compressed->Evaluate(blocks, residuals, jacobians));
         const Eigen::Map<const Eigen::Matrix<double, 7, 1>> r(residuals);
-        Eigen::Matrix<double, 7, 6> jacobian;
-        for (int k = 0; k < 6; ++k) {
+        Eigen::Matrix<double, 7, kP> jacobian;
+        for (int k = 0; k < kP; ++k) {
           jacobian.col(k) = Eigen::Map<const Eigen::Matrix<double, 7, 1>>(jacobian_storage[k]);
         }
         EXPECT_NEAR(r.squaredNorm(), per_sample_sum, 1e-10 * per_sample_sum);
@@ -129,13 +136,13 @@ TEST(CalibrationResidual, GradientCheckerAgreesWithAutodiff) {
         CalibrationResidual::Create(2.1, -3.0, axis, 0.3, 9.8, 0.5));
     const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
     ceres::GradientChecker checker(cost.get(), no_manifolds, ceres::NumericDiffOptions());
-    const AxisErrors<double>& e = axis == SensingAxis::kX ? p.sensor.x : p.sensor.y;
-    const double* blocks[] = {&e.bias,       &e.scale,        &e.scale_nonlinearity,
-                              &e.bias_drift, &p.angle_offset, &p.sensor.nonorthogonality};
+    const std::vector<const double*> blocks = testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
     ceres::GradientChecker::ProbeResults results;
-    EXPECT_TRUE(checker.Probe(blocks, 1e-8, &results)) << results.error_log;
+    EXPECT_TRUE(checker.Probe(blocks.data(), 1e-8, &results)) << results.error_log;
   }
 }
+
+constexpr int kE = EndpointResidual::kBlockCount;
 
 struct RunCase {
   VehicleRun run;
@@ -150,31 +157,22 @@ RunCase MakeRunCase() {
   const SimulatedData data = SimulateScenario(scenario, 3);
   RunCase c{data.run, data.conditions, ParameterEstimate()};
   ModelParameters<double>& v = c.estimate.values;
-  v.sensor.x.bias = 0.07;
-  v.sensor.x.scale = -0.03;
-  v.sensor.x.scale_nonlinearity = 0.002;
-  v.sensor.x.run_bias_shift = 0.01;
-  v.sensor.y.bias = -0.02;
-  v.sensor.y.scale = 0.01;
-  v.sensor.y.scale_nonlinearity = -0.001;
-  v.sensor.y.run_bias_shift = -0.02;
-  v.sensor.nonorthogonality = 0.004;
+  v[Parameter::kBiasX] = 0.07;
+  v[Parameter::kScaleX] = -0.03;
+  v[Parameter::kScaleNonlinearityX] = 0.002;
+  v[Parameter::kRunBiasShiftX] = 0.01;
+  v[Parameter::kBiasY] = -0.02;
+  v[Parameter::kScaleY] = 0.01;
+  v[Parameter::kScaleNonlinearityY] = -0.001;
+  v[Parameter::kRunBiasShiftY] = -0.02;
+  v[Parameter::kNonorthogonality] = 0.004;
   c.estimate.free = {Parameter::kBiasX};
   c.estimate.covariance = Eigen::MatrixXd::Identity(1, 1) * 1e-6;
   return c;
 }
 
 const double* EndpointBlocks(const ModelParameters<double>& v, int i) {
-  const double* blocks[] = {&v.sensor.x.bias,
-                            &v.sensor.x.scale,
-                            &v.sensor.x.scale_nonlinearity,
-                            &v.sensor.x.run_bias_shift,
-                            &v.sensor.y.bias,
-                            &v.sensor.y.scale,
-                            &v.sensor.y.scale_nonlinearity,
-                            &v.sensor.y.run_bias_shift,
-                            &v.sensor.nonorthogonality};
-  return blocks[i];
+  return &v[EndpointResidual::kBlocks[i]];
 }
 
 TEST(EndpointResidual, IsTheDeadReckoningRecursionWhitened) {
@@ -188,8 +186,8 @@ TEST(EndpointResidual, IsTheDeadReckoningRecursionWhitened) {
   const std::unique_ptr<ceres::CostFunction> cost(EndpointResidual::Create(
       new EndpointResidual(c.run.measured_x, c.run.measured_y, 0.01, Eigen::Vector2d(0, 0),
                            Eigen::Vector2d(1, 3), landmark, covariance, 0.0)));
-  const double* blocks[9];
-  for (int i = 0; i < 9; ++i) blocks[i] = EndpointBlocks(c.estimate.values, i);
+  const double* blocks[kE];
+  for (int i = 0; i < kE; ++i) blocks[i] = EndpointBlocks(c.estimate.values, i);
   double residual[2];
   ASSERT_TRUE(cost->Evaluate(blocks, residual, nullptr));
   EXPECT_NEAR(residual[0], -3.0 / 3.0, 1e-8);  // (p - landmark) / sigma
@@ -207,18 +205,18 @@ TEST(EndpointResidual, JacobianMatchesCentralDifferences) {
   const std::unique_ptr<ceres::CostFunction> cost(EndpointResidual::Create(
       new EndpointResidual(c.run.measured_x, c.run.measured_y, 0.01, Eigen::Vector2d(0, 0),
                            Eigen::Vector2d(1, 3), Eigen::Vector2d(100, 50), covariance, 2.0)));
-  double values[9];
-  const double* blocks[9];
-  for (int i = 0; i < 9; ++i) {
+  double values[kE];
+  const double* blocks[kE];
+  for (int i = 0; i < kE; ++i) {
     values[i] = *EndpointBlocks(c.estimate.values, i);
     blocks[i] = &values[i];
   }
   double residual[2];
-  double jacobian_storage[9][2];
-  double* jacobians[9];
-  for (int i = 0; i < 9; ++i) jacobians[i] = jacobian_storage[i];
+  double jacobian_storage[kE][2];
+  double* jacobians[kE];
+  for (int i = 0; i < kE; ++i) jacobians[i] = jacobian_storage[i];
   ASSERT_TRUE(cost->Evaluate(blocks, residual, jacobians));
-  for (int i = 0; i < 9; ++i) {
+  for (int i = 0; i < kE; ++i) {
     const double step = 1e-7;
     double plus[2];
     double minus[2];
@@ -451,7 +449,7 @@ TEST(SolveJoint, ARobustLossResistsOutliersThatBiasThePlainFit) {
   // 1% x 10 = 0.1 m/s^2 (about 12 sigma of bias_x); Huber keeps a known bias of about
   // contamination x scale x sigma = 0.01 x 1.345 x 0.5 (under 1 sigma); Cauchy less.
   for (int i = 0; i < data.test.size(); i += 100) data.test.measured_x[i] += 10.0;
-  const double truth = scenario.truth.parameters.sensor.x.bias;
+  const double truth = scenario.truth.parameters[Parameter::kBiasX];
   JointOptions options = JointFor(data.conditions);
   options.landmark_mode = JointOptions::Landmark::kNone;
   JointResult plain;
@@ -492,7 +490,7 @@ TEST_P(JointEffectRecoveryTest, RecoversTheEffectWithAnHonestSigma) {
                          options, &first)
                   .ok());
   const double size = 6.0 * first.estimate.StandardDeviation(effect);
-  ParameterValue(&scenario.truth.parameters, effect) = size;
+  scenario.truth.parameters[effect] = size;
 
   const int trials = 200;
   std::vector<double> estimates(trials);

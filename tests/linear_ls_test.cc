@@ -30,8 +30,9 @@ LinearLsOptions OptionsFor(const SimulationTruth& truth) {
 }
 
 Eigen::Vector4d TruthVector(const SimulationTruth& truth) {
-  const SensorErrors<double>& sensor = truth.parameters.sensor;
-  return Eigen::Vector4d(sensor.x.bias, sensor.x.scale, sensor.y.bias, sensor.y.scale);
+  const ModelParameters<double>& p = truth.parameters;
+  return Eigen::Vector4d(p[Parameter::kBiasX], p[Parameter::kScaleX], p[Parameter::kBiasY],
+                         p[Parameter::kScaleY]);
 }
 
 // Independent reference: the normal equations of one axis solved in long double.
@@ -40,7 +41,7 @@ Eigen::Vector2d BatchAxisSolution(const CalibrationTest& test, bool x_axis) {
   for (int i = 0; i < test.size(); ++i) {
     double fx;
     double fy;
-    TiltTableSpecificForce(test.theta_rad[i], 0.0, 9.8, &fx, &fy);
+    TiltTableSpecificForce(test.theta_rad[i], 9.8, &fx, &fy);
     const long double f = x_axis ? fx : fy;
     const long double y = (x_axis ? test.measured_x[i] : test.measured_y[i]) - f;
     n += 1;
@@ -106,7 +107,7 @@ TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
   for (int i = 0; i < test.size(); ++i) {
     double fx;
     double fy;
-    TiltTableSpecificForce(test.theta_rad[i], 0.0, 9.8, &fx, &fy);
+    TiltTableSpecificForce(test.theta_rad[i], 9.8, &fx, &fy);
     (i < 700 ? first : second).Add(fx, test.measured_x[i] - fx);
   }
   first.Merge(second);
@@ -131,7 +132,7 @@ CalibrationTest LongTiltTest() {
     const double theta = 0.3 + 40.0 * M_PI * i / size;  // 20 turns
     double fx;
     double fy;
-    TiltTableSpecificForce(theta, 0.0, 9.8, &fx, &fy);
+    TiltTableSpecificForce(theta, 9.8, &fx, &fy);
     test.theta_rad.push_back(theta);
     test.measured_x.push_back(0.07 + (1 - 0.03) * fx + 0.5 * random.StandardNormal());
     test.measured_y.push_back(-0.02 + (1 + 0.01) * fy + 0.8 * random.StandardNormal());
@@ -285,7 +286,7 @@ TEST(LinearLs, ChiSquareFollowsItsDistributionUnderTheStatedNoise) {
 
 TEST(LinearLs, WrongStatedVarianceShowsInChiSquare) {
   SimulationTruth truth = CourseTableOneTruth();
-  truth.parameters.noise_variance_ratio_x = 2.0;  // twice the stated variance
+  truth.parameters[Parameter::kNoiseVarianceX] = 2.0;  // twice the stated variance
   const CalibrationTest test = SimulateTiltTest(TiltSchedule(), truth, 5);
   LinearLsOptions options = OptionsFor(truth);
   BaselineFit fit;

@@ -17,11 +17,8 @@ namespace {
 double NoiselessOutput(double theta, SensingAxis axis, double bias, double scale) {
   double fx;
   double fy;
-  TiltTableSpecificForce(theta, 0.0, 9.8, &fx, &fy);
-  AxisErrors<double> errors;
-  errors.bias = bias;
-  errors.scale = scale;
-  return AxisOutput(axis == SensingAxis::kX ? fx : fy, errors, 0.0, Phase::kCalibrationTest);
+  TiltTableSpecificForce(theta, 9.8, &fx, &fy);
+  return (1.0 + scale) * (axis == SensingAxis::kX ? fx : fy) + bias;
 }
 
 TEST(BaselineCalibrationResidual, IsZeroAtTrueParameters) {

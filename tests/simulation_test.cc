@@ -111,8 +111,8 @@ TEST(Scenario, OverridesSetEffectsAndSettingsByName) {
   ASSERT_TRUE(ApplyScenarioOverrides(
                   "angle_offset=0.004,bias_drift_x=0.1,tilt_samples=101,gravity=9.81", &scenario)
                   .ok());
-  EXPECT_EQ(scenario.truth.parameters.angle_offset, 0.004);
-  EXPECT_EQ(scenario.truth.parameters.sensor.x.bias_drift, 0.1);
+  EXPECT_EQ(scenario.truth.parameters[Parameter::kAngleOffset], 0.004);
+  EXPECT_EQ(scenario.truth.parameters[Parameter::kBiasDriftX], 0.1);
   EXPECT_EQ(scenario.tilt.sample_count, 101);
   EXPECT_EQ(scenario.truth.gravity_mps2, 9.81);
   EXPECT_NE(
@@ -215,9 +215,10 @@ TEST(Simulate, WrittenCourseLayoutReadsBackLikeTheCourseFilesAndRecoversTheTruth
     options.noise_variance_y = conditions.noise_variance_y;
     BaselineFit fit;
     ASSERT_TRUE(EstimateLinearLs(test, options, &fit).ok());
-    const SensorErrors<double>& truth = scenario.truth.parameters.sensor;
+    const ModelParameters<double>& truth = scenario.truth.parameters;
     const Eigen::Vector4d z =
-        (fit.parameters - Eigen::Vector4d(truth.x.bias, truth.x.scale, truth.y.bias, truth.y.scale))
+        (fit.parameters - Eigen::Vector4d(truth[Parameter::kBiasX], truth[Parameter::kScaleX],
+                                          truth[Parameter::kBiasY], truth[Parameter::kScaleY]))
             .cwiseQuotient(fit.StandardDeviations());
     EXPECT_LT(z.cwiseAbs().maxCoeff(), 3.0) << z.transpose();
   }
@@ -286,7 +287,7 @@ std::vector<Signature> Signatures() {
 TEST_P(EffectSignatureTest, ShowsInTheBaselineResidualAsPredicted) {
   const Signature signature = Signatures()[GetParam()];
   SimulationTruth truth = CourseTableOneTruth();
-  ParameterValue(&truth.parameters, FindParameter(signature.effect)->parameter) = signature.size;
+  truth.parameters[FindParameter(signature.effect)->parameter] = signature.size;
   TiltSchedule schedule;
   schedule.sample_count = 20001;
   const CalibrationTest test = SimulateTiltTest(schedule, truth, 31);
@@ -302,7 +303,7 @@ TEST_P(EffectSignatureTest, ShowsInTheBaselineResidualAsPredicted) {
     for (int i = 0; i < test.size(); ++i) {
       double fx;
       double fy;
-      TiltTableSpecificForce(test.theta_rad[i], 0.0, 9.8, &fx, &fy);
+      TiltTableSpecificForce(test.theta_rad[i], 9.8, &fx, &fy);
       const double residual =
           x_axis
               ? test.measured_x[i] - ((1 + fit.parameters[kScaleX]) * fx + fit.parameters[kBiasX])
@@ -328,8 +329,8 @@ INSTANTIATE_TEST_SUITE_P(EveryCalibrationEffect, EffectSignatureTest, ::testing:
 
 TEST(EffectSignature, RunBiasShiftLeavesTheTestAloneAndNoiseRatioScalesChiSquare) {
   SimulationTruth truth = CourseTableOneTruth();
-  truth.parameters.sensor.x.run_bias_shift = 0.5;
-  truth.parameters.noise_variance_ratio_y = 1.5;
+  truth.parameters[Parameter::kRunBiasShiftX] = 0.5;
+  truth.parameters[Parameter::kNoiseVarianceY] = 1.5;
   TiltSchedule schedule;
   schedule.sample_count = 20001;
   const CalibrationTest with_effects = SimulateTiltTest(schedule, truth, 5);
@@ -346,7 +347,7 @@ TEST(EffectSignature, RunBiasShiftLeavesTheTestAloneAndNoiseRatioScalesChiSquare
   const std::vector<double> a = {1.0, 2.0, 3.0};
   const VehicleRun shifted = SimulateVehicleRun(t, a, a, truth, 8);
   SimulationTruth no_shift = truth;
-  no_shift.parameters.sensor.x.run_bias_shift = 0.0;
+  no_shift.parameters[Parameter::kRunBiasShiftX] = 0.0;
   const VehicleRun plain = SimulateVehicleRun(t, a, a, no_shift, 8);
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(shifted.measured_x[j] - plain.measured_x[j], 0.5, 1e-12);
 }

@@ -11,14 +11,27 @@
 #include <unistd.h>
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
+
+#include "models/effects.h"
 
 namespace accelcal {
 namespace testing {
+
+// Pointers to the values of `layout`'s parameters: a residual's blocks for Evaluate.
+template <size_t N>
+std::vector<const double*> BlockPointers(const std::array<Parameter, N>& layout,
+                                         const ModelParameters<double>& values) {
+  std::vector<const double*> pointers;
+  for (const Parameter parameter : layout) pointers.push_back(&values[parameter]);
+  return pointers;
+}
 
 template <typename A, typename B>
 ::testing::AssertionResult EigenNear(const Eigen::MatrixBase<A>& actual,

@@ -134,11 +134,11 @@ TEST(DeadReckon, JacobianOfEveryRunParameterMatchesFiniteDifferences) {
   }
   estimate.covariance =
       Eigen::MatrixXd::Identity(estimate.free.size(), estimate.free.size()) * 1e-8;
-  estimate.values.sensor.x.bias = 0.07;
-  estimate.values.sensor.x.scale = -0.03;
-  estimate.values.sensor.x.scale_nonlinearity = 0.002;
-  estimate.values.sensor.y.run_bias_shift = 0.01;
-  estimate.values.sensor.nonorthogonality = 0.003;
+  estimate.values[Parameter::kBiasX] = 0.07;
+  estimate.values[Parameter::kScaleX] = -0.03;
+  estimate.values[Parameter::kScaleNonlinearityX] = 0.002;
+  estimate.values[Parameter::kRunBiasShiftY] = 0.01;
+  estimate.values[Parameter::kNonorthogonality] = 0.003;
   TrajectoryOptions options;
   options.path_stride = 1 << 20;
   DeadReckoningResult result;
@@ -148,8 +148,8 @@ TEST(DeadReckon, JacobianOfEveryRunParameterMatchesFiniteDifferences) {
     const double step = 1e-6;
     ParameterEstimate plus = estimate;
     ParameterEstimate minus = estimate;
-    ParameterValue(&plus.values, estimate.free[c]) += step;
-    ParameterValue(&minus.values, estimate.free[c]) -= step;
+    plus.values[estimate.free[c]] += step;
+    minus.values[estimate.free[c]] -= step;
     DeadReckoningResult up;
     DeadReckoningResult down;
     ASSERT_TRUE(DeadReckon(run, conditions, plus, options, &up).ok());

@@ -11,10 +11,6 @@
 namespace accelcal {
 namespace {
 
-bool IsRunShift(Parameter parameter) {
-  return parameter == Parameter::kRunBiasShiftX || parameter == Parameter::kRunBiasShiftY;
-}
-
 double TotalChi2(const JointResult& result) {
   return result.chi2_x + result.chi2_y + result.chi2_endpoint;
 }
@@ -31,7 +27,7 @@ Status MostProbableLandmark(const CalibrationTest& test, const VehicleRun& run,
   options.landmark_mode = JointOptions::Landmark::kNone;
   std::vector<Parameter> calibration_effects;
   for (const Parameter effect : options.effects) {
-    if (!IsRunShift(effect)) calibration_effects.push_back(effect);
+    if (!ActsOnlyInRun(effect)) calibration_effects.push_back(effect);
   }
   options.effects = calibration_effects;
   JointResult free_run;
@@ -125,8 +121,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   }
   // The endpoint against the landmarks, with the noise the data show.
   ParameterEstimate noise_scaled = baseline;
-  noise_scaled.values.noise_variance_ratio_x = result->noise_variance_used[0] / stated[0];
-  noise_scaled.values.noise_variance_ratio_y = result->noise_variance_used[1] / stated[1];
+  noise_scaled.values[Parameter::kNoiseVarianceX] = result->noise_variance_used[0] / stated[0];
+  noise_scaled.values[Parameter::kNoiseVarianceY] = result->noise_variance_used[1] / stated[1];
   TrajectoryOptions trajectory;
   trajectory.path_stride = run.size();
   ACCELCAL_RETURN_IF_ERROR(
@@ -171,11 +167,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   const double log_n = std::log(2.0 * test.size() + (result->tied_landmark.empty() ? 0 : 2));
   std::vector<Parameter> remaining;
   for (const ParameterInfo& info : ParameterCatalogue()) {
-    if (info.baseline || info.parameter == Parameter::kNoiseVarianceX ||
-        info.parameter == Parameter::kNoiseVarianceY) {
-      continue;
-    }
-    if (IsRunShift(info.parameter) && result->tied_landmark.empty()) continue;
+    if (info.baseline || IsNoiseRatio(info.parameter)) continue;
+    if (ActsOnlyInRun(info.parameter) && result->tied_landmark.empty()) continue;
     remaining.push_back(info.parameter);
   }
   for (int step = 1;
@@ -213,7 +206,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     current = refit;
     remaining.erase(remaining.begin() + best);
     // The grown model may point at another landmark; tie the run to it from now on.
-    if (!IsRunShift(effect.effect) && joint.landmark_mode == JointOptions::Landmark::kNamed) {
+    if (!ActsOnlyInRun(effect.effect) && joint.landmark_mode == JointOptions::Landmark::kNamed) {
       std::string tie;
       ACCELCAL_RETURN_IF_ERROR(
           MostProbableLandmark(test, run, conditions, landmarks, joint, options.alpha, &tie));
@@ -229,7 +222,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   }
   result->extended = current;
   for (DiscoveredEffect& effect : result->effects) {
-    if (effect.effect == Parameter::kNoiseVarianceX || effect.effect == Parameter::kNoiseVarianceY)
+    if (IsNoiseRatio(effect.effect))
       continue;
     effect.estimate = current.estimate.Value(effect.effect);
     effect.stddev = current.estimate.StandardDeviation(effect.effect);
@@ -261,7 +254,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     // Only the parameters the tilt test sees are refitted per fold.
     std::vector<int> columns;
     for (size_t c = 0; c < current.estimate.free.size(); ++c) {
-      if (!IsRunShift(current.estimate.free[c])) columns.push_back(static_cast<int>(c));
+      if (!ActsOnlyInRun(current.estimate.free[c])) columns.push_back(static_cast<int>(c));
     }
     Eigen::MatrixXd calibration(calibration_rows, columns.size());
     for (size_t c = 0; c < columns.size(); ++c)

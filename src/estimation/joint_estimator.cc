@@ -20,14 +20,6 @@
 namespace accelcal {
 namespace {
 
-bool IsNoiseRatio(Parameter parameter) {
-  return parameter == Parameter::kNoiseVarianceX || parameter == Parameter::kNoiseVarianceY;
-}
-
-bool IsRunShift(Parameter parameter) {
-  return parameter == Parameter::kRunBiasShiftX || parameter == Parameter::kRunBiasShiftY;
-}
-
 std::unique_ptr<ceres::LossFunction> MakeLoss(const JointOptions& options) {
   if (options.loss == "huber") return std::make_unique<ceres::HuberLoss>(options.loss_scale);
   if (options.loss == "cauchy") return std::make_unique<ceres::CauchyLoss>(options.loss_scale);
@@ -61,24 +53,20 @@ class JointProblem {
   Status Build(const Landmark* landmark, const std::vector<Parameter>& free,
                ModelParameters<double>* values, ceres::Problem* problem, Groups* groups,
                bool compress) {
-    auto block = [&](Parameter parameter) { return &ParameterValue(values, parameter); };
-    auto is_free = [&](Parameter parameter) {
-      return std::find(free.begin(), free.end(), parameter) != free.end();
+    // The residuals' parameter blocks are the catalogue's values, in each residual's order.
+    auto blocks = [&](const auto& parameters) {
+      std::vector<double*> pointers;
+      for (const Parameter parameter : parameters) pointers.push_back(&(*values)[parameter]);
+      return pointers;
     };
     const double sigma_x = std::sqrt(options_.noise_variance_x);
     const double sigma_y = std::sqrt(options_.noise_variance_y);
     const int n = test_.size();
     std::unique_ptr<CompressedCalibrationResidual> compressed[2];
     if (compress && loss_ == nullptr) {
-      CompressedCalibrationResidual::Parameters reference[2];
-      for (int a = 0; a < 2; ++a) {
-        const AxisErrors<double>& axis = a == 0 ? values->sensor.x : values->sensor.y;
-        reference[a] << axis.bias, axis.scale, axis.scale_nonlinearity, axis.bias_drift,
-            values->angle_offset, values->sensor.nonorthogonality;
-      }
       const double sigmas[2] = {sigma_x, sigma_y};
       // A model outside the compressed basis falls back to the per-sample residuals.
-      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, sigmas, reference,
+      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, sigmas, *values,
                                                compressed)
                .ok()) {
         compressed[0].reset();
@@ -87,31 +75,26 @@ class JointProblem {
     }
     const bool per_sample = compressed[0] == nullptr;
     if (!per_sample) {
-      groups->x.push_back(problem->AddResidualBlock(
-          CompressedCalibrationResidual::Create(compressed[0].release()), nullptr,
-          block(Parameter::kBiasX), block(Parameter::kScaleX),
-          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
-      groups->y.push_back(problem->AddResidualBlock(
-          CompressedCalibrationResidual::Create(compressed[1].release()), nullptr,
-          block(Parameter::kBiasY), block(Parameter::kScaleY),
-          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+      for (int a = 0; a < 2; ++a) {
+        const std::vector<double*> parameters = blocks(compressed[a]->blocks());
+        (a == 0 ? groups->x : groups->y)
+            .push_back(problem->AddResidualBlock(
+                CompressedCalibrationResidual::Create(compressed[a].release()), nullptr,
+                parameters));
+      }
     }
+    const std::vector<double*> blocks_x = blocks(CalibrationResidual::Blocks(SensingAxis::kX));
+    const std::vector<double*> blocks_y = blocks(CalibrationResidual::Blocks(SensingAxis::kY));
     for (int i = 0; per_sample && i < n; ++i) {
       const double u = DriftCoordinate(i, n);
       groups->x.push_back(problem->AddResidualBlock(
           CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
                                       options_.gravity_mps2, sigma_x),
-          loss_.get(), block(Parameter::kBiasX), block(Parameter::kScaleX),
-          block(Parameter::kScaleNonlinearityX), block(Parameter::kBiasDriftX),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+          loss_.get(), blocks_x));
       groups->y.push_back(problem->AddResidualBlock(
           CalibrationResidual::Create(test_.theta_rad[i], test_.measured_y[i], SensingAxis::kY, u,
                                       options_.gravity_mps2, sigma_y),
-          loss_.get(), block(Parameter::kBiasY), block(Parameter::kScaleY),
-          block(Parameter::kScaleNonlinearityY), block(Parameter::kBiasDriftY),
-          block(Parameter::kAngleOffset), block(Parameter::kNonorthogonality)));
+          loss_.get(), blocks_y));
     }
     if (landmark != nullptr) {
       // The endpoint's noise covariance at the starting point (the baseline): the
@@ -125,20 +108,13 @@ class JointProblem {
           Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
           Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory->noise_part,
           options_.landmark_sigma_m,
-          /*linear_inverse=*/!is_free(Parameter::kScaleNonlinearityX) &&
-              !is_free(Parameter::kScaleNonlinearityY) &&
-              values->sensor.x.scale_nonlinearity == 0.0 &&
-              values->sensor.y.scale_nonlinearity == 0.0);
-      groups->endpoint = problem->AddResidualBlock(
-          EndpointResidual::Create(functor), nullptr, block(Parameter::kBiasX),
-          block(Parameter::kScaleX), block(Parameter::kScaleNonlinearityX),
-          block(Parameter::kRunBiasShiftX), block(Parameter::kBiasY), block(Parameter::kScaleY),
-          block(Parameter::kScaleNonlinearityY), block(Parameter::kRunBiasShiftY),
-          block(Parameter::kNonorthogonality));
+          /*linear_inverse=*/EndpointResidual::InverseIsAffine(*values, free));
+      groups->endpoint = problem->AddResidualBlock(EndpointResidual::Create(functor), nullptr,
+                                                   blocks(EndpointResidual::kBlocks));
     }
     for (const ParameterInfo& info : ParameterCatalogue()) {
       if (IsNoiseRatio(info.parameter)) continue;
-      double* pointer = block(info.parameter);
+      double* pointer = &(*values)[info.parameter];
       if (!problem->HasParameterBlock(pointer)) continue;
       if (std::find(free.begin(), free.end(), info.parameter) == free.end()) {
         problem->SetParameterBlockConstant(pointer);
@@ -154,9 +130,9 @@ class JointProblem {
       TrajectoryOptions trajectory_options;
       trajectory_options.path_stride = std::max(1, run_.size());
       ParameterEstimate start = FromBaselineFit(start_);
-      start.values.noise_variance_ratio_x =
+      start.values[Parameter::kNoiseVarianceX] =
           options_.noise_variance_x / conditions_.noise_variance_x;
-      start.values.noise_variance_ratio_y =
+      start.values[Parameter::kNoiseVarianceY] =
           options_.noise_variance_y / conditions_.noise_variance_y;
       DeadReckoningResult result;
       ACCELCAL_RETURN_IF_ERROR(DeadReckon(run_, conditions_, start, trajectory_options, &result));
@@ -173,10 +149,10 @@ class JointProblem {
     // Start from the closed-form baseline; every effect from its neutral value.
     const ParameterEstimate baseline = FromBaselineFit(start_);
     for (const Parameter parameter : baseline.free) {
-      ParameterValue(&values, parameter) = baseline.Value(parameter);
+      values[parameter] = baseline.Value(parameter);
     }
-    values.noise_variance_ratio_x = options_.noise_variance_x / conditions_.noise_variance_x;
-    values.noise_variance_ratio_y = options_.noise_variance_y / conditions_.noise_variance_y;
+    values[Parameter::kNoiseVarianceX] = options_.noise_variance_x / conditions_.noise_variance_x;
+    values[Parameter::kNoiseVarianceY] = options_.noise_variance_y / conditions_.noise_variance_y;
     estimate.free = baseline.free;
     for (const Parameter effect : options_.effects) estimate.free.push_back(effect);
 
@@ -187,7 +163,7 @@ class JointProblem {
     ACCELCAL_RETURN_IF_ERROR(
         Build(landmark, estimate.free, &values, &problem, &groups, options_.compress_calibration));
     if (landmark != nullptr) result->landmark = landmark->name;
-    auto block = [&](Parameter parameter) { return &ParameterValue(&values, parameter); };
+    auto block = [&](Parameter parameter) { return &values[parameter]; };
 
     std::vector<double*> free_blocks;
     for (const Parameter parameter : estimate.free) free_blocks.push_back(block(parameter));
@@ -239,7 +215,7 @@ class JointProblem {
     ACCELCAL_RETURN_IF_ERROR(
         Build(landmark, columns, &values, &problem, &groups, /*compress=*/false));
     std::vector<double*> blocks;
-    for (const Parameter parameter : columns) blocks.push_back(&ParameterValue(&values, parameter));
+    for (const Parameter parameter : columns) blocks.push_back(&values[parameter]);
     ceres::Problem::EvaluateOptions evaluate_options;
     evaluate_options.parameter_blocks = blocks;
     evaluate_options.apply_loss_function = false;
@@ -284,7 +260,7 @@ class JointProblem {
     if (!unconstrained.empty()) {
       std::string hint;
       for (const Parameter parameter : names) {
-        if (IsRunShift(parameter))
+        if (ActsOnlyInRun(parameter))
           hint = "; a run bias shift is observable only through a landmark (--landmark)";
       }
       return Status::Error("not identifiable: no residual depends on " + unconstrained + hint);
@@ -439,18 +415,13 @@ void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<dou
   residual_x->resize(n);
   residual_y->resize(n);
   for (int i = 0; i < n; ++i) {
-    double force_x;
-    double force_y;
-    TiltTableSpecificForce(test.theta_rad[i], values.angle_offset, gravity_mps2, &force_x,
-                           &force_y);
-    double along_x;
-    double along_y;
-    ProjectOnSensingAxes(force_x, force_y, values.sensor.nonorthogonality, &along_x, &along_y);
     const double u = DriftCoordinate(i, n);
-    (*residual_x)[i] =
-        test.measured_x[i] - AxisOutput(along_x, values.sensor.x, u, Phase::kCalibrationTest);
-    (*residual_y)[i] =
-        test.measured_y[i] - AxisOutput(along_y, values.sensor.y, u, Phase::kCalibrationTest);
+    (*residual_x)[i] = test.measured_x[i] - PredictCalibrationOutput(test.theta_rad[i], u,
+                                                                     SensingAxis::kX,
+                                                                     gravity_mps2, values);
+    (*residual_y)[i] = test.measured_y[i] - PredictCalibrationOutput(test.theta_rad[i], u,
+                                                                     SensingAxis::kY,
+                                                                     gravity_mps2, values);
   }
 }
 
@@ -462,7 +433,7 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
     if (IsNoiseRatio(effect) || Info(effect).baseline) {
       return Status::Error(std::string(Info(effect).name) + " cannot be a joint effect");
     }
-    if (IsRunShift(effect) && options.landmark_mode == JointOptions::Landmark::kNone) {
+    if (ActsOnlyInRun(effect) && options.landmark_mode == JointOptions::Landmark::kNone) {
       return Status::Error(std::string("not identifiable: ") + Info(effect).name +
                            " is observable only through the run's endpoint; tie the run to a "
                            "landmark (--landmark=NAME or --landmark=auto)");

@@ -79,7 +79,7 @@ double AxisRegressionAccumulator::CenteredResponseResponse() const {
 void CalibrationAccumulator::Add(double theta_rad, double measured_x, double measured_y) {
   double force_x;
   double force_y;
-  TiltTableSpecificForce(theta_rad, 0.0, gravity_mps2_, &force_x, &force_y);
+  TiltTableSpecificForce(theta_rad, gravity_mps2_, &force_x, &force_y);
   // The baseline has no non-orthogonality: each axis senses its own component.
   x_.Add(force_x, measured_x - force_x);
   y_.Add(force_y, measured_y - force_y);
@@ -127,7 +127,7 @@ struct Block {
 typedef double Double2 __attribute__((vector_size(2 * sizeof(double))));
 typedef double Double4 __attribute__((vector_size(4 * sizeof(double))));
 
-// Add's arithmetic per sample (TiltTableSpecificForce with no offset, then the shifted
+// Add's arithmetic per sample (TiltTableSpecificForce at the reported angle, then the shifted
 // sums), a vector of samples at a time: each of the ten sums and the angle range is kept
 // in one vector's lanes, added up at the end. The compiler would not do this itself, as
 // it reorders the additions, which it may not do to floating-point sums; it is also more

@@ -20,7 +20,7 @@ ParameterEstimate FromBaselineFit(const BaselineFit& fit) {
   ParameterEstimate estimate;
   estimate.free = {Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY, Parameter::kScaleY};
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    ParameterValue(&estimate.values, estimate.free[i]) = fit.parameters[i];
+    estimate.values[estimate.free[i]] = fit.parameters[i];
   }
   estimate.covariance = fit.covariance;
   return estimate;

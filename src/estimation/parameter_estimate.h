@@ -23,7 +23,7 @@ struct ParameterEstimate {
 
   // Index of `parameter` in `free`, or -1 when it was not estimated.
   int IndexOf(Parameter parameter) const;
-  double Value(Parameter parameter) const { return ParameterValue(values, parameter); }
+  double Value(Parameter parameter) const { return values[parameter]; }
   // 0 for a parameter that was not estimated.
   double StandardDeviation(Parameter parameter) const;
 };

@@ -13,17 +13,9 @@
 namespace accelcal {
 namespace {
 
-// The parameters that act in the run, one Jet variable each.
-constexpr std::array<Parameter, 9> kRunParameters = {Parameter::kBiasX,
-                                                     Parameter::kScaleX,
-                                                     Parameter::kScaleNonlinearityX,
-                                                     Parameter::kRunBiasShiftX,
-                                                     Parameter::kBiasY,
-                                                     Parameter::kScaleY,
-                                                     Parameter::kScaleNonlinearityY,
-                                                     Parameter::kRunBiasShiftY,
-                                                     Parameter::kNonorthogonality};
-using Jet = ceres::Jet<double, kRunParameters.size()>;
+// The parameters that act in the run (models/effects.h), one Jet variable each.
+constexpr std::array<Parameter, kRunParameterCount> kRunParameters = RunParameters();
+using Jet = ceres::Jet<double, kRunParameterCount>;
 
 // Covariance of (p, v, a_prev) of one axis under white acceleration noise of variance q.
 // One trapezoidal step with the new acceleration noise n:
@@ -92,21 +84,23 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
   if (!(conditions.noise_variance_x > 0.0) || !(conditions.noise_variance_y > 0.0)) {
     return Status::Error("the run's stated noise variances must be positive");
   }
-  const double one_plus_scale_x = 1.0 + estimate.Value(Parameter::kScaleX);
-  const double one_plus_scale_y = 1.0 + estimate.Value(Parameter::kScaleY);
-  if (!(one_plus_scale_x > 0.0) || !(one_plus_scale_y > 0.0)) {
+  // The slope of each axis's response at zero force (1 + s_k with the built-in effects).
+  const RunCorrection<double> at_estimate(estimate.values);
+  const double slope_x = at_estimate.response(SensingAxis::kX).c[1];
+  const double slope_y = at_estimate.response(SensingAxis::kY).c[1];
+  if (!(slope_x > 0.0) || !(slope_y > 0.0)) {
     return Status::Error("a scale factor error of -1 or less cannot be inverted");
   }
   const int stride = std::max(1, options.path_stride);
 
-  // Each parameter is a Jet variable, so every corrected acceleration, velocity and
-  // position carries its exact derivative with respect to the four parameters.
+  // Each parameter acting in the run is a Jet variable, so every corrected acceleration,
+  // velocity and position carries its exact derivative with respect to them.
   ModelParameters<Jet> jets;
+  for (int i = 0; i < kParameterCount; ++i) jets[Parameter(i)] = Jet(estimate.values[Parameter(i)]);
   for (size_t r = 0; r < kRunParameters.size(); ++r) {
-    ParameterValue(&jets, kRunParameters[r]) =
-        Jet(estimate.Value(kRunParameters[r]), static_cast<int>(r));
+    jets[kRunParameters[r]] = Jet(estimate.Value(kRunParameters[r]), static_cast<int>(r));
   }
-  const SensorErrors<Jet>& errors = jets.sensor;
+  const RunCorrection<Jet> correct(jets);
 
   AxisKinematics<Jet> x{Jet(conditions.initial_position_x_m),
                         Jet(conditions.initial_velocity_x_mps)};
@@ -116,11 +110,11 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
   AxisKinematics<double> raw_y{conditions.initial_position_y_m, conditions.initial_velocity_y_mps};
 
   // The baseline's inverse is (m - b)/(1 + s): the run's noise reaches the corrected
-  // acceleration divided by (1 + s).
-  const double variance_x = conditions.noise_variance_x * estimate.values.noise_variance_ratio_x;
-  const double variance_y = conditions.noise_variance_y * estimate.values.noise_variance_ratio_y;
-  AxisNoisePropagator noise_x(dt_s, variance_x / (one_plus_scale_x * one_plus_scale_x));
-  AxisNoisePropagator noise_y(dt_s, variance_y / (one_plus_scale_y * one_plus_scale_y));
+  // acceleration divided by the response's slope (1 + s).
+  const double variance_x = conditions.noise_variance_x * estimate.values[Parameter::kNoiseVarianceX];
+  const double variance_y = conditions.noise_variance_y * estimate.values[Parameter::kNoiseVarianceY];
+  AxisNoisePropagator noise_x(dt_s, variance_x / (slope_x * slope_x));
+  AxisNoisePropagator noise_y(dt_s, variance_y / (slope_y * slope_y));
 
   result->path.clear();
   result->path.reserve(count / stride + 2);
@@ -139,14 +133,12 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
 
   Jet previous_x;
   Jet previous_y;
-  CorrectRunSample(Jet(run.measured_x[0]), Jet(run.measured_y[0]), errors, &previous_x,
-                   &previous_y);
+  correct(Jet(run.measured_x[0]), Jet(run.measured_y[0]), &previous_x, &previous_y);
   record(0);
   for (int j = 1; j < count; ++j) {
     Jet acceleration_x;
     Jet acceleration_y;
-    CorrectRunSample(Jet(run.measured_x[j]), Jet(run.measured_y[j]), errors, &acceleration_x,
-                     &acceleration_y);
+    correct(Jet(run.measured_x[j]), Jet(run.measured_y[j]), &acceleration_x, &acceleration_y);
     TrapezoidalStep(dt_s, previous_x, acceleration_x, &x);
     TrapezoidalStep(dt_s, previous_y, acceleration_y, &y);
     TrapezoidalStep(dt_s, run.measured_x[j - 1], run.measured_x[j], &raw_x);

@@ -1,35 +1,51 @@
 #include "models/effects.h"
 
+#include <vector>
+
 namespace accelcal {
+namespace {
+
+// "{axis}" in a per-axis effect's meaning, replaced by the axis' letter.
+std::string ForAxis(std::string text, char axis) {
+  const std::string placeholder = "{axis}";
+  for (size_t at = text.find(placeholder); at != std::string::npos;
+       at = text.find(placeholder, at + 1)) {
+    text.replace(at, placeholder.size(), 1, axis);
+  }
+  return text;
+}
+
+}  // namespace
 
 const std::array<ParameterInfo, kParameterCount>& ParameterCatalogue() {
-  static const std::array<ParameterInfo, kParameterCount> catalogue = {{
-      {Parameter::kBiasX, "bias_x", "m/s^2", "constant bias of the x axis", true, 0.0, 0.0},
-      {Parameter::kScaleX, "scale_x", "1", "scale-factor error of the x axis", true, 0.0, 0.0},
-      {Parameter::kBiasY, "bias_y", "m/s^2", "constant bias of the y axis", true, 0.0, 0.0},
-      {Parameter::kScaleY, "scale_y", "1", "scale-factor error of the y axis", true, 0.0, 0.0},
-      {Parameter::kAngleOffset, "angle_offset", "rad",
-       "table zero offset: theta_true = theta_reported + delta (calibration test only)", false, 0.0,
-       0.004},
-      {Parameter::kNonorthogonality, "nonorthogonality", "rad", "y sensing axis tilted toward x",
-       false, 0.0, 0.004},
-      {Parameter::kBiasDriftX, "bias_drift_x", "m/s^2",
-       "x bias change from the first to the last calibration sample", false, 0.0, 0.1},
-      {Parameter::kBiasDriftY, "bias_drift_y", "m/s^2",
-       "y bias change from the first to the last calibration sample", false, 0.0, 0.1},
-      {Parameter::kScaleNonlinearityX, "scale_nonlinearity_x", "1/(m/s^2)",
-       "second-order scale term of the x axis", false, 0.0, 0.001},
-      {Parameter::kScaleNonlinearityY, "scale_nonlinearity_y", "1/(m/s^2)",
-       "second-order scale term of the y axis", false, 0.0, 0.001},
-      {Parameter::kRunBiasShiftX, "run_bias_shift_x", "m/s^2",
-       "x bias in the vehicle run minus bias in the calibration test", false, 0.0, 0.02},
-      {Parameter::kRunBiasShiftY, "run_bias_shift_y", "m/s^2",
-       "y bias in the vehicle run minus bias in the calibration test", false, 0.0, 0.02},
-      {Parameter::kNoiseVarianceX, "noise_variance_x", "1",
-       "ratio of the true x noise variance to the stated one", false, 1.0, 2.0},
-      {Parameter::kNoiseVarianceY, "noise_variance_y", "1",
-       "ratio of the true y noise variance to the stated one", false, 1.0, 2.0},
-  }};
+  // The names and meanings live as long as the program; the entries point into them.
+  static const std::vector<std::string>* const texts = [] {
+    auto* strings = new std::vector<std::string>;
+    for (int i = 0; i < kParameterCount; ++i) {
+      const EffectInfo& effect = EffectOf(Parameter(i));
+      const char axis = kParameterSlots[i].axis == SensingAxis::kX ? 'x' : 'y';
+      const bool per_axis = effect.scope == Scope::kPerAxis;
+      strings->push_back(per_axis ? std::string(effect.name) + '_' + axis : effect.name);
+      strings->push_back(per_axis ? ForAxis(effect.meaning, axis) : effect.meaning);
+    }
+    return strings;
+  }();
+  static const std::array<ParameterInfo, kParameterCount> catalogue = [] {
+    std::array<ParameterInfo, kParameterCount> entries;
+    for (int i = 0; i < kParameterCount; ++i) {
+      const EffectInfo& effect = EffectOf(Parameter(i));
+      entries[i] = {Parameter(i),
+                    (*texts)[2 * i].c_str(),
+                    effect.unit,
+                    (*texts)[2 * i + 1].c_str(),
+                    effect.role == Role::kBaseline,
+                    effect.neutral,
+                    effect.example_size,
+                    &effect,
+                    kParameterSlots[i].axis};
+    }
+    return entries;
+  }();
   return catalogue;
 }
 
@@ -40,8 +56,6 @@ const ParameterInfo* FindParameter(const std::string& name) {
   return nullptr;
 }
 
-const ParameterInfo& Info(Parameter parameter) {
-  return ParameterCatalogue()[static_cast<int>(parameter)];
-}
+const ParameterInfo& Info(Parameter parameter) { return ParameterCatalogue()[parameter.index()]; }
 
 }  // namespace accelcal

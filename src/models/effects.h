@@ -1,36 +1,156 @@
 #ifndef ACCELCAL_MODELS_EFFECTS_H_
 #define ACCELCAL_MODELS_EFFECTS_H_
 
-// The parameter catalogue of ../shared/spec/error-model.md: the baseline (bias and scale
-// per axis) and every effect beyond it, with the names outputs use, their units and
-// meaning. ModelParameters holds a value for each; ParameterValue is the one place
-// that maps a name to its field, so the simulator's --set, the scenario files, the
-// estimators' outputs and the discovery candidates all agree on what a name means.
+// The parameter catalogue of ../shared/spec/error-model.md, derived from the registered
+// effects (models/effect_list.h): the baseline (bias and scale per axis) and every effect
+// beyond it, with the names outputs use, their units and meaning. A Parameter is a place in
+// the catalogue; ModelParameters holds a value for each. So the simulator's --set, the
+// scenario files, the estimators' outputs and the discovery candidates all agree on what a
+// name means, and an effect registered later has all of them without further code.
 
 #include <array>
 #include <string>
+#include <type_traits>
 
-#include "models/sensor_model.h"
+#include "models/effect_list.h"
 
 namespace accelcal {
 
-enum class Parameter {
-  kBiasX,
-  kScaleX,
-  kBiasY,
-  kScaleY,
-  kAngleOffset,
-  kNonorthogonality,
-  kBiasDriftX,
-  kBiasDriftY,
-  kScaleNonlinearityX,
-  kScaleNonlinearityY,
-  kRunBiasShiftX,
-  kRunBiasShiftY,
-  kNoiseVarianceX,
-  kNoiseVarianceY,
+constexpr int kEffectCount = RegisteredEffects::kSize;
+
+namespace internal {
+
+template <typename List>
+struct EffectInfos;
+template <typename... Effects>
+struct EffectInfos<EffectList<Effects...>> {
+  static constexpr std::array<EffectInfo, sizeof...(Effects)> kValue = {{Effects::kInfo...}};
 };
-constexpr int kParameterCount = 14;
+
+template <typename Effect, typename List>
+struct EffectIndex;
+template <typename Effect, typename... Effects>
+struct EffectIndex<Effect, EffectList<Effects...>> {
+  static constexpr int Find() {
+    constexpr bool same[] = {std::is_same_v<Effect, Effects>...};
+    for (int i = 0; i < static_cast<int>(sizeof...(Effects)); ++i) {
+      if (same[i]) return i;
+    }
+    return -1;
+  }
+  static constexpr int kValue = Find();
+};
+
+}  // namespace internal
+
+// The registered effects' declarations, in registration order.
+inline constexpr std::array<EffectInfo, kEffectCount> kEffectInfos =
+    internal::EffectInfos<RegisteredEffects>::kValue;
+
+// Where `Effect` is in the registration.
+template <typename Effect>
+constexpr int EffectIndexOf() {
+  constexpr int index = internal::EffectIndex<Effect, RegisteredEffects>::kValue;
+  static_assert(index >= 0, "the effect is not registered in models/effect_list.h");
+  return index;
+}
+
+// One parameter: an effect and, for a per-axis effect, the axis (kX for a shared one).
+struct ParameterSlot {
+  int effect = 0;
+  SensingAxis axis = SensingAxis::kX;
+};
+
+constexpr int CountParameters() {
+  int count = 0;
+  for (const EffectInfo& info : kEffectInfos) count += info.scope == Scope::kPerAxis ? 2 : 1;
+  return count;
+}
+constexpr int kParameterCount = CountParameters();
+
+// The catalogue's order: the baseline axis by axis, then each effect (x before y).
+constexpr std::array<ParameterSlot, kParameterCount> MakeParameterSlots() {
+  std::array<ParameterSlot, kParameterCount> slots = {};
+  int next = 0;
+  for (const SensingAxis axis : {SensingAxis::kX, SensingAxis::kY}) {
+    for (int e = 0; e < kEffectCount; ++e) {
+      const EffectInfo& info = kEffectInfos[e];
+      if (info.role != Role::kBaseline) continue;
+      if (info.scope == Scope::kPerAxis || axis == SensingAxis::kX) slots[next++] = {e, axis};
+    }
+  }
+  for (int e = 0; e < kEffectCount; ++e) {
+    const EffectInfo& info = kEffectInfos[e];
+    if (info.role == Role::kBaseline) continue;
+    slots[next++] = {e, SensingAxis::kX};
+    if (info.scope == Scope::kPerAxis) slots[next++] = {e, SensingAxis::kY};
+  }
+  return slots;
+}
+inline constexpr std::array<ParameterSlot, kParameterCount> kParameterSlots = MakeParameterSlots();
+
+// A parameter of the catalogue (an index into it). The built-in ones have names here for
+// the code that needs a particular one; any parameter, registered later or not, is found
+// by name with FindParameter or by effect with ParameterOf.
+class Parameter {
+ public:
+  constexpr Parameter() = default;
+  constexpr explicit Parameter(int index) : index_(index) {}
+  constexpr int index() const { return index_; }
+  friend constexpr bool operator==(Parameter a, Parameter b) { return a.index_ == b.index_; }
+  friend constexpr bool operator!=(Parameter a, Parameter b) { return a.index_ != b.index_; }
+  friend constexpr bool operator<(Parameter a, Parameter b) { return a.index_ < b.index_; }
+
+  static const Parameter kBiasX;
+  static const Parameter kScaleX;
+  static const Parameter kBiasY;
+  static const Parameter kScaleY;
+  static const Parameter kAngleOffset;
+  static const Parameter kNonorthogonality;
+  static const Parameter kBiasDriftX;
+  static const Parameter kBiasDriftY;
+  static const Parameter kScaleNonlinearityX;
+  static const Parameter kScaleNonlinearityY;
+  static const Parameter kRunBiasShiftX;
+  static const Parameter kRunBiasShiftY;
+  static const Parameter kNoiseVarianceX;
+  static const Parameter kNoiseVarianceY;
+
+ private:
+  int index_ = 0;
+};
+
+// The parameter of `Effect` (of its `axis` when it is per-axis).
+template <typename Effect>
+constexpr Parameter ParameterOf(SensingAxis axis = SensingAxis::kX) {
+  constexpr int effect = EffectIndexOf<Effect>();
+  if (kEffectInfos[effect].scope == Scope::kShared) axis = SensingAxis::kX;
+  for (int i = 0; i < kParameterCount; ++i) {
+    if (kParameterSlots[i].effect == effect && kParameterSlots[i].axis == axis) return Parameter(i);
+  }
+  return Parameter(-1);  // unreachable for a registered effect
+}
+
+inline constexpr Parameter Parameter::kBiasX = ParameterOf<Bias>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kScaleX = ParameterOf<Scale>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kBiasY = ParameterOf<Bias>(SensingAxis::kY);
+inline constexpr Parameter Parameter::kScaleY = ParameterOf<Scale>(SensingAxis::kY);
+inline constexpr Parameter Parameter::kAngleOffset = ParameterOf<AngleOffset>();
+inline constexpr Parameter Parameter::kNonorthogonality = ParameterOf<Nonorthogonality>();
+inline constexpr Parameter Parameter::kBiasDriftX = ParameterOf<BiasDrift>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kBiasDriftY = ParameterOf<BiasDrift>(SensingAxis::kY);
+inline constexpr Parameter Parameter::kScaleNonlinearityX =
+    ParameterOf<ScaleNonlinearity>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kScaleNonlinearityY =
+    ParameterOf<ScaleNonlinearity>(SensingAxis::kY);
+inline constexpr Parameter Parameter::kRunBiasShiftX = ParameterOf<RunBiasShift>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kRunBiasShiftY = ParameterOf<RunBiasShift>(SensingAxis::kY);
+inline constexpr Parameter Parameter::kNoiseVarianceX = ParameterOf<NoiseVariance>(SensingAxis::kX);
+inline constexpr Parameter Parameter::kNoiseVarianceY = ParameterOf<NoiseVariance>(SensingAxis::kY);
+
+constexpr const EffectInfo& EffectOf(Parameter parameter) {
+  return kEffectInfos[kParameterSlots[parameter.index()].effect];
+}
 
 struct ParameterInfo {
   Parameter parameter;
@@ -39,68 +159,86 @@ struct ParameterInfo {
   const char* meaning;
   bool baseline;   // part of the reference report's model
   double neutral;  // the value at which the effect is absent
-  // A size at which the effect is plainly visible on the course-sized experiment (the
-  // simulator's demonstration knob, used by the coverage study's effect table).
   double example_size;
+  const EffectInfo* effect;  // the registered effect it belongs to
+  SensingAxis axis;          // its axis (kX for a shared effect)
 };
 
-// Every parameter, baseline first, in the spec's order.
+// Every parameter, in the catalogue's order (see MakeParameterSlots).
 const std::array<ParameterInfo, kParameterCount>& ParameterCatalogue();
 
 // The entry named `name`, or nullptr.
 const ParameterInfo* FindParameter(const std::string& name);
 const ParameterInfo& Info(Parameter parameter);
 
-// All parameters of the spec's model. noise_variance_k is an effect like the others: the
-// ratio of the true noise variance to the stated one (1 when the statement is right).
-template <typename T>
-struct ModelParameters {
-  SensorErrors<T> sensor;
-  T angle_offset = T(0.0);  // delta, rad (calibration test only)
-  T noise_variance_ratio_x = T(1.0);
-  T noise_variance_ratio_y = T(1.0);
-};
+// Not a model parameter: a noise variance ratio (read from chi-square, not estimated).
+constexpr bool IsNoiseRatio(Parameter parameter) {
+  return EffectOf(parameter).role == Role::kNoiseRatio;
+}
+// Acts only in the vehicle run, so only a landmark can reveal it.
+constexpr bool ActsOnlyInRun(Parameter parameter) {
+  return EffectOf(parameter).acts_in == ActsIn::kVehicleRun;
+}
 
-template <typename T>
-T& ParameterValue(ModelParameters<T>* parameters, Parameter parameter) {
-  switch (parameter) {
-    case Parameter::kBiasX:
-      return parameters->sensor.x.bias;
-    case Parameter::kScaleX:
-      return parameters->sensor.x.scale;
-    case Parameter::kBiasY:
-      return parameters->sensor.y.bias;
-    case Parameter::kScaleY:
-      return parameters->sensor.y.scale;
-    case Parameter::kAngleOffset:
-      return parameters->angle_offset;
-    case Parameter::kNonorthogonality:
-      return parameters->sensor.nonorthogonality;
-    case Parameter::kBiasDriftX:
-      return parameters->sensor.x.bias_drift;
-    case Parameter::kBiasDriftY:
-      return parameters->sensor.y.bias_drift;
-    case Parameter::kScaleNonlinearityX:
-      return parameters->sensor.x.scale_nonlinearity;
-    case Parameter::kScaleNonlinearityY:
-      return parameters->sensor.y.scale_nonlinearity;
-    case Parameter::kRunBiasShiftX:
-      return parameters->sensor.x.run_bias_shift;
-    case Parameter::kRunBiasShiftY:
-      return parameters->sensor.y.run_bias_shift;
-    case Parameter::kNoiseVarianceX:
-      return parameters->noise_variance_ratio_x;
-    case Parameter::kNoiseVarianceY:
-      return parameters->noise_variance_ratio_y;
+// The model parameters (noise ratios excluded) acting in `phase`, in catalogue order; with
+// `axis`, only the shared ones and those of that axis. These are the parameter blocks of
+// the residuals: one axis's tilt-test residual depends on CalibrationParameters(axis), the
+// run's endpoint on RunParameters().
+constexpr bool ActsOn(Parameter parameter, Phase phase, bool any_axis, SensingAxis axis) {
+  const EffectInfo& effect = EffectOf(parameter);
+  return effect.role != Role::kNoiseRatio && ActsInPhase(effect, phase) &&
+         (any_axis || effect.scope == Scope::kShared ||
+          kParameterSlots[parameter.index()].axis == axis);
+}
+
+constexpr int CountActing(Phase phase, bool any_axis) {
+  int count = 0;
+  for (int i = 0; i < kParameterCount; ++i)
+    count += ActsOn(Parameter(i), phase, any_axis, SensingAxis::kX) ? 1 : 0;
+  return count;
+}
+
+template <int kCount>
+constexpr std::array<Parameter, kCount> Acting(Phase phase, bool any_axis, SensingAxis axis) {
+  std::array<Parameter, kCount> parameters = {};
+  int next = 0;
+  for (int i = 0; i < kParameterCount; ++i) {
+    if (ActsOn(Parameter(i), phase, any_axis, axis)) parameters[next++] = Parameter(i);
   }
-  return parameters->angle_offset;  // unreachable: every enumerator is handled above
+  return parameters;
 }
 
-template <typename T>
-T ParameterValue(const ModelParameters<T>& parameters, Parameter parameter) {
-  ModelParameters<T> copy = parameters;
-  return ParameterValue(&copy, parameter);
+constexpr int kCalibrationParameterCount = CountActing(Phase::kCalibrationTest, false);
+constexpr int kRunParameterCount = CountActing(Phase::kVehicleRun, true);
+
+constexpr std::array<Parameter, kCalibrationParameterCount> CalibrationParameters(
+    SensingAxis axis) {
+  return Acting<kCalibrationParameterCount>(Phase::kCalibrationTest, false, axis);
 }
+constexpr std::array<Parameter, kRunParameterCount> RunParameters() {
+  return Acting<kRunParameterCount>(Phase::kVehicleRun, true, SensingAxis::kX);
+}
+
+// A value for every parameter of the catalogue, each at its neutral value unless set.
+template <typename T>
+class ModelParameters {
+ public:
+  ModelParameters() {
+    for (int i = 0; i < kParameterCount; ++i) values_[i] = T(EffectOf(Parameter(i)).neutral);
+  }
+
+  T& operator[](Parameter parameter) { return values_[parameter.index()]; }
+  const T& operator[](Parameter parameter) const { return values_[parameter.index()]; }
+
+  // The value of `Effect` for `axis` (its one value when it is shared).
+  template <typename Effect>
+  const T& Of(SensingAxis axis = SensingAxis::kX) const {
+    return values_[ParameterOf<Effect>(axis).index()];
+  }
+
+ private:
+  std::array<T, kParameterCount> values_;
+};
 
 }  // namespace accelcal
 

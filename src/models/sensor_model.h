@@ -2,40 +2,26 @@
 #define ACCELCAL_MODELS_SENSOR_MODEL_H_
 
 // The accelerometer pair's forward model, exactly as ../shared/spec/error-model.md
-// ("Sensor output") defines it. Everything that predicts a sensor output (Ceres
-// residuals, the closed-form baseline, the simulator) calls these functions, so they
-// cannot disagree.
-//
-// The y sensing axis may be tilted toward x by the non-orthogonality eps [rad]:
-//
-//   f_along_x = fx
-//   f_along_y = fy cos(eps) + fx sin(eps)
-//
-// and each axis k in {x, y} outputs [m/s^2]
+// ("Sensor output") defines it, composed from the registered effects' terms
+// (models/effect.h, models/effect_list.h). Everything that predicts a sensor output (Ceres
+// residuals, the closed-form baseline, the simulator, dead reckoning) calls these
+// functions, so they cannot disagree. With the built-in effects each axis k in {x, y}
+// outputs [m/s^2]
 //
 //   m_k = (1 + s_k) f_along_k + k2_k f_along_k^2 + b_k + d_k u_i + r_k + zeta_k
+//   f_along_x = fx,  f_along_y = fy cos(eps) + fx sin(eps)
 //
-// with d_k u_i present only in the calibration test and r_k only in the vehicle run.
-// The noise zeta_k is not part of the deterministic prediction; the simulator adds it.
-// The baseline model of the reference report is b_k, s_k only (every other term zero).
+// with d_k u_i present only in the calibration test and r_k only in the vehicle run. The
+// noise zeta_k is not part of the deterministic prediction; the simulator adds it. The
+// baseline model of the reference report is b_k, s_k only (every other term neutral).
 
+#include <algorithm>
 #include <cmath>
 
+#include "models/effects.h"
+#include "models/tilt_table.h"
+
 namespace accelcal {
-
-// Which part of the experiment a sample belongs to. The drift d_k exists only in the
-// calibration test; the bias shift r_k only in the vehicle run.
-enum class Phase { kCalibrationTest, kVehicleRun };
-
-// One axis's error terms, named as in the spec's outputs (bias_x, scale_x, ...).
-template <typename T>
-struct AxisErrors {
-  T bias = T(0.0);                // b_k, m/s^2
-  T scale = T(0.0);               // s_k, dimensionless
-  T scale_nonlinearity = T(0.0);  // k2_k, 1/(m/s^2)
-  T bias_drift = T(0.0);          // d_k, m/s^2 from first to last calibration sample
-  T run_bias_shift = T(0.0);      // r_k, m/s^2 (run bias minus test bias)
-};
 
 // u_i = i/(N-1) - 0.5 for sample i of N calibration samples, so that the drift term
 // has zero mean and b_k stays the mean bias over the test. A single sample has u = 0.
@@ -44,74 +30,176 @@ inline double DriftCoordinate(int sample_index, int sample_count) {
   return static_cast<double>(sample_index) / static_cast<double>(sample_count - 1) - 0.5;
 }
 
+// The highest power of the force in an axis's output in `phase`, over the registered
+// effects: the run's inverse is closed-form up to 2.
+constexpr int ForceDegree(Phase phase) {
+  int degree = 1;
+  for (const EffectInfo& info : kEffectInfos) {
+    if (info.role != Role::kNoiseRatio && ActsInPhase(info, phase))
+      degree = std::max(degree, info.force_degree);
+  }
+  return degree;
+}
+
+// The true table angle [rad] from the reported one (tilt test only).
+template <typename T>
+T TrueTableAngle(const T& theta_reported_rad, const ModelParameters<T>& parameters) {
+  T theta = theta_reported_rad;
+  ForEachEffectIn(RegisteredEffects(), [&](auto* effect) {
+    using Effect = std::remove_pointer_t<decltype(effect)>;
+    if constexpr (Effect::kInfo.scope == Scope::kShared &&
+                  ActsInPhase(Effect::kInfo, Phase::kCalibrationTest)) {
+      Effect::CorrectTableAngle(parameters.template Of<Effect>(), &theta);
+    }
+  });
+  return theta;
+}
+
 // Projects the true specific force (reference frame) on the two sensing axes.
 template <typename T>
 void ProjectOnSensingAxes(const T& specific_force_x, const T& specific_force_y,
-                          const T& nonorthogonality_rad, T* along_x, T* along_y) {
-  using std::cos;
-  using std::sin;
+                          const ModelParameters<T>& parameters, Phase phase, T* along_x,
+                          T* along_y) {
   *along_x = specific_force_x;
-  *along_y =
-      specific_force_y * cos(nonorthogonality_rad) + specific_force_x * sin(nonorthogonality_rad);
+  *along_y = specific_force_y;
+  ForEachEffectIn(RegisteredEffects(), [&](auto* effect) {
+    using Effect = std::remove_pointer_t<decltype(effect)>;
+    if constexpr (Effect::kInfo.scope == Scope::kShared) {
+      if (ActsInPhase(Effect::kInfo, phase))
+        Effect::Project(parameters.template Of<Effect>(), along_x, along_y);
+    }
+  });
+}
+
+// Undoes ProjectOnSensingAxes: the reference-frame force from the forces along the sensing
+// axes. Linear in the forces, so it may be applied to weighted sums of them as well as to
+// one sample.
+template <typename T>
+void UndoProjection(const T& along_x, const T& along_y, const ModelParameters<T>& parameters,
+                    Phase phase, T* specific_force_x, T* specific_force_y) {
+  *specific_force_x = along_x;
+  *specific_force_y = along_y;
+  ForEachEffectReversedIn(RegisteredEffects(), [&](auto* effect) {
+    using Effect = std::remove_pointer_t<decltype(effect)>;
+    if constexpr (Effect::kInfo.scope == Scope::kShared) {
+      if (ActsInPhase(Effect::kInfo, phase))
+        Effect::Unproject(parameters.template Of<Effect>(), specific_force_x, specific_force_y);
+    }
+  });
+}
+
+// One axis's output as a polynomial in the force along it, in `phase`. `drift_coordinate`
+// is u_i (DriftCoordinate) in the tilt test and ignored in the vehicle run.
+template <typename T>
+AxisPolynomial<T> AxisResponse(const ModelParameters<T>& parameters, SensingAxis axis,
+                               double drift_coordinate, Phase phase) {
+  AxisPolynomial<T> response;
+  const double u = phase == Phase::kCalibrationTest ? drift_coordinate : 0.0;
+  ForEachEffectIn(RegisteredEffects(), [&](auto* effect) {
+    using Effect = std::remove_pointer_t<decltype(effect)>;
+    if constexpr (Effect::kInfo.role != Role::kNoiseRatio) {
+      if (ActsInPhase(Effect::kInfo, phase))
+        Effect::AddAxisTerms(parameters.template Of<Effect>(axis), u, &response);
+    }
+  });
+  return response;
 }
 
 // The noiseless output of one axis for the specific force along it.
-// `drift_coordinate` is u_i (see DriftCoordinate) and is ignored in the vehicle run.
 template <typename T>
-T AxisOutput(const T& specific_force_along_axis, const AxisErrors<T>& errors,
-             double drift_coordinate, Phase phase) {
-  const T& f = specific_force_along_axis;
-  T output = (T(1.0) + errors.scale) * f + errors.scale_nonlinearity * f * f + errors.bias;
-  if (phase == Phase::kCalibrationTest) {
-    output += errors.bias_drift * T(drift_coordinate);
-  } else {
-    output += errors.run_bias_shift;
-  }
-  return output;
+T AxisOutput(const T& specific_force_along_axis, const ModelParameters<T>& parameters,
+             SensingAxis axis, double drift_coordinate, Phase phase) {
+  return AxisResponse(parameters, axis, drift_coordinate, phase)
+      .Evaluate(specific_force_along_axis);
 }
 
-// The inverse of AxisOutput in the vehicle run: the specific force along the axis that
-// produces the noiseless output `measured`. With c = b + r - m the model is
-// k2 f^2 + (1 + s) f + c = 0; the root that tends to the linear inverse (m - b - r)/(1 + s)
-// as k2 -> 0 is written without cancellation as f = -2c / ((1 + s) + sqrt((1 + s)^2 - 4 k2 c)).
-// A negative discriminant (an output no force can produce) is clamped at zero.
+// The force along the axis that produces the noiseless output `measured`. With
+// c = c0 - m the quadratic part is c2 f^2 + c1 f + c = 0; the root that tends to the linear
+// inverse -c/c1 as c2 -> 0 is written without cancellation as
+// f = -2c / (c1 + sqrt(c1^2 - 4 c2 c)). A negative discriminant (an output no force can
+// produce) is clamped at zero. When a registered effect of the run has a cubic term, three
+// Newton steps from that root follow (quadratic convergence from a root already within
+// |c3 f^3| of the answer); they run whatever c3's value, so its derivatives are exact too.
 template <typename T>
-T InvertAxisOutput(const T& measured, const AxisErrors<T>& errors) {
+T InvertAxisResponse(const AxisPolynomial<T>& response, const T& measured) {
   using std::sqrt;
-  const T one_plus_scale = T(1.0) + errors.scale;
-  const T c = errors.bias + errors.run_bias_shift - measured;
-  T discriminant = one_plus_scale * one_plus_scale - T(4.0) * errors.scale_nonlinearity * c;
+  const T c = response.c[0] - measured;
+  T discriminant = response.c[1] * response.c[1] - T(4.0) * response.c[2] * c;
   if (discriminant < T(0.0)) discriminant = T(0.0);
-  return T(-2.0) * c / (one_plus_scale + sqrt(discriminant));
+  T force = T(-2.0) * c / (response.c[1] + sqrt(discriminant));
+  if constexpr (ForceDegree(Phase::kVehicleRun) > 2) {
+    for (int step = 0; step < 3; ++step)
+      force -= (response.Evaluate(force) - measured) / response.Slope(force);
+  }
+  return force;
 }
 
-// Both axes of a sensor: the errors of each axis and the y axis' tilt toward x.
+// The tilt test's prediction of one axis at the reported angle theta (rad) and drift
+// coordinate u: the true angle, the table's force in gravity g (m/s^2), its projection on
+// the sensing axes and the axis's output.
 template <typename T>
-struct SensorErrors {
-  AxisErrors<T> x;
-  AxisErrors<T> y;
-  T nonorthogonality = T(0.0);  // eps, rad
+T PredictCalibrationOutput(double theta_reported_rad, double drift_coordinate, SensingAxis axis,
+                           double gravity_mps2, const ModelParameters<T>& parameters) {
+  T force_x;
+  T force_y;
+  TiltTableSpecificForce(TrueTableAngle(T(theta_reported_rad), parameters), gravity_mps2, &force_x,
+                         &force_y);
+  T along_x;
+  T along_y;
+  ProjectOnSensingAxes(force_x, force_y, parameters, Phase::kCalibrationTest, &along_x, &along_y);
+  return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, parameters, axis,
+                    drift_coordinate, Phase::kCalibrationTest);
+}
+
+// The vehicle run's correction: each axis's output inverted (InvertAxisResponse), then the
+// projection undone (UndoProjection). The axes' responses are formed once, so correcting
+// a sample costs two inversions.
+template <typename T>
+class RunCorrection {
+ public:
+  explicit RunCorrection(const ModelParameters<T>& parameters)
+      : parameters_(parameters),
+        response_x_(AxisResponse(parameters, SensingAxis::kX, 0.0, Phase::kVehicleRun)),
+        response_y_(AxisResponse(parameters, SensingAxis::kY, 0.0, Phase::kVehicleRun)) {}
+
+  const AxisPolynomial<T>& response(SensingAxis axis) const {
+    return axis == SensingAxis::kX ? response_x_ : response_y_;
+  }
+
+  // The force along each axis that produced `measured` (before the projection is undone).
+  T AlongAxis(const T& measured, SensingAxis axis) const {
+    return InvertAxisResponse(response(axis), measured);
+  }
+
+  // The frame's force from forces (or weighted sums of them) along the sensing axes.
+  void Unproject(const T& along_x, const T& along_y, T* acceleration_x, T* acceleration_y) const {
+    UndoProjection(along_x, along_y, parameters_, Phase::kVehicleRun, acceleration_x,
+                   acceleration_y);
+  }
+
+  // The vehicle's acceleration (reference frame) recovered from one run sample.
+  void operator()(const T& measured_x, const T& measured_y, T* acceleration_x,
+                  T* acceleration_y) const {
+    Unproject(AlongAxis(measured_x, SensingAxis::kX), AlongAxis(measured_y, SensingAxis::kY),
+              acceleration_x, acceleration_y);
+  }
+
+ private:
+  const ModelParameters<T> parameters_;
+  const AxisPolynomial<T> response_x_;
+  const AxisPolynomial<T> response_y_;
 };
 
-// Undoes ProjectOnSensingAxes: the reference-frame force from the forces along the
-// sensing axes, fx = f_along_x, fy = (f_along_y - fx sin(eps)) / cos(eps). Linear in the
-// forces, so it may be applied to weighted sums of them as well as to one sample.
+// The run's noiseless outputs for the vehicle's true acceleration (reference frame).
 template <typename T>
-void UndoProjection(const T& along_x, const T& along_y, const T& nonorthogonality_rad,
-                    T* specific_force_x, T* specific_force_y) {
-  using std::cos;
-  using std::sin;
-  *specific_force_x = along_x;
-  *specific_force_y = (along_y - along_x * sin(nonorthogonality_rad)) / cos(nonorthogonality_rad);
-}
-
-// The vehicle's acceleration (reference frame) recovered from one run sample: each axis
-// inverted (InvertAxisOutput), then the projection undone (UndoProjection).
-template <typename T>
-void CorrectRunSample(const T& measured_x, const T& measured_y, const SensorErrors<T>& errors,
-                      T* acceleration_x, T* acceleration_y) {
-  UndoProjection(InvertAxisOutput(measured_x, errors.x), InvertAxisOutput(measured_y, errors.y),
-                 errors.nonorthogonality, acceleration_x, acceleration_y);
+void PredictRunOutputs(const T& acceleration_x, const T& acceleration_y,
+                       const ModelParameters<T>& parameters, T* measured_x, T* measured_y) {
+  T along_x;
+  T along_y;
+  ProjectOnSensingAxes(acceleration_x, acceleration_y, parameters, Phase::kVehicleRun, &along_x,
+                       &along_y);
+  *measured_x = AxisOutput(along_x, parameters, SensingAxis::kX, 0.0, Phase::kVehicleRun);
+  *measured_y = AxisOutput(along_y, parameters, SensingAxis::kY, 0.0, Phase::kVehicleRun);
 }
 
 }  // namespace accelcal

@@ -3,9 +3,9 @@
 
 // The tilt-table test's true specific force (../shared/spec/error-model.md, "Frames and
 // the tilt-table test"). The table is rotated through a reported angle theta_i in
-// gravity; its zero may be off by the angle offset delta:
+// gravity; its zero may be off (the angle offset, models/effects/angle_offset.h, gives the
+// true angle theta_true_i from the reported theta_i):
 //
-//   theta_true_i = theta_i + delta                       [rad]
 //   fx_i = -g sin(theta_true_i),  fy_i = -g cos(theta_true_i)   [m/s^2]
 //
 // Templated so the Ceres residuals (T = ceres::Jet), the closed-form estimator and the
@@ -19,11 +19,10 @@ namespace accelcal {
 constexpr double kCourseGravityMps2 = 9.8;
 
 template <typename T>
-void TiltTableSpecificForce(const T& theta_reported_rad, const T& angle_offset_rad,
-                            double gravity_mps2, T* specific_force_x, T* specific_force_y) {
+void TiltTableSpecificForce(const T& theta_true_rad, double gravity_mps2, T* specific_force_x,
+                            T* specific_force_y) {
   using std::cos;
   using std::sin;
-  const T theta_true_rad = theta_reported_rad + angle_offset_rad;
   *specific_force_x = -gravity_mps2 * sin(theta_true_rad);
   *specific_force_y = -gravity_mps2 * cos(theta_true_rad);
 }

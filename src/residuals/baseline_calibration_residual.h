@@ -3,9 +3,10 @@
 
 // Whitened residual of one tilt-test sample on one axis under the baseline model:
 //
-//   r_i = (m_k,i - AxisOutput(f_k(theta_i); b_k, s_k)) / sigma_k
+//   r_i = (m_k,i - (f_k(theta_i) + b_k + s_k f_k(theta_i))) / sigma_k
 //
-// with f_k from models/tilt_table.h and AxisOutput from models/sensor_model.h. Dividing
+// with f_k from models/tilt_table.h and the terms of the two baseline effects
+// (models/effects/bias.h, models/effects/scale.h). Dividing
 // by the stated sigma_k makes the cost a chi-square, so ceres::Covariance returns the
 // parameter covariance in the spec's units.
 //
@@ -15,12 +16,11 @@
 
 #include <ceres/autodiff_cost_function.h>
 
-#include "models/sensor_model.h"
+#include "models/effects/bias.h"
+#include "models/effects/scale.h"
 #include "models/tilt_table.h"
 
 namespace accelcal {
-
-enum class SensingAxis { kX, kY };
 
 class BaselineCalibrationResidual {
  public:
@@ -32,10 +32,10 @@ class BaselineCalibrationResidual {
 
   template <typename T>
   bool operator()(const T* const bias, const T* const scale, T* residual) const {
-    AxisErrors<T> errors;
-    errors.bias = bias[0];
-    errors.scale = scale[0];
-    const T predicted = AxisOutput(T(specific_force_mps2_), errors, 0.0, Phase::kCalibrationTest);
+    AxisPolynomial<T> response;
+    Bias::AddAxisTerms(bias[0], 0.0, &response);
+    Scale::AddAxisTerms(scale[0], 0.0, &response);
+    const T predicted = response.c[1] * specific_force_mps2_ + response.c[0];
     residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
     return true;
   }
@@ -51,7 +51,7 @@ class BaselineCalibrationResidual {
   static double SpecificForceAlong(double theta_rad, SensingAxis axis, double gravity_mps2) {
     double force_x;
     double force_y;
-    TiltTableSpecificForce(theta_rad, 0.0, gravity_mps2, &force_x, &force_y);
+    TiltTableSpecificForce(theta_rad, gravity_mps2, &force_x, &force_y);
     return axis == SensingAxis::kX ? force_x : force_y;
   }
 

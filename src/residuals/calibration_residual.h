@@ -1,25 +1,28 @@
 #ifndef ACCELCAL_RESIDUALS_CALIBRATION_RESIDUAL_H_
 #define ACCELCAL_RESIDUALS_CALIBRATION_RESIDUAL_H_
 
-// Whitened residual of one tilt-test sample on one axis under the spec's full model:
+// Whitened residual of one tilt-test sample on one axis under the full model:
 //
-//   r_i = (m_k,i - AxisOutput(f_along_k(theta_i + delta, eps); b_k, s_k, k2_k, d_k u_i)) / sigma_k
+//   r_i = (m_k,i - PredictCalibrationOutput(theta_i, u_i; p)) / sigma_k
 //
-// (models/tilt_table.h, models/sensor_model.h). Parameters, each a scalar block in the
-// spec's units: bias_k, scale_k, scale_nonlinearity_k, bias_drift_k, angle_offset,
-// nonorthogonality. The x axis does not depend on nonorthogonality (x is the reference
-// axis); the block is passed anyway so both axes share one functor.
+// (models/sensor_model.h: the true table angle, the table's force, its projection on the
+// sensing axes and the axis's output, each from the registered effects' terms). Its
+// parameters are CalibrationParameters(axis) (models/effects.h), one scalar block each in
+// the spec's units: with the built-in effects bias_k, scale_k, angle_offset,
+// nonorthogonality, bias_drift_k, scale_nonlinearity_k. An effect registered later that
+// acts in the tilt test becomes a block here without a change to this file.
 
-#include <ceres/autodiff_cost_function.h>
+#include <array>
 
 #include "models/sensor_model.h"
-#include "models/tilt_table.h"
-#include "residuals/baseline_calibration_residual.h"
+#include "residuals/scalar_blocks.h"
 
 namespace accelcal {
 
 class CalibrationResidual {
  public:
+  static constexpr int kBlockCount = kCalibrationParameterCount;
+
   CalibrationResidual(double theta_rad, double measured_mps2, SensingAxis axis,
                       double drift_coordinate, double gravity_mps2, double noise_stddev_mps2)
       : theta_rad_(theta_rad),
@@ -27,44 +30,28 @@ class CalibrationResidual {
         axis_(axis),
         drift_coordinate_(drift_coordinate),
         gravity_mps2_(gravity_mps2),
-        sqrt_information_(1.0 / noise_stddev_mps2) {}
+        sqrt_information_(1.0 / noise_stddev_mps2),
+        blocks_(CalibrationParameters(axis)) {}
 
-  // The model's prediction of one axis's output at (theta, u): the one expression both
-  // this per-sample residual and CompressedCalibrationResidual evaluate.
-  template <typename T>
-  static T Predict(double theta_rad, double drift_coordinate, SensingAxis axis, double gravity_mps2,
-                   const T& bias, const T& scale, const T& scale_nonlinearity, const T& bias_drift,
-                   const T& angle_offset, const T& nonorthogonality) {
-    T force_x;
-    T force_y;
-    TiltTableSpecificForce(T(theta_rad), angle_offset, gravity_mps2, &force_x, &force_y);
-    T along_x;
-    T along_y;
-    ProjectOnSensingAxes(force_x, force_y, nonorthogonality, &along_x, &along_y);
-    AxisErrors<T> errors;
-    errors.bias = bias;
-    errors.scale = scale;
-    errors.scale_nonlinearity = scale_nonlinearity;
-    errors.bias_drift = bias_drift;
-    return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, errors, drift_coordinate,
-                      Phase::kCalibrationTest);
-  }
-
-  template <typename T>
-  bool operator()(const T* const bias, const T* const scale, const T* const scale_nonlinearity,
-                  const T* const bias_drift, const T* const angle_offset,
-                  const T* const nonorthogonality, T* residual) const {
-    const T predicted =
-        Predict(theta_rad_, drift_coordinate_, axis_, gravity_mps2_, bias[0], scale[0],
-                scale_nonlinearity[0], bias_drift[0], angle_offset[0], nonorthogonality[0]);
+  template <typename T, typename... Rest>
+  bool operator()(const T* const first, Rest... rest) const {
+    ModelParameters<T> parameters;
+    T* residual = GatherParameters(blocks_, &parameters, first, rest...);
+    const T predicted = PredictCalibrationOutput(theta_rad_, drift_coordinate_, axis_,
+                                                 gravity_mps2_, parameters);
     residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
     return true;
+  }
+
+  // The parameter blocks, in the order Create's cost function takes them.
+  static std::array<Parameter, kBlockCount> Blocks(SensingAxis axis) {
+    return CalibrationParameters(axis);
   }
 
   static ceres::CostFunction* Create(double theta_rad, double measured_mps2, SensingAxis axis,
                                      double drift_coordinate, double gravity_mps2,
                                      double noise_stddev_mps2) {
-    return new ceres::AutoDiffCostFunction<CalibrationResidual, 1, 1, 1, 1, 1, 1, 1>(
+    return new ScalarBlocksCostFunction<CalibrationResidual, 1, kBlockCount>(
         new CalibrationResidual(theta_rad, measured_mps2, axis, drift_coordinate, gravity_mps2,
                                 noise_stddev_mps2));
   }
@@ -76,6 +63,7 @@ class CalibrationResidual {
   const double drift_coordinate_;
   const double gravity_mps2_;
   const double sqrt_information_;
+  const std::array<Parameter, kBlockCount> blocks_;
 };
 
 }  // namespace accelcal

@@ -20,17 +20,24 @@ Basis BasisAt(double sin_theta, double cos_theta, double drift_coordinate) {
   return phi;
 }
 
-double PredictAt(double theta_rad, double drift_coordinate, SensingAxis axis, double gravity_mps2,
-                 const CompressedCalibrationResidual::Parameters& p) {
-  return CalibrationResidual::Predict(theta_rad, drift_coordinate, axis, gravity_mps2, p[0], p[1],
-                                      p[2], p[3], p[4], p[5]);
+// Parameters far from `reference` in every tilt-test parameter at once (an angle offset of
+// 0.1 rad, say): where a model outside the basis cannot hide.
+ModelParameters<double> Spread(const ModelParameters<double>& reference, SensingAxis axis) {
+  ModelParameters<double> spread = reference;
+  double sign = 1.0;
+  for (const Parameter parameter : CalibrationParameters(axis)) {
+    const double size = Info(parameter).example_size;
+    spread[parameter] += sign * (size > 0.0 ? 25.0 * size : 0.05);
+    sign = -sign;
+  }
+  return spread;
 }
 
 }  // namespace
 
 Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double gravity_mps2,
                                            const double noise_stddev_mps2[2],
-                                           const Parameters reference[2],
+                                           const ModelParameters<double>& reference,
                                            std::unique_ptr<CompressedCalibrationResidual> out[2]) {
   constexpr int kGramEntries = kResidualCount * (kResidualCount + 1) / 2;
   // Six probe samples whose basis rows are independent: four quadrants and pi/4 at u = 0
@@ -48,22 +55,21 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
   const SensingAxis axes[2] = {SensingAxis::kX, SensingAxis::kY};
   for (int a = 0; a < 2; ++a) {
     const SensingAxis axis = axes[a];
-    auto coefficients = [&](const Parameters& p) {
+    auto coefficients = [&](const ModelParameters<double>& p) {
       Basis predicted;
       for (int j = 0; j < kBasisSize; ++j) {
-        predicted[j] = PredictAt(probe_theta[j], probe_drift[j], axis, gravity_mps2, p);
+        predicted[j] =
+            PredictCalibrationOutput(probe_theta[j], probe_drift[j], axis, gravity_mps2, p);
       }
       return Basis(probe_inverse * predicted);
     };
-    // The model must lie in span(phi): check it away from the probes, at parameters well
-    // beyond any estimate (every effect at once, an angle offset of 0.3 rad).
-    Parameters wide;
-    wide << 0.3, -0.05, 0.002, 0.07, 0.3, -0.02;
-    for (const Parameters& p : {reference[a], Parameters(reference[a] + wide)}) {
+    // The model must lie in span(phi): check it away from the probes, at the reference and
+    // at parameters well beyond any estimate.
+    for (const ModelParameters<double>& p : {reference, Spread(reference, axis)}) {
       const Basis c = coefficients(p);
       for (const double theta : {0.3, 1.9, 2.71, 4.4, 5.8, -7.1}) {
         for (const double u : {-0.5, -0.13, 0.41}) {
-          const double direct = PredictAt(theta, u, axis, gravity_mps2, p);
+          const double direct = PredictCalibrationOutput(theta, u, axis, gravity_mps2, p);
           const double through_basis = BasisAt(std::sin(theta), std::cos(theta), u).dot(c);
           if (!(std::abs(direct - through_basis) <= 1e-9 * (1.0 + std::abs(direct)))) {
             return Status::Error(StringPrintf(
@@ -77,12 +83,13 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
     residuals[a].reset(new CompressedCalibrationResidual);
     CompressedCalibrationResidual& r = *residuals[a];
     r.axis_ = axis;
+    r.blocks_ = CalibrationParameters(axis);
     r.gravity_mps2_ = gravity_mps2;
     r.sample_count_ = test.size();
     std::copy(probe_theta, probe_theta + kBasisSize, r.probe_theta_rad_);
     std::copy(probe_drift, probe_drift + kBasisSize, r.probe_drift_);
     r.probe_inverse_ = probe_inverse;
-    r.reference_coefficients_ = coefficients(reference[a]);
+    r.reference_coefficients_ = coefficients(reference);
   }
 
   // G of both axes about their references, in one pass: sin and cos by blocks (SinCos), the

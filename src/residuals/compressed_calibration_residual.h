@@ -20,10 +20,10 @@
 // and z^T G z = |W z|^2 with W = Lambda^1/2 V^T D from the eigendecomposition of the
 // column-normalised G (rank-deficient designs are fine: their null directions get zero
 // rows). The coefficients c(p) are not written out by hand: they are read off the model
-// itself (CalibrationResidual::Predict) at six probe samples, c = P^-1 y(p), so the model
-// stays in one place. Make() checks at random parameters and samples that the model does
-// lie in span(phi) and fails otherwise (an effect added later with another shape), so the
-// caller can fall back to the per-sample residuals.
+// itself (PredictCalibrationOutput) at six probe samples, c = P^-1 y(p), so the model
+// stays in one place. Make() checks at spread parameters and samples that the model does
+// lie in span(phi) and fails otherwise (an effect registered later with another shape,
+// e.g. a cubic scale term), so the caller can fall back to the per-sample residuals.
 //
 // Cost: one pass over the test to build G (a sin and a cos per sample and 28 products),
 // then each evaluation is six predictions and a 7x7 product, independent of N. Robust
@@ -36,7 +36,8 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
-#include "residuals/calibration_residual.h"
+#include "models/sensor_model.h"
+#include "residuals/scalar_blocks.h"
 
 namespace accelcal {
 
@@ -45,26 +46,24 @@ class CompressedCalibrationResidual {
   static constexpr int kBasisSize = 6;
   static constexpr int kResidualCount = kBasisSize + 1;
 
-  // The parameters of one axis in the functor's block order: bias, scale,
-  // scale_nonlinearity, bias_drift, angle_offset, nonorthogonality.
-  using Parameters = Eigen::Matrix<double, 6, 1>;
+  // The same parameter blocks as CalibrationResidual of the axis.
+  static constexpr int kBlockCount = kCalibrationParameterCount;
 
-  // Accumulates G of both axes (index 0: x, 1: y) over `test` in one pass, each about its
-  // reference parameters (the residuals are best conditioned near them). Fails when the
+  // Accumulates G of both axes (index 0: x, 1: y) over `test` in one pass, about the
+  // `reference` parameters (the residuals are best conditioned near them). Fails when the
   // model is not in span(phi).
   static Status Make(const CalibrationTest& test, double gravity_mps2,
-                     const double noise_stddev_mps2[2], const Parameters reference[2],
+                     const double noise_stddev_mps2[2], const ModelParameters<double>& reference,
                      std::unique_ptr<CompressedCalibrationResidual> residuals[2]);
 
-  template <typename T>
-  bool operator()(const T* const bias, const T* const scale, const T* const scale_nonlinearity,
-                  const T* const bias_drift, const T* const angle_offset,
-                  const T* const nonorthogonality, T* residual) const {
+  template <typename T, typename... Rest>
+  bool operator()(const T* const first, Rest... rest) const {
+    ModelParameters<T> parameters;
+    T* residual = GatherParameters(blocks_, &parameters, first, rest...);
     Eigen::Matrix<T, kBasisSize, 1> predicted;
     for (int j = 0; j < kBasisSize; ++j) {
-      predicted[j] = CalibrationResidual::Predict(
-          probe_theta_rad_[j], probe_drift_[j], axis_, gravity_mps2_, bias[0], scale[0],
-          scale_nonlinearity[0], bias_drift[0], angle_offset[0], nonorthogonality[0]);
+      predicted[j] = PredictCalibrationOutput(probe_theta_rad_[j], probe_drift_[j], axis_,
+                                              gravity_mps2_, parameters);
     }
     Eigen::Matrix<T, kResidualCount, 1> z;
     z.template head<kBasisSize>() =
@@ -77,16 +76,19 @@ class CompressedCalibrationResidual {
 
   // Takes ownership of `residual`.
   static ceres::CostFunction* Create(CompressedCalibrationResidual* residual) {
-    return new ceres::AutoDiffCostFunction<CompressedCalibrationResidual, kResidualCount, 1, 1, 1,
-                                           1, 1, 1>(residual);
+    return new ScalarBlocksCostFunction<CompressedCalibrationResidual, kResidualCount,
+                                        kBlockCount>(residual);
   }
 
   int sample_count() const { return sample_count_; }
+  // The parameter blocks, in the order Create's cost function takes them.
+  const std::array<Parameter, kBlockCount>& blocks() const { return blocks_; }
 
  private:
   CompressedCalibrationResidual() = default;
 
   SensingAxis axis_ = SensingAxis::kX;
+  std::array<Parameter, kBlockCount> blocks_ = {};
   double gravity_mps2_ = 0.0;
   int sample_count_ = 0;
   double probe_theta_rad_[kBasisSize] = {};

@@ -203,7 +203,7 @@ Status SetParameter(const std::string& name, double value, SimulationTruth* trut
       !(value > 0.0)) {
     return Status::Error(name + " (a variance ratio) must be positive");
   }
-  ParameterValue(&truth->parameters, info->parameter) = value;
+  truth->parameters[info->parameter] = value;
   return Status::Ok();
 }
 
@@ -438,7 +438,7 @@ SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t
 json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t seed) {
   json parameters = json::object();
   for (const ParameterInfo& info : ParameterCatalogue()) {
-    parameters[info.name] = ParameterValue(scenario.truth.parameters, info.parameter);
+    parameters[info.name] = scenario.truth.parameters[info.parameter];
   }
   json landmarks = json::array();
   for (const Landmark& landmark : data.landmarks) {

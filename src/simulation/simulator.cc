@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "models/sensor_model.h"
 #include "models/tilt_table.h"
 #include "simulation/random.h"
 
@@ -41,10 +42,10 @@ std::vector<double> TiltAngles(const TiltSchedule& schedule) {
 
 SimulationTruth CourseTableOneTruth() {
   SimulationTruth truth;
-  truth.parameters.sensor.x.bias = 7.667e-2;
-  truth.parameters.sensor.x.scale = -3.014e-2;
-  truth.parameters.sensor.y.bias = -1.751e-2;
-  truth.parameters.sensor.y.scale = 1.004e-2;
+  truth.parameters[Parameter::kBiasX] = 7.667e-2;
+  truth.parameters[Parameter::kScaleX] = -3.014e-2;
+  truth.parameters[Parameter::kBiasY] = -1.751e-2;
+  truth.parameters[Parameter::kScaleY] = 1.004e-2;
   truth.gravity_mps2 = kCourseGravityMps2;
   truth.stated_noise_variance_x = 0.25;
   truth.stated_noise_variance_y = 0.64;
@@ -63,18 +64,13 @@ CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationT
   test.measured_x.resize(n);
   test.measured_y.resize(n);
   for (int i = 0; i < n; ++i) {
-    double force_x;
-    double force_y;
-    TiltTableSpecificForce(test.theta_rad[i], p.angle_offset, truth.gravity_mps2, &force_x,
-                           &force_y);
-    double along_x;
-    double along_y;
-    ProjectOnSensingAxes(force_x, force_y, p.sensor.nonorthogonality, &along_x, &along_y);
     const double u = DriftCoordinate(i, n);
-    test.measured_x[i] = AxisOutput(along_x, p.sensor.x, u, Phase::kCalibrationTest) +
-                         sigma_x * random.StandardNormal();
-    test.measured_y[i] = AxisOutput(along_y, p.sensor.y, u, Phase::kCalibrationTest) +
-                         sigma_y * random.StandardNormal();
+    test.measured_x[i] =
+        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kX, truth.gravity_mps2, p) +
+        sigma_x * random.StandardNormal();
+    test.measured_y[i] =
+        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kY, truth.gravity_mps2, p) +
+        sigma_y * random.StandardNormal();
   }
   return test;
 }
@@ -92,14 +88,10 @@ VehicleRun SimulateVehicleRun(const std::vector<double>& timestamp_s,
   run.measured_x.resize(timestamp_s.size());
   run.measured_y.resize(timestamp_s.size());
   for (size_t j = 0; j < timestamp_s.size(); ++j) {
-    double along_x;
-    double along_y;
-    ProjectOnSensingAxes(true_acceleration_x[j], true_acceleration_y[j], p.sensor.nonorthogonality,
-                         &along_x, &along_y);
-    run.measured_x[j] = AxisOutput(along_x, p.sensor.x, 0.0, Phase::kVehicleRun) +
-                        sigma_x * random.StandardNormal();
-    run.measured_y[j] = AxisOutput(along_y, p.sensor.y, 0.0, Phase::kVehicleRun) +
-                        sigma_y * random.StandardNormal();
+    PredictRunOutputs(true_acceleration_x[j], true_acceleration_y[j], p, &run.measured_x[j],
+                      &run.measured_y[j]);
+    run.measured_x[j] += sigma_x * random.StandardNormal();
+    run.measured_y[j] += sigma_y * random.StandardNormal();
   }
   return run;
 }

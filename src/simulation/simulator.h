@@ -39,10 +39,10 @@ struct SimulationTruth {
   double stated_noise_variance_y = 0.64;
 
   double TrueNoiseVarianceX() const {
-    return stated_noise_variance_x * parameters.noise_variance_ratio_x;
+    return stated_noise_variance_x * parameters[Parameter::kNoiseVarianceX];
   }
   double TrueNoiseVarianceY() const {
-    return stated_noise_variance_y * parameters.noise_variance_ratio_y;
+    return stated_noise_variance_y * parameters[Parameter::kNoiseVarianceY];
   }
 };
 

@@ -30,8 +30,7 @@ CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions&
   const ModelParameters<double>& truth_parameters = scenario.truth.parameters;
   Eigen::Vector4d truth;
   for (int i = 0; i < kBaselineParameterCount; ++i) {
-    truth[i] =
-        ParameterValue(truth_parameters, FindParameter(kBaselineParameterNames[i])->parameter);
+    truth[i] = truth_parameters[FindParameter(kBaselineParameterNames[i])->parameter];
   }
   std::vector<Trial> trials(options.trials);
   MonteCarloOptions monte_carlo;
@@ -127,7 +126,7 @@ std::vector<EffectImpact> RunEffectImpactTable(const Scenario& scenario,
   for (const ParameterInfo& info : ParameterCatalogue()) {
     if (info.baseline) continue;
     Scenario hidden = scenario;
-    ParameterValue(&hidden.truth.parameters, info.parameter) = info.example_size;
+    hidden.truth.parameters[info.parameter] = info.example_size;
     EffectImpact row;
     row.effect = info.parameter;
     row.size = info.example_size;

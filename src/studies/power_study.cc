@@ -9,19 +9,11 @@
 namespace accelcal {
 namespace {
 
-bool IsRunShift(Parameter parameter) {
-  return parameter == Parameter::kRunBiasShiftX || parameter == Parameter::kRunBiasShiftY;
-}
-
-bool IsNoise(Parameter parameter) {
-  return parameter == Parameter::kNoiseVarianceX || parameter == Parameter::kNoiseVarianceY;
-}
-
 // The effect's sigma on this design: a joint fit with the effect free on a null dataset
 // (the noise ratios: the von Neumann estimator's sd).
 double EffectSigma(const Scenario& scenario, Parameter effect, uint64_t seed) {
   const SimulatedData data = SimulateScenario(scenario, seed, 1u << 30);
-  if (IsNoise(effect)) {
+  if (IsNoiseRatio(effect)) {
     const double n = data.test.size();
     return std::sqrt(8.0 * (n - 1) + 4.0 * (n - 2)) / (2.0 * (n - 1));
   }
@@ -45,7 +37,7 @@ std::vector<PowerRow> RunPowerStudy(const Scenario& base, const PowerOptions& op
   for (const ParameterInfo& info : ParameterCatalogue()) {
     if (info.baseline) continue;
     Scenario scenario = base;
-    if (IsRunShift(info.parameter)) {
+    if (ActsOnlyInRun(info.parameter)) {
       scenario.landmarks = LandmarkSpec();
       scenario.landmarks.decoys = true;
       scenario.landmarks.decoy_min_distance_m = 400.0;
@@ -55,7 +47,7 @@ std::vector<PowerRow> RunPowerStudy(const Scenario& base, const PowerOptions& op
     row.sigma = EffectSigma(scenario, info.parameter, options.seed);
     for (const double size : options.sizes_sigma) {
       Scenario hidden = scenario;
-      ParameterValue(&hidden.truth.parameters, info.parameter) = info.neutral + size * row.sigma;
+      hidden.truth.parameters[info.parameter] = info.neutral + size * row.sigma;
       std::vector<int> named(options.trials, 0);
       std::vector<int> others(options.trials, 0);
       MonteCarloOptions monte_carlo;

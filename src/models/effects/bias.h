@@ -1,0 +1,24 @@
+#ifndef ACCELCAL_MODELS_EFFECTS_BIAS_H_
+#define ACCELCAL_MODELS_EFFECTS_BIAS_H_
+
+// b_k [m/s^2]: the constant bias of each axis, in the test and the run (baseline).
+//   m_k += b_k
+
+#include "models/effect.h"
+
+namespace accelcal {
+
+struct Bias : EffectTerms {
+  static constexpr EffectInfo kInfo = {
+      "bias", "m/s^2", "constant bias of the {axis} axis", Scope::kPerAxis, ActsIn::kBoth,
+      Role::kBaseline, /*neutral=*/0.0, /*example_size=*/0.0, /*force_degree=*/0};
+
+  template <typename T>
+  static void AddAxisTerms(const T& bias, double /*drift_coordinate*/, AxisPolynomial<T>* output) {
+    output->c[0] += bias;
+  }
+};
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_MODELS_EFFECTS_BIAS_H_
