@@ -117,19 +117,25 @@ T AxisOutput(const T& specific_force_along_axis, const ModelParameters<T>& param
 // c = c0 - m the quadratic part is c2 f^2 + c1 f + c = 0; the root that tends to the linear
 // inverse -c/c1 as c2 -> 0 is written without cancellation as
 // f = -2c / (c1 + sqrt(c1^2 - 4 c2 c)). A negative discriminant (an output no force can
-// produce) is clamped at zero. When a registered effect of the run has a cubic term, three
-// Newton steps from that root follow (quadratic convergence from a root already within
-// |c3 f^3| of the answer); they run whatever c3's value, so its derivatives are exact too.
+// produce) is clamped at zero. When a registered effect of the run has a cubic term, Newton
+// steps from that root follow until they no longer move it (quadratic convergence from a
+// root already within about |c3 f^3| of the answer). At least one is taken whatever c3's
+// value: a Newton step at the root carries the implicit derivative -(dm/dp)/(dm/df), so
+// the derivatives with respect to c3 are exact too, even at c3 = 0.
 template <typename T>
 T InvertAxisResponse(const AxisPolynomial<T>& response, const T& measured) {
+  using std::abs;
   using std::sqrt;
   const T c = response.c[0] - measured;
   T discriminant = response.c[1] * response.c[1] - T(4.0) * response.c[2] * c;
   if (discriminant < T(0.0)) discriminant = T(0.0);
   T force = T(-2.0) * c / (response.c[1] + sqrt(discriminant));
   if constexpr (ForceDegree(Phase::kVehicleRun) > 2) {
-    for (int step = 0; step < 3; ++step)
-      force -= (response.Evaluate(force) - measured) / response.Slope(force);
+    for (int iteration = 0; iteration < 30; ++iteration) {
+      const T step = (response.Evaluate(force) - measured) / response.Slope(force);
+      force -= step;
+      if (!(abs(step) > T(1e-15) * (T(1.0) + abs(force)))) break;
+    }
   }
   return force;
 }

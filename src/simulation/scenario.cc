@@ -198,9 +198,7 @@ Status SetParameter(const std::string& name, double value, SimulationTruth* trut
   const ParameterInfo* info = FindParameter(name);
   if (info == nullptr) return Status::Error("'" + name + "' is not a parameter of the spec");
   if (!std::isfinite(value)) return Status::Error(name + " must be finite");
-  if ((info->parameter == Parameter::kNoiseVarianceX ||
-       info->parameter == Parameter::kNoiseVarianceY) &&
-      !(value > 0.0)) {
+  if (IsNoiseRatio(info->parameter) && !(value > 0.0)) {
     return Status::Error(name + " (a variance ratio) must be positive");
   }
   truth->parameters[info->parameter] = value;
