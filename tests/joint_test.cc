@@ -97,7 +97,8 @@ TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAny
             testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
         const double* const* blocks = pointers.data();
         double per_sample_sum = 0.0;
-        Eigen::Matrix<double, kP, kP> per_sample_information = Eigen::Matrix<double, kP, kP>::Zero();
+        Eigen::Matrix<double, kP, kP> per_sample_information =
+            Eigen::Matrix<double, kP, kP>::Zero();
         for (int i = 0; i < test.size(); ++i) {
           const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::Create(
               test.theta_rad[i], axis == SensingAxis::kX ? test.measured_x[i] : test.measured_y[i],
@@ -136,7 +137,8 @@ TEST(CalibrationResidual, GradientCheckerAgreesWithAutodiff) {
         CalibrationResidual::Create(2.1, -3.0, axis, 0.3, 9.8, 0.5));
     const std::vector<const ceres::Manifold*>* no_manifolds = nullptr;
     ceres::GradientChecker checker(cost.get(), no_manifolds, ceres::NumericDiffOptions());
-    const std::vector<const double*> blocks = testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
+    const std::vector<const double*> blocks =
+        testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
     ceres::GradientChecker::ProbeResults results;
     EXPECT_TRUE(checker.Probe(blocks.data(), 1e-8, &results)) << results.error_log;
   }

@@ -98,9 +98,10 @@ TEST(SensorModel, CompilesForCeresJetAndGivesExactDerivatives) {
       (1.0 - 0.03) * (9.8 * std::sin(t) * std::cos(0.001) - 9.8 * std::cos(t) * std::sin(0.001));
   EXPECT_NEAR(output.v[0], expected, 1e-12);
   // d output / d eps = (1 + s) (g cos(t) sin(eps) - g sin(t) cos(eps)).
-  EXPECT_NEAR(output.v[2],
-              (1.0 - 0.03) * (9.8 * std::cos(t) * std::sin(0.001) - 9.8 * std::sin(t) * std::cos(0.001)),
-              1e-12);
+  EXPECT_NEAR(
+      output.v[2],
+      (1.0 - 0.03) * (9.8 * std::cos(t) * std::sin(0.001) - 9.8 * std::sin(t) * std::cos(0.001)),
+      1e-12);
 }
 
 TEST(InvertAxisResponse, InvertsTheForwardModelWithEveryRunTerm) {
@@ -109,8 +110,7 @@ TEST(InvertAxisResponse, InvertsTheForwardModelWithEveryRunTerm) {
   p[Parameter::kScaleX] = -0.03;
   p[Parameter::kScaleNonlinearityX] = 0.004;
   p[Parameter::kRunBiasShiftX] = -0.05;
-  const AxisPolynomial<double> response =
-      AxisResponse(p, SensingAxis::kX, 0.0, Phase::kVehicleRun);
+  const AxisPolynomial<double> response = AxisResponse(p, SensingAxis::kX, 0.0, Phase::kVehicleRun);
   for (const double force : {-9.0, -1.0, 0.0, 0.5, 7.0}) {
     const double output = AxisOutput(force, p, SensingAxis::kX, 0.0, Phase::kVehicleRun);
     EXPECT_NEAR(InvertAxisResponse(response, output), force, 1e-12);
@@ -119,9 +119,9 @@ TEST(InvertAxisResponse, InvertsTheForwardModelWithEveryRunTerm) {
   ModelParameters<double> baseline;
   baseline[Parameter::kBiasX] = 0.08;
   baseline[Parameter::kScaleX] = -0.03;
-  EXPECT_NEAR(InvertAxisResponse(AxisResponse(baseline, SensingAxis::kX, 0.0, Phase::kVehicleRun),
-                                 2.0),
-              (2.0 - 0.08) / 0.97, 1e-15);
+  EXPECT_NEAR(
+      InvertAxisResponse(AxisResponse(baseline, SensingAxis::kX, 0.0, Phase::kVehicleRun), 2.0),
+      (2.0 - 0.08) / 0.97, 1e-15);
 }
 
 TEST(RunCorrection, UndoesEveryRunTermAndTheProjection) {
@@ -145,11 +145,20 @@ TEST(RunCorrection, UndoesEveryRunTermAndTheProjection) {
 // The registry (models/effect_list.h) reproduces the spec's catalogue: its names, in its
 // order, with the baseline first.
 TEST(ParameterCatalogue, HasTheSpecsNamesInTheSpecsOrder) {
-  const std::vector<std::string> spec = {
-      "bias_x",         "scale_x",          "bias_y",           "scale_y",
-      "angle_offset",   "nonorthogonality", "bias_drift_x",     "bias_drift_y",
-      "scale_nonlinearity_x", "scale_nonlinearity_y", "run_bias_shift_x", "run_bias_shift_y",
-      "noise_variance_x",     "noise_variance_y"};
+  const std::vector<std::string> spec = {"bias_x",
+                                         "scale_x",
+                                         "bias_y",
+                                         "scale_y",
+                                         "angle_offset",
+                                         "nonorthogonality",
+                                         "bias_drift_x",
+                                         "bias_drift_y",
+                                         "scale_nonlinearity_x",
+                                         "scale_nonlinearity_y",
+                                         "run_bias_shift_x",
+                                         "run_bias_shift_y",
+                                         "noise_variance_x",
+                                         "noise_variance_y"};
   ASSERT_EQ(static_cast<size_t>(kParameterCount), spec.size());
   for (int i = 0; i < kParameterCount; ++i) {
     const ParameterInfo& info = ParameterCatalogue()[i];

@@ -222,8 +222,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   }
   result->extended = current;
   for (DiscoveredEffect& effect : result->effects) {
-    if (IsNoiseRatio(effect.effect))
-      continue;
+    if (IsNoiseRatio(effect.effect)) continue;
     effect.estimate = current.estimate.Value(effect.effect);
     effect.stddev = current.estimate.StandardDeviation(effect.effect);
   }

@@ -416,12 +416,12 @@ void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<dou
   residual_y->resize(n);
   for (int i = 0; i < n; ++i) {
     const double u = DriftCoordinate(i, n);
-    (*residual_x)[i] = test.measured_x[i] - PredictCalibrationOutput(test.theta_rad[i], u,
-                                                                     SensingAxis::kX,
-                                                                     gravity_mps2, values);
-    (*residual_y)[i] = test.measured_y[i] - PredictCalibrationOutput(test.theta_rad[i], u,
-                                                                     SensingAxis::kY,
-                                                                     gravity_mps2, values);
+    (*residual_x)[i] =
+        test.measured_x[i] -
+        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kX, gravity_mps2, values);
+    (*residual_y)[i] =
+        test.measured_y[i] -
+        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kY, gravity_mps2, values);
   }
 }
 

@@ -111,8 +111,10 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
 
   // The baseline's inverse is (m - b)/(1 + s): the run's noise reaches the corrected
   // acceleration divided by the response's slope (1 + s).
-  const double variance_x = conditions.noise_variance_x * estimate.values[Parameter::kNoiseVarianceX];
-  const double variance_y = conditions.noise_variance_y * estimate.values[Parameter::kNoiseVarianceY];
+  const double variance_x =
+      conditions.noise_variance_x * estimate.values[Parameter::kNoiseVarianceX];
+  const double variance_y =
+      conditions.noise_variance_y * estimate.values[Parameter::kNoiseVarianceY];
   AxisNoisePropagator noise_x(dt_s, variance_x / (slope_x * slope_x));
   AxisNoisePropagator noise_y(dt_s, variance_y / (slope_y * slope_y));
 

@@ -23,13 +23,13 @@
 
 namespace accelcal {
 
-using BuiltInEffects = EffectList<Bias,                //
-                                  Scale,               //
-                                  AngleOffset,         //
-                                  Nonorthogonality,    //
-                                  BiasDrift,           //
-                                  ScaleNonlinearity,   //
-                                  RunBiasShift,        //
+using BuiltInEffects = EffectList<Bias,               //
+                                  Scale,              //
+                                  AngleOffset,        //
+                                  Nonorthogonality,   //
+                                  BiasDrift,          //
+                                  ScaleNonlinearity,  //
+                                  RunBiasShift,       //
                                   NoiseVariance>;
 
 }  // namespace accelcal

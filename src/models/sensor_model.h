@@ -153,8 +153,8 @@ T PredictCalibrationOutput(double theta_reported_rad, double drift_coordinate, S
   T along_x;
   T along_y;
   ProjectOnSensingAxes(force_x, force_y, parameters, Phase::kCalibrationTest, &along_x, &along_y);
-  return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, parameters, axis,
-                    drift_coordinate, Phase::kCalibrationTest);
+  return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, parameters, axis, drift_coordinate,
+                    Phase::kCalibrationTest);
 }
 
 // The vehicle run's correction: each axis's output inverted (InvertAxisResponse), then the

@@ -37,8 +37,8 @@ class CalibrationResidual {
   bool operator()(const T* const first, Rest... rest) const {
     ModelParameters<T> parameters;
     T* residual = GatherParameters(blocks_, &parameters, first, rest...);
-    const T predicted = PredictCalibrationOutput(theta_rad_, drift_coordinate_, axis_,
-                                                 gravity_mps2_, parameters);
+    const T predicted =
+        PredictCalibrationOutput(theta_rad_, drift_coordinate_, axis_, gravity_mps2_, parameters);
     residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
     return true;
   }

@@ -76,8 +76,8 @@ class CompressedCalibrationResidual {
 
   // Takes ownership of `residual`.
   static ceres::CostFunction* Create(CompressedCalibrationResidual* residual) {
-    return new ScalarBlocksCostFunction<CompressedCalibrationResidual, kResidualCount,
-                                        kBlockCount>(residual);
+    return new ScalarBlocksCostFunction<CompressedCalibrationResidual, kResidualCount, kBlockCount>(
+        residual);
   }
 
   int sample_count() const { return sample_count_; }

@@ -57,10 +57,9 @@ TEST(ExtendedCatalogue, TheNewEffectIsABlockOfEachResidualItActsIn) {
 TEST(ScaleCubic, TheSimulatorAddsItsTerm) {
   Scenario scenario;
   ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
-  ASSERT_TRUE(ApplyScenarioOverrides(
-                  "scale_cubic_y=0.001,tilt_samples=101,noise_variance_x=1e-30,"
-                  "noise_variance_y=1e-30",
-                  &scenario)
+  ASSERT_TRUE(ApplyScenarioOverrides("scale_cubic_y=0.001,tilt_samples=101,noise_variance_x=1e-30,"
+                                     "noise_variance_y=1e-30",
+                                     &scenario)
                   .ok());
   const SimulatedData data = SimulateScenario(scenario, 1);
   ModelParameters<double> without = scenario.truth.parameters;
@@ -69,9 +68,9 @@ TEST(ScaleCubic, TheSimulatorAddsItsTerm) {
     const double theta = data.test.theta_rad[i];
     const double u = DriftCoordinate(i, data.test.size());
     const double force_y = -9.8 * std::cos(theta);
-    EXPECT_NEAR(data.test.measured_y[i] -
-                    PredictCalibrationOutput(theta, u, SensingAxis::kY, 9.8, without),
-                0.001 * force_y * force_y * force_y, 1e-12);
+    EXPECT_NEAR(
+        data.test.measured_y[i] - PredictCalibrationOutput(theta, u, SensingAxis::kY, 9.8, without),
+        0.001 * force_y * force_y * force_y, 1e-12);
     EXPECT_NEAR(data.test.measured_x[i],
                 PredictCalibrationOutput(theta, u, SensingAxis::kX, 9.8, without), 1e-12);
   }
@@ -90,8 +89,7 @@ TEST(ScaleCubic, TheRunsInverseAndItsDerivativeAreExact) {
     p[kCubicY] = Jet(k3, 0);
     const RunCorrection<Jet> correct(p);
     for (const double force : {-9.0, -2.0, 0.5, 6.0}) {
-      const Jet measured =
-          AxisOutput(Jet(force), p, SensingAxis::kY, 0.0, Phase::kVehicleRun);
+      const Jet measured = AxisOutput(Jet(force), p, SensingAxis::kY, 0.0, Phase::kVehicleRun);
       const Jet recovered = correct.AlongAxis(Jet(measured.a), SensingAxis::kY);
       EXPECT_NEAR(recovered.a, force, 1e-12) << k3;
       const double slope = 0.98 + 2 * 0.001 * force + 3 * k3 * force * force;

@@ -9,9 +9,15 @@
 namespace accelcal {
 
 struct Bias : EffectTerms {
-  static constexpr EffectInfo kInfo = {
-      "bias", "m/s^2", "constant bias of the {axis} axis", Scope::kPerAxis, ActsIn::kBoth,
-      Role::kBaseline, /*neutral=*/0.0, /*example_size=*/0.0, /*force_degree=*/0};
+  static constexpr EffectInfo kInfo = {"bias",
+                                       "m/s^2",
+                                       "constant bias of the {axis} axis",
+                                       Scope::kPerAxis,
+                                       ActsIn::kBoth,
+                                       Role::kBaseline,
+                                       /*neutral=*/0.0,
+                                       /*example_size=*/0.0,
+                                       /*force_degree=*/0};
 
   template <typename T>
   static void AddAxisTerms(const T& bias, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

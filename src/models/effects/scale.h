@@ -9,13 +9,18 @@
 namespace accelcal {
 
 struct Scale : EffectTerms {
-  static constexpr EffectInfo kInfo = {
-      "scale", "1", "scale-factor error of the {axis} axis", Scope::kPerAxis, ActsIn::kBoth,
-      Role::kBaseline, /*neutral=*/0.0, /*example_size=*/0.0, /*force_degree=*/1};
+  static constexpr EffectInfo kInfo = {"scale",
+                                       "1",
+                                       "scale-factor error of the {axis} axis",
+                                       Scope::kPerAxis,
+                                       ActsIn::kBoth,
+                                       Role::kBaseline,
+                                       /*neutral=*/0.0,
+                                       /*example_size=*/0.0,
+                                       /*force_degree=*/1};
 
   template <typename T>
-  static void AddAxisTerms(const T& scale, double /*drift_coordinate*/,
-                           AxisPolynomial<T>* output) {
+  static void AddAxisTerms(const T& scale, double /*drift_coordinate*/, AxisPolynomial<T>* output) {
     output->c[1] += scale;
   }
 };

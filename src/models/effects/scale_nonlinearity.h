@@ -9,10 +9,15 @@
 namespace accelcal {
 
 struct ScaleNonlinearity : EffectTerms {
-  static constexpr EffectInfo kInfo = {
-      "scale_nonlinearity", "1/(m/s^2)", "second-order scale term of the {axis} axis",
-      Scope::kPerAxis, ActsIn::kBoth, Role::kEffect, /*neutral=*/0.0, /*example_size=*/0.001,
-      /*force_degree=*/2};
+  static constexpr EffectInfo kInfo = {"scale_nonlinearity",
+                                       "1/(m/s^2)",
+                                       "second-order scale term of the {axis} axis",
+                                       Scope::kPerAxis,
+                                       ActsIn::kBoth,
+                                       Role::kEffect,
+                                       /*neutral=*/0.0,
+                                       /*example_size=*/0.001,
+                                       /*force_degree=*/2};
 
   template <typename T>
   static void AddAxisTerms(const T& k2, double /*drift_coordinate*/, AxisPolynomial<T>* output) {
