@@ -94,9 +94,9 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
   const int stride = std::max(1, options.path_stride);
 
   // Each parameter acting in the run is a Jet variable, so every corrected acceleration,
-  // velocity and position carries its exact derivative with respect to them.
+  // velocity and position carries its exact derivative with respect to them (the others do
+  // not act in the run and stay neutral).
   ModelParameters<Jet> jets;
-  for (int i = 0; i < kParameterCount; ++i) jets[Parameter(i)] = Jet(estimate.values[Parameter(i)]);
   for (size_t r = 0; r < kRunParameters.size(); ++r) {
     jets[kRunParameters[r]] = Jet(estimate.Value(kRunParameters[r]), static_cast<int>(r));
   }

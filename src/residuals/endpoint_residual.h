@@ -104,12 +104,13 @@ class EndpointResidual {
   }
 
   // Whether the run's inverse stays affine in the measurement while the parameters `free`
-  // move from `values`: every run term of degree 2 or more in the force is held, at zero.
+  // move from `values`: every run term of degree 2 or more in the force is held, at its
+  // neutral value (where its term vanishes).
   static bool InverseIsAffine(const ModelParameters<double>& values,
                               const std::vector<Parameter>& free) {
     for (const Parameter parameter : kBlocks) {
       if (EffectOf(parameter).force_degree < 2) continue;
-      if (values[parameter] != 0.0) return false;
+      if (values[parameter] != EffectOf(parameter).neutral) return false;
       if (std::find(free.begin(), free.end(), parameter) != free.end()) return false;
     }
     return true;

@@ -20,11 +20,17 @@ namespace accelcal {
 
 struct ScaleCubic : EffectTerms {
   static constexpr EffectInfo kInfo = {
-      "scale_cubic", "1/(m/s^2)^2", "third-order scale term of the {axis} axis (IEEE 1293 K3)",
-      Scope::kPerAxis, ActsIn::kBoth, Role::kEffect, /*neutral=*/0.0,
+      "scale_cubic",                                               // name
+      "1/(m/s^2)^2",                                               // unit
+      "third-order scale term of the {axis} axis (IEEE 1293 K3)",  // meaning
+      Scope::kPerAxis,                                             // scope
+      ActsIn::kBoth,                                               // acts_in
+      Role::kEffect,                                               // role
+      0.0,                                                         // neutral
       // At g = 9.8 m/s^2 this is 0.19 m/s^2 at the table's extremes, about 7 sigma on the
       // course-sized test once the part that scale_k absorbs is removed.
-      /*example_size=*/2e-4, /*force_degree=*/3};
+      2e-4,  // example_size
+      3};    // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& k3, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

@@ -10,15 +10,15 @@ namespace accelcal {
 
 struct AngleOffset : EffectTerms {
   static constexpr EffectInfo kInfo = {
-      "angle_offset",
-      "rad",
-      "table zero offset: theta_true = theta_reported + delta (calibration test only)",
-      Scope::kShared,
-      ActsIn::kCalibrationTest,
-      Role::kEffect,
-      /*neutral=*/0.0,
-      /*example_size=*/0.004,
-      /*force_degree=*/0};
+      "angle_offset",                                                                    // name
+      "rad",                                                                             // unit
+      "table zero offset: theta_true = theta_reported + delta (calibration test only)",  // meaning
+      Scope::kShared,                                                                    // scope
+      ActsIn::kCalibrationTest,                                                          // acts_in
+      Role::kEffect,                                                                     // role
+      0.0,                                                                               // neutral
+      0.004,  // example_size
+      0};     // force_degree
 
   template <typename T>
   static void CorrectTableAngle(const T& angle_offset, T* theta_rad) {

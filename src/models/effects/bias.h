@@ -9,15 +9,15 @@
 namespace accelcal {
 
 struct Bias : EffectTerms {
-  static constexpr EffectInfo kInfo = {"bias",
-                                       "m/s^2",
-                                       "constant bias of the {axis} axis",
-                                       Scope::kPerAxis,
-                                       ActsIn::kBoth,
-                                       Role::kBaseline,
-                                       /*neutral=*/0.0,
-                                       /*example_size=*/0.0,
-                                       /*force_degree=*/0};
+  static constexpr EffectInfo kInfo = {"bias",                              // name
+                                       "m/s^2",                             // unit
+                                       "constant bias of the {axis} axis",  // meaning
+                                       Scope::kPerAxis,                     // scope
+                                       ActsIn::kBoth,                       // acts_in
+                                       Role::kBaseline,                     // role
+                                       0.0,                                 // neutral
+                                       0.0,                                 // example_size
+                                       0};                                  // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& bias, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

@@ -12,15 +12,15 @@ namespace accelcal {
 
 struct BiasDrift : EffectTerms {
   static constexpr EffectInfo kInfo = {
-      "bias_drift",
-      "m/s^2",
-      "{axis} bias change from the first to the last calibration sample",
-      Scope::kPerAxis,
-      ActsIn::kCalibrationTest,
-      Role::kEffect,
-      /*neutral=*/0.0,
-      /*example_size=*/0.1,
-      /*force_degree=*/0};
+      "bias_drift",                                                        // name
+      "m/s^2",                                                             // unit
+      "{axis} bias change from the first to the last calibration sample",  // meaning
+      Scope::kPerAxis,                                                     // scope
+      ActsIn::kCalibrationTest,                                            // acts_in
+      Role::kEffect,                                                       // role
+      0.0,                                                                 // neutral
+      0.1,                                                                 // example_size
+      0};                                                                  // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& drift, double drift_coordinate, AxisPolynomial<T>* output) {

@@ -10,15 +10,16 @@
 namespace accelcal {
 
 struct NoiseVariance : EffectTerms {
-  static constexpr EffectInfo kInfo = {"noise_variance",
-                                       "1",
-                                       "ratio of the true {axis} noise variance to the stated one",
-                                       Scope::kPerAxis,
-                                       ActsIn::kBoth,
-                                       Role::kNoiseRatio,
-                                       /*neutral=*/1.0,
-                                       /*example_size=*/2.0,
-                                       /*force_degree=*/0};
+  static constexpr EffectInfo kInfo = {
+      "noise_variance",                                             // name
+      "1",                                                          // unit
+      "ratio of the true {axis} noise variance to the stated one",  // meaning
+      Scope::kPerAxis,                                              // scope
+      ActsIn::kBoth,                                                // acts_in
+      Role::kNoiseRatio,                                            // role
+      1.0,                                                          // neutral
+      2.0,                                                          // example_size
+      0};                                                           // force_degree
 };
 
 }  // namespace accelcal

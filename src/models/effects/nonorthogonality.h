@@ -12,15 +12,15 @@
 namespace accelcal {
 
 struct Nonorthogonality : EffectTerms {
-  static constexpr EffectInfo kInfo = {"nonorthogonality",
-                                       "rad",
-                                       "y sensing axis tilted toward x",
-                                       Scope::kShared,
-                                       ActsIn::kBoth,
-                                       Role::kEffect,
-                                       /*neutral=*/0.0,
-                                       /*example_size=*/0.004,
-                                       /*force_degree=*/0};
+  static constexpr EffectInfo kInfo = {"nonorthogonality",                // name
+                                       "rad",                             // unit
+                                       "y sensing axis tilted toward x",  // meaning
+                                       Scope::kShared,                    // scope
+                                       ActsIn::kBoth,                     // acts_in
+                                       Role::kEffect,                     // role
+                                       0.0,                               // neutral
+                                       0.004,                             // example_size
+                                       0};                                // force_degree
 
   template <typename T>
   static void Project(const T& eps_rad, T* along_x, T* along_y) {

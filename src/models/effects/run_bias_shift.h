@@ -11,15 +11,15 @@ namespace accelcal {
 
 struct RunBiasShift : EffectTerms {
   static constexpr EffectInfo kInfo = {
-      "run_bias_shift",
-      "m/s^2",
-      "{axis} bias in the vehicle run minus bias in the calibration test",
-      Scope::kPerAxis,
-      ActsIn::kVehicleRun,
-      Role::kEffect,
-      /*neutral=*/0.0,
-      /*example_size=*/0.02,
-      /*force_degree=*/0};
+      "run_bias_shift",                                                     // name
+      "m/s^2",                                                              // unit
+      "{axis} bias in the vehicle run minus bias in the calibration test",  // meaning
+      Scope::kPerAxis,                                                      // scope
+      ActsIn::kVehicleRun,                                                  // acts_in
+      Role::kEffect,                                                        // role
+      0.0,                                                                  // neutral
+      0.02,                                                                 // example_size
+      0};                                                                   // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& shift, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

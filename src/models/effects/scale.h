@@ -9,15 +9,15 @@
 namespace accelcal {
 
 struct Scale : EffectTerms {
-  static constexpr EffectInfo kInfo = {"scale",
-                                       "1",
-                                       "scale-factor error of the {axis} axis",
-                                       Scope::kPerAxis,
-                                       ActsIn::kBoth,
-                                       Role::kBaseline,
-                                       /*neutral=*/0.0,
-                                       /*example_size=*/0.0,
-                                       /*force_degree=*/1};
+  static constexpr EffectInfo kInfo = {"scale",                                  // name
+                                       "1",                                      // unit
+                                       "scale-factor error of the {axis} axis",  // meaning
+                                       Scope::kPerAxis,                          // scope
+                                       ActsIn::kBoth,                            // acts_in
+                                       Role::kBaseline,                          // role
+                                       0.0,                                      // neutral
+                                       0.0,                                      // example_size
+                                       1};                                       // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& scale, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

@@ -9,15 +9,15 @@
 namespace accelcal {
 
 struct ScaleNonlinearity : EffectTerms {
-  static constexpr EffectInfo kInfo = {"scale_nonlinearity",
-                                       "1/(m/s^2)",
-                                       "second-order scale term of the {axis} axis",
-                                       Scope::kPerAxis,
-                                       ActsIn::kBoth,
-                                       Role::kEffect,
-                                       /*neutral=*/0.0,
-                                       /*example_size=*/0.001,
-                                       /*force_degree=*/2};
+  static constexpr EffectInfo kInfo = {"scale_nonlinearity",                          // name
+                                       "1/(m/s^2)",                                   // unit
+                                       "second-order scale term of the {axis} axis",  // meaning
+                                       Scope::kPerAxis,                               // scope
+                                       ActsIn::kBoth,                                 // acts_in
+                                       Role::kEffect,                                 // role
+                                       0.0,                                           // neutral
+                                       0.001,  // example_size
+                                       2};     // force_degree
 
   template <typename T>
   static void AddAxisTerms(const T& k2, double /*drift_coordinate*/, AxisPolynomial<T>* output) {
