@@ -415,13 +415,12 @@ void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<dou
   residual_x->resize(n);
   residual_y->resize(n);
   for (int i = 0; i < n; ++i) {
-    const double u = DriftCoordinate(i, n);
-    (*residual_x)[i] =
-        test.measured_x[i] -
-        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kX, gravity_mps2, values);
-    (*residual_y)[i] =
-        test.measured_y[i] -
-        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kY, gravity_mps2, values);
+    double predicted_x;
+    double predicted_y;
+    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), gravity_mps2, values,
+                              &predicted_x, &predicted_y);
+    (*residual_x)[i] = test.measured_x[i] - predicted_x;
+    (*residual_y)[i] = test.measured_y[i] - predicted_y;
   }
 }
 

@@ -70,13 +70,11 @@ constexpr bool ActsInPhase(const EffectInfo& info, Phase phase) {
 }
 
 // One axis's output as a polynomial in the force f along it [m/s^2]:
-//   m = c[0] + c[1] f + c[2] f^2 + c[3] f^3.
+//   m = c[0] + c[1] f + c[2] f^2 + c[3] f^3
+// (evaluated by models/sensor_model.h, which knows the highest degree registered).
 template <typename T>
 struct AxisPolynomial {
   std::array<T, 4> c = {T(0.0), T(1.0), T(0.0), T(0.0)};
-
-  T Evaluate(const T& f) const { return ((c[3] * f + c[2]) * f + c[1]) * f + c[0]; }
-  T Slope(const T& f) const { return (T(3.0) * c[3] * f + T(2.0) * c[2]) * f + c[1]; }
 };
 
 // The hooks an effect may hide; each does nothing here. `value` is the effect's parameter

@@ -233,7 +233,11 @@ class ModelParameters {
   // The value of `Effect` for `axis` (its one value when it is shared).
   template <typename Effect>
   const T& Of(SensingAxis axis = SensingAxis::kX) const {
-    return values_[ParameterOf<Effect>(axis).index()];
+    // Both places are compile-time constants; only the choice between them is not.
+    constexpr Parameter x = ParameterOf<Effect>(SensingAxis::kX);
+    constexpr Parameter y = ParameterOf<Effect>(SensingAxis::kY);
+    static_assert(x.index() >= 0 && y.index() >= 0, "a registered effect has a place");
+    return values_[(axis == SensingAxis::kX ? x : y).index()];
   }
 
  private:

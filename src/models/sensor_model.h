@@ -41,6 +41,23 @@ constexpr int ForceDegree(Phase phase) {
   return degree;
 }
 
+// The highest power of the force any registered effect adds, in either phase.
+constexpr int kMaxForceDegree =
+    std::max(ForceDegree(Phase::kCalibrationTest), ForceDegree(Phase::kVehicleRun));
+
+// The polynomial's value and slope at the force f. Without a registered cubic term c3 is
+// always zero and is left out: these run once per residual evaluation and per run sample.
+template <typename T>
+T Evaluate(const AxisPolynomial<T>& p, const T& f) {
+  if constexpr (kMaxForceDegree > 2) return ((p.c[3] * f + p.c[2]) * f + p.c[1]) * f + p.c[0];
+  return (p.c[2] * f + p.c[1]) * f + p.c[0];
+}
+template <typename T>
+T Slope(const AxisPolynomial<T>& p, const T& f) {
+  if constexpr (kMaxForceDegree > 2) return (T(3.0) * p.c[3] * f + T(2.0) * p.c[2]) * f + p.c[1];
+  return T(2.0) * p.c[2] * f + p.c[1];
+}
+
 // The true table angle [rad] from the reported one (tilt test only).
 template <typename T>
 T TrueTableAngle(const T& theta_reported_rad, const ModelParameters<T>& parameters) {
@@ -109,8 +126,8 @@ AxisPolynomial<T> AxisResponse(const ModelParameters<T>& parameters, SensingAxis
 template <typename T>
 T AxisOutput(const T& specific_force_along_axis, const ModelParameters<T>& parameters,
              SensingAxis axis, double drift_coordinate, Phase phase) {
-  return AxisResponse(parameters, axis, drift_coordinate, phase)
-      .Evaluate(specific_force_along_axis);
+  return Evaluate(AxisResponse(parameters, axis, drift_coordinate, phase),
+                  specific_force_along_axis);
 }
 
 // The force along the axis that produces the noiseless output `measured`. With
@@ -132,7 +149,7 @@ T InvertAxisResponse(const AxisPolynomial<T>& response, const T& measured) {
   T force = T(-2.0) * c / (response.c[1] + sqrt(discriminant));
   if constexpr (ForceDegree(Phase::kVehicleRun) > 2) {
     for (int iteration = 0; iteration < 30; ++iteration) {
-      const T step = (response.Evaluate(force) - measured) / response.Slope(force);
+      const T step = (Evaluate(response, force) - measured) / Slope(response, force);
       force -= step;
       if (!(abs(step) > T(1e-15) * (T(1.0) + abs(force)))) break;
     }
@@ -140,21 +157,42 @@ T InvertAxisResponse(const AxisPolynomial<T>& response, const T& measured) {
   return force;
 }
 
-// The tilt test's prediction of one axis at the reported angle theta (rad) and drift
-// coordinate u: the true angle, the table's force in gravity g (m/s^2), its projection on
-// the sensing axes and the axis's output.
+// The tilt test's force along each sensing axis at the reported angle theta (rad): the
+// true angle, the table's force in gravity g (m/s^2) and its projection.
 template <typename T>
-T PredictCalibrationOutput(double theta_reported_rad, double drift_coordinate, SensingAxis axis,
-                           double gravity_mps2, const ModelParameters<T>& parameters) {
+void CalibrationForcesAlongAxes(double theta_reported_rad, double gravity_mps2,
+                                const ModelParameters<T>& parameters, T* along_x, T* along_y) {
   T force_x;
   T force_y;
   TiltTableSpecificForce(TrueTableAngle(T(theta_reported_rad), parameters), gravity_mps2, &force_x,
                          &force_y);
+  ProjectOnSensingAxes(force_x, force_y, parameters, Phase::kCalibrationTest, along_x, along_y);
+}
+
+// The tilt test's prediction of one axis at the reported angle theta (rad) and drift
+// coordinate u.
+template <typename T>
+T PredictCalibrationOutput(double theta_reported_rad, double drift_coordinate, SensingAxis axis,
+                           double gravity_mps2, const ModelParameters<T>& parameters) {
   T along_x;
   T along_y;
-  ProjectOnSensingAxes(force_x, force_y, parameters, Phase::kCalibrationTest, &along_x, &along_y);
+  CalibrationForcesAlongAxes(theta_reported_rad, gravity_mps2, parameters, &along_x, &along_y);
   return AxisOutput(axis == SensingAxis::kX ? along_x : along_y, parameters, axis, drift_coordinate,
                     Phase::kCalibrationTest);
+}
+
+// Both axes' predictions, from one evaluation of the forces.
+template <typename T>
+void PredictCalibrationOutputs(double theta_reported_rad, double drift_coordinate,
+                               double gravity_mps2, const ModelParameters<T>& parameters,
+                               T* output_x, T* output_y) {
+  T along_x;
+  T along_y;
+  CalibrationForcesAlongAxes(theta_reported_rad, gravity_mps2, parameters, &along_x, &along_y);
+  *output_x =
+      AxisOutput(along_x, parameters, SensingAxis::kX, drift_coordinate, Phase::kCalibrationTest);
+  *output_y =
+      AxisOutput(along_y, parameters, SensingAxis::kY, drift_coordinate, Phase::kCalibrationTest);
 }
 
 // The vehicle run's correction: each axis's output inverted (InvertAxisResponse), then the

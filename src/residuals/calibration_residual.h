@@ -31,7 +31,7 @@ class CalibrationResidual {
         drift_coordinate_(drift_coordinate),
         gravity_mps2_(gravity_mps2),
         sqrt_information_(1.0 / noise_stddev_mps2),
-        blocks_(CalibrationParameters(axis)) {}
+        blocks_(Blocks(axis)) {}
 
   template <typename T, typename... Rest>
   bool operator()(const T* const first, Rest... rest) const {
@@ -43,9 +43,10 @@ class CalibrationResidual {
     return true;
   }
 
-  // The parameter blocks, in the order Create's cost function takes them.
-  static std::array<Parameter, kBlockCount> Blocks(SensingAxis axis) {
-    return CalibrationParameters(axis);
+  // The parameter blocks, in the order Create's cost function takes them (computed once:
+  // a joint problem creates one residual per sample and axis).
+  static const std::array<Parameter, kBlockCount>& Blocks(SensingAxis axis) {
+    return axis == SensingAxis::kX ? kBlocksX : kBlocksY;
   }
 
   static ceres::CostFunction* Create(double theta_rad, double measured_mps2, SensingAxis axis,
@@ -63,7 +64,12 @@ class CalibrationResidual {
   const double drift_coordinate_;
   const double gravity_mps2_;
   const double sqrt_information_;
-  const std::array<Parameter, kBlockCount> blocks_;
+  const std::array<Parameter, kBlockCount>& blocks_;
+
+  static constexpr std::array<Parameter, kBlockCount> kBlocksX =
+      CalibrationParameters(SensingAxis::kX);
+  static constexpr std::array<Parameter, kBlockCount> kBlocksY =
+      CalibrationParameters(SensingAxis::kY);
 };
 
 }  // namespace accelcal

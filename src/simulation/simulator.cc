@@ -64,13 +64,10 @@ CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationT
   test.measured_x.resize(n);
   test.measured_y.resize(n);
   for (int i = 0; i < n; ++i) {
-    const double u = DriftCoordinate(i, n);
-    test.measured_x[i] =
-        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kX, truth.gravity_mps2, p) +
-        sigma_x * random.StandardNormal();
-    test.measured_y[i] =
-        PredictCalibrationOutput(test.theta_rad[i], u, SensingAxis::kY, truth.gravity_mps2, p) +
-        sigma_y * random.StandardNormal();
+    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), truth.gravity_mps2, p,
+                              &test.measured_x[i], &test.measured_y[i]);
+    test.measured_x[i] += sigma_x * random.StandardNormal();
+    test.measured_y[i] += sigma_y * random.StandardNormal();
   }
   return test;
 }
