@@ -261,7 +261,9 @@ class JointProblem {
       std::string hint;
       for (const Parameter parameter : names) {
         if (ActsOnlyInRun(parameter))
-          hint = "; a run bias shift is observable only through a landmark (--landmark)";
+          hint =
+              "; an effect acting only in the run is observable only through a landmark "
+              "(--landmark)";
       }
       return Status::Error("not identifiable: no residual depends on " + unconstrained + hint);
     }

@@ -11,6 +11,10 @@
 // `using RegisteredEffects = AppendEffects<BuiltInEffects, MyEffect>::Type;`
 // (docs/extending.md; tests/extension/ builds the library that way).
 
+#ifdef ACCELCAL_REGISTRY_INDEPENDENT
+#error "a source of accelcal_core includes the effects registry: move it to accelcal_add_library's sources (src/CMakeLists.txt)"
+#endif
+
 #include "models/effect.h"
 #include "models/effects/angle_offset.h"
 #include "models/effects/bias.h"
