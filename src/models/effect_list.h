@@ -12,7 +12,8 @@
 // (docs/extending.md; tests/extension/ builds the library that way).
 
 #ifdef ACCELCAL_REGISTRY_INDEPENDENT
-#error "a source of accelcal_core includes the effects registry: move it to accelcal_add_library's sources (src/CMakeLists.txt)"
+#error \
+    "a source of accelcal_core includes the effects registry: move it to accelcal_add_library's sources (src/CMakeLists.txt)"
 #endif
 
 #include "models/effect.h"
