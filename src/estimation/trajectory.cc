@@ -14,7 +14,7 @@ namespace accelcal {
 namespace {
 
 // The parameters that act in the run (models/effects.h), one Jet variable each.
-constexpr std::array<Parameter, kRunParameterCount> kRunParameters = RunParameters();
+constexpr const std::array<Parameter, kRunParameterCount>& kRunParameters = RunParameters();
 using Jet = ceres::Jet<double, kRunParameterCount>;
 
 // Covariance of (p, v, a_prev) of one axis under white acceleration noise of variance q.

@@ -211,12 +211,23 @@ constexpr std::array<Parameter, kCount> Acting(Phase phase, bool any_axis, Sensi
 constexpr int kCalibrationParameterCount = CountActing(Phase::kCalibrationTest, false);
 constexpr int kRunParameterCount = CountActing(Phase::kVehicleRun, true);
 
-constexpr std::array<Parameter, kCalibrationParameterCount> CalibrationParameters(
+namespace internal {
+inline constexpr std::array<Parameter, kCalibrationParameterCount> kCalibrationParametersX =
+    Acting<kCalibrationParameterCount>(Phase::kCalibrationTest, false, SensingAxis::kX);
+inline constexpr std::array<Parameter, kCalibrationParameterCount> kCalibrationParametersY =
+    Acting<kCalibrationParameterCount>(Phase::kCalibrationTest, false, SensingAxis::kY);
+inline constexpr std::array<Parameter, kRunParameterCount> kRunParameters =
+    Acting<kRunParameterCount>(Phase::kVehicleRun, true, SensingAxis::kX);
+}  // namespace internal
+
+// Computed once, at compile time: a joint problem asks for them once per residual.
+constexpr const std::array<Parameter, kCalibrationParameterCount>& CalibrationParameters(
     SensingAxis axis) {
-  return Acting<kCalibrationParameterCount>(Phase::kCalibrationTest, false, axis);
+  return axis == SensingAxis::kX ? internal::kCalibrationParametersX
+                                 : internal::kCalibrationParametersY;
 }
-constexpr std::array<Parameter, kRunParameterCount> RunParameters() {
-  return Acting<kRunParameterCount>(Phase::kVehicleRun, true, SensingAxis::kX);
+constexpr const std::array<Parameter, kRunParameterCount>& RunParameters() {
+  return internal::kRunParameters;
 }
 
 // A value for every parameter of the catalogue, each at its neutral value unless set.

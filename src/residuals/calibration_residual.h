@@ -43,10 +43,9 @@ class CalibrationResidual {
     return true;
   }
 
-  // The parameter blocks, in the order Create's cost function takes them (computed once:
-  // a joint problem creates one residual per sample and axis).
+  // The parameter blocks, in the order Create's cost function takes them.
   static const std::array<Parameter, kBlockCount>& Blocks(SensingAxis axis) {
-    return axis == SensingAxis::kX ? kBlocksX : kBlocksY;
+    return CalibrationParameters(axis);
   }
 
   static ceres::CostFunction* Create(double theta_rad, double measured_mps2, SensingAxis axis,
@@ -65,11 +64,6 @@ class CalibrationResidual {
   const double gravity_mps2_;
   const double sqrt_information_;
   const std::array<Parameter, kBlockCount>& blocks_;
-
-  static constexpr std::array<Parameter, kBlockCount> kBlocksX =
-      CalibrationParameters(SensingAxis::kX);
-  static constexpr std::array<Parameter, kBlockCount> kBlocksY =
-      CalibrationParameters(SensingAxis::kY);
 };
 
 }  // namespace accelcal

@@ -83,7 +83,6 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
     residuals[a].reset(new CompressedCalibrationResidual);
     CompressedCalibrationResidual& r = *residuals[a];
     r.axis_ = axis;
-    r.blocks_ = CalibrationParameters(axis);
     r.gravity_mps2_ = gravity_mps2;
     r.sample_count_ = test.size();
     std::copy(probe_theta, probe_theta + kBasisSize, r.probe_theta_rad_);

@@ -59,7 +59,7 @@ class CompressedCalibrationResidual {
   template <typename T, typename... Rest>
   bool operator()(const T* const first, Rest... rest) const {
     ModelParameters<T> parameters;
-    T* residual = GatherParameters(blocks_, &parameters, first, rest...);
+    T* residual = GatherParameters(blocks(), &parameters, first, rest...);
     Eigen::Matrix<T, kBasisSize, 1> predicted;
     for (int j = 0; j < kBasisSize; ++j) {
       predicted[j] = PredictCalibrationOutput(probe_theta_rad_[j], probe_drift_[j], axis_,
@@ -82,13 +82,12 @@ class CompressedCalibrationResidual {
 
   int sample_count() const { return sample_count_; }
   // The parameter blocks, in the order Create's cost function takes them.
-  const std::array<Parameter, kBlockCount>& blocks() const { return blocks_; }
+  const std::array<Parameter, kBlockCount>& blocks() const { return CalibrationParameters(axis_); }
 
  private:
   CompressedCalibrationResidual() = default;
 
   SensingAxis axis_ = SensingAxis::kX;
-  std::array<Parameter, kBlockCount> blocks_ = {};
   double gravity_mps2_ = 0.0;
   int sample_count_ = 0;
   double probe_theta_rad_[kBasisSize] = {};

@@ -117,7 +117,7 @@ class EndpointResidual {
   }
 
   // The parameter blocks, in the order Create's cost function takes them.
-  static constexpr std::array<Parameter, kBlockCount> kBlocks = RunParameters();
+  static constexpr const std::array<Parameter, kBlockCount>& kBlocks = RunParameters();
 
   static ceres::CostFunction* Create(EndpointResidual* residual) {
     return new ScalarBlocksCostFunction<EndpointResidual, 2, kBlockCount>(residual);
