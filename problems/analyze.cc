@@ -29,6 +29,7 @@
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
+#include "io/subprocess.h"
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
 #include "reporting/linear_ls_report.h"
@@ -51,10 +52,13 @@ DEFINE_double(alpha, 0.01,
               "Significance level of the landmark decision and family-wise error rate of "
               "discovery, in (0, 0.5).");
 DEFINE_double(max_error, 0.01,
-              "The minimum-N criterion: the largest acceptable P(wrong landmark), in (0, 0.5).");
+              "The minimum-N criterion: the largest acceptable P(wrong landmark), 1e-6 to 0.499.");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
 DEFINE_string(tools_dir, ACCELCAL_TOOLS_DIR, "Folder of the plot scripts (tools/plot_*.py).");
 DEFINE_string(python, "/usr/bin/python3", "Python with matplotlib, for the figures.");
+ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
+ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 
 namespace accelcal {
 namespace {
@@ -88,7 +92,8 @@ class Progress {
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
+                        {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs);
 }
 
 struct Results {
@@ -172,17 +177,24 @@ std::string Sentence(std::string text) {
   return text;
 }
 
-// Runs a plot script; returns "" or why the figure is absent.
-std::string Plot(const std::string& script, const std::string& arguments) {
+// Runs a plot script with an argument vector (no shell); returns "" or why the figure is
+// absent.
+std::string Plot(const std::string& script, const std::vector<std::string>& arguments) {
   const std::string path = FLAGS_tools_dir + "/" + script;
   if (access(path.c_str(), R_OK) != 0) return "the script " + path + " is not there (--tools_dir)";
-  if (std::system((FLAGS_python + " -c 'import matplotlib, numpy' >/dev/null 2>&1").c_str()) != 0) {
+  int exit_status = 0;
+  Status status = RunProgram({FLAGS_python, "-c", "import matplotlib, numpy"}, &exit_status);
+  if (!status.ok()) return status.message() + " (--python)";
+  if (exit_status != 0) {
     return FLAGS_python +
            " has no matplotlib/numpy (apt-get install python3-matplotlib python3-numpy)";
   }
-  const int status =
-      std::system((FLAGS_python + " '" + path + "' " + arguments + " >/dev/null 2>&1").c_str());
-  return status == 0 ? "" : script + " failed (exit status " + std::to_string(status) + ")";
+  std::vector<std::string> argv = {FLAGS_python, path};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  status = RunProgram(argv, &exit_status);
+  if (!status.ok()) return status.message();
+  return exit_status == 0 ? ""
+                          : script + " failed (exit status " + std::to_string(exit_status) + ")";
 }
 
 ReportDocument Document(const Inputs& inputs, const Results& r,
@@ -316,8 +328,8 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
     if (name == "optimal")
       name += StringPrintf(" (%.0f and %.0f deg)", design.theta_a * 180 / M_PI,
                            design.theta_b * 180 / M_PI);
-    samples.table.push_back(
-        {name, std::to_string(design.n_min), std::to_string(design.n_min_3sigma)});
+    samples.table.push_back({name, SampleCountText(design.n_min, inputs.test.size()),
+                             SampleCountText(design.n_min_3sigma, inputs.test.size())});
   }
   samples.figure = "min_samples.png";
   samples.figure_caption = "P(wrong landmark) against the number of tilt-test samples, per design";
@@ -360,17 +372,18 @@ Status Write(const Inputs& inputs, const Results& r) {
         WriteFileAtomically(dir + "/path.csv", TrajectoryPathCsv(r.trajectory.trajectory)));
     ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/bins.csv", DiscoveryBinsCsv(r.discovery)));
     std::map<std::string, std::string> absent;
-    const std::map<std::string, std::pair<std::string, std::string>> figures = {
+    const std::map<std::string, std::pair<std::string, std::vector<std::string>>> figures = {
         {"trajectory.png",
          {"plot_trajectory.py",
-          "--json='" + dir + "/trajectory.json' --path_csv='" + dir + "/path.csv'"}},
+          {"--json=" + dir + "/trajectory.json", "--path_csv=" + dir + "/path.csv"}}},
         {"discovery.png",
          {"plot_discovery.py",
-          "--json='" + dir + "/discover.json' --bins_csv='" + dir + "/bins.csv'"}},
-        {"min_samples.png", {"plot_min_samples.py", "--json='" + dir + "/min_samples.json'"}}};
+          {"--json=" + dir + "/discover.json", "--bins_csv=" + dir + "/bins.csv"}}},
+        {"min_samples.png", {"plot_min_samples.py", {"--json=" + dir + "/min_samples.json"}}}};
     for (const auto& [figure, script] : figures) {
-      const std::string why =
-          Plot(script.first, script.second + " --out='" + dir + "/" + figure + "'");
+      std::vector<std::string> arguments = script.second;
+      arguments.push_back("--out=" + dir + "/" + figure);
+      const std::string why = Plot(script.first, arguments);
       if (!why.empty()) absent[figure] = why;
     }
     const ReportDocument document = Document(inputs, r, absent);
@@ -401,4 +414,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("analyze", accelcal::Run, argc, argv); }

@@ -24,6 +24,9 @@ DEFINE_int32(effect_trials, 200, "Trials per row of the hidden-effect table (0: 
 DEFINE_uint64(seed, 1, "Seed; trial i uses the noise streams of (seed, i).");
 DEFINE_int32(threads, 0, "Threads (0: all cores). The results do not depend on it.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
+ACCELCAL_FLAG_RANGE(trials, 10, 10000000);
+ACCELCAL_FLAG_RANGE(effect_trials, 0, 10000000);
+ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {
@@ -44,6 +47,9 @@ int Run(int argc, char** argv) {
   }
   if (status.ok() && FLAGS_threads < 0) status = Status::Error("--threads must be >= 0");
   Scenario scenario;
+  RunInputs inputs;
+  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
+  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, inputs);
   if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
   if (!status.ok()) return ExitWithError("coverage", status);
 
@@ -57,20 +63,22 @@ int Run(int argc, char** argv) {
     options.trials = FLAGS_effect_trials;
     effects = RunEffectImpactTable(scenario, options);
   }
-  std::cout << CoverageTable(scenario.name, result) << EffectImpactText(effects) << std::flush;
+  std::string json_text;
   if (!FLAGS_json.empty()) {
     nlohmann::json json = CoverageJson(result);
     json["problem"] = "coverage";
     json["scenario"] = scenario.name;
     json["seed"] = FLAGS_seed;
     json["effects"] = EffectImpactJson(effects);
-    status = WriteJsonAtomically(FLAGS_json, json).WithContext("--json");
-    if (!status.ok()) return ExitWithError("coverage", status);
+    status = JsonText(json, &json_text);
   }
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("coverage", status);
+  std::cout << CoverageTable(scenario.name, result) << EffectImpactText(effects) << std::flush;
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("coverage", accelcal::Run, argc, argv); }

@@ -26,14 +26,20 @@ DEFINE_string(set, "",
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(alpha, 0.01, "Family-wise error rate of each step (Holm), in (0, 0.5).");
-DEFINE_double(g, 9.8, "Gravity in m/s^2.");
-DEFINE_int32(bins, 36, "Bins of the residual against theta (>= 4).");
-DEFINE_int32(folds, 5, "Cross-validation folds over contiguous theta blocks (0: none, else >= 2).");
+DEFINE_double(g, 9.8, "Gravity in m/s^2, 1 to 100.");
+DEFINE_int32(bins, 36, "Bins of the residual against theta, 4 to 1000.");
+DEFINE_int32(folds, 5,
+             "Cross-validation folds over contiguous theta blocks: 0 (none) or 2 to 100.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(bins_csv, "",
               "Write the binned residuals and the named effects' signatures as CSV (for "
               "tools/plot_discovery.py).");
-DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+DEFINE_int32(num_threads, 1, "Threads Ceres may use, 1 to 256.");
+ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_RANGE(bins, 4, 1000);
+ACCELCAL_FLAG_RANGE(folds, 0, 100);
+ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
 
 namespace accelcal {
 namespace {
@@ -50,19 +56,14 @@ using Inputs = Experiment;
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
+                        {{"--json", FLAGS_json}, {"--bins_csv", FLAGS_bins_csv}}, inputs);
 }
 
 int Run(int argc, char** argv) {
   if (!InitProblem("discover", kUsage, "problems/discover", &argc, &argv)) return kExitBadInput;
   Status status;
-  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
-    status = Status::Error("--alpha must be in (0, 0.5)");
-  if (status.ok() && FLAGS_bins < 4) status = Status::Error("--bins must be at least 4");
-  if (status.ok() && (FLAGS_folds == 1 || FLAGS_folds < 0))
-    status = Status::Error("--folds must be 0 or at least 2");
-  if (status.ok() && FLAGS_num_threads < 1)
-    status = Status::Error("--num_threads must be at least 1");
+  if (FLAGS_folds == 1) status = Status::Error("--folds must be 0 (none) or 2 to 100");
   Inputs inputs;
   if (status.ok()) status = Load(&inputs);
   DiscoveryOptions options;
@@ -76,20 +77,19 @@ int Run(int argc, char** argv) {
     status =
         Discover(inputs.test, inputs.run, inputs.conditions, inputs.landmarks, options, &result);
   if (!status.ok()) return ExitWithError("discover", status);
-  std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;
-  if (!FLAGS_json.empty()) {
-    status =
-        WriteJsonAtomically(FLAGS_json, DiscoveryJson(result, FLAGS_alpha)).WithContext("--json");
-  }
-  if (status.ok() && !FLAGS_bins_csv.empty()) {
-    status =
-        WriteFileAtomically(FLAGS_bins_csv, DiscoveryBinsCsv(result)).WithContext("--bins_csv");
+  std::string json_text;
+  if (!FLAGS_json.empty()) status = JsonText(DiscoveryJson(result, FLAGS_alpha), &json_text);
+  if (status.ok()) {
+    status = WriteOutputFiles(
+        {{FLAGS_json, json_text},
+         {FLAGS_bins_csv, FLAGS_bins_csv.empty() ? "" : DiscoveryBinsCsv(result)}});
   }
   if (!status.ok()) return ExitWithError("discover", status);
+  std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("discover", accelcal::Run, argc, argv); }

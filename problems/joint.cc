@@ -46,7 +46,14 @@ DEFINE_double(alpha, 0.01,
 DEFINE_string(json, "", "Write both solutions as JSON to this file (atomically).");
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
 DEFINE_int32(max_iterations, 100,
-             "Levenberg-Marquardt iterations before the solve counts as not converged (>= 1).");
+             "Levenberg-Marquardt iterations before the solve counts as not converged, 1 to "
+             "10000.");
+ACCELCAL_FLAG_RANGE(landmark_sigma, 0.0, 1e6);
+ACCELCAL_FLAG_RANGE(loss_scale, 1e-3, 1e3);
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 1.0);
+ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
+ACCELCAL_FLAG_RANGE(max_iterations, 1, 10000);
 
 namespace accelcal {
 namespace {
@@ -65,7 +72,8 @@ using Inputs = Experiment;
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, inputs);
+  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, {{"--json", FLAGS_json}},
+                        inputs);
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {
@@ -130,15 +138,15 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = Options(inputs, &options);
   if (status.ok()) status = Solve(inputs, options, &report);
   if (!status.ok()) return ExitWithError("joint", status);
+  std::string json_text;
+  if (!FLAGS_json.empty()) status = JsonText(JointJson(report), &json_text);
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("joint", status);
   std::cout << JointTable(report, FLAGS_v >= 1) << std::flush;
-  if (!FLAGS_json.empty()) {
-    status = WriteJsonAtomically(FLAGS_json, JointJson(report)).WithContext("--json");
-    if (!status.ok()) return ExitWithError("joint", status);
-  }
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("joint", accelcal::Run, argc, argv); }

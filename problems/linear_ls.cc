@@ -69,6 +69,10 @@ DEFINE_int64(ceres_max_samples, 1000000,
              "test is solved in closed form only, which streams a CSV file in bounded memory "
              "whatever its size, and the output says that Ceres was skipped. 0: never run Ceres.");
 
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
+ACCELCAL_FLAG_RANGE(ceres_max_samples, 0, 1e12);
+
 namespace accelcal {
 namespace {
 
@@ -81,11 +85,6 @@ constexpr char kUsage[] =
     "  linear_ls [--set=angle_offset=0.004]   # simulated tp2-2018 scenario, Table 1 as truth";
 
 Status ValidateFlags() {
-  if (!(FLAGS_g > 0.0) || !std::isfinite(FLAGS_g)) {
-    return Status::Error("--g must be a positive number of m/s^2, got " + std::to_string(FLAGS_g));
-  }
-  if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
-  if (FLAGS_ceres_max_samples < 0) return Status::Error("--ceres_max_samples must be at least 0");
   const bool has_data = !FLAGS_data_dir.empty() || !FLAGS_calibration_file.empty();
   if (has_data && FLAGS_data_dir.empty() &&
       (FLAGS_calibration_file.empty() || FLAGS_conditions_file.empty())) {
@@ -130,6 +129,9 @@ Status StreamCalibration(const std::string& path, AngleUnit theta_unit, double g
 Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* report) {
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
+    RunInputs scenario_inputs;
+    if (!FLAGS_scenario.empty()) scenario_inputs.files.push_back(FLAGS_scenario);
+    ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths({{"--json", FLAGS_json}}, scenario_inputs));
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario));
     const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
@@ -151,6 +153,8 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
   overrides.conditions = FLAGS_conditions_file;
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckOutputPaths({{"--json", FLAGS_json}}, InputsOf(FLAGS_data_dir, files)));
   LoadOptions load_options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
   // The conditions are read first because streaming needs g, but a fault of the calibration
@@ -228,15 +232,15 @@ int Run(int argc, char** argv) {
   status = Solve(test, options, calibration_name, &report);
   if (!status.ok()) return ExitWithError("linear_ls", status);
 
+  std::string json_text;
+  if (!FLAGS_json.empty()) status = JsonText(LinearLsJson(report), &json_text);
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("linear_ls", status);
   std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
-  if (!FLAGS_json.empty()) {
-    status = WriteJsonAtomically(FLAGS_json, LinearLsJson(report)).WithContext("--json");
-    if (!status.ok()) return ExitWithError("linear_ls", status);
-  }
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("linear_ls", accelcal::Run, argc, argv); }

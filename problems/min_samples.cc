@@ -40,13 +40,17 @@ DEFINE_string(
     "uniform, four, two, optimal, or all (see --help of the library: docs/min_samples.md).");
 DEFINE_double(
     max_error, 0.01,
-    "The criterion: the largest acceptable probability of deciding a wrong landmark, in (0, 0.5).");
+    "The criterion: the largest acceptable probability of deciding a wrong landmark, 1e-6 to "
+    "0.499.");
 DEFINE_int32(repetitions, 1000, "Monte Carlo repetitions per checked N (0: no Monte Carlo).");
 DEFINE_uint64(seed, 1, "Seed of the Monte Carlo.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_int32(threads, 0, "Threads for the Monte Carlo (0: all cores).");
 DEFINE_string(json, "",
               "Write the designs, their curves and N_min as JSON to this file (atomically).");
+ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
+ACCELCAL_FLAG_RANGE(repetitions, 0, 1000000);
+ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {
@@ -68,7 +72,7 @@ Status Load(Inputs* inputs) {
   ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&inputs->scenario));
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, options, inputs);
+  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, options, {{"--json", FLAGS_json}}, inputs);
 }
 
 // The endpoint model of a dataset: fit, dead-reckon, and the landmark it decides.
@@ -224,7 +228,8 @@ int Run(int argc, char** argv) {
     if (name == "optimal")
       text += StringPrintf(" (positions %.0f and %.0f deg)", design.theta_a * 180 / M_PI,
                            design.theta_b * 180 / M_PI);
-    text += StringPrintf("  N_min = %d   N_min_3sigma = %d\n", design.n_min, design.n_min_3sigma);
+    text += "  N_min = " + SampleCountText(design.n_min, full) +
+            "   N_min_3sigma = " + SampleCountText(design.n_min_3sigma, full) + "\n";
     text += "        N    sigma x (m)  sigma y (m)   P(wrong)   landmarks in 3 sigma\n";
     for (const CurvePoint& point : design.curve) {
       const bool near = design.n_min > 0 && point.samples >= design.n_min / 4 &&
@@ -348,20 +353,22 @@ int Run(int argc, char** argv) {
     json_designs.push_back(DesignJson(design, checks));
   }
   text += Explanation(model, inputs.landmarks, truth, uniform_n_min);
-  std::cout << text << std::flush;
+  std::string json_text;
   if (!FLAGS_json.empty()) {
     const nlohmann::json json = {{"problem", "min_samples"},
                                  {"truth", inputs.landmarks[truth].name},
                                  {"max_error", FLAGS_max_error},
                                  {"full_samples", full},
                                  {"designs", json_designs}};
-    status = WriteJsonAtomically(FLAGS_json, json).WithContext("--json");
-    if (!status.ok()) return ExitWithError("min_samples", status);
+    status = JsonText(json, &json_text);
   }
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("min_samples", status);
+  std::cout << text << std::flush;
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("min_samples", accelcal::Run, argc, argv); }

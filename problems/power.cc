@@ -26,6 +26,9 @@ DEFINE_double(alpha, 0.01, "Discovery's family-wise error rate, in (0, 0.5).");
 DEFINE_uint64(seed, 1, "Seed.");
 DEFINE_int32(threads, 0, "Threads (0: all cores).");
 DEFINE_string(json, "", "Write the table as JSON to this file (atomically).");
+ACCELCAL_FLAG_RANGE(trials, 10, 10000000);
+ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
+ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {
@@ -44,15 +47,21 @@ int Run(int argc, char** argv) {
   Status status;
   for (std::string item; std::getline(stream, item, ',');) {
     double size;
-    if (!ParseFiniteNumber(item, &size) || !(size > 0.0))
-      status = Status::Error("--sizes: '" + item + "' is not a positive number");
+    if (!ParseFiniteNumber(item, &size) || !(size > 0.0) || size > 1000.0)
+      status = Status::Error("--sizes: '" + item.substr(0, 40) +
+                             "' is not a number of sigmas in (0, 1000]");
     options.sizes_sigma.push_back(size);
   }
   if (status.ok() && options.sizes_sigma.empty()) status = Status::Error("--sizes is empty");
+  if (status.ok() && options.sizes_sigma.size() > 50)
+    status = Status::Error("--sizes lists more than 50 sizes");
   if (status.ok() && FLAGS_trials < 10) status = Status::Error("--trials must be at least 10");
   if (status.ok() && !(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
     status = Status::Error("--alpha must be in (0, 0.5)");
   Scenario scenario;
+  RunInputs inputs;
+  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
+  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, inputs);
   if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
   if (!status.ok()) return ExitWithError("power", status);
   options.trials = FLAGS_trials;
@@ -84,16 +93,17 @@ int Run(int argc, char** argv) {
   text += StringPrintf(
       "  (Monte Carlo sd of a rate p from %d datasets: sqrt(p(1-p)/%d), at most %.0f%%)\n",
       options.trials, options.trials, 50.0 / std::sqrt(options.trials));
-  std::cout << text << std::flush;
+  std::string json_text;
   if (!FLAGS_json.empty()) {
-    status = WriteJsonAtomically(FLAGS_json, nlohmann::json({{"problem", "power"}, {"rows", rows}}))
-                 .WithContext("--json");
-    if (!status.ok()) return ExitWithError("power", status);
+    status = JsonText(nlohmann::json({{"problem", "power"}, {"rows", rows}}), &json_text);
   }
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("power", status);
+  std::cout << text << std::flush;
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("power", accelcal::Run, argc, argv); }

@@ -9,15 +9,23 @@
 #include <gflags/gflags.h>
 #include <glog/logging.h>
 
+#include <cmath>
 #include <cstring>
+#include <exception>
 #include <iostream>
 #include <map>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/measurements.h"
 #include "common/status.h"
+#include "common/format.h"
+#include "io/atomic_file.h"
+#include "io/cleanup.h"
 #include "io/course_data.h"
+#include "io/json_file.h"
+#include "io/output_paths.h"
 #include "io/run_conditions.h"
 #include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
@@ -26,10 +34,86 @@ namespace accelcal {
 
 constexpr int kExitBadInput = 2;
 
+// A message as one readable line: control characters become blanks or \xNN escapes, and a
+// message longer than a screenful keeps its start and its end (what is wrong, and what to do).
+inline std::string OneLine(const std::string& message) {
+  constexpr size_t kMaxBytes = 600;
+  std::string line;
+  for (const char c : message) {
+    const unsigned char byte = static_cast<unsigned char>(c);
+    if (c == '\n' || c == '\r' || c == '\t') {
+      line += ' ';
+    } else if (byte < 0x20 || byte == 0x7f) {
+      line += StringPrintf("\\x%02X", byte);
+    } else {
+      line += c;
+    }
+  }
+  if (line.size() > kMaxBytes) {
+    line = line.substr(0, kMaxBytes / 2) + " [...] " + line.substr(line.size() - kMaxBytes / 2);
+  }
+  return line;
+}
+
 inline int ExitWithError(const char* program, const Status& status) {
-  std::cerr << program << ": error: " << status.message() << "\n";
+  std::cerr << program << ": error: " << OneLine(status.message()) << "\n";
   return kExitBadInput;
 }
+
+// main() of every binary: `run` with no exception escaping. Running out of memory is one
+// line and exit status 2 like any other failure; anything else is a bug, said as such.
+inline int GuardedMain(const char* program, int (*run)(int, char**), int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    return ExitWithError(program, Status::Error("not enough memory for this input; free memory, "
+                                                "raise the limit (ulimit -v) or use less data"));
+  } catch (const std::exception& exception) {
+    return ExitWithError(program, Status::Error(std::string("internal error (") +
+                                                exception.what() +
+                                                "); please report it with the command line"));
+  }
+}
+
+// The allowed range of a numeric flag, declared once beside the flag:
+//   ACCELCAL_FLAG_RANGE(bins, 4, 1000);          closed: 4 <= --bins <= 1000
+//   ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);   open:   0 < --alpha < 0.5
+// gflags checks it whenever the flag is set, and the message names the range.
+struct FlagRange {
+  double low = 0.0;
+  double high = 0.0;
+  bool open = false;
+  std::string Text() const {
+    return StringPrintf(open ? "(%.10g, %.10g)" : "[%.10g, %.10g]", low, high);
+  }
+  bool Contains(double value) const {
+    return open ? (value > low && value < high) : (value >= low && value <= high);
+  }
+};
+
+inline std::map<std::string, FlagRange>& FlagRanges() {
+  static std::map<std::string, FlagRange> ranges;
+  return ranges;
+}
+
+template <typename T>
+bool FlagInRange(const char* name, T value) {
+  const auto found = FlagRanges().find(name);
+  return found == FlagRanges().end() || found->second.Contains(static_cast<double>(value));
+}
+
+template <typename T>
+bool RegisterFlagRange(const char* name, const T* flag, double low, double high, bool open) {
+  FlagRanges()[name] = FlagRange{low, high, open};
+  return gflags::RegisterFlagValidator(flag, &FlagInRange<T>);
+}
+
+#define ACCELCAL_FLAG_RANGE(name, low, high)                 \
+  static const bool accelcal_flag_range_##name [[maybe_unused]] = \
+      ::accelcal::RegisterFlagRange(#name, &FLAGS_##name, low, high, false)
+#define ACCELCAL_FLAG_OPEN_RANGE(name, low, high)            \
+  static const bool accelcal_flag_range_##name [[maybe_unused]] = \
+      ::accelcal::RegisterFlagRange(#name, &FLAGS_##name, low, high, true)
 
 // Checks every argument before gflags sees it: gflags ends the program with status 1
 // (and a multi-line message) on an unknown flag or a malformed value, and ignores
@@ -39,7 +123,7 @@ inline std::string FirstBadArgument(int argc, char** argv) {
     const std::string argument = argv[i];
     if (argument == "--") break;
     if (argument.size() < 2 || argument[0] != '-') {
-      return "unknown flag or argument '" + argument + "'";
+      return "unknown flag or argument '" + OneLine(argument.substr(0, 80)) + "'";
     }
     const std::string body = argument.substr(argument[1] == '-' ? 2 : 1);
     const size_t equals = body.find('=');
@@ -51,7 +135,7 @@ inline std::string FirstBadArgument(int argc, char** argv) {
           info.type == "bool" && equals == std::string::npos) {
         continue;
       }
-      return "unknown flag or argument '" + argument + "'";
+      return "unknown flag or argument '" + OneLine(argument.substr(0, 80)) + "'";
     }
     std::string value;
     if (equals != std::string::npos) {
@@ -65,7 +149,9 @@ inline std::string FirstBadArgument(int argc, char** argv) {
     }
     // Setting the value now checks it; ParseCommandLineFlags sets it again below.
     if (gflags::SetCommandLineOption(name.c_str(), value.c_str()).empty()) {
-      return "--" + name + "='" + value + "' is not a valid " + info.type;
+      const auto range = FlagRanges().find(name);
+      return "--" + name + "='" + OneLine(value.substr(0, 80)) + "' is not a valid " + info.type +
+             (range == FlagRanges().end() ? std::string() : " in " + range->second.Text());
     }
   }
   return "";
@@ -75,6 +161,8 @@ inline std::string FirstBadArgument(int argc, char** argv) {
 // `source_fragment` selects the flags --help lists (the binary's own source file).
 inline bool InitProblem(const char* program, const char* usage, const char* source_fragment,
                         int* argc, char*** argv) {
+  // First, before any thread starts: an interruption removes our temporary files.
+  InstallInterruptCleanup();
   gflags::SetUsageMessage(usage);
   for (int i = 1; i < *argc; ++i) {
     const char* argument = (*argv)[i];
@@ -127,17 +215,60 @@ inline double ChooseGravity(const RunConditions& conditions, double flag_g) {
   return conditions.has_gravity && !flag_given ? conditions.gravity_mps2 : flag_g;
 }
 
+// What a run reads, for the output checks (io/output_paths.h): the data folder and every
+// file resolved in it or named by a --*_file flag.
+inline RunInputs InputsOf(const std::string& data_dir, const DataFiles& files) {
+  RunInputs inputs;
+  if (!data_dir.empty()) inputs.folders.push_back(data_dir);
+  for (const auto& [role, path] : FileRoles(files)) {
+    if (!path.empty()) inputs.files.push_back(path);
+  }
+  return inputs;
+}
+
+// A JSON document as the text of an output file; a non-finite number is refused (nothing is
+// written), as WriteJsonAtomically does.
+inline Status JsonText(const nlohmann::json& json, std::string* text) {
+  const std::string where = FirstNonFiniteNumber(json);
+  if (!where.empty()) {
+    return Status::Error("the result holds a non-finite number at " + where +
+                         ", so nothing was written; this is a bug, please report it with the "
+                         "command line and data");
+  }
+  *text = json.dump(2) + "\n";
+  return Status::Ok();
+}
+
+// The files a binary writes, all or none (io/atomic_file.h); those with an empty path were
+// not asked for.
+struct OutputFile {
+  std::string path;
+  std::string contents;
+};
+
+inline Status WriteOutputFiles(const std::vector<OutputFile>& files) {
+  std::vector<std::pair<std::string, std::string>> requested;
+  for (const OutputFile& file : files) {
+    if (!file.path.empty()) requested.emplace_back(file.path, file.contents);
+  }
+  return WriteFilesAtomically(requested);
+}
+
 // The data a problem works on: a data folder read as is (either layout) or, without one,
 // the embedded tp2-2018 scenario simulated with `assignments` (name=value,...) hidden in it.
 struct Experiment : CourseData {
   std::map<std::string, std::string> files;  // role -> path; empty when simulated
   nlohmann::json truth = nullptr;            // truth.json's content when simulated
   std::string source;                        // one line saying where the data came from
+  RunInputs inputs;                          // what was read (empty when simulated)
 };
 
+// `outputs` are checked against the files once they are resolved, before any is read.
 inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
-                             uint64_t seed, const LoadOptions& options, Experiment* experiment) {
+                             uint64_t seed, const LoadOptions& options,
+                             const std::vector<OutputPath>& outputs, Experiment* experiment) {
   if (data_dir.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, RunInputs()));
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault("", assignments, &scenario));
     SimulatedData data = SimulateScenario(scenario, seed);
@@ -153,6 +284,8 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
   }
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &files));
+  experiment->inputs = InputsOf(data_dir, files);
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, experiment->inputs));
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment, options));
   PrintInputNotes(experiment->notes);
   experiment->source = "measured data in " + data_dir;

@@ -59,6 +59,10 @@ Status ValidateFlags() {
 }
 
 Status Load(Scenario* scenario) {
+  RunInputs inputs;
+  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(
+      {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs));
   return LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, scenario);
 }
 
@@ -107,4 +111,4 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("simulate", accelcal::Run, argc, argv); }

@@ -44,7 +44,7 @@ DEFINE_string(conditions_file, "",
               "Initial position (m), initial velocity (m/s) and stated noise variances "
               "((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test.");
+DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test, 1 to 100.");
 DEFINE_double(alpha, 0.01,
               "Significance level in (0, 1): the most probable landmark is reported as reached "
               "only if its chi-square(2) p-value is at least alpha.");
@@ -53,6 +53,9 @@ DEFINE_string(path_csv, "",
               "Write the corrected and raw path with its covariance (m, m^2) as CSV to this file.");
 DEFINE_int32(path_stride, 10,
              "Keep every Nth run sample in --path_csv (>= 1; the last is always kept).");
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 1.0);
+ACCELCAL_FLAG_RANGE(path_stride, 1, 1e9);
 
 namespace accelcal {
 namespace {
@@ -66,11 +69,6 @@ constexpr char kUsage[] =
     "  trajectory --data_dir=../shared/data/tp2-2018 [--json=t.json] [--path_csv=path.csv]";
 
 Status ValidateFlags() {
-  if (!(FLAGS_g > 0.0) || !std::isfinite(FLAGS_g)) {
-    return Status::Error("--g must be a positive number of m/s^2");
-  }
-  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 1.0)) return Status::Error("--alpha must be in (0, 1)");
-  if (FLAGS_path_stride < 1) return Status::Error("--path_stride must be at least 1");
   if (FLAGS_data_dir.empty() && (FLAGS_calibration_file.empty() || FLAGS_run_file.empty() ||
                                  FLAGS_landmarks_file.empty() || FLAGS_conditions_file.empty())) {
     return Status::Error(
@@ -87,6 +85,8 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths({{"--json", FLAGS_json}, {"--path_csv", FLAGS_path_csv}},
+                                            InputsOf(FLAGS_data_dir, files)));
   LoadOptions load_options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs, load_options));
@@ -116,16 +116,11 @@ Status Solve(const Inputs& inputs, TrajectoryReport* report) {
 }
 
 Status Write(const TrajectoryReport& report) {
-  if (!FLAGS_json.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(
-        WriteJsonAtomically(FLAGS_json, TrajectoryJson(report)).WithContext("--json"));
-  }
-  if (!FLAGS_path_csv.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(
-        WriteFileAtomically(FLAGS_path_csv, TrajectoryPathCsv(report.trajectory))
-            .WithContext("--path_csv"));
-  }
-  return Status::Ok();
+  std::string json_text;
+  if (!FLAGS_json.empty()) ACCELCAL_RETURN_IF_ERROR(JsonText(TrajectoryJson(report), &json_text));
+  return WriteOutputFiles(
+      {{FLAGS_json, json_text},
+       {FLAGS_path_csv, FLAGS_path_csv.empty() ? "" : TrajectoryPathCsv(report.trajectory)}});
 }
 
 int Run(int argc, char** argv) {
@@ -135,14 +130,13 @@ int Run(int argc, char** argv) {
   TrajectoryReport report;
   if (status.ok()) status = Load(&inputs, &report);
   if (status.ok()) status = Solve(inputs, &report);
+  if (status.ok()) status = Write(report);
   if (!status.ok()) return ExitWithError("trajectory", status);
   std::cout << TrajectoryTable(report) << std::flush;
-  status = Write(report);
-  if (!status.ok()) return ExitWithError("trajectory", status);
   return 0;
 }
 
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::Run(argc, argv); }
+int main(int argc, char** argv) { return accelcal::GuardedMain("trajectory", accelcal::Run, argc, argv); }

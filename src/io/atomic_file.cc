@@ -10,18 +10,37 @@
 #include <filesystem>
 #include <vector>
 
+#include "io/cleanup.h"
+
 namespace accelcal {
+
+const char kOutputFolderMarker[] = ".accelcal-output";
+
 namespace {
 
 std::string ErrnoText() { return std::strerror(errno); }
 
-// Creates an empty temporary file beside `path`; returns its name.
+// Refuses to replace anything but a regular file (or nothing).
+Status CheckReplaceable(const std::string& path) {
+  struct stat info;
+  if (lstat(path.c_str(), &info) != 0) return Status::Ok();
+  if (S_ISREG(info.st_mode)) return Status::Ok();
+  return Status::Error(path + " exists and is not a regular file (" +
+                       (S_ISLNK(info.st_mode) ? "a symbolic link" : "a folder or a special file") +
+                       "); it is left as it is: name another file");
+}
+
+// Creates an empty temporary file beside `path`, registered for cleanup; returns its name.
 Status MakeTemporarySibling(const std::string& path, std::string* temporary_path) {
   std::vector<char> name(path.begin(), path.end());
   const std::string suffix = ".tmp.XXXXXX";
   name.insert(name.end(), suffix.begin(), suffix.end());
   name.push_back('\0');
-  const int fd = mkstemp(name.data());
+  int fd = -1;
+  WithCleanupHeld([&] {
+    fd = mkstemp(name.data());
+    if (fd >= 0) RegisterTemporary(name.data());
+  });
   if (fd < 0) {
     return Status::Error("cannot create a file beside " + path + " (" + ErrnoText() +
                          "); check that the directory exists and is writable");
@@ -31,47 +50,96 @@ Status MakeTemporarySibling(const std::string& path, std::string* temporary_path
   return Status::Ok();
 }
 
+void RemoveTemporary(const std::string& temporary_path) {
+  std::remove(temporary_path.c_str());
+  ForgetTemporary(temporary_path);
+}
+
+// mkstemp creates 0600; outputs are ordinary files a user's other tools can read.
+void MakeReadable(const std::string& temporary_path) {
+  const mode_t mask = umask(0);
+  umask(mask);
+  chmod(temporary_path.c_str(), 0666 & ~mask);
+}
+
+Status WriteContents(const std::string& path, const std::string& temporary_path,
+                     const std::string& contents) {
+  const int fd = open(temporary_path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) return Status::Error("cannot open " + temporary_path + " (" + ErrnoText() + ")");
+  size_t written = 0;
+  while (written < contents.size()) {
+    const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const Status error = Status::Error("cannot write " + path + " (" + ErrnoText() + ")");
+      close(fd);
+      return error;
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (fsync(fd) != 0) {
+    const Status error = Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
+    close(fd);
+    return error;
+  }
+  if (close(fd) != 0) return Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
+  return Status::Ok();
+}
+
+// Renames a finished temporary file over `path`.
+Status Commit(const std::string& path, const std::string& temporary_path) {
+  ACCELCAL_RETURN_IF_ERROR(CheckReplaceable(path));
+  MakeReadable(temporary_path);
+  Status status;
+  WithCleanupHeld([&] {
+    if (std::rename(temporary_path.c_str(), path.c_str()) != 0) {
+      status = Status::Error("cannot rename " + temporary_path + " to " + path + " (" +
+                             ErrnoText() + ")");
+    } else {
+      ForgetTemporary(temporary_path);
+    }
+  });
+  return status;
+}
+
 }  // namespace
 
 Status WriteAtomicallyWith(const std::string& path,
                            const std::function<Status(const std::string&)>& write) {
+  ACCELCAL_RETURN_IF_ERROR(CheckReplaceable(path));
   std::string temporary_path;
   ACCELCAL_RETURN_IF_ERROR(MakeTemporarySibling(path, &temporary_path));
   Status status = write(temporary_path);
-  if (status.ok()) {
-    // mkstemp creates 0600; outputs are ordinary files a user's other tools can read.
-    const mode_t mask = umask(0);
-    umask(mask);
-    chmod(temporary_path.c_str(), 0666 & ~mask);
-    if (std::rename(temporary_path.c_str(), path.c_str()) != 0) {
-      status = Status::Error("cannot rename " + temporary_path + " to " + path + " (" +
-                             ErrnoText() + ")");
-    }
-  }
-  if (!status.ok()) std::remove(temporary_path.c_str());
+  if (status.ok()) status = Commit(path, temporary_path);
+  if (!status.ok()) RemoveTemporary(temporary_path);
   return status;
 }
 
 Status WriteFileAtomically(const std::string& path, const std::string& contents) {
   return WriteAtomicallyWith(path, [&](const std::string& temporary_path) {
-    const int fd = open(temporary_path.c_str(), O_WRONLY | O_TRUNC);
-    if (fd < 0) return Status::Error("cannot open " + temporary_path + " (" + ErrnoText() + ")");
-    size_t written = 0;
-    while (written < contents.size()) {
-      const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
-      if (n < 0) {
-        if (errno == EINTR) continue;
-        const Status error = Status::Error("cannot write " + path + " (" + ErrnoText() + ")");
-        close(fd);
-        return error;
-      }
-      written += static_cast<size_t>(n);
-    }
-    if (fsync(fd) != 0 || close(fd) != 0) {
-      return Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
-    }
-    return Status::Ok();
+    return WriteContents(path, temporary_path, contents);
   });
+}
+
+Status WriteFilesAtomically(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::string> temporaries;
+  Status status;
+  for (const auto& [path, contents] : files) {
+    status = CheckReplaceable(path);
+    std::string temporary_path;
+    if (status.ok()) status = MakeTemporarySibling(path, &temporary_path);
+    if (!status.ok()) break;
+    temporaries.push_back(temporary_path);
+    status = WriteContents(path, temporary_path, contents);
+    if (!status.ok()) break;
+  }
+  for (size_t k = 0; status.ok() && k < files.size(); ++k) {
+    status = Commit(files[k].first, temporaries[k]);
+  }
+  if (!status.ok()) {
+    for (const std::string& temporary_path : temporaries) RemoveTemporary(temporary_path);
+  }
+  return status;
 }
 
 Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
@@ -80,38 +148,77 @@ Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
   std::error_code error;
   std::string target = dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
-  const bool exists = fs::exists(target, error);
-  if (exists && !fs::is_directory(target, error)) {
-    return Status::Error(target + " exists and is not a folder");
+  const fs::file_status existing = fs::symlink_status(target, error);
+  const bool exists = existing.type() != fs::file_type::not_found &&
+                      existing.type() != fs::file_type::none;
+  if (exists && existing.type() != fs::file_type::directory) {
+    return Status::Error(target + " exists and is not a folder (a file, a link or a device); "
+                                  "it is left as it is: name another folder");
   }
-  if (exists && !fs::is_empty(target, error) && !overwrite) {
-    return Status::Error(target + " exists and is not empty; pass --overwrite to replace it");
+  const bool empty = exists && fs::is_empty(target, error);
+  if (exists && !empty) {
+    if (!overwrite) {
+      return Status::Error(target + " exists and is not empty; pass --overwrite to replace it "
+                                    "(only a folder accelcal wrote can be replaced)");
+    }
+    const fs::file_status marker = fs::symlink_status(target + "/" + kOutputFolderMarker, error);
+    if (marker.type() != fs::file_type::regular) {
+      return Status::Error(target + " was not written by accelcal (it has no " +
+                           kOutputFolderMarker +
+                           " marker), so --overwrite will not delete it: name another folder, "
+                           "or move it away yourself");
+    }
   }
   std::vector<char> pattern(target.begin(), target.end());
   const std::string suffix = ".tmp.XXXXXX";
   pattern.insert(pattern.end(), suffix.begin(), suffix.end());
   pattern.push_back('\0');
-  if (mkdtemp(pattern.data()) == nullptr) {
+  bool created = false;
+  WithCleanupHeld([&] {
+    created = mkdtemp(pattern.data()) != nullptr;
+    if (created) RegisterTemporary(pattern.data());
+  });
+  if (!created) {
     return Status::Error("cannot create a folder beside " + target + " (" + ErrnoText() +
                          "); check that the parent folder exists and is writable");
   }
   const std::string temporary_dir = pattern.data();
   chmod(temporary_dir.c_str(), 0755);
-  Status status = write(temporary_dir);
-  if (status.ok() && exists) {
+  Status status = WriteFileAtomically(temporary_dir + "/" + kOutputFolderMarker,
+                                      "This folder was written by accelcal; accelcal's "
+                                      "--overwrite may replace it.\n");
+  if (status.ok()) status = write(temporary_dir);
+  if (status.ok()) {
     const std::string old_dir = temporary_dir + ".old";
-    fs::rename(target, old_dir, error);
-    if (!error) fs::rename(temporary_dir, target, error);
-    if (error) {
-      status = Status::Error("cannot replace " + target + " (" + error.message() + ")");
-    } else {
+    // The swap runs with the cleanup held: an interruption sees the old folder in place, or
+    // the new one in place and the old one registered for removal.
+    WithCleanupHeld([&] {
+      if (exists) {
+        fs::rename(target, old_dir, error);
+        if (!error) {
+          RegisterTemporary(old_dir);
+          fs::rename(temporary_dir, target, error);
+          if (error) fs::rename(old_dir, target, error), ForgetTemporary(old_dir);
+        }
+      } else {
+        fs::rename(temporary_dir, target, error);
+      }
+      if (error) {
+        status = Status::Error("cannot " + std::string(exists ? "replace " : "create ") + target +
+                               " (" + error.message() + ")");
+      } else {
+        ForgetTemporary(temporary_dir);
+      }
+    });
+    if (status.ok() && exists) {
       fs::remove_all(old_dir, error);
+      ForgetTemporary(old_dir);
     }
-  } else if (status.ok()) {
-    fs::rename(temporary_dir, target, error);
-    if (error) status = Status::Error("cannot create " + target + " (" + error.message() + ")");
   }
-  if (!status.ok()) fs::remove_all(temporary_dir, error);
+  if (!status.ok()) {
+    fs::remove_all(temporary_dir, error);
+    ForgetTemporary(temporary_dir);
+  }
   return status;
 }
 

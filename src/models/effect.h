@@ -62,6 +62,11 @@ struct EffectInfo {
   // The highest power of the force along the axis that AddAxisTerms adds (0 when it adds
   // none). Above 2 the run's inverse is no longer closed-form (see InvertAxisResponse).
   int force_degree;
+  // The largest |value - neutral| a scenario or --set may give the effect: beyond it the
+  // sensor no longer measures the force it is meant to (a scale of -1, a bias of 10 g) and
+  // the simulation would only produce overflow or nonsense. 0: no bound of its own (the
+  // scenario checks apply a generic 1e6).
+  double largest_deviation = 0.0;
 };
 
 constexpr bool ActsInPhase(const EffectInfo& info, Phase phase) {

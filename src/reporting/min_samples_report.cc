@@ -21,4 +21,8 @@ nlohmann::json DesignJson(const DesignCurve& design, const nlohmann::json& monte
           {"monte_carlo", monte_carlo_checks}};
 }
 
+std::string SampleCountText(int n_min, int limit) {
+  return n_min > 0 ? std::to_string(n_min) : "none up to N = " + std::to_string(limit);
+}
+
 }  // namespace accelcal

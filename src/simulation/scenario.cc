@@ -14,6 +14,17 @@
 namespace accelcal {
 namespace {
 
+// Every bound a scenario must meet, in one place: a scenario file and --set are held to the
+// same limits, after everything is read or applied. They keep the simulation finite and its
+// memory bounded (a run of 1e8 samples holds about 5 GB), and each says its unit.
+constexpr double kMaxTiltSamples = 1e8;
+constexpr double kMaxRunSamples = 1e8;
+constexpr double kMaxAngleRad = 1e3;
+constexpr double kMaxPositionM = 1e9;
+constexpr double kMaxVelocityMps = 1e5;
+constexpr double kMaxAccelerationMps2 = 1e4;
+constexpr double kGenericLargestDeviation = 1e6;
+
 using nlohmann::json;
 
 Status CheckKeys(const json& object, const std::vector<std::string>& allowed,
@@ -72,8 +83,10 @@ Status ParseTilt(const json& tilt, TiltSchedule* schedule) {
   const std::string kind = tilt.value("schedule", std::string("uniform"));
   double samples = schedule->sample_count;
   ACCELCAL_RETURN_IF_ERROR(ReadNumber(tilt, "samples", "tilt", &samples));
-  if (kind != "list" && (samples < 3 || samples > 1e9 || samples != std::floor(samples))) {
-    return Status::Error("tilt.samples must be a whole number of at least 3");
+  if (kind != "list" &&
+      (samples < 3 || samples > kMaxTiltSamples || samples != std::floor(samples))) {
+    return Status::Error(
+        StringPrintf("tilt.samples must be a whole number from 3 to %.0e", kMaxTiltSamples));
   }
   schedule->sample_count = static_cast<int>(samples);
   if (kind == "uniform") {
@@ -205,6 +218,81 @@ Status SetParameter(const std::string& name, double value, SimulationTruth* trut
   return Status::Ok();
 }
 
+
+Status CheckRange(const std::string& name, double value, double low, double high,
+                  const char* unit) {
+  if (std::isfinite(value) && value >= low && value <= high) return Status::Ok();
+  return Status::Error(StringPrintf("%s = %.6g is outside [%.6g, %.6g] %s", name.c_str(), value,
+                                    low, high, unit));
+}
+
+Status ValidateScenario(const Scenario& scenario) {
+  const SimulationTruth& truth = scenario.truth;
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("gravity", truth.gravity_mps2, 1.0, 100.0, "m/s^2"));
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("noise_variance_x_stated", truth.stated_noise_variance_x,
+                                      1e-12, 1e4, "(m/s^2)^2"));
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("noise_variance_y_stated", truth.stated_noise_variance_y,
+                                      1e-12, 1e4, "(m/s^2)^2"));
+  for (const double value : {scenario.initial_position_x_m, scenario.initial_position_y_m}) {
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckRange("initial_position", value, -kMaxPositionM, kMaxPositionM, "m"));
+  }
+  for (const double value : {scenario.initial_velocity_x_mps, scenario.initial_velocity_y_mps}) {
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckRange("initial_velocity", value, -kMaxVelocityMps, kMaxVelocityMps, "m/s"));
+  }
+  const TiltSchedule& tilt = scenario.tilt;
+  const double tilt_samples = tilt.kind == TiltSchedule::Kind::kList
+                                  ? static_cast<double>(tilt.angles_rad.size())
+                                  : static_cast<double>(tilt.sample_count);
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("tilt_samples", tilt_samples, 3, kMaxTiltSamples, "samples"));
+  for (const double angle : {tilt.theta_begin_rad, tilt.theta_end_rad}) {
+    ACCELCAL_RETURN_IF_ERROR(CheckRange("tilt angle", angle, -kMaxAngleRad, kMaxAngleRad, "rad"));
+  }
+  for (const std::vector<double>* angles : {&tilt.positions_rad, &tilt.angles_rad}) {
+    for (const double angle : *angles) {
+      ACCELCAL_RETURN_IF_ERROR(
+          CheckRange("tilt angle", angle, -kMaxAngleRad, kMaxAngleRad, "rad"));
+    }
+  }
+  const RunProfile& run = scenario.run;
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("run_dt", run.dt_s, 1e-6, 10.0, "s"));
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("run_duration", run.duration_s, 0.0, 1e7, "s"));
+  // The run has llround(duration / dt) samples t_j = j dt; integrating needs two.
+  const double run_samples = std::round(run.duration_s / run.dt_s);
+  if (!(run_samples >= 2 && run_samples <= kMaxRunSamples)) {
+    return Status::Error(StringPrintf(
+        "run_duration / run_dt = %.6g s / %.6g s gives %.6g samples; a run needs 2 to %.0e",
+        run.duration_s, run.dt_s, run_samples, kMaxRunSamples));
+  }
+  for (const AccelerationSegment& segment : run.segments) {
+    ACCELCAL_RETURN_IF_ERROR(CheckRange("segment acceleration", segment.acceleration_x,
+                                        -kMaxAccelerationMps2, kMaxAccelerationMps2, "m/s^2"));
+    ACCELCAL_RETURN_IF_ERROR(CheckRange("segment acceleration", segment.acceleration_y,
+                                        -kMaxAccelerationMps2, kMaxAccelerationMps2, "m/s^2"));
+  }
+  for (const std::vector<double>* values : {&run.csv_acceleration_x, &run.csv_acceleration_y}) {
+    for (const double value : *values) {
+      ACCELCAL_RETURN_IF_ERROR(CheckRange("profile acceleration", value, -kMaxAccelerationMps2,
+                                          kMaxAccelerationMps2, "m/s^2"));
+    }
+  }
+  for (const Landmark& landmark : scenario.landmarks.listed) {
+    for (const double value : {landmark.x_m, landmark.y_m}) {
+      ACCELCAL_RETURN_IF_ERROR(
+          CheckRange("landmark " + landmark.name, value, -kMaxPositionM, kMaxPositionM, "m"));
+    }
+  }
+  for (const ParameterInfo& info : ParameterCatalogue()) {
+    const double largest = info.effect->largest_deviation > 0.0 ? info.effect->largest_deviation
+                                                                : kGenericLargestDeviation;
+    const double value = truth.parameters[info.parameter];
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckRange(info.name, value, info.neutral - largest, info.neutral + largest, info.unit));
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status ParseScenario(const std::string& json_text, const std::string& base_dir,
@@ -254,6 +342,7 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
           SetParameter(item.key(), item.value().get<double>(), &truth).WithContext("truth"));
     }
   }
+  ACCELCAL_RETURN_IF_ERROR(ValidateScenario(parsed));
   *scenario = parsed;
   return Status::Ok();
 }
@@ -289,10 +378,11 @@ Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario
       if (name == "run_dt") scenario->run.dt_s = value;
       if (name == "run_duration") scenario->run.duration_s = value;
     } else if (name == "tilt_samples") {
-      if (value < 3 || value != std::floor(value) ||
+      if (value < 3 || value > kMaxTiltSamples || value != std::floor(value) ||
           scenario->tilt.kind == TiltSchedule::Kind::kList) {
-        return Status::Error(
-            "tilt_samples must be a whole number >= 3 (and the schedule not a list)");
+        return Status::Error(StringPrintf(
+            "tilt_samples must be a whole number from 3 to %.0e (and the schedule not a list)",
+            kMaxTiltSamples));
       }
       scenario->tilt.sample_count = static_cast<int>(value);
     } else if (FindParameter(name) != nullptr) {
@@ -319,7 +409,7 @@ Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario
           static_cast<long long>(run.csv_acceleration_x.size())) {
     return Status::Error("run_duration and run_dt cannot change a run given as a CSV profile");
   }
-  return Status::Ok();
+  return ValidateScenario(*scenario);
 }
 
 void TrueRunAcceleration(const RunProfile& profile, std::vector<double>* timestamp_s,

@@ -18,7 +18,8 @@ struct AngleOffset : EffectTerms {
       Role::kEffect,                                                                     // role
       0.0,                                                                               // neutral
       0.004,  // example_size
-      0};     // force_degree
+      0,     // force_degree
+      3.14159};  // largest_deviation
 
   template <typename T>
   static void CorrectTableAngle(const T& angle_offset, T* theta_rad) {

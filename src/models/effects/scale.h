@@ -17,7 +17,8 @@ struct Scale : EffectTerms {
                                        Role::kBaseline,                          // role
                                        0.0,                                      // neutral
                                        0.0,                                      // example_size
-                                       1};                                       // force_degree
+                                       1,                                       // force_degree
+                                       0.9};  // largest_deviation
 
   template <typename T>
   static void AddAxisTerms(const T& scale, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

@@ -1,0 +1,66 @@
+#include "io/subprocess.h"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "io/cleanup.h"
+
+extern char** environ;
+
+namespace accelcal {
+
+Status RunProgram(const std::vector<std::string>& argv, int* exit_status) {
+  if (argv.empty()) return Status::Error("no program to run");
+  std::vector<char*> arguments;
+  for (const std::string& argument : argv) arguments.push_back(const_cast<char*>(argument.c_str()));
+  arguments.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  // Our signal mask blocks SIGINT/SIGTERM/SIGHUP for the cleanup thread; the child must
+  // not inherit it, nor our ignored SIGXFSZ.
+  sigset_t empty;
+  sigemptyset(&empty);
+  sigset_t defaults;
+  sigemptyset(&defaults);
+  for (const int signal_number : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ, SIGPIPE}) {
+    sigaddset(&defaults, signal_number);
+  }
+  posix_spawnattr_setsigmask(&attributes, &empty);
+  posix_spawnattr_setsigdefault(&attributes, &defaults);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+
+  pid_t pid = -1;
+  int error = 0;
+  WithCleanupHeld([&] {
+    error = posix_spawnp(&pid, arguments[0], &actions, &attributes, arguments.data(), environ);
+    if (error == 0) RegisterChild(pid);
+  });
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  if (error != 0) {
+    return Status::Error("cannot start " + argv[0] + " (" + std::strerror(error) + ")");
+  }
+  int status = 0;
+  pid_t waited;
+  do {
+    waited = waitpid(pid, &status, 0);
+  } while (waited < 0 && errno == EINTR);
+  ForgetChild(pid);
+  if (waited < 0) return Status::Error("lost track of " + argv[0] + " (" + std::strerror(errno) + ")");
+  *exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return Status::Ok();
+}
+
+}  // namespace accelcal
