@@ -54,6 +54,44 @@ TEST(ProbabilityOfWrongLandmark, MatchesBruteForceSampling) {
   EXPECT_NEAR(analytic, rate, 4 * std::sqrt(rate * (1 - rate) / samples));
 }
 
+// Hundreds of landmarks around the truth, most of them hidden behind nearer ones: the cell is
+// bounded by a few of them only (the others are pruned), and the answer must still be the
+// sampled rate of wrong decisions over all of them.
+TEST(ProbabilityOfWrongLandmark, ManyLandmarksMatchBruteForceSampling) {
+  RandomSource placement(5);
+  std::vector<Landmark> landmarks = {{"T", 0, 0}};
+  for (int k = 0; k < 400; ++k) {
+    const double x = 200.0 * (placement.Uniform() - 0.5);
+    const double y = 200.0 * (placement.Uniform() - 0.5);
+    if (std::hypot(x, y) > 12.0) landmarks.push_back({"L" + std::to_string(k), x, y});
+  }
+  Eigen::Matrix2d covariance;
+  covariance << 60.0, 15.0, 15.0, 90.0;
+  const Eigen::Vector2d center(1.0, -2.0);
+  const double analytic = ProbabilityOfWrongLandmark(center, covariance, covariance, landmarks, 0);
+  const Eigen::Matrix2d root = covariance.llt().matrixL();
+  const Eigen::Matrix2d metric = covariance.inverse();
+  RandomSource random(23);
+  const int samples = 100000;
+  int wrong = 0;
+  for (int s = 0; s < samples; ++s) {
+    const Eigen::Vector2d p =
+        center + root * Eigen::Vector2d(random.StandardNormal(), random.StandardNormal());
+    const double truth_d = p.dot(metric * p);
+    for (size_t k = 1; k < landmarks.size(); ++k) {
+      const Eigen::Vector2d d = p - Eigen::Vector2d(landmarks[k].x_m, landmarks[k].y_m);
+      if (d.dot(metric * d) < truth_d) {
+        ++wrong;
+        break;
+      }
+    }
+  }
+  const double rate = wrong / static_cast<double>(samples);
+  EXPECT_GT(analytic, 0.05);
+  EXPECT_LT(analytic, 0.95);
+  EXPECT_NEAR(analytic, rate, 4 * std::sqrt(rate * (1 - rate) / samples) + 2e-3);
+}
+
 TEST(BaselineCovarianceForDesign, IsTheEstimatorsOwnCovariance) {
   for (const char* design : {"uniform", "four", "two"}) {
     const std::vector<double> angles = DesignAngles(design, 400);
