@@ -171,52 +171,123 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     if (ActsOnlyInRun(info.parameter) && result->tied_landmark.empty()) continue;
     remaining.push_back(info.parameter);
   }
-  for (int step = 1;
-       !remaining.empty() && static_cast<int>(joint.effects.size()) < options.max_effects; ++step) {
-    std::vector<double> delta_chi2;
+  // Re-decides the landmark tie for the model of `joint` and refits `current` when it moves.
+  auto retie = [&](const char* because) -> Status {
+    if (joint.landmark_mode != JointOptions::Landmark::kNamed) return Status::Ok();
+    std::string tie;
     ACCELCAL_RETURN_IF_ERROR(
-        ScoreCandidates(test, run, conditions, landmarks, joint, current, remaining, &delta_chi2));
-    std::vector<double> p_values;
-    for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
-    const std::vector<bool> significant = HolmRejections(p_values, family_alpha);
-    int best = -1;
-    for (size_t c = 0; c < remaining.size(); ++c) {
-      result->candidates.push_back(
-          {step, remaining[c], delta_chi2[c], p_values[c], significant[c]});
-      if (significant[c] && (best < 0 || delta_chi2[c] > delta_chi2[best]))
-        best = static_cast<int>(c);
+        MostProbableLandmark(test, run, conditions, landmarks, joint, options.alpha, &tie));
+    if (!tie.empty() && tie != joint.landmark_name) {
+      result->landmark_note += StringPrintf("; %s, the run points at %s, not %s, and is tied to it",
+                                            because, tie.c_str(), joint.landmark_name.c_str());
+      joint.landmark_name = tie;
+      result->tied_landmark = tie;
+      ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
     }
-    if (best < 0) break;
-    JointOptions extended = joint;
-    extended.effects.push_back(remaining[best]);
-    JointResult refit;
-    const Status status = SolveJoint(test, run, conditions, landmarks, extended, &refit);
-    if (!status.ok()) {
-      // Not separable from what is already in the model: drop it and look again.
+    return Status::Ok();
+  };
+  // The chi-square each effect of the model removes from it: the model without the effect,
+  // refitted with the same tie, against the model itself. An effect the smaller model cannot
+  // be solved without (it never happens for a model that was solved with it) counts as needed.
+  auto necessity = [&](std::vector<double>* delta_chi2) -> Status {
+    delta_chi2->assign(joint.effects.size(), HUGE_VAL);
+    for (size_t e = 0; e < joint.effects.size(); ++e) {
+      JointOptions smaller = joint;
+      smaller.effects.erase(smaller.effects.begin() + e);
+      JointResult without;
+      if (SolveJoint(test, run, conditions, landmarks, smaller, &without).ok()) {
+        (*delta_chi2)[e] = std::max(0.0, TotalChi2(without) - TotalChi2(current));
+      }
+    }
+    return Status::Ok();
+  };
+  // An effect dropped by backward elimination is not offered again (it left `remaining` when
+  // it was added), so the alternation ends.
+  int step = 1;
+  for (bool changed = true; changed;) {
+    changed = false;
+    // Forward selection over the candidates left (numbering on from the last step scored).
+    if (!result->candidates.empty()) step = result->candidates.back().step + 1;
+    for (; !remaining.empty() && static_cast<int>(joint.effects.size()) < options.max_effects;
+         ++step) {
+      std::vector<double> delta_chi2;
+      ACCELCAL_RETURN_IF_ERROR(ScoreCandidates(test, run, conditions, landmarks, joint, current,
+                                               remaining, &delta_chi2));
+      std::vector<double> p_values;
+      for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
+      const std::vector<bool> significant = HolmRejections(p_values, family_alpha);
+      int best = -1;
+      for (size_t c = 0; c < remaining.size(); ++c) {
+        result->candidates.push_back(
+            {step, remaining[c], delta_chi2[c], p_values[c], significant[c]});
+        if (significant[c] && (best < 0 || delta_chi2[c] > delta_chi2[best]))
+          best = static_cast<int>(c);
+      }
+      if (best < 0) break;
+      JointOptions extended = joint;
+      extended.effects.push_back(remaining[best]);
+      JointResult refit;
+      const Status status = SolveJoint(test, run, conditions, landmarks, extended, &refit);
+      if (!status.ok()) {
+        // Not separable from what is already in the model: drop it and look again.
+        remaining.erase(remaining.begin() + best);
+        continue;
+      }
+      DiscoveredEffect effect;
+      effect.effect = remaining[best];
+      effect.selection_step = step;
+      effect.selection_p_value = p_values[best];
+      // Same tie before and after.
+      effect.selection_delta_chi2 = TotalChi2(current) - TotalChi2(refit);
+      result->effects.push_back(effect);
+      result->history.push_back({SelectionEvent::Kind::kAdded, effect.effect,
+                                 effect.selection_delta_chi2, effect.selection_p_value,
+                                 joint.landmark_name});
+      joint = extended;
+      current = refit;
       remaining.erase(remaining.begin() + best);
-      continue;
+      // The grown model may point at another landmark; tie the run to it from now on.
+      if (!ActsOnlyInRun(effect.effect)) {
+        ACCELCAL_RETURN_IF_ERROR(
+            retie(StringPrintf("with %s in the model", Info(effect.effect).name).c_str()));
+      }
     }
-    DiscoveredEffect effect;
-    effect.effect = remaining[best];
-    effect.p_value = p_values[best];
-    effect.delta_chi2 = TotalChi2(current) - TotalChi2(refit);  // same tie before and after
-    effect.bic_change = -effect.delta_chi2 + log_n;
-    result->effects.push_back(effect);
-    joint = extended;
-    current = refit;
-    remaining.erase(remaining.begin() + best);
-    // The grown model may point at another landmark; tie the run to it from now on.
-    if (!ActsOnlyInRun(effect.effect) && joint.landmark_mode == JointOptions::Landmark::kNamed) {
-      std::string tie;
+    // Backward elimination against the grown model.
+    while (!joint.effects.empty()) {
+      std::vector<double> delta_chi2;
+      ACCELCAL_RETURN_IF_ERROR(necessity(&delta_chi2));
+      std::vector<double> p_values;
+      for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
+      const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
+      int weakest = -1;
+      for (size_t e = 0; e < joint.effects.size(); ++e) {
+        if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
+          weakest = static_cast<int>(e);
+      }
+      if (weakest < 0) break;
+      const Parameter gone = joint.effects[weakest];
+      result->history.push_back({SelectionEvent::Kind::kDropped, gone, delta_chi2[weakest],
+                                 p_values[weakest], joint.landmark_name});
+      joint.effects.erase(joint.effects.begin() + weakest);
+      result->effects.erase(std::find_if(
+          result->effects.begin(), result->effects.end(),
+          [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
+      ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
       ACCELCAL_RETURN_IF_ERROR(
-          MostProbableLandmark(test, run, conditions, landmarks, joint, options.alpha, &tie));
-      if (!tie.empty() && tie != joint.landmark_name) {
-        result->landmark_note +=
-            StringPrintf("; with %s in the model the run points at %s, not %s, and is tied to it",
-                         Info(effect.effect).name, tie.c_str(), joint.landmark_name.c_str());
-        joint.landmark_name = tie;
-        result->tied_landmark = tie;
-        ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+          retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
+      changed = true;
+    }
+  }
+  // Every figure of the final model's effects against the final model itself.
+  {
+    std::vector<double> delta_chi2;
+    ACCELCAL_RETURN_IF_ERROR(necessity(&delta_chi2));
+    for (size_t e = 0; e < joint.effects.size(); ++e) {
+      for (DiscoveredEffect& effect : result->effects) {
+        if (effect.effect != joint.effects[e]) continue;
+        effect.delta_chi2 = delta_chi2[e];
+        effect.p_value = ChiSquareSurvival(delta_chi2[e], 1.0);
+        effect.bic_change = -effect.delta_chi2 + log_n;
       }
     }
   }

@@ -16,6 +16,13 @@
 //    alpha/2 among the candidates left, add the strongest, refit the joint problem in
 //    Ceres, and repeat until none is significant. (alpha/2 for each of the two families
 //    keeps the whole procedure's family-wise error rate at alpha.)
+//    Then backward elimination: every selected effect is tested against the grown model
+//    (the chi-square it removes from it, Holm at alpha/2 over the selected effects); the
+//    least significant of those not rejected is dropped, the landmark tie is decided again,
+//    and the test repeats until every effect left is significant. Forward selection then
+//    resumes over the candidates never dropped, until neither step changes the model. An
+//    effect added early (e.g. a run bias shift while a missing calibration effect pointed
+//    the run at the wrong landmark) is thus not reported once a later effect explains it.
 // 4. The gain: delta chi2 and BIC per effect, the shift of each baseline parameter in its
 //    sigma, the endpoint and landmark posterior before and after, and k-fold
 //    cross-validation over contiguous blocks of the tilt test.
@@ -63,13 +70,32 @@ struct CandidateScore {
   bool significant = false;  // rejected by Holm at this step
 };
 
+// An effect of the final model. Every figure is against the final model: delta_chi2 is the
+// chi-square the final model gains over the same model without this effect (same landmark
+// tie), p_value its chi-square(1) tail, bic_change the BIC of the final model minus that of
+// the model without it. The figures at the moment forward selection added it are kept as
+// history (selection_step, selection_delta_chi2, selection_p_value).
 struct DiscoveredEffect {
   Parameter effect;
   double estimate = 0.0;  // in the final model (noise_variance_k: the variance ratio)
   double stddev = 0.0;
-  double p_value = 1.0;     // when selected
-  double delta_chi2 = 0.0;  // chi-square removed by the refit (noise_variance_k: z^2)
-  double bic_change = 0.0;  // BIC after minus before (negative: better)
+  double p_value = 1.0;
+  double delta_chi2 = 0.0;  // noise_variance_k: z^2 of its noise-level test
+  double bic_change = 0.0;  // negative: the effect pays for its parameter
+  int selection_step = 0;   // forward step that added it (0: the noise tests)
+  double selection_delta_chi2 = 0.0;
+  double selection_p_value = 1.0;
+};
+
+// One change of the model, in order: forward selection adds an effect, backward elimination
+// drops one that the grown model no longer needs (tested against the model of that moment).
+struct SelectionEvent {
+  enum class Kind { kAdded, kDropped };
+  Kind kind = Kind::kAdded;
+  Parameter effect;
+  double delta_chi2 = 0.0;  // what it removed when added, or what it still removed when dropped
+  double p_value = 1.0;
+  std::string landmark;  // the landmark the run was tied to when it happened
 };
 
 struct CrossValidation {
@@ -90,6 +116,7 @@ struct DiscoveryResult {
   JointResult baseline_joint;  // no effect, run tied
   std::vector<CandidateScore> candidates;
   std::vector<DiscoveredEffect> effects;
+  std::vector<SelectionEvent> history;
   JointResult extended;
   DeadReckoningResult extended_trajectory;
   LandmarkDecision extended_decision;

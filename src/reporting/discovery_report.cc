@@ -90,13 +90,28 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
     text += StringPrintf("  %4d  %-22s %11.2f %14.3g  %s\n", c.step, Info(c.effect).name,
                          c.delta_chi2, c.p_value, c.significant ? "yes" : "");
   }
+  bool dropped = false;
+  for (const SelectionEvent& event : result.history)
+    dropped |= event.kind == SelectionEvent::Kind::kDropped;
+  if (dropped) {
+    text += "\n  how the model grew (backward elimination drops what a later effect explains)\n";
+    for (const SelectionEvent& event : result.history) {
+      const bool added = event.kind == SelectionEvent::Kind::kAdded;
+      text += StringPrintf("  %-8s %-22s delta chi2 %8.2f  p %9.3g  (run tied to %s)\n",
+                           added ? "added" : "dropped", Info(event.effect).name, event.delta_chi2,
+                           event.p_value, event.landmark.empty() ? "none" : event.landmark.c_str());
+    }
+  }
   if (!result.effects.empty()) {
     text +=
-        "\n  effects (final model)            estimate       1 sigma  unit        delta chi2   "
-        "delta BIC\n";
+        "\n  effects (final model; delta chi2, p and BIC against the final model without the "
+        "effect)\n"
+        "                                  estimate       1 sigma  unit        delta chi2   "
+        "p-value   delta BIC\n";
     for (const DiscoveredEffect& e : result.effects) {
-      text += StringPrintf("  %-28s %+12.4e  %12.3e  %-10s %10.1f  %10.1f\n", Info(e.effect).name,
-                           e.estimate, e.stddev, Info(e.effect).unit, e.delta_chi2, e.bic_change);
+      text += StringPrintf("  %-28s %+12.4e  %12.3e  %-10s %10.1f %9.2g  %10.1f\n",
+                           Info(e.effect).name, e.estimate, e.stddev, Info(e.effect).unit,
+                           e.delta_chi2, e.p_value, e.bic_change);
     }
     text +=
         "\n  gain: the baseline parameters in the extended model, shifted by (in the baseline's "
@@ -144,7 +159,20 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
                        {"stddev", e.stddev},
                        {"p_value", e.p_value},
                        {"delta_chi2", e.delta_chi2},
-                       {"delta_bic", e.bic_change}});
+                       {"delta_bic", e.bic_change},
+                       {"selected_at_step", e.selection_step},
+                       {"delta_chi2_at_selection", e.selection_delta_chi2},
+                       {"p_value_at_selection", e.selection_p_value}});
+  }
+  nlohmann::json history = nlohmann::json::array();
+  for (const SelectionEvent& event : result.history) {
+    history.push_back(
+        {{"change", event.kind == SelectionEvent::Kind::kAdded ? "added" : "dropped"},
+         {"name", Info(event.effect).name},
+         {"delta_chi2", event.delta_chi2},
+         {"p_value", event.p_value},
+         {"tied_landmark",
+          event.landmark.empty() ? nlohmann::json(nullptr) : nlohmann::json(event.landmark)}});
   }
   nlohmann::json candidates = nlohmann::json::array();
   for (const CandidateScore& c : result.candidates) {
@@ -181,6 +209,11 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
           {"alpha", alpha},
           {"verdict", result.verdict},
           {"effects", effects},
+          {"effects_figures",
+           "delta_chi2, p_value and delta_bic of each effect are against the final model: the "
+           "chi-square the final model gains over itself without that effect, with the same "
+           "landmark tie; the *_at_selection figures are those of the step that added it"},
+          {"history", history},
           {"candidates", candidates},
           {"noise", noise},
           {"landmark", result.extended_decision.reached.empty()
