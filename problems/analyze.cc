@@ -344,7 +344,8 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
   return doc;
 }
 
-Status Write(const Inputs& inputs, const Results& r) {
+// `figures_drawn` receives how many of the three figures were drawn.
+Status Write(const Inputs& inputs, const Results& r, int* figures_drawn) {
   return WriteDirectoryAtomically(FLAGS_out_dir, FLAGS_overwrite, [&](const std::string& dir) {
     nlohmann::json designs = nlohmann::json::array();
     for (const DesignCurve& design : r.designs)
@@ -386,6 +387,7 @@ Status Write(const Inputs& inputs, const Results& r) {
       const std::string why = Plot(script.first, arguments);
       if (!why.empty()) absent[figure] = why;
     }
+    *figures_drawn = static_cast<int>(figures.size() - absent.size());
     const ReportDocument document = Document(inputs, r, absent);
     ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/report.md", RenderMarkdown(document)));
     return WriteFileAtomically(dir + "/report.html", RenderHtml(document, dir));
@@ -404,10 +406,15 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = Load(&inputs);
   Results results;
   if (status.ok()) status = Analyse(inputs, ChooseGravity(inputs.conditions, FLAGS_g), &results);
-  if (status.ok()) status = Write(inputs, results);
+  int figures_drawn = 0;
+  if (status.ok()) status = Write(inputs, results, &figures_drawn);
   if (!status.ok()) return ExitWithError("analyze", status);
   std::cout << "accelcal analyze: " << results.discovery.verdict << "\n  report: " << FLAGS_out_dir
-            << "/report.html (and report.md, results.json, figures)\n";
+            << "/report.html (and report.md, results.json"
+            << (figures_drawn == 3   ? ", figures)"
+                : figures_drawn == 0 ? "; no figures were drawn: the report says why)"
+                                     : "; some figures were not drawn: the report says why)")
+            << "\n";
   return 0;
 }
 
