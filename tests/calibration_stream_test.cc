@@ -5,7 +5,10 @@
 
 #include "io/calibration_stream.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,12 +16,15 @@
 #include <nlohmann/json.hpp>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "common/format.h"
 #include "estimation/linear_ls.h"
 #include "io/course_data.h"
 #include "io/csv_reader.h"
+#include "io/mat_file.h"
+#include "io/theta_agreement.h"
 #include "simulation/simulator.h"
 #include "test_support.h"
 
@@ -42,12 +48,15 @@ struct Streamed {
   int batches = 0;
 };
 
+// `check_theta_agreement` false: the numbers are only parsed, as ParseCsv does, whatever
+// they say about the physics.
 Streamed Stream(const std::string& path, size_t chunk_bytes, size_t batch_samples = 4096,
-                AngleUnit theta_unit = AngleUnit::kRadian) {
+                AngleUnit theta_unit = AngleUnit::kRadian, bool check_theta_agreement = true) {
   CalibrationStreamOptions options;
   options.chunk_bytes = chunk_bytes;
   options.batch_samples = batch_samples;
   options.theta_unit = theta_unit;
+  options.check_theta_agreement = check_theta_agreement;
   Streamed result;
   result.status = StreamCalibrationCsv(
       path, options,
@@ -87,14 +96,15 @@ void ExpectNearAxis(const AxisRegressionAccumulator& a, const AxisRegressionAccu
 }
 
 // A simulated test written at full precision, with what real files carry: a BOM, comments,
-// blank lines, CRLF on some lines, blanks around cells and no final newline.
+// blank lines, CRLF on some lines and blanks around cells. (A last line without its line end
+// is refused, as a file cut short: RefusesBadInputWithParseCsvsMessages.)
 std::string AwkwardCsv(const CalibrationTest& test) {
   std::string text = "\xEF\xBB\xBF# tilt test, simulated\r\n\r\ntheta , AX,\"ay\"\r\n";
   for (int i = 0; i < test.size(); ++i) {
     if (i % 97 == 0) text += "# a comment between samples\n";
     text += StringPrintf("%.17g,%s%.17g, %.17g", test.theta_rad[i], i % 3 == 0 ? "+" : "",
                          test.measured_x[i], test.measured_y[i]);
-    if (i + 1 < test.size()) text += i % 2 == 0 ? "\r\n" : "\n";
+    text += i % 2 == 0 ? "\r\n" : "\n";
   }
   return text;
 }
@@ -187,7 +197,7 @@ TEST(CalibrationStream, ReadsCommentsBlankLinesCrlfAndBom) {
   const std::string path = scratch.Write(
       "c.csv", "\xEF\xBB\xBF# a comment\r\nTheta, ax ,ay\r\n0,1.5,-2e-3\r\n\r\n0.1,+2,3\r\n");
   for (const size_t chunk_bytes : kChunkBytes) {
-    const Streamed streamed = Stream(path, chunk_bytes);
+    const Streamed streamed = Stream(path, chunk_bytes, 4096, AngleUnit::kRadian, false);
     ASSERT_TRUE(streamed.status.ok()) << streamed.status.message();
     EXPECT_EQ(streamed.test.theta_rad, std::vector<double>({0.0, 0.1}));
     EXPECT_EQ(streamed.test.measured_x, std::vector<double>({1.5, 2.0}));
@@ -210,6 +220,17 @@ TEST(CalibrationStream, RefusesBadInputWithParseCsvsMessages) {
       {"theta;ax;ay\n0;1;2\n", "export it with ',' between fields"},
       {"\n# nothing\n", "the file is empty; expected the header 'theta,ax,ay'"},
       {"", "the file is empty"},
+      // Cut short by an interrupted copy: "-9.7" of "-9.7012", or a whole line lost.
+      {"theta,ax,ay\n0,-0.1,-9.8\n0.1,-0.9,-9.7",
+       "line 3 has no line end: the file looks cut short; copy it again, or end the line if it "
+       "is complete"},
+      {"theta,ax,ay\r\n0,-0.1,-9.8\r\n# end", "line 3 has no line end"},
+      {"theta,ax,ay", "line 1 has no line end"},
+      // Echoed cells are cut and their control characters escaped: one readable line.
+      {"theta,ax,ay\n0," + std::string(100000, '7') + "x,1\n",
+       "line 2, column 'ax': '7777777777777777777777777777777777777777...' is not a number"},
+      {"theta,ax,ay\n0,\x01\x1B[2J\xFF,1\n",
+       "line 2, column 'ax': '\\x01\\x1B[2J\\xFF' is not a number"},
   };
   ScratchDir scratch;
   for (const auto& [text, fragment] : cases) {
@@ -259,7 +280,8 @@ TEST(CalibrationStream, AgreesWithParseCsvOnMutatedFiles) {
     scratch.Write("mutated.csv", text);
     CsvTable table;
     const Status expected = ParseCsv(text, kColumns, &table);
-    const Streamed streamed = Stream(path, 1 + random() % 16, 1 + random() % 3);
+    const Streamed streamed =
+        Stream(path, 1 + random() % 16, 1 + random() % 3, AngleUnit::kRadian, false);
     ASSERT_EQ(streamed.status.ok(), expected.ok()) << text << "\n" << streamed.status.message();
     if (!expected.ok()) {
       ASSERT_EQ(streamed.status.message(), path + ": " + expected.message()) << text;
@@ -277,7 +299,9 @@ TEST(CalibrationStream, AppliesTheAngleUnitAsTheLoaderDoes) {
   ScratchDir scratch;
   std::string text = "theta,ax,ay\n";
   for (int degrees = 0; degrees <= 350; degrees += 10) {
-    text += std::to_string(degrees) + ",0.1,-9.7\n";
+    // The spec's outputs for the angle in degrees: f_x = -g sin(theta), f_y = -g cos(theta).
+    text += StringPrintf("%d,%.6f,%.6f\n", degrees, -9.8 * std::sin(degrees * M_PI / 180),
+                         -9.8 * std::cos(degrees * M_PI / 180));
   }
   const std::string path = scratch.Write("degrees.csv", text);
   const Streamed automatic = Stream(path, 7, 4, AngleUnit::kAuto);
@@ -295,7 +319,14 @@ TEST(CalibrationStream, AppliesTheAngleUnitAsTheLoaderDoes) {
     expected *= M_PI / 180.0;
     EXPECT_EQ(degrees.test.theta_rad[i], expected);
   }
-  EXPECT_TRUE(Stream(path, 7, 4, AngleUnit::kRadian).status.ok());
+  // Read as radians, the angles do not follow the outputs' direction (R near 0).
+  const Streamed radians = Stream(path, 7, 4, AngleUnit::kRadian);
+  EXPECT_NE(radians.status.message().find("theta read as radians does not follow the direction "
+                                          "of the outputs: agreement R = "),
+            std::string::npos)
+      << radians.status.message();
+  EXPECT_LT(std::abs(radians.stats.theta_agreement), 0.2);
+  EXPECT_GT(degrees.stats.theta_agreement, 0.999);
   // The loader reads a CSV test through the stream: the same message for the same file.
   CalibrationTest loaded;
   EXPECT_EQ(LoadCalibrationTest(path, &loaded).message(), automatic.status.message());
@@ -331,7 +362,94 @@ TEST(CalibrationStream, SaysWhenTheFileCannotBeOpened) {
   ScratchDir scratch;
   const std::string path = scratch.File("absent.csv");
   EXPECT_EQ(StreamCalibrationCsv(path, {}, Discard, nullptr).message(),
-            path + ": cannot open the file; check the path and permissions");
+            path + ": no such file; check the path");
+}
+
+// A folder is not "an empty file", and a pipe (bash's <(...), /dev/fd/63) is refused by name
+// before it is opened: CheckInputFile, as every reader.
+TEST(CalibrationStream, RefusesAFolderAndAPipeByName) {
+  ScratchDir scratch;
+  const std::string folder = scratch.File("folder.csv");
+  ASSERT_EQ(mkdir(folder.c_str(), 0700), 0);
+  EXPECT_EQ(StreamCalibrationCsv(folder, {}, Discard, nullptr).message(),
+            folder + ": is a folder, not a CSV file; name the file itself");
+  const std::string pipe = scratch.File("pipe.csv");
+  ASSERT_EQ(mkfifo(pipe.c_str(), 0600), 0);
+  // A writer that would feed a valid test to a reader that opens the pipe; the test opens it
+  // itself afterwards (without blocking), so the writer never waits forever.
+  std::thread writer([&pipe] {
+    const int fd = open(pipe.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    const std::string text = "theta,ax,ay\n0,-0.1,-9.8\n1.5,-9.8,-0.6\n3,-1.4,9.7\n";
+    EXPECT_EQ(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    close(fd);
+  });
+  const Status status = StreamCalibrationCsv(pipe, {}, Discard, nullptr);
+  const int release = open(pipe.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  writer.join();
+  if (release >= 0) close(release);
+  ASSERT_EQ(status.message(), pipe +
+                                  ": is a pipe (FIFO), not a CSV file; save the stream to a file "
+                                  "and name that");
+  // Refused before it is opened, so no writer is needed.
+  CalibrationTest test;
+  EXPECT_EQ(LoadCalibrationTest(pipe, &test).message(), status.message());
+}
+
+// Degrees over a small span: 80 to 92 degrees spans 12 < 4 pi, so only the physics tells.
+// The stream, the loader (which reads CSV through the stream) and the .mat loader agree.
+TEST(CalibrationStream, RefusesDegreesOverASmallSpanByThePhysics) {
+  TiltSchedule schedule;
+  schedule.sample_count = 1201;
+  schedule.theta_begin_rad = 80.0 * M_PI / 180.0;
+  schedule.theta_end_rad = 92.0 * M_PI / 180.0;
+  CalibrationTest test = SimulateTiltTest(schedule, CourseTableOneTruth(), 3);
+  for (double& theta : test.theta_rad) theta *= 180.0 / M_PI;  // written as degrees
+  ScratchDir scratch;
+  const std::string path = scratch.File("calibration.csv");
+  ASSERT_TRUE(WriteCalibrationCsv(path, test).ok());
+  const std::string expected_start =
+      path +
+      ": read as radians, theta does not follow the direction of the outputs (agreement R = ";
+  const std::string expected_end =
+      "; R = mean cos(atan2(-ax, -ay) - theta), 1 when f_x = -g sin(theta), f_y = -g "
+      "cos(theta)): theta looks like degrees; pass --theta_unit=deg";
+  std::string first_message;
+  for (const size_t chunk_bytes : kChunkBytes) {
+    const Streamed automatic = Stream(path, chunk_bytes, 4096, AngleUnit::kAuto);
+    ASSERT_FALSE(automatic.status.ok());
+    const std::string& message = automatic.status.message();
+    EXPECT_EQ(message.substr(0, expected_start.size()), expected_start) << message;
+    EXPECT_NE(message.find(expected_end), std::string::npos) << message;
+    EXPECT_NE(message.find("but read as degrees it does (R = 1.00"), std::string::npos) << message;
+    EXPECT_LT(std::abs(automatic.stats.theta_agreement), 0.2);
+    EXPECT_GT(automatic.stats.theta_agreement_as_degrees, 0.99);
+    if (first_message.empty()) first_message = message;
+    EXPECT_EQ(message, first_message);
+    const Streamed told = Stream(path, chunk_bytes, 4096, AngleUnit::kDegree);
+    ASSERT_TRUE(told.status.ok()) << told.status.message();
+    EXPECT_EQ(told.test.size(), 1201);
+    const Streamed radians = Stream(path, chunk_bytes, 4096, AngleUnit::kRadian);
+    EXPECT_NE(radians.status.message().find("check the angle unit (--theta_unit), the column "
+                                            "order (theta, ax, ay) and the axes' signs"),
+              std::string::npos)
+        << radians.status.message();
+  }
+  CalibrationTest loaded;
+  EXPECT_EQ(LoadCalibrationTest(path, &loaded).message(), first_message);
+  ASSERT_TRUE(LoadCalibrationTest(path, &loaded, {AngleUnit::kDegree}).ok());
+  EXPECT_NEAR(loaded.theta_rad.back(), 92.0 * M_PI / 180.0, 1e-12);
+  // The same test in a .mat file: the same refusal, from the in-memory path.
+  const std::string mat_path = scratch.File("ensayo.mat");
+  MatMatrix tita{test.size(), 1, test.theta_rad};
+  MatMatrix datos{test.size(), 2, test.measured_x};
+  datos.values.insert(datos.values.end(), test.measured_y.begin(), test.measured_y.end());
+  ASSERT_TRUE(WriteMatFile(mat_path, {{"tita", tita}, {"datos", datos}}).ok());
+  const Status from_mat = LoadCalibrationTest(mat_path, &loaded);
+  ASSERT_FALSE(from_mat.ok());
+  EXPECT_EQ(from_mat.message().substr(mat_path.size()),
+            first_message.substr(path.size()));  // the same R, to the printed digits
+  EXPECT_TRUE(LoadCalibrationTest(mat_path, &loaded, {AngleUnit::kDegree}).ok());
 }
 
 // ---- linear_ls streams a CSV test --------------------------------------------------------

@@ -56,9 +56,9 @@ TEST(DiscoverBinary, NamesAHiddenEffectInTheJson) {
 
 TEST(DiscoverBinary, RefusesBadFlags) {
   testing::ExpectBadInputContract(RunBinary("discover", "--alpha=0.7"), "discover",
-                                  "--alpha must be in (0, 0.5)");
+                                  "--alpha='0.7' is not a valid double in (0, 0.5)");
   testing::ExpectBadInputContract(RunBinary("discover", "--folds=1"), "discover",
-                                  "--folds must be 0 or at least 2");
+                                  "--folds must be 0 (none) or 2 to 100");
   testing::ExpectBadInputContract(RunBinary("discover", "--set=wobble=1"), "discover",
                                   "--set: 'wobble' is neither");
 }

@@ -1,18 +1,28 @@
 // Readers of the course layout and the CSV layout: what they accept, and the one-line
 // message they give for each kind of bad input.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <matio.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
+#include <thread>
 
+#include "common/format.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/datos_txt.h"
+#include "io/input_file.h"
+#include "io/input_text.h"
+#include "io/json_file.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
+#include "simulation/scenario.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -84,9 +94,74 @@ TEST(DatosTxt, RefusesBadInputWithTheLine) {
       ParseDatosTxt("Velocidad inicial = [1 3]\nVelocidad inicial = [1 3]\n", &conditions),
       "line 2: 'Velocidad inicial' is given twice");
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Aceleracion = [1 3]\n", &conditions),
-                        "line 1: unknown key 'Aceleracion '");
+                        "line 1: unknown key 'Aceleracion'");
   EXPECT_ERROR_CONTAINS(ParseDatosTxt("Velocidad inicial [1 3]\n", &conditions),
                         "line 1: expected 'key = [x y]'");
+}
+
+// Keys are whole keys: a word of one inside another key is not that key.
+TEST(DatosTxt, MatchesWholeKeysOnly) {
+  RunConditions conditions;
+  const std::string variance = "varianza del ruido de los aceler\xC3\xB3metros = [0.25 0.64]\n";
+  EXPECT_ERROR_CONTAINS(
+      ParseDatosTxt(
+          "Posici\xC3\xB3n final = [459.84 59.99]\nVelocidad inicial = [1 3]\n" + variance,
+          &conditions),
+      "line 1: unknown key 'Posici\xC3\xB3n final'; expected Posici\xC3\xB3n inicial, Velocidad "
+      "inicial or varianza del ruido de los aceler\xC3\xB3metros");
+  EXPECT_ERROR_CONTAINS(
+      ParseDatosTxt("Posici\xC3\xB3n inicial = [0 0]\nVelocidad final = [1 3]\n" + variance,
+                    &conditions),
+      "line 2: unknown key 'Velocidad final'");
+  EXPECT_ERROR_CONTAINS(ParseDatosTxt("Posici\xC3\xB3n inicial = [0 0]\nVelocidad inicial = [1 3]\n"
+                                      "varianza estimada = [0.25 0.64]\n",
+                                      &conditions),
+                        "line 3: unknown key 'varianza estimada'");
+  EXPECT_ERROR_CONTAINS(ParseDatosTxt("final position = [1 2]\n", &conditions),
+                        "line 1: unknown key 'final position'");
+  // Every form accepted before, whole: accents and case folded, any spacing, '_' as ' '.
+  for (const char* text :
+       {"POSICION  INICIAL = [1 2]\nvelocidad inicial = [3 4]\nVarianza del ruido = [0.1 0.2]\n",
+        "initial_position = [1 2]\nInitial Velocity = [3 4]\nnoise variance = [0.1 0.2]\n",
+        "Posici\xF3n inicial = [1 2]\nVelocidad inicial = [3 4]\n"
+        "varianza del ruido de los aceler\xF3metros = [0.1 0.2]"}) {
+    SCOPED_TRACE(text);
+    const Status status = ParseDatosTxt(text, &conditions);
+    ASSERT_TRUE(status.ok()) << status.message();
+    EXPECT_EQ(conditions.initial_position_x_m, 1.0);
+    EXPECT_EQ(conditions.initial_velocity_y_mps, 4.0);
+    EXPECT_EQ(conditions.noise_variance_y, 0.2);
+  }
+}
+
+// What a message quotes of the file is at most 40 characters, printable, on one line.
+TEST(DatosTxt, QuotesAtMost40PrintableCharactersOfTheFile) {
+  RunConditions conditions;
+  const Status status = ParseDatosTxt(std::string(5 << 20, 'k') + " = [1 2]\n", &conditions);
+  EXPECT_EQ(status.message(), "line 1: unknown key '" + std::string(40, 'k') +
+                                  "...'; expected Posici\xC3\xB3n inicial, Velocidad inicial or "
+                                  "varianza del ruido de los aceler\xC3\xB3metros (or initial "
+                                  "position, initial velocity, noise variance)");
+  EXPECT_ERROR_CONTAINS(ParseDatosTxt("Velocidad inicial = [1 \x01\x7F\xE9]\n", &conditions),
+                        "line 1: '\\x01\\x7F\\xE9' in 'Velocidad inicial' is not a finite number");
+}
+
+TEST(EchoInput, CutsLongTextAndEscapesWhatDoesNotPrint) {
+  EXPECT_EQ(EchoInput("abc"), "abc");
+  EXPECT_EQ(EchoInput(""), "");
+  EXPECT_EQ(EchoInput(std::string(40, 'x')), std::string(40, 'x'));
+  EXPECT_EQ(EchoInput(std::string(41, 'x')), std::string(40, 'x') + "...");
+  // UTF-8 is kept and counted by characters; Latin-1, controls and broken UTF-8 are escaped.
+  EXPECT_EQ(EchoInput("Posici\xC3\xB3n"), "Posici\xC3\xB3n");
+  EXPECT_EQ(EchoInput("Posici\xF3n"), "Posici\\xF3n");
+  EXPECT_EQ(EchoInput(std::string("a\0b\r\n\t\x1B", 7)), "a\\x00b\\x0D\\x0A\\x09\\x1B");
+  EXPECT_EQ(EchoInput("\xC2\x85\xC3"), "\\xC2\\x85\\xC3");
+  EXPECT_EQ(EchoInput("\xE2\x82\xAC 5"), "\xE2\x82\xAC 5");
+  std::string accents;
+  for (int i = 0; i < 50; ++i) accents += "\xC3\xB3";
+  std::string expected;
+  for (int i = 0; i < 40; ++i) expected += "\xC3\xB3";
+  EXPECT_EQ(EchoInput(accents), expected + "...");
 }
 
 TEST(ScenarioJson, RoundTripsAndRefusesTypos) {
@@ -111,6 +186,57 @@ TEST(ScenarioJson, RoundTripsAndRefusesTypos) {
                         "not valid JSON");
 }
 
+// nlohmann::json keeps the last of two values for one key; the readers refuse the file.
+TEST(ScenarioJson, RefusesAKeyGivenTwice) {
+  RunConditions parsed;
+  EXPECT_EQ(ParseScenarioJson("{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3],\n"
+                              " \"noise_variance\": [0.25, 0.64], \"noise_variance\": [25, 64]}",
+                              &parsed)
+                .message(),
+            "key \"noise_variance\" is given twice in one object, at /noise_variance; a JSON "
+            "reader would keep only one of the two values: remove the other");
+}
+
+TEST(ParseJsonStrict, NamesADuplicateKeyByItsJsonPointer) {
+  nlohmann::json document;
+  ASSERT_TRUE(ParseJsonStrict("{\"a\": [1, {\"b\": 2}], \"c\": {\"b\": 3}}", &document).ok());
+  EXPECT_EQ(document["c"]["b"], 3);
+  EXPECT_ERROR_CONTAINS(
+      ParseJsonStrict(R"({"run": {"dt": 0.01, "profile": {}, "dt": 0.02}})", &document),
+      "key \"dt\" is given twice in one object, at /run/dt;");
+  EXPECT_TRUE(document.is_null());
+  EXPECT_ERROR_CONTAINS(
+      ParseJsonStrict(R"({"x": [0, [1], {"y": 1}, {"a/b~": 1, "a/b~": 2}]})", &document),
+      "key \"a/b~\" is given twice in one object, at /x/3/a~1b~0;");
+  EXPECT_ERROR_CONTAINS(ParseJsonStrict(R"([{"k": 1}, {"k": 1, "k": 1}])", &document), "at /1/k;");
+  // The parser's message quotes at most 40 characters of the file.
+  const Status unterminated =
+      ParseJsonStrict("{\"name\": \"" + std::string(1 << 20, 'n'), &document);
+  EXPECT_ERROR_CONTAINS(unterminated, "not valid JSON (");
+  EXPECT_ERROR_CONTAINS(unterminated, "last read: '\"nnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnnn...'");
+  EXPECT_LT(unterminated.message().size(), 300u) << unterminated.message();
+  // Messages that quote nothing of the file are kept whole.
+  EXPECT_ERROR_CONTAINS(ParseJsonStrict("{\"a\": [1, 2", &document),
+                        "syntax error while parsing array - unexpected end of input; expected ']'");
+  EXPECT_ERROR_CONTAINS(ParseJsonStrict("{\"a\": tru\x01"
+                                        "e}",
+                                        &document),
+                        "invalid literal; last read: '\"a\": tru<U+0001>')");
+}
+
+// The scenario files of the simulator go through the same strict parse.
+TEST(ParseJsonStrict, RefusesADuplicateKeyInAScenarioFile) {
+  testing::ScratchDir scratch;
+  scratch.Write("s.json", R"({"run": {"dt": 0.01, "duration": 3, "dt": 0.1,
+                             "profile": {"segments": [{"duration": 3, "acceleration": [0, 0]}]}},
+                             "landmarks": {"listed": [{"name": "A", "position": [0, 0]}]}})");
+  Scenario scenario;
+  EXPECT_ERROR_CONTAINS(LoadScenario(scratch.File("s.json"), &scenario),
+                        scratch.File("s.json") +
+                            ": key \"dt\" is given twice in one object, at "
+                            "/run/dt;");
+}
+
 // ---- CSV -----------------------------------------------------------------------------
 
 const std::vector<CsvColumn> kColumns = {{"theta"}, {"ax"}, {"ay"}};
@@ -125,6 +251,21 @@ TEST(CsvReader, ReadsCommentsBlankLinesCrlfAndBom) {
   EXPECT_EQ(table.numbers[1][0], 1.5);
   EXPECT_EQ(table.numbers[2][0], -2e-3);
   EXPECT_EQ(table.numbers[1][1], 2.0);
+}
+
+// An interrupted copy most often ends inside a number, which still parses: refused.
+TEST(CsvReader, RefusesALastLineWithoutLineEnd) {
+  CsvTable table;
+  EXPECT_EQ(ParseCsv("theta,ax,ay\n0,1,2\n0.1,1,2.0", kColumns, &table).message(),
+            "line 3 has no line end: the file looks cut short; copy it again, or end the line if "
+            "it is complete");
+  EXPECT_ERROR_CONTAINS(ParseCsv("theta,ax,ay\r\n0,1,2\r\n\r\n0.1,1,", kColumns, &table),
+                        "line 4 has no line end");
+  EXPECT_ERROR_CONTAINS(ParseCsv("theta,ax,ay", kColumns, &table), "line 1 has no line end");
+  // An earlier bad line is still reported first, as the stream reports it.
+  EXPECT_ERROR_CONTAINS(ParseCsv("theta,ax,ay\n0,x,2\n0.1,1,2", kColumns, &table),
+                        "line 2, column 'ax': 'x' is not a number");
+  EXPECT_TRUE(ParseCsv("theta,ax,ay\n0,1,2\n", kColumns, &table).ok());
 }
 
 TEST(CsvReader, RefusesBadInputWithLineAndColumn) {
@@ -148,6 +289,16 @@ TEST(CsvReader, RefusesBadInputWithLineAndColumn) {
   EXPECT_ERROR_CONTAINS(ParseCsv("theta,ax,ay\n", kColumns, &table),
                         "no data rows after the header");
   EXPECT_ERROR_CONTAINS(ParseCsv("", kColumns, &table), "the file is empty");
+  // A huge cell or a header of binary junk is quoted cut and escaped, on one line.
+  const Status huge =
+      ParseCsv("theta,ax,ay\n0," + std::string(5 << 20, '9') + "e,1\n", kColumns, &table);
+  EXPECT_EQ(huge.message(),
+            "line 2, column 'ax': '" + std::string(40, '9') + "...' is not a number");
+  EXPECT_ERROR_CONTAINS(ParseCsv(std::string("\x7F"
+                                             "ELF\x02\x01\x01\0\0\n",
+                                             10),
+                                 kColumns, &table),
+                        "line 1: the header is '\\x7FELF\\x02\\x01\\x01\\x00\\x00', expected");
 }
 
 // ---- .mat files ----------------------------------------------------------------------
@@ -158,6 +309,17 @@ MatMatrix Matrix(int rows, int cols, double start = 0.0) {
   matrix.cols = cols;
   for (int i = 0; i < rows * cols; ++i) matrix.values.push_back(start + 0.001 * i);
   return matrix;
+}
+
+// The spec's outputs for the angles `tita` (f_x = -g sin(theta), f_y = -g cos(theta)), as a
+// datos matrix: the angles then follow the outputs' direction (io/theta_agreement.h).
+MatMatrix TiltOutputs(const MatMatrix& tita) {
+  MatMatrix datos{tita.rows, 2, std::vector<double>(2 * tita.values.size())};
+  for (size_t i = 0; i < tita.values.size(); ++i) {
+    datos.values[i] = -9.8 * std::sin(tita.values[i]);
+    datos.values[tita.values.size() + i] = -9.8 * std::cos(tita.values[i]);
+  }
+  return datos;
 }
 
 // A calibration file with `rows` angles and a datos matrix of the given shape.
@@ -172,14 +334,16 @@ std::string WriteEnsayo(const testing::ScratchDir& scratch, int rows, int datos_
 
 TEST(MatFile, WrittenFilesReadBackExactly) {
   testing::ScratchDir scratch;
-  const std::string path = WriteEnsayo(scratch, 50, 50, 2);
+  const std::string path = scratch.File("ensayo.mat");
+  ASSERT_TRUE(
+      WriteMatFile(path, {{"tita", Matrix(50, 1)}, {"datos", TiltOutputs(Matrix(50, 1))}}).ok());
   CalibrationTest test;
   const Status status = LoadCalibrationTest(path, &test);
   ASSERT_TRUE(status.ok()) << status.message();
   ASSERT_EQ(test.size(), 50);
   EXPECT_EQ(test.theta_rad[3], 0.003);
-  EXPECT_EQ(test.measured_x[0], 0.0);
-  EXPECT_EQ(test.measured_y[0], 0.050);  // column 2 starts after 50 values
+  EXPECT_EQ(test.measured_x[3], -9.8 * std::sin(0.003));
+  EXPECT_EQ(test.measured_y[0], -9.8);  // column 2 starts after 50 values
 }
 
 TEST(MatFile, NamesTheFileAndVariableOfEveryShapeProblem) {
@@ -207,13 +371,13 @@ TEST(MatFile, ReadsA2xNMatrixAsItsTransposeAndSaysSo) {
   testing::ScratchDir scratch;
   const std::string path = scratch.File("ensayo.mat");
   // datos = [ax; ay]: row 0 holds x, row 1 holds y.
-  MatMatrix rows{2, 4, {10, 20, 11, 21, 12, 22, 13, 23}};
+  MatMatrix rows{2, 4, {0.1, -9.8, 0.2, -9.7, 0.3, -9.6, 0.4, -9.5}};
   ASSERT_TRUE(WriteMatFile(path, {{"tita", Matrix(4, 1)}, {"datos", rows}}).ok());
   CalibrationTest test;
   std::vector<std::string> notes;
   ASSERT_TRUE(LoadCalibrationTest(path, &test, {}, &notes).ok());
-  EXPECT_EQ(test.measured_x, std::vector<double>({10, 11, 12, 13}));
-  EXPECT_EQ(test.measured_y, std::vector<double>({20, 21, 22, 23}));
+  EXPECT_EQ(test.measured_x, std::vector<double>({0.1, 0.2, 0.3, 0.4}));
+  EXPECT_EQ(test.measured_y, std::vector<double>({-9.8, -9.7, -9.6, -9.5}));
   ASSERT_EQ(notes.size(), 1u);
   EXPECT_EQ(notes[0], path + ": variable 'datos' is 2x4; read as its transpose (4x2, x then y)");
 }
@@ -221,20 +385,29 @@ TEST(MatFile, ReadsA2xNMatrixAsItsTransposeAndSaysSo) {
 TEST(CalibrationTest, RefusesAngleSpansThatLookLikeDegreesUnlessTold) {
   testing::ScratchDir scratch;
   const std::string path = scratch.File("calibration.csv");
-  ASSERT_TRUE(WriteFileAtomically(path, "theta,ax,ay\n0,1,2\n90,1,2\n180,1,2\n359,1,2\n").ok());
+  // The spec's outputs (f_x = -g sin(theta), f_y = -g cos(theta)) for the angles in degrees.
+  std::string text = "theta,ax,ay\n";
+  for (int degrees = 0; degrees <= 350; degrees += 10) {
+    text += StringPrintf("%d,%.4f,%.4f\n", degrees, -9.8 * std::sin(degrees * M_PI / 180),
+                         -9.8 * std::cos(degrees * M_PI / 180));
+  }
+  ASSERT_TRUE(WriteFileAtomically(path, text).ok());
   CalibrationTest test;
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test),
                         path +
-                            ": theta spans 359 (from 0 to 359) over 4 samples, more than two "
+                            ": theta spans 350 (from 0 to 350) over 36 samples, more than two "
                             "turns if it were radians: it looks like degrees; pass "
                             "--theta_unit=deg");
   ASSERT_TRUE(LoadCalibrationTest(path, &test, {AngleUnit::kDegree}).ok());
-  EXPECT_DOUBLE_EQ(test.theta_rad[1], M_PI / 2);
-  EXPECT_DOUBLE_EQ(test.theta_rad[3], 359 * M_PI / 180);
-  ASSERT_TRUE(LoadCalibrationTest(path, &test, {AngleUnit::kRadian}).ok());
-  EXPECT_EQ(test.theta_rad[3], 359.0);
+  EXPECT_DOUBLE_EQ(test.theta_rad[9], M_PI / 2);
+  EXPECT_DOUBLE_EQ(test.theta_rad[35], 350 * M_PI / 180);
+  // Told radians, the span passes, but the angles do not follow the outputs' direction.
+  EXPECT_ERROR_CONTAINS(LoadCalibrationTest(path, &test, {AngleUnit::kRadian}),
+                        path +
+                            ": theta read as radians does not follow the direction of the "
+                            "outputs: agreement R = ");
   // Two full turns in radians are a plausible test and pass.
-  ASSERT_TRUE(WriteFileAtomically(path, "theta,ax,ay\n0,1,2\n12.566,1,2\n").ok());
+  ASSERT_TRUE(WriteFileAtomically(path, "theta,ax,ay\n0,0,-9.8\n12.566,0.006,-9.8\n").ok());
   EXPECT_TRUE(LoadCalibrationTest(path, &test).ok());
   AngleUnit unit;
   EXPECT_ERROR_CONTAINS(ParseAngleUnit("degrees", &unit), "is not one of auto, rad, deg");
@@ -271,7 +444,7 @@ TEST(MatFile, RefusesTruncatedEmptyAndForeignFiles) {
   const std::string text = scratch.Write("text.mat", "theta,ax,ay\n1,2,3\n");
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(text, &test), "text.mat: not a readable MAT file");
   EXPECT_ERROR_CONTAINS(LoadCalibrationTest(scratch.File("absent.mat"), &test),
-                        "absent.mat: cannot open the file");
+                        "absent.mat: no such file; check the path");
 }
 
 TEST(MatFile, RefusesIntegerAndCellVariables) {
@@ -346,6 +519,134 @@ TEST(VehicleRun, RefusesTimeThatIsNotUniformlyIncreasing) {
   // The assignment's name for the matrix is accepted when Aerr is absent.
   ASSERT_TRUE(WriteMatFile(mat_path, {{"t", Matrix(10, 1)}, {"acel", Matrix(10, 2)}}).ok());
   EXPECT_TRUE(LoadVehicleRun(mat_path, &run).ok());
+}
+
+// A 100 Hz logger stamping Unix time: near 1.7e9 s a double resolves 2.4e-7 s, so the steps
+// of an exact clock differ by that much, 24 times more than 1e-6 dt. Accepted, with the dt
+// the integration takes (estimation/trajectory.cc, joint_estimator.cc: (t_last - t_first)
+// / (N - 1)) right to 1e-9 s; a glitch of two samples by 20 us is still refused.
+TEST(VehicleRun, AcceptsUnixTimeAndStillFindsAGlitch) {
+  testing::ScratchDir scratch;
+  const double start_s = 1700000000.0;
+  const int count = 6000;
+  auto write = [&](int glitch_at, double glitch_s) {
+    std::string text = "t,ax,ay\n";
+    for (int j = 0; j < count; ++j) {
+      const bool late = j == glitch_at || j == glitch_at + 1;
+      text += late ? StringPrintf("%.5f", start_s + 0.01 * j + glitch_s)
+                   : StringPrintf("%.2f", start_s + 0.01 * j);
+      text += ",0.1,-0.2\n";
+    }
+    return scratch.Write("unix.csv", text);
+  };
+  const std::string path = write(-10, 0.0);
+  VehicleRun run;
+  const Status status = LoadVehicleRun(path, &run);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(run.size(), count);
+  const double dt = (run.timestamp_s.back() - run.timestamp_s.front()) / (run.size() - 1);
+  EXPECT_NEAR(dt, 0.01, 1e-9);
+  // Samples 3001 and 3002 stamped 20 us late: a step of 0.01002 s, then 0.01 s, then 0.00998 s.
+  write(3000, 2e-5);
+  EXPECT_ERROR_CONTAINS(LoadVehicleRun(path, &run),
+                        "t is not uniformly spaced: t(3001) - t(3000) = 0.01002 s, expected dt = "
+                        "0.01 s; resample the run");
+  // Time so coarse that it cannot resolve the step at all.
+  std::vector<double> coarse = {1e15, 1e15 + 0.25, 1e15 + 0.5, 1e15 + 0.75};
+  EXPECT_ERROR_CONTAINS(CheckUniformTime(coarse, "t"),
+                        "s is resolved to 0.125 s only, too coarse for its step dt = 0.25 s; store "
+                        "the time since the start of the run");
+}
+
+TEST(VehicleRun, RefusesARunFileCutShort) {
+  testing::ScratchDir scratch;
+  const std::string path =
+      scratch.Write("trajectory.csv", "t,ax,ay\n0,1,1\n0.01,1,1\n0.02,1,1\n0.03,1,0.4");
+  VehicleRun run;
+  EXPECT_EQ(LoadVehicleRun(path, &run).message(),
+            path +
+                ": line 5 has no line end: the file looks cut short; copy it again, or end the "
+                "line if it is complete");
+  EXPECT_EQ(run.size(), 0);
+}
+
+// The reader is chosen by the extension in any case; a folder or a pipe is named as such.
+TEST(DataFiles, ChoosesTheReaderByExtensionInAnyCaseAndRefusesFoldersAndPipes) {
+  testing::ScratchDir scratch;
+  VehicleRun run;
+  for (const char* name : {"run.CSV", "run.Csv"}) {
+    const std::string path = scratch.Write(name, "t,ax,ay\n0,1,1\n0.01,1,1\n0.02,1,1\n");
+    const Status status = LoadVehicleRun(path, &run);
+    ASSERT_TRUE(status.ok()) << status.message();
+    EXPECT_EQ(run.size(), 3);
+  }
+  EXPECT_TRUE(IsCsvPath("a/B.CSV"));
+  EXPECT_FALSE(IsCsvPath("a/csv"));
+  const std::string calibration =
+      scratch.Write("calibration.CSV", "theta,ax,ay\n0,0,-9.8\n1.5708,-9.8,0\n3.1416,0,9.8\n");
+  CalibrationTest test;
+  const Status test_status = LoadCalibrationTest(calibration, &test);
+  ASSERT_TRUE(test_status.ok()) << test_status.message();
+  EXPECT_EQ(test.size(), 3);
+  const std::string scenario = scratch.Write(
+      "scenario.JSON",
+      R"({"initial_position": [0, 0], "initial_velocity": [1, 3], "noise_variance": [0.25, 0.64]})");
+  RunConditions conditions;
+  EXPECT_TRUE(LoadRunConditions(scenario, &conditions).ok());
+
+  const std::string folder = scratch.File("trajectory.csv");
+  ASSERT_EQ(mkdir(folder.c_str(), 0700), 0);
+  EXPECT_EQ(LoadVehicleRun(folder, &run).message(),
+            folder + ": is a folder, not a CSV file; name the file itself");
+  std::vector<Landmark> landmarks;
+  EXPECT_ERROR_CONTAINS(LoadLandmarks(folder, &landmarks), "is a folder, not a CSV file");
+  const std::string datos = scratch.File("datos.txt");
+  ASSERT_EQ(mkdir(datos.c_str(), 0700), 0);
+  EXPECT_EQ(LoadRunConditions(datos, &conditions).message(),
+            datos + ": is a folder, not a datos.txt file; name the file itself");
+
+  // A pipe (what bash's <(...) names) is refused before it is opened. A writer would feed a
+  // valid run to a reader that opened it; the test opens it itself afterwards, without
+  // blocking, so that the writer never waits forever.
+  const std::string pipe = scratch.File("pipe.csv");
+  ASSERT_EQ(mkfifo(pipe.c_str(), 0600), 0);
+  std::thread writer([&pipe] {
+    const int fd = open(pipe.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) return;
+    const std::string text = "t,ax,ay\n0,1,1\n0.01,1,1\n";
+    EXPECT_EQ(write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+    close(fd);
+  });
+  const Status piped = LoadVehicleRun(pipe, &run);
+  const int release = open(pipe.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  writer.join();
+  if (release >= 0) close(release);
+  EXPECT_EQ(piped.message(),
+            pipe + ": is a pipe (FIFO), not a CSV file; save the stream to a file and name that");
+}
+
+TEST(RunConditions, RefusesAFileLargerThanAConditionsFileCanBe) {
+  testing::ScratchDir scratch;
+  const std::string path = scratch.Write(
+      "datos.txt", std::string(kMaxConditionsFileBytes, '\n') + "Velocidad inicial = [1 3]\n");
+  RunConditions conditions;
+  EXPECT_ERROR_CONTAINS(LoadRunConditions(path, &conditions),
+                        path +
+                            ": the file is 1 MiB, more than the 1 MiB that a datos.txt file "
+                            "can sensibly be");
+}
+
+TEST(Landmarks, RefusesANameThatIsNotAPrintableLine) {
+  testing::ScratchDir scratch;
+  std::vector<Landmark> landmarks;
+  const std::string path =
+      scratch.Write("landmarks.csv", "name,x,y\nA,1,2\n" + std::string(5 << 20, 'B') + ",3,4\n");
+  EXPECT_EQ(LoadLandmarks(path, &landmarks).message(),
+            path + ": landmark 2's name '" + std::string(40, 'B') +
+                "...' (5242880 bytes) is not a name: use at most 100 printable characters");
+  scratch.Write("landmarks.csv", "name,x,y\nA,1,2\nB\x1B[31m,3,4\n");
+  EXPECT_ERROR_CONTAINS(LoadLandmarks(path, &landmarks), "landmark 2's name 'B\\x1B[31m'");
+  EXPECT_TRUE(landmarks.empty());
 }
 
 TEST(DataFiles, ResolvesEitherLayoutAndExplainsAnEmptyFolder) {

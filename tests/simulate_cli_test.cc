@@ -70,7 +70,7 @@ TEST(SimulateBinary, RefusesBadInputAndLeavesNothingBehind) {
                 "--set: 'angle_ofset' is neither a parameter");
   ExpectRefused("simulate",
                 "--out_dir='" + out + "' --scenario='" + scratch.File("none.json") + "'",
-                "none.json: cannot open the file");
+                "none.json: no such file; check the path");
   scratch.Write("bad.json", "{\"run\": {}}");
   ExpectRefused("simulate", "--out_dir='" + out + "' --scenario='" + scratch.File("bad.json") + "'",
                 "bad.json: run.profile is missing");
@@ -102,7 +102,7 @@ TEST(CoverageBinary, PrintsTheTableAndTheEffectRowsAndWritesJson) {
   EXPECT_EQ(json["trials"].get<int>(), 40);
   EXPECT_EQ(json["effects"].size(), 10u);
   EXPECT_EQ(json["effects"][0]["name"], "angle_offset");
-  ExpectRefused("coverage", "--trials=5", "--trials must be at least 10");
+  ExpectRefused("coverage", "--trials=5", "--trials='5' is not a valid int32 in [10, 10000000]");
 }
 
 }  // namespace

@@ -137,13 +137,13 @@ TEST(TrajectoryBinary, RefusesMissingInitialVelocityAndBadLandmarks) {
                 scratch.File("landmarks.csv") + ": no data rows after the header");
   std::remove(scratch.File("landmarks.csv").c_str());
   ExpectRefused("--data_dir='" + scratch.path() + "'",
-                scratch.File("landmarks.csv") + ": cannot open the file");
+                scratch.File("landmarks.csv") + ": no such file; check the path");
 }
 
 TEST(TrajectoryBinary, RefusesBadFlags) {
   ExpectRefused("", "give --data_dir, or all of --calibration_file");
-  ExpectRefused("--data_dir=. --alpha=1.5", "--alpha must be in (0, 1)");
-  ExpectRefused("--data_dir=. --path_stride=0", "--path_stride must be at least 1");
+  ExpectRefused("--data_dir=. --alpha=1.5", "--alpha='1.5' is not a valid double in (0, 1)");
+  ExpectRefused("--data_dir=. --path_stride=0", "--path_stride='0' is not a valid int32 in [1, 1000000000]");
 }
 
 }  // namespace

@@ -7,11 +7,14 @@
 #include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <memory>
 #include <string_view>
 #include <vector>
 
 #include "io/csv_reader.h"
+#include "io/input_file.h"
+#include "io/theta_agreement.h"
 
 namespace accelcal {
 namespace {
@@ -46,7 +49,8 @@ class Batcher {
   Batcher(const CalibrationStreamOptions& options, const CalibrationSink& sink)
       : sink_(sink),
         degrees_(options.theta_unit == AngleUnit::kDegree),
-        capacity_(std::max<size_t>(1, options.batch_samples)) {
+        capacity_(std::max<size_t>(1, options.batch_samples)),
+        agreement_(options.theta_unit) {
     batch_.theta_rad.reserve(capacity_);
     batch_.measured_x.reserve(capacity_);
     batch_.measured_y.reserve(capacity_);
@@ -68,6 +72,7 @@ class Batcher {
 
   void Flush() {
     if (batch_.theta_rad.empty()) return;
+    agreement_.Add(batch_);
     sink_(batch_);
     // clear() keeps the capacity: no allocation after the first batch.
     batch_.theta_rad.clear();
@@ -75,15 +80,20 @@ class Batcher {
     batch_.measured_y.clear();
   }
 
-  size_t reserved_bytes() const { return 3 * capacity_ * sizeof(double); }
+  // The batch, and the agreement's four blocks of 512 doubles.
+  size_t reserved_bytes() const {
+    return 3 * capacity_ * sizeof(double) + 4 * 512 * sizeof(double);
+  }
   double theta_min_rad() const { return theta_min_rad_; }
   double theta_max_rad() const { return theta_max_rad_; }
+  const ThetaAgreement& agreement() const { return agreement_; }
 
  private:
   const CalibrationSink& sink_;
   const bool degrees_;
   const size_t capacity_;
   CalibrationTest batch_;
+  ThetaAgreement agreement_;
   long long count_ = 0;
   double theta_min_rad_ = 0.0;
   double theta_max_rad_ = 0.0;
@@ -101,9 +111,14 @@ Status LineTooLong(long long line_number, std::string_view start, size_t max_lin
 
 Status Stream(const std::string& path, const CalibrationStreamOptions& options,
               const CalibrationSink& sink, CalibrationStreamStats* stats) {
+  // Any size: the file is never held whole.
+  uint64_t size = 0;
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckInputFile(path, std::numeric_limits<uint64_t>::max(), "a CSV file", &size));
   const FileDescriptor file(open(path.c_str(), O_RDONLY | O_CLOEXEC));
   if (file.get() < 0) {
-    return Status::Error("cannot open the file; check the path and permissions");
+    return Status::Error(std::string("cannot open the file (") + strerror(errno) +
+                         "); check the path and permissions");
   }
   // A hint only: the kernel may read further ahead.
   posix_fadvise(file.get(), 0, 0, POSIX_FADV_SEQUENTIAL);
@@ -144,8 +159,8 @@ Status Stream(const std::string& path, const CalibrationStreamOptions& options,
     }
     held = static_cast<size_t>(end - line);
     if (count == 0) {
-      // The last line has no '\n'.
-      if (held > 0) ACCELCAL_RETURN_IF_ERROR(parse(std::string_view(line, held)));
+      // The last line has no '\n': a copy cut short, most likely inside a number.
+      if (held > 0) return parser.UnterminatedLastLine();
       break;
     }
     if (held > max_line_bytes) {
@@ -158,9 +173,13 @@ Status Stream(const std::string& path, const CalibrationStreamOptions& options,
   stats->samples = parser.row_count();
   stats->theta_min_rad = batcher.theta_min_rad();
   stats->theta_max_rad = batcher.theta_max_rad();
+  stats->theta_agreement = batcher.agreement().agreement();
+  stats->theta_agreement_as_degrees = batcher.agreement().agreement_as_degrees();
   ACCELCAL_RETURN_IF_ERROR(parser.Finish());
-  return CheckThetaSpan(options.theta_unit, stats->theta_min_rad, stats->theta_max_rad,
-                        stats->samples);
+  ACCELCAL_RETURN_IF_ERROR(CheckThetaSpan(options.theta_unit, stats->theta_min_rad,
+                                          stats->theta_max_rad, stats->samples));
+  if (!options.check_theta_agreement) return Status::Ok();
+  return batcher.agreement().Check(stats->theta_max_rad - stats->theta_min_rad);
 }
 
 }  // namespace

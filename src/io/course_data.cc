@@ -6,6 +6,8 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <new>
 #include <set>
 
 #include "common/format.h"
@@ -13,8 +15,10 @@
 #include "io/atomic_file.h"
 #include "io/calibration_stream.h"
 #include "io/csv_reader.h"
+#include "io/input_text.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
+#include "io/theta_agreement.h"
 
 namespace accelcal {
 namespace {
@@ -29,9 +33,20 @@ bool IsDirectory(const std::string& path) {
   return stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode);
 }
 
+// Whether `path` ends in `extension` (lower case), in any case: data copied from Windows
+// or a camera card often ends in ".CSV".
 bool HasExtension(const std::string& path, const std::string& extension) {
-  return path.size() >= extension.size() &&
-         path.compare(path.size() - extension.size(), extension.size(), extension) == 0;
+  if (path.size() < extension.size()) return false;
+  return std::equal(extension.begin(), extension.end(), path.end() - extension.size(),
+                    [](char expected, char actual) {
+                      return expected == std::tolower(static_cast<unsigned char>(actual));
+                    });
+}
+
+// A std::bad_alloc while a file's samples are copied or transposed, as one line.
+Status OutOfMemory(const std::string& what) {
+  return Status::Error("not enough memory to hold " + what +
+                       "; free memory, raise the limit (ulimit -v) or use less data");
 }
 
 void AddNotes(const std::string& path, const std::vector<std::string>& file_notes,
@@ -104,35 +119,19 @@ Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expect
   return Status::Ok();
 }
 
-// Time must increase strictly and uniformly (the integration uses one dt). The step
-// every sample is held to is the median step, so that one glitch is reported where it
-// is rather than shifting the reference for all the others.
-Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
-  if (timestamp_s.size() < 2) {
-    return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
-                         " sample(s); at least 2 are needed to integrate");
-  }
-  std::vector<double> steps(timestamp_s.size() - 1);
-  for (size_t j = 1; j < timestamp_s.size(); ++j) {
-    steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
-    if (!(steps[j - 1] > 0.0)) {
-      return Status::Error(name + " is not strictly increasing: " + name + "(" +
-                           std::to_string(j + 1) + ") = " + StringPrintf("%.6g", timestamp_s[j]) +
-                           " s after " + StringPrintf("%.6g", timestamp_s[j - 1]) + " s");
-    }
-  }
-  std::vector<double> sorted = steps;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double dt = sorted[sorted.size() / 2];
-  for (size_t j = 0; j < steps.size(); ++j) {
-    if (std::abs(steps[j] - dt) > 1e-6 * dt) {
-      return Status::Error(
-          name + " is not uniformly spaced: " + name + "(" + std::to_string(j + 2) + ") - " + name +
-          "(" + std::to_string(j + 1) + ") = " + StringPrintf("%.6g", steps[j]) +
-          " s, expected dt = " + StringPrintf("%.6g", dt) + " s; resample the run");
-    }
-  }
-  return Status::Ok();
+// A landmark's name is shown whole in tables, JSON and messages: it must be a printable
+// line of at most kMaxLandmarkNameBytes (a MAT file's names are identifiers of at most 63).
+constexpr size_t kMaxLandmarkNameBytes = 100;
+
+Status CheckLandmarkName(const std::string& name, int row) {
+  const bool printable = std::none_of(name.begin(), name.end(), [](char c) {
+    const unsigned char byte = static_cast<unsigned char>(c);
+    return byte < 0x20 || byte == 0x7F;
+  });
+  if (printable && name.size() <= kMaxLandmarkNameBytes) return Status::Ok();
+  return Status::Error("landmark " + std::to_string(row) + "'s name '" + EchoInput(name) + "' (" +
+                       std::to_string(name.size()) + " bytes) is not a name: use at most " +
+                       std::to_string(kMaxLandmarkNameBytes) + " printable characters");
 }
 
 const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
@@ -168,6 +167,16 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
   std::vector<std::string> names;
   ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
   for (const std::string& name : names) {
+    // Every variable of puntos.mat is a landmark, so a variable MATLAB saves without being
+    // asked (the last unnamed result `ans`, or a hidden one starting with '_') would become a
+    // landmark nobody placed. Such a file is refused rather than read with a stray landmark.
+    if (name == "ans" || name.front() == '_') {
+      return Status::Error("variable '" + name + "' is " +
+                           (name == "ans" ? "MATLAB's last unnamed result"
+                                          : "a variable MATLAB hides") +
+                           ", not a landmark: save the file with the landmarks only, e.g. save "
+                           "puntos.mat A B C D");
+    }
     MatMatrix matrix;
     ACCELCAL_RETURN_IF_ERROR(reader.ReadMatrix(name, &matrix));
     if (matrix.values.size() != 2) {
@@ -182,21 +191,79 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
   return Status::Ok();
 }
 
-// Applies `unit` to the angles (CheckThetaSpan). The streaming reader converts degrees
-// with the same expression.
+// Applies `unit` to the angles (CheckThetaSpan), then checks that they follow the outputs'
+// direction (ThetaAgreement). The streaming reader converts degrees with the same
+// expression and checks the same way.
 Status ApplyThetaUnit(AngleUnit unit, CalibrationTest* test) {
   if (test->theta_rad.empty()) return Status::Ok();
-  const auto [low, high] = std::minmax_element(test->theta_rad.begin(), test->theta_rad.end());
   if (unit == AngleUnit::kDegree) {
     for (double& theta : test->theta_rad) theta *= M_PI / 180.0;
-    return Status::Ok();
   }
-  return CheckThetaSpan(unit, *low, *high, test->size());
+  const auto [low, high] = std::minmax_element(test->theta_rad.begin(), test->theta_rad.end());
+  ACCELCAL_RETURN_IF_ERROR(CheckThetaSpan(unit, *low, *high, test->size()));
+  ThetaAgreement agreement(unit);
+  agreement.Add(*test);
+  return agreement.Check(*high - *low);
 }
 
 }  // namespace
 
 bool IsCsvPath(const std::string& path) { return HasExtension(path, ".csv"); }
+
+// Time must increase strictly and uniformly (the integration uses one dt). The step
+// every sample is held to is the median step, so that one glitch is reported where it
+// is rather than shifting the reference for all the others.
+Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
+  if (timestamp_s.size() < 2) {
+    return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
+                         " sample(s); at least 2 are needed to integrate");
+  }
+  std::vector<double> steps(timestamp_s.size() - 1);
+  for (size_t j = 1; j < timestamp_s.size(); ++j) {
+    steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
+    if (!(steps[j - 1] > 0.0)) {
+      return Status::Error(name + " is not strictly increasing: " + name + "(" +
+                           std::to_string(j + 1) + ") = " + StringPrintf("%.6g", timestamp_s[j]) +
+                           " s after " + StringPrintf("%.6g", timestamp_s[j - 1]) + " s");
+    }
+  }
+  std::vector<double> sorted = steps;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double dt = sorted[sorted.size() / 2];
+  // Each timestamp is the double nearest its true value, within half an ulp of it, so a
+  // step of an exact clock is off by up to an ulp of |t|; 4 ulp leave room for a clock
+  // accumulated in doubles. Time increases, so the largest |t| is at one end.
+  const double largest = std::max(std::abs(timestamp_s.front()), std::abs(timestamp_s.back()));
+  const double resolution =
+      std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest;
+  if (4.0 * resolution >= 0.5 * dt) {
+    return Status::Error(StringPrintf(
+        "%s near %.10g s is resolved to %.3g s only, too coarse for its step dt = %.3g s; "
+        "store the time since the start of the run",
+        name.c_str(), largest, resolution, dt));
+  }
+  const double tolerance = 1e-6 * dt + 4.0 * resolution;
+  // Steps to the decimals the tolerance resolves, trailing zeros dropped: 0.0099999905 s, a
+  // 100 Hz step near 1.7e9 s, reads 0.01 s.
+  const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(tolerance))), 0, 17);
+  auto seconds = [decimals](double value) {
+    std::string text = StringPrintf("%.*f", decimals, value);
+    if (text.find('.') != std::string::npos) {
+      text.erase(text.find_last_not_of('0') + 1);
+      if (text.back() == '.') text.pop_back();
+    }
+    return text;
+  };
+  for (size_t j = 0; j < steps.size(); ++j) {
+    if (std::abs(steps[j] - dt) > tolerance) {
+      return Status::Error(name + " is not uniformly spaced: " + name + "(" +
+                           std::to_string(j + 2) + ") - " + name + "(" + std::to_string(j + 1) +
+                           ") = " + seconds(steps[j]) + " s, expected dt = " + seconds(dt) +
+                           " s; resample the run");
+    }
+  }
+  return Status::Ok();
+}
 
 // A tilt test never needs more than two turns, while any test wider than 12.6 degrees spans
 // more than 4*pi when its degrees are read as radians, so kAuto refuses such a span instead
@@ -221,7 +288,7 @@ Status ParseAngleUnit(const std::string& text, AngleUnit* unit) {
   } else if (text == "deg") {
     *unit = AngleUnit::kDegree;
   } else {
-    return Status::Error("--theta_unit='" + text + "' is not one of auto, rad, deg");
+    return Status::Error("--theta_unit='" + EchoInput(text) + "' is not one of auto, rad, deg");
   }
   return Status::Ok();
 }
@@ -266,17 +333,31 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
   Status status;
   if (IsCsvPath(path)) {
     // The streaming reader, so that a CSV test is read by one code path whether it is kept
-    // or only accumulated; it applies the angle unit and names the file itself.
+    // or only accumulated; it checks the path, applies the angle unit and names the file
+    // itself.
     CalibrationStreamOptions stream_options;
     stream_options.theta_unit = options.theta_unit;
-    status = StreamCalibrationCsv(
-        path, stream_options, [test](const CalibrationTest& batch) { test->Append(batch); },
-        nullptr);
+    try {
+      status = StreamCalibrationCsv(
+          path, stream_options, [test](const CalibrationTest& batch) { test->Append(batch); },
+          nullptr);
+    } catch (const std::bad_alloc&) {
+      const int held = test->size();
+      *test = CalibrationTest();
+      status = OutOfMemory("more than " + std::to_string(held) + " samples of the tilt test")
+                   .WithContext(path);
+    }
     if (!status.ok()) *test = CalibrationTest();
     return status;
   }
-  status = LoadCalibrationMat(path, test, &file_notes);
+  try {
+    status = LoadCalibrationMat(path, test, &file_notes);
+  } catch (const std::bad_alloc&) {
+    *test = CalibrationTest();
+    status = OutOfMemory("the tilt test's samples");
+  }
   if (status.ok()) status = ApplyThetaUnit(options.theta_unit, test);
+  if (!status.ok()) *test = CalibrationTest();
   AddNotes(path, file_notes, notes);
   return status.WithContext(path);
 }
@@ -295,8 +376,14 @@ Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std:
       status = CheckUniformTime(run->timestamp_s, "t");
     }
   } else {
-    status = LoadRunMat(path, run, &file_notes);
+    try {
+      status = LoadRunMat(path, run, &file_notes);
+    } catch (const std::bad_alloc&) {
+      *run = VehicleRun();
+      status = OutOfMemory("the run's samples");
+    }
   }
+  if (!status.ok()) *run = VehicleRun();
   AddNotes(path, file_notes, notes);
   return status.WithContext(path);
 }
@@ -308,12 +395,17 @@ Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) 
     CsvTable table;
     status = ReadCsvFile(path, kLandmarkColumns, &table);
     for (int i = 0; status.ok() && i < table.row_count; ++i) {
-      landmarks->push_back({table.texts[0][i], table.numbers[1][i], table.numbers[2][i]});
+      // Names are quoted whole in the outputs and in CheckLandmarks' messages.
+      status = CheckLandmarkName(table.texts[0][i], i + 1);
+      if (status.ok()) {
+        landmarks->push_back({table.texts[0][i], table.numbers[1][i], table.numbers[2][i]});
+      }
     }
   } else {
     status = LoadLandmarksMat(path, landmarks);
   }
   if (status.ok()) status = CheckLandmarks(*landmarks);
+  if (!status.ok()) landmarks->clear();
   return status.WithContext(path);
 }
 

@@ -12,9 +12,12 @@
 //                   variable, named by the variable
 //   conditions      datos.txt                            scenario.json
 //
-// The file type is chosen by extension (.mat or .csv), so single files of either kind
-// can be named directly. Every loader validates what it reads (shape, finiteness,
-// lengths, time uniformly increasing) and fails with the file name first.
+// The file type is chosen by extension, in any case (.csv, .CSV: CSV; anything else, e.g.
+// .mat or .MAT, MAT), so single files of either kind can be named directly. Every loader
+// first checks that the path is a regular file (CheckInputFile, io/input_file.h: a folder,
+// a pipe such as bash's <(...) or a device is refused by name), then validates what it
+// reads (shape, finiteness, lengths, time uniformly increasing, angles that follow the
+// outputs' direction) and fails with the file name first.
 
 #include <map>
 #include <string>
@@ -46,8 +49,11 @@ Status ResolveDataFiles(const std::string& data_dir, DataFiles* files);
 Status ResolveDataFiles(const std::string& data_dir, const DataFiles& overrides, DataFiles* files);
 
 // What the files cannot say about themselves.
+// Whatever the unit, a test whose outputs' direction does not follow theta is refused
+// (io/theta_agreement.h).
 enum class AngleUnit {
-  kAuto,    // radians, but a span of theta over two turns is refused as likely degrees
+  kAuto,    // radians, but a span of theta over two turns, or angles that follow the
+            // outputs' direction only when read as degrees, are refused as likely degrees
   kRadian,  // radians, whatever the span
   kDegree,  // degrees, converted to radians on reading
 };
@@ -64,8 +70,18 @@ struct LoadOptions {
 // pass.
 Status CheckThetaSpan(AngleUnit unit, double theta_min, double theta_max, long long sample_count);
 
-// Whether the loaders read `path` as CSV (it ends in ".csv"); anything else is read as .mat.
+// Whether the loaders read `path` as CSV (it ends in ".csv" in any case); anything else is
+// read as .mat.
 bool IsCsvPath(const std::string& path);
+
+// Whether the timestamps `timestamp_s` are strictly increasing and uniformly spaced, as the
+// integration's single dt needs; `name` is the variable's name in messages ("t"). A step may
+// differ from the median step by 1e-6 of it plus 4 ulp of the largest |t|, the resolution of
+// the timestamps themselves: at Unix times (t ~ 1.7e9 s, ulp 2.4e-7 s) the steps of an exact
+// 100 Hz clock differ by up to an ulp, far more than 1e-6 dt = 1e-8 s. Timestamps too coarse
+// to resolve the step (4 ulp >= dt / 2) are refused. The integration takes
+// dt = (t_last - t_first) / (N - 1), accurate to an ulp of t over N - 1.
+Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name);
 
 // Each loader refuses what it cannot read correctly. What it reads correctly but a person
 // should hear about (a 2xN matrix read as its transpose) goes to `notes`, one line each

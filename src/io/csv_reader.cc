@@ -4,9 +4,12 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
+#include <new>
 #include <utility>
+
+#include "common/format.h"
+#include "io/input_file.h"
+#include "io/input_text.h"
 
 namespace accelcal {
 namespace {
@@ -120,7 +123,7 @@ Status CsvLineParser::CheckHeader(std::string_view trimmed, size_t field_count) 
   }
   if (matches) return Status::Ok();
   const bool semicolons = field_count == 1 && trimmed.find(';') != std::string_view::npos;
-  return Status::Error(Where(line_number_) + ": the header is '" + std::string(trimmed) +
+  return Status::Error(Where(line_number_) + ": the header is '" + EchoInput(trimmed) +
                        "', expected '" + expected_header_ + "'" +
                        (semicolons ? "; the file separates fields with ';' (a spreadsheet "
                                      "with decimal commas?): export it with ',' between "
@@ -144,7 +147,7 @@ Status CsvLineParser::ParseRow() {
       const bool not_finite =
           lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
       return Status::Error(
-          Where(line_number_) + ", column '" + columns_[c].name + "': '" + std::string(cell) +
+          Where(line_number_) + ", column '" + columns_[c].name + "': '" + EchoInput(cell) +
           "' is " +
           (not_finite ? "not a finite number; remove or repair the sample" : "not a number"));
     }
@@ -161,39 +164,98 @@ Status CsvLineParser::Finish() const {
   return Status::Ok();
 }
 
+Status CsvLineParser::UnterminatedLastLine() const {
+  return Status::Error(Where(line_number_ + 1) +
+                       " has no line end: the file looks cut short; copy it again, or end the "
+                       "line if it is complete");
+}
+
+namespace {
+
+// An upper bound on the data rows of `text`: its complete lines that are neither blank nor
+// comments, less one for the header. One pass at memchr's speed, so that the columns are
+// sized once (no doubling, which would hold up to 1.5 times the final size while it copies)
+// and a shortage of memory is known, and said, before any row is parsed.
+size_t CountDataRows(std::string_view text) {
+  size_t rows = 0;
+  size_t begin = 0;
+  while (begin < text.size()) {
+    const size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos) break;
+    size_t first = begin;
+    while (first < end && IsBlank(text[first])) ++first;
+    if (first < end && text[first] != '#') ++rows;
+    begin = end + 1;
+  }
+  return rows > 0 ? rows - 1 : 0;
+}
+
+std::string Bytes(double bytes) {
+  if (bytes >= 1024.0 * 1024.0) return StringPrintf("%.0f MiB", bytes / (1024.0 * 1024.0));
+  return StringPrintf("%.0f bytes", bytes);
+}
+
+}  // namespace
+
 Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, CsvTable* table) {
   table->numbers.assign(columns.size(), {});
   table->texts.assign(columns.size(), {});
   table->row_count = 0;
-  CsvLineParser parser(columns);
   const std::string_view all(text);
-  size_t begin = 0;
-  while (begin < all.size()) {
-    size_t end = all.find('\n', begin);
-    if (end == std::string_view::npos) end = all.size();
-    CsvLineParser::LineKind kind;
-    ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(all.substr(begin, end - begin), &kind));
-    begin = end + 1;
-    if (kind != CsvLineParser::LineKind::kRow) continue;
+  const size_t rows = CountDataRows(all);
+  try {
     for (size_t c = 0; c < columns.size(); ++c) {
       if (columns[c].numeric) {
-        table->numbers[c].push_back(parser.number(c));
+        table->numbers[c].reserve(rows);
       } else {
-        table->texts[c].emplace_back(parser.text(c));
+        table->texts[c].reserve(rows);
       }
     }
-    ++table->row_count;
+  } catch (const std::bad_alloc&) {
+    table->numbers.assign(columns.size(), {});
+    table->texts.assign(columns.size(), {});
+    return Status::Error(
+        "not enough memory to hold " + std::to_string(rows) + " rows (" +
+        Bytes(static_cast<double>(rows) * static_cast<double>(columns.size()) * sizeof(double)) +
+        " as numbers, beside the file's " + Bytes(static_cast<double>(text.size())) +
+        "); free memory, raise the limit (ulimit -v) or use less data");
+  }
+  CsvLineParser parser(columns);
+  size_t begin = 0;
+  try {
+    while (begin < all.size()) {
+      const size_t end = all.find('\n', begin);
+      if (end == std::string_view::npos) return parser.UnterminatedLastLine();
+      CsvLineParser::LineKind kind;
+      ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(all.substr(begin, end - begin), &kind));
+      begin = end + 1;
+      if (kind != CsvLineParser::LineKind::kRow) continue;
+      for (size_t c = 0; c < columns.size(); ++c) {
+        if (columns[c].numeric) {
+          table->numbers[c].push_back(parser.number(c));
+        } else {
+          table->texts[c].emplace_back(parser.text(c));
+        }
+      }
+      ++table->row_count;
+    }
+  } catch (const std::bad_alloc&) {
+    // Only text cells (a landmark's name) still allocate once the columns are reserved.
+    const long long held = table->row_count;
+    table->numbers.assign(columns.size(), {});
+    table->texts.assign(columns.size(), {});
+    table->row_count = 0;
+    return Status::Error("not enough memory to hold the text cells after " + std::to_string(held) +
+                         " rows; free memory, raise the limit (ulimit -v) or use less data");
   }
   return parser.Finish();
 }
 
 Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& columns,
                    CsvTable* table) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return Status::Error("cannot open the file; check the path and permissions");
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  return ParseCsv(buffer.str(), columns, table);
+  std::string text;
+  ACCELCAL_RETURN_IF_ERROR(ReadInputFile(path, kMaxCsvFileBytes, "a CSV file", &text));
+  return ParseCsv(text, columns, table);
 }
 
 }  // namespace accelcal

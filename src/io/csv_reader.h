@@ -5,8 +5,11 @@
 // t,ax,ay; landmarks.csv: name,x,y). The header must name the expected columns in
 // order; every data row must have exactly that many fields; numeric cells must be
 // finite numbers with a decimal point. Any violation fails with the line and column,
-// e.g. "line 17, column 'ay': 'abc' is not a number". Blank lines and lines starting
-// with '#' are comments.
+// e.g. "line 17, column 'ay': 'abc' is not a number" (the cell quoted through EchoInput,
+// io/input_text.h). Blank lines and lines starting with '#' are comments. Every line ends
+// in '\n' (or "\r\n"): a last line without one is refused, since a file cut short by an
+// interrupted copy most often ends inside a number, and "0.4" cut from "0.4817" reads as a
+// valid but wrong sample.
 
 #include <string>
 #include <string_view>
@@ -28,10 +31,14 @@ struct CsvTable {
   int row_count = 0;
 };
 
-// Reads `path`; failures carry no file name (callers add it with WithContext).
+// Reads `path` whole (ReadInputFile, io/input_file.h: a regular file of at most
+// kMaxCsvFileBytes) and parses it; failures carry no file name (callers add it with
+// WithContext).
 Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& columns, CsvTable* table);
 
-// The same on text already in memory (tests and fuzzing).
+// The same on text already in memory (tests and fuzzing). The table's columns are sized once
+// for the rows the text can hold; when that memory cannot be had, it fails saying so rather
+// than throwing std::bad_alloc.
 Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, CsvTable* table);
 
 // Parses one finite decimal number (leading/trailing blanks allowed); false otherwise.
@@ -56,6 +63,9 @@ class CsvLineParser {
 
   // After the last line: fails when there was no header or no data row.
   Status Finish() const;
+
+  // The refusal of a file whose last line (the next one, line_number() + 1) has no '\n'.
+  Status UnterminatedLastLine() const;
 
   long long line_number() const { return line_number_; }  // of the last line parsed
   long long row_count() const { return row_count_; }

@@ -4,9 +4,11 @@
 #include <array>
 #include <cctype>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 #include "io/csv_reader.h"
+#include "io/input_text.h"
 
 namespace accelcal {
 namespace {
@@ -64,12 +66,31 @@ std::string FoldKey(const std::string& text) {
   return folded;
 }
 
+// The whole keys, folded (FoldKey). Matching a word inside the key instead would read
+// "Posición final = [459.84 59.99]" as the initial position. "varianza del ruido" is the
+// short form earlier files (and tests) use; the English keys are datos_english.txt's
+// (tests/fuzz/seeds) and scenario.json's names with '_' for ' '.
 Key Classify(const std::string& folded_key) {
-  auto has = [&](const char* word) { return folded_key.find(word) != std::string::npos; };
-  if (has("posicion") || has("position")) return Key::kInitialPosition;
-  if (has("velocidad") || has("velocity")) return Key::kInitialVelocity;
-  if (has("varianza") || has("variance")) return Key::kNoiseVariance;
+  static const std::array<std::pair<const char*, Key>, 7> kKeys = {{
+      {"posicion inicial", Key::kInitialPosition},
+      {"initial position", Key::kInitialPosition},
+      {"velocidad inicial", Key::kInitialVelocity},
+      {"initial velocity", Key::kInitialVelocity},
+      {"varianza del ruido de los acelerometros", Key::kNoiseVariance},
+      {"varianza del ruido", Key::kNoiseVariance},
+      {"noise variance", Key::kNoiseVariance},
+  }};
+  for (const auto& [name, key] : kKeys) {
+    if (folded_key == name) return key;
+  }
   return Key::kUnknown;
+}
+
+// Blanks around a key or value, for quoting it.
+std::string Trim(const std::string& text) {
+  const size_t begin = text.find_first_not_of(" \t\r");
+  if (begin == std::string::npos) return "";
+  return text.substr(begin, text.find_last_not_of(" \t\r") - begin + 1);
 }
 
 constexpr std::array<const char*, 3> kKeyNames = {"Posición inicial", "Velocidad inicial",
@@ -94,9 +115,10 @@ Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
     }
     const Key key = Classify(FoldKey(line.substr(0, equals)));
     if (key == Key::kUnknown) {
-      return Status::Error(where + ": unknown key '" + line.substr(0, equals) +
+      return Status::Error(where + ": unknown key '" + EchoInput(Trim(line.substr(0, equals))) +
                            "'; expected Posición inicial, Velocidad inicial or varianza del "
-                           "ruido de los acelerómetros");
+                           "ruido de los acelerómetros (or initial position, initial velocity, "
+                           "noise variance)");
     }
     const int k = static_cast<int>(key);
     if (seen[k]) return Status::Error(where + ": '" + kKeyNames[k] + "' is given twice");
@@ -125,13 +147,13 @@ Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
     }
     for (int i = 0; i < 2; ++i) {
       if (!ParseFiniteNumber(numbers[i], &values[k][i])) {
-        return Status::Error(where + ": '" + numbers[i] + "' in '" + kKeyNames[k] +
+        return Status::Error(where + ": '" + EchoInput(numbers[i]) + "' in '" + kKeyNames[k] +
                              "' is not a finite number");
       }
     }
     if (key == Key::kNoiseVariance && (values[k][0] <= 0.0 || values[k][1] <= 0.0)) {
-      return Status::Error(where + ": noise variances must be positive, got [" + numbers[0] + " " +
-                           numbers[1] + "]");
+      return Status::Error(where + ": noise variances must be positive, got [" +
+                           EchoInput(numbers[0]) + " " + EchoInput(numbers[1]) + "]");
     }
     seen[k] = true;
   }

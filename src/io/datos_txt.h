@@ -7,9 +7,11 @@
 //   Velocidad inicial = [1 3]
 //   varianza del ruido de los acelerómetros = [0.25 0.64]
 //
-// Lines are recognised by their key, not their position. Keys are matched without
-// case or accents (UTF-8 or Latin-1), with any spacing; English keys ("initial
-// position", "initial velocity", "noise variance") are accepted too. Values are two
+// Lines are recognised by their key, not their position. Keys are matched whole, without
+// case or accents (UTF-8 or Latin-1), with any spacing ('_' counts as a space); the short
+// "varianza del ruido" and the English keys ("initial position", "initial velocity",
+// "noise variance") are accepted too, and any other key ("Posición final") is refused with
+// its line. Values are two
 // numbers separated by blanks, a comma or a semicolon. A missing key, an unknown or
 // repeated key, unbalanced brackets, a count other than two, or a non-positive
 // variance fails with the line number.

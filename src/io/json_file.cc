@@ -1,8 +1,13 @@
 #include "io/json_file.h"
 
 #include <cmath>
+#include <new>
+#include <set>
+#include <string_view>
+#include <vector>
 
 #include "io/atomic_file.h"
+#include "io/input_text.h"
 
 namespace accelcal {
 namespace {
@@ -25,7 +30,104 @@ std::string FindNonFinite(const nlohmann::json& json, const std::string& pointer
   return "";
 }
 
+// A reference token of a JSON pointer (RFC 6901: '~' is written "~0", '/' "~1"), cut for
+// a message.
+std::string PointerToken(const std::string& token) {
+  std::string escaped;
+  for (const char c : token) {
+    if (c == '~') {
+      escaped += "~0";
+    } else if (c == '/') {
+      escaped += "~1";
+    } else {
+      escaped.push_back(c);
+    }
+  }
+  return EchoInput(escaped);
+}
+
+// nlohmann's parse error, with the text it quotes cut for a message: the lexer's token after
+// "last read: '", which for an unterminated string is everything up to the end of the file.
+// The rest of the message quotes nothing of the input.
+std::string ParseErrorText(const std::string& what) {
+  const std::string marker = "last read: '";
+  const size_t at = what.find(marker);
+  if (at == std::string::npos) return what;
+  const size_t begin = at + marker.size();
+  size_t end = what.rfind("'; expected ");
+  if (end == std::string::npos || end < begin) end = what.size() - 1;
+  if (end < begin || what[end] != '\'') return EchoInput(what);
+  return what.substr(0, begin) + EchoInput(std::string_view(what).substr(begin, end - begin)) +
+         what.substr(end);
+}
+
+// Where the parser is: one frame per object or array being read.
+struct Frame {
+  bool array = false;
+  std::set<std::string> keys;  // an object's keys so far
+  std::string key;             // an object's current key
+  size_t index = 0;            // an array's current element
+};
+
 }  // namespace
+
+Status ParseJsonStrict(const std::string& text, nlohmann::json* document) {
+  using nlohmann::json;
+  std::vector<Frame> frames;
+  std::string duplicate_key;
+  std::string duplicate_pointer;
+  const json::parser_callback_t callback = [&](int /*depth*/, json::parse_event_t event,
+                                               json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        frames.emplace_back();
+        frames.back().array = event == json::parse_event_t::array_start;
+        break;
+      case json::parse_event_t::key: {
+        Frame& frame = frames.back();
+        frame.key = parsed.get<std::string>();
+        if (!frame.keys.insert(frame.key).second && duplicate_key.empty()) {
+          duplicate_key = frame.key;
+          for (const Frame& outer : frames) {
+            duplicate_pointer +=
+                "/" + (outer.array ? std::to_string(outer.index) : PointerToken(outer.key));
+          }
+        }
+        break;
+      }
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        frames.pop_back();
+        if (!frames.empty() && frames.back().array) ++frames.back().index;
+        break;
+      case json::parse_event_t::value:
+        if (!frames.empty() && frames.back().array) ++frames.back().index;
+        break;
+    }
+    return true;
+  };
+  *document = json();
+  try {
+    *document = json::parse(text, callback);
+  } catch (const json::exception& error) {
+    *document = json();
+    return Status::Error("not valid JSON (" + ParseErrorText(error.what()) + ")");
+  } catch (const std::bad_alloc&) {
+    *document = json();
+    return Status::Error(
+        "not enough memory to parse the JSON text; free memory or raise the "
+        "limit (ulimit -v)");
+  }
+  if (!duplicate_key.empty()) {
+    *document = json();
+    return Status::Error("key \"" + EchoInput(duplicate_key) +
+                         "\" is given twice in one object, at " + duplicate_pointer +
+                         "; a JSON reader would keep only one of the two values: remove the "
+                         "other");
+  }
+  return Status::Ok();
+}
 
 std::string FirstNonFiniteNumber(const nlohmann::json& json) { return FindNonFinite(json, ""); }
 

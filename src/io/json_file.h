@@ -4,6 +4,10 @@
 // Every JSON file the binaries write goes through here. nlohmann::json writes NaN and
 // infinities as `null` without a word, so a result that went non-finite would reach the
 // reader as a missing value; this refuses to write it instead, naming where it is.
+//
+// And every JSON file they read: nlohmann::json keeps the last of two values given for one
+// key, so a scenario that says "dt" twice would be simulated with whichever came last;
+// ParseJsonStrict refuses it, naming the key and where it is.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,6 +19,12 @@ namespace accelcal {
 // The JSON pointer (e.g. "/joint/estimate/0/sigma") of the first non-finite number in
 // `json`, or "" when every number is finite.
 std::string FirstNonFiniteNumber(const nlohmann::json& json);
+
+// Parses `text` as one JSON document into `document`. Fails on invalid JSON ("not valid
+// JSON (...)", the parser's message with the text it quotes cut to EchoInput's length), and
+// on a key given twice in one object: 'key "dt" is given twice in one object, at /run/dt;
+// ...' (the second occurrence's JSON pointer, RFC 6901). On failure `document` is null.
+Status ParseJsonStrict(const std::string& text, nlohmann::json* document);
 
 // Writes `json` (indented, newline-terminated) atomically (io/atomic_file.h), after
 // checking that every number in it is finite; otherwise writes nothing and fails.

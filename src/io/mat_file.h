@@ -1,11 +1,16 @@
 #ifndef ACCELCAL_IO_MAT_FILE_H_
 #define ACCELCAL_IO_MAT_FILE_H_
 
-// MATLAB .mat files through libmatio, with the checks matio does not make. matio
-// returns a truncated variable at its declared size without any error, so Open()
-// first walks the top-level elements of a version 5 file and refuses one whose
-// elements run past the end of the file. Every failure is a Status naming the
-// variable; callers add the file name with Status::WithContext.
+// MATLAB .mat files through libmatio, with the checks matio does not make. matio returns
+// a damaged variable at its declared size without any error (a truncated file, a compressed
+// variable that inflates short, data shorter than its dimensions: the gap as zeros or the
+// next variable's bytes), so Open() first validates the whole file against what it
+// declares: a version 5 file element by element, each compressed variable inflated whole
+// and exactly to its declared length, each numeric variable holding one value per element,
+// no name twice; a version 4 file matrix by matrix; a version 7.3 (HDF5) file against the
+// length HDF5 recorded, then read in a child process (HDF5 on a damaged file may crash).
+// Every failure is a one-line Status naming the variable or the byte; callers add the file
+// name with Status::WithContext.
 
 #include <memory>
 #include <string>
@@ -32,7 +37,9 @@ class MatFileReader {
   MatFileReader(const MatFileReader&) = delete;
   MatFileReader& operator=(const MatFileReader&) = delete;
 
-  // Opens `path` for reading; fails for a missing, empty, truncated or non-MAT file.
+  // Opens `path` for reading; fails for a missing, empty, truncated, damaged or non-MAT file,
+  // and for anything but a regular file of at most kMaxMatFileBytes (io/input_file.h). A
+  // version 7.3 file is read whole here, by a child process.
   Status Open(const std::string& path);
 
   // The names of the file's variables, in file order.

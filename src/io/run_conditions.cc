@@ -1,11 +1,15 @@
 #include "io/run_conditions.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
+#include "common/format.h"
 #include "io/datos_txt.h"
+#include "io/input_file.h"
+#include "io/input_text.h"
+#include "io/json_file.h"
 
 namespace accelcal {
 namespace {
@@ -30,17 +34,13 @@ Status ReadPair(const json& document, const char* key, double* first, double* se
 
 Status ParseScenarioJson(const std::string& text, RunConditions* conditions) {
   json document;
-  try {
-    document = json::parse(text);
-  } catch (const json::parse_error& error) {
-    return Status::Error(std::string("not valid JSON (") + error.what() + ")");
-  }
+  ACCELCAL_RETURN_IF_ERROR(ParseJsonStrict(text, &document));
   if (!document.is_object()) return Status::Error("expected a JSON object");
   for (const auto& item : document.items()) {
     const std::string& key = item.key();
     if (key != "initial_position" && key != "initial_velocity" && key != "noise_variance" &&
         key != "gravity") {
-      return Status::Error("unknown key \"" + key +
+      return Status::Error("unknown key \"" + EchoInput(key) +
                            "\"; expected initial_position, initial_velocity, noise_variance, "
                            "gravity");
     }
@@ -77,16 +77,48 @@ std::string ScenarioJson(const RunConditions& conditions) {
   return document.dump(2) + "\n";
 }
 
-Status LoadRunConditions(const std::string& path, RunConditions* conditions) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    return Status::Error("cannot open the file; check the path and permissions").WithContext(path);
+Status CheckRunConditions(const RunConditions& conditions) {
+  auto within = [](const char* what, double value, double low, double high, const char* unit,
+                   const char* hint) {
+    if (std::isfinite(value) && value >= low && value <= high) return Status::Ok();
+    return Status::Error(StringPrintf("the %s %.6g %s is outside [%.6g, %.6g]%s", what, value, unit,
+                                      low, high, hint));
+  };
+  for (const double value : {conditions.initial_position_x_m, conditions.initial_position_y_m}) {
+    ACCELCAL_RETURN_IF_ERROR(within("initial position", value, -1e9, 1e9, "m", ""));
   }
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  const bool is_json = path.size() >= 5 && path.compare(path.size() - 5, 5, ".json") == 0;
-  const Status status = is_json ? ParseScenarioJson(buffer.str(), conditions)
-                                : ParseDatosTxt(buffer.str(), conditions);
+  for (const double value :
+       {conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps}) {
+    ACCELCAL_RETURN_IF_ERROR(within("initial velocity", value, -1e5, 1e5, "m/s", ""));
+  }
+  const char* variance_hint = "; is it a variance in (m/s^2)^2 (not a standard deviation, not "
+                              "in other units)?";
+  ACCELCAL_RETURN_IF_ERROR(within("noise variance of x", conditions.noise_variance_x, 1e-12, 1e4,
+                                  "(m/s^2)^2", variance_hint));
+  ACCELCAL_RETURN_IF_ERROR(within("noise variance of y", conditions.noise_variance_y, 1e-12, 1e4,
+                                  "(m/s^2)^2", variance_hint));
+  if (conditions.has_gravity) {
+    ACCELCAL_RETURN_IF_ERROR(within("gravity", conditions.gravity_mps2, 1.0, 100.0, "m/s^2", ""));
+  }
+  return Status::Ok();
+}
+
+Status LoadRunConditions(const std::string& path, RunConditions* conditions) {
+  // By extension, in any case (".json", ".JSON").
+  const std::string extension = ".json";
+  const bool is_json =
+      path.size() >= extension.size() &&
+      std::equal(extension.begin(), extension.end(), path.end() - extension.size(),
+                 [](char expected, char actual) {
+                   return expected == std::tolower(static_cast<unsigned char>(actual));
+                 });
+  std::string text;
+  Status status = ReadInputFile(path, kMaxConditionsFileBytes,
+                                is_json ? "a scenario JSON file" : "a datos.txt file", &text);
+  if (status.ok()) {
+    status = is_json ? ParseScenarioJson(text, conditions) : ParseDatosTxt(text, conditions);
+  }
+  if (status.ok()) status = CheckRunConditions(*conditions);
   return status.WithContext(path);
 }
 

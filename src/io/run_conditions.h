@@ -16,10 +16,18 @@
 
 namespace accelcal {
 
-// Reads `path` by its extension (.json: scenario.json; anything else: datos.txt).
+// Reads `path` (a regular file of at most kMaxConditionsFileBytes, io/input_file.h) by its
+// extension, in any case (.json: scenario.json; anything else: datos.txt).
 Status LoadRunConditions(const std::string& path, RunConditions* conditions);
 
+// A key given twice is refused (ParseJsonStrict, io/json_file.h), as is any key but the four.
 Status ParseScenarioJson(const std::string& text, RunConditions* conditions);
+
+// What any statement of the conditions must meet, whichever file it came from: finite
+// positions within 1e9 m, velocities within 1e5 m/s, noise variances in [1e-12, 1e4]
+// (m/s^2)^2 (a variance of 1e300 or 1e-320 passes "positive" but turns every covariance
+// into overflow or NaN), gravity in [1, 100] m/s^2. LoadRunConditions applies it.
+Status CheckRunConditions(const RunConditions& conditions);
 
 // Serialises `conditions` as the scenario.json above (used to write the CSV layout).
 std::string ScenarioJson(const RunConditions& conditions);

@@ -1,7 +1,8 @@
 #include "reporting/report_document.h"
 
-#include <fstream>
-#include <sstream>
+#include <cstdint>
+
+#include "io/input_file.h"
 
 namespace accelcal {
 namespace {
@@ -29,13 +30,11 @@ std::string Escape(const std::string& text) {
   return out;
 }
 
+// A figure the plot script wrote, read whole (a short read or a memory failure is "absent",
+// never a truncated image).
 bool ReadFile(const std::string& path, std::string* bytes) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return false;
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  *bytes = buffer.str();
-  return true;
+  constexpr uint64_t kMaxFigureBytes = 256ull << 20;
+  return ReadInputFile(path, kMaxFigureBytes, "a figure", bytes).ok();
 }
 
 }  // namespace

@@ -8,6 +8,9 @@
 #include "common/format.h"
 #include "common/landmark_checks.h"
 #include "io/csv_reader.h"
+#include "io/input_file.h"
+#include "io/input_text.h"
+#include "io/json_file.h"
 #include "models/dead_reckoning.h"
 #include "simulation/random.h"
 
@@ -198,6 +201,14 @@ Status ParseLandmarks(const json& landmarks, LandmarkSpec* spec) {
       return Status::Error("every listed landmark needs a name");
     }
     landmark.name = item.at("name").get<std::string>();
+    // Names appear in every table and message: printable and short, as in landmarks.csv.
+    if (landmark.name.size() > 100 ||
+        !std::all_of(landmark.name.begin(), landmark.name.end(), [](char c) {
+          return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+        })) {
+      return Status::Error("landmark name '" + EchoInput(landmark.name) +
+                           "' must be at most 100 printable characters");
+    }
     if (!item.contains("position"))
       return Status::Error("landmark " + landmark.name + " needs a position");
     ACCELCAL_RETURN_IF_ERROR(
@@ -298,11 +309,7 @@ Status ValidateScenario(const Scenario& scenario) {
 Status ParseScenario(const std::string& json_text, const std::string& base_dir,
                      Scenario* scenario) {
   json document;
-  try {
-    document = json::parse(json_text);
-  } catch (const json::parse_error& error) {
-    return Status::Error(std::string("not valid JSON (") + error.what() + ")");
-  }
+  ACCELCAL_RETURN_IF_ERROR(ParseJsonStrict(json_text, &document));
   ACCELCAL_RETURN_IF_ERROR(
       CheckKeys(document,
                 {"name", "description", "gravity", "noise_variance", "initial_position",
@@ -348,13 +355,12 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
 }
 
 Status LoadScenario(const std::string& path, Scenario* scenario) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) return Status::Error(path + ": cannot open the file; check the path");
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
+  std::string text;
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInputFile(path, kMaxConditionsFileBytes, "a scenario JSON file", &text).WithContext(path));
   const size_t slash = path.find_last_of('/');
   const std::string base_dir = slash == std::string::npos ? "." : path.substr(0, slash);
-  return ParseScenario(buffer.str(), base_dir, scenario).WithContext(path);
+  return ParseScenario(text, base_dir, scenario).WithContext(path);
 }
 
 Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario) {

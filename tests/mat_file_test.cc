@@ -1,0 +1,302 @@
+// MatFileReader's integrity checks (io/mat_file.h): every damage that matio reads without an
+// error, written byte by byte here, must be one Status naming the variable or the byte; what
+// MATLAB legitimately writes must read back exactly. Version 7.3 files are written by matio.
+
+#include "io/mat_file.h"
+
+#include <gtest/gtest.h>
+#include <matio.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+#define EXPECT_ERROR_CONTAINS(status_expression, fragment)                           \
+  do {                                                                               \
+    const ::accelcal::Status status_ = (status_expression);                          \
+    EXPECT_FALSE(status_.ok()) << "expected an error containing: " << fragment;      \
+    EXPECT_NE(status_.message().find(fragment), std::string::npos)                   \
+        << "message: " << status_.message() << "\nexpected: " << fragment;           \
+    EXPECT_EQ(status_.message().find('\n'), std::string::npos) << status_.message(); \
+  } while (false)
+
+// ---- A version 5 file, byte by byte (MAT-File Format, "Level 5"), little endian --------
+
+constexpr uint32_t kMiInt8 = 1;
+constexpr uint32_t kMiUint8 = 2;
+constexpr uint32_t kMiInt32 = 5;
+constexpr uint32_t kMiUint32 = 6;
+constexpr uint32_t kMiDouble = 9;
+constexpr uint32_t kMiMatrix = 14;
+constexpr uint32_t kMiCompressed = 15;
+constexpr uint32_t kDoubleClass = 6;
+constexpr uint32_t kComplexFlag = 0x800;
+
+std::string U32(uint32_t value) { return std::string(reinterpret_cast<const char*>(&value), 4); }
+
+std::string Doubles(const std::vector<double>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(double));
+}
+
+std::string Header() {
+  std::string header = "MATLAB 5.0 MAT-file, written by mat_file_test";
+  header.resize(116, ' ');
+  header += std::string(8, '\0');  // subsystem data offset
+  header += std::string("\x00\x01", 2) + "IM";
+  return header;
+}
+
+// A subelement: its tag, its data and the padding to 8 bytes.
+std::string Element(uint32_t type, const std::string& data) {
+  std::string element = U32(type) + U32(static_cast<uint32_t>(data.size())) + data;
+  element.resize((element.size() + 7) / 8 * 8, '\0');
+  return element;
+}
+
+// A top-level miMATRIX element of class double, its tag included.
+std::string Matrix(const std::string& name, int rows, int cols, uint32_t data_type,
+                   const std::string& real, const std::string* imaginary = nullptr) {
+  const uint32_t flags = kDoubleClass | (imaginary != nullptr ? kComplexFlag : 0);
+  std::string body = Element(kMiUint32, U32(flags) + U32(0)) +
+                     Element(kMiInt32, U32(rows) + U32(cols)) + Element(kMiInt8, name) +
+                     Element(data_type, real);
+  if (imaginary != nullptr) body += Element(data_type, *imaginary);
+  return U32(kMiMatrix) + U32(static_cast<uint32_t>(body.size())) + body;
+}
+
+std::string Deflate(const std::string& bytes) {
+  uLongf size = compressBound(bytes.size());
+  std::string out(size, '\0');
+  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(&out[0]), &size,
+                     reinterpret_cast<const Bytef*>(bytes.data()), bytes.size()),
+            Z_OK);
+  out.resize(size);
+  return out;
+}
+
+// A miCOMPRESSED element holding `stream`.
+std::string Compressed(const std::string& stream) {
+  return U32(kMiCompressed) + U32(static_cast<uint32_t>(stream.size())) + stream;
+}
+
+std::vector<double> Ramp(int count) {
+  std::vector<double> values(count);
+  for (int i = 0; i < count; ++i) values[i] = 0.5 + i;
+  return values;
+}
+
+Status Read(const std::string& path, const std::string& variable, MatMatrix* matrix) {
+  MatFileReader reader;
+  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
+  return reader.ReadMatrix(variable, matrix);
+}
+
+Status Open(const std::string& path) {
+  MatFileReader reader;
+  return reader.Open(path);
+}
+
+TEST(MatFileIntegrity, ReadsADoubleArrayMatlabStoredAsUint8) {
+  // MATLAB stores a double array of small integers as miUINT8: legal, counted by values.
+  testing::ScratchDir scratch;
+  const std::string element = Matrix("datos", 3, 2, kMiUint8, std::string("\1\2\3\4\5\6", 6));
+  for (const std::string& file : {Header() + element, Header() + Compressed(Deflate(element))}) {
+    MatMatrix matrix;
+    ASSERT_TRUE(Read(scratch.Write("ensayo.mat", file), "datos", &matrix).ok());
+    EXPECT_EQ(matrix.rows, 3);
+    EXPECT_EQ(matrix.cols, 2);
+    EXPECT_EQ(matrix.values, (std::vector<double>{1, 2, 3, 4, 5, 6}));
+  }
+}
+
+TEST(MatFileIntegrity, RefusesDataShorterOrLongerThanItsDimensions) {
+  testing::ScratchDir scratch;
+  const std::string short_data = Matrix("datos", 5, 2, kMiDouble, Doubles(Ramp(9)));
+  MatMatrix matrix;
+  EXPECT_ERROR_CONTAINS(Read(scratch.Write("a.mat", Header() + short_data), "datos", &matrix),
+                        "variable 'datos' declares 5x2 values but its data holds 9 (72 bytes of "
+                        "double); the file is damaged");
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("b.mat", Header() + Compressed(Deflate(short_data))), "datos", &matrix),
+      "variable 'datos' declares 5x2 values but its data holds 9");
+  const std::string long_data = Matrix("datos", 5, 2, kMiUint8, std::string(11, '\1'));
+  EXPECT_ERROR_CONTAINS(Read(scratch.Write("c.mat", Header() + long_data), "datos", &matrix),
+                        "variable 'datos' declares 5x2 values but its data holds 11 (11 bytes of "
+                        "uint8)");
+  const std::string imaginary = Doubles(Ramp(8));
+  const std::string complex = Matrix("datos", 5, 2, kMiDouble, Doubles(Ramp(10)), &imaginary);
+  EXPECT_ERROR_CONTAINS(Read(scratch.Write("d.mat", Header() + complex), "datos", &matrix),
+                        "variable 'datos' declares 5x2 values but its imaginary data holds 8");
+}
+
+TEST(MatFileIntegrity, RefusesACompressedVariableThatInflatesShort) {
+  // A complete zlib stream 8 bytes (one value) short of its miMATRIX tag: matio returns the
+  // variable as zeros.
+  testing::ScratchDir scratch;
+  const std::string tita = Matrix("tita", 100, 1, kMiDouble, Doubles(Ramp(100)));
+  const std::string element = Matrix("datos", 100, 2, kMiDouble, Doubles(Ramp(200)));
+  const std::string file =
+      Header() + tita + Compressed(Deflate(element.substr(0, element.size() - 8)));
+  MatMatrix matrix;
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("a.mat", file), "datos", &matrix),
+      "variable 'datos' (compressed, at byte " + std::to_string(128 + tita.size()) +
+          ") inflates to " + std::to_string(element.size() - 16) + " bytes, fewer than the " +
+          std::to_string(element.size() - 8) + " its header declares; the file is damaged");
+}
+
+TEST(MatFileIntegrity, RefusesACutLongOrPaddedCompressedStream) {
+  testing::ScratchDir scratch;
+  const std::string element = Matrix("datos", 100, 2, kMiDouble, Doubles(Ramp(200)));
+  const std::string stream = Deflate(element);
+  MatMatrix matrix;
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("cut.mat", Header() + Compressed(stream.substr(0, stream.size() / 2))),
+           "datos", &matrix),
+      "variable 'datos' (compressed, at byte 128) is cut short: its zlib stream stops after");
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("junk.mat", Header() + Compressed(stream + "junk")), "datos", &matrix),
+      "variable 'datos' (compressed, at byte 128) has 4 bytes after the end of its zlib stream");
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("long.mat",
+                         Header() + Compressed(Deflate(element + U32(0) + U32(0) + "more"))),
+           "datos", &matrix),
+      "variable 'datos' (compressed, at byte 128) inflates to more than the");
+  std::string corrupt = stream;
+  corrupt[0] = 0x7f;  // not a zlib header
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("corrupt.mat", Header() + Compressed(corrupt)), "datos", &matrix),
+      "the compressed variable at byte 128 does not inflate (zlib: ");
+}
+
+TEST(MatFileIntegrity, RefusesAVariableNameThatAppearsTwice) {
+  testing::ScratchDir scratch;
+  const std::string first = Matrix("tita", 4, 1, kMiDouble, Doubles(Ramp(4)));
+  const std::string datos = Matrix("datos", 4, 2, kMiDouble, Doubles(Ramp(8)));
+  const std::string last = Compressed(Deflate(Matrix("tita", 4, 1, kMiDouble, Doubles(Ramp(4)))));
+  MatMatrix matrix;
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("a.mat", Header() + first + datos + last), "tita", &matrix),
+      "variable 'tita' appears 2 times in the file; MATLAB would read the last, "
+      "other readers the first: save it again with one of each");
+  // Version 4: type 0 (double, little endian), rows, cols, imagf, namlen; name; values.
+  const auto v4 = [](const std::string& name, double value) {
+    return U32(0) + U32(1) + U32(1) + U32(0) + U32(static_cast<uint32_t>(name.size() + 1)) + name +
+           '\0' + Doubles({value});
+  };
+  EXPECT_ERROR_CONTAINS(
+      Read(scratch.Write("v4.mat", v4("t", 1) + v4("Aerr", 2) + v4("t", 3)), "t", &matrix),
+      "variable 't' appears 2 times in the file");
+}
+
+TEST(MatFileIntegrity, RefusesFoldersDevicesAndPipesWithoutReadingThem) {
+  testing::ScratchDir scratch;
+  EXPECT_ERROR_CONTAINS(Open(scratch.File("")), "is a folder, not a MAT file");
+  EXPECT_ERROR_CONTAINS(Open("/dev/zero"), "is a character device, not a MAT file");
+  ASSERT_EQ(mkfifo(scratch.File("fifo.mat").c_str(), 0600), 0);
+  EXPECT_ERROR_CONTAINS(Open(scratch.File("fifo.mat")), "is a pipe (FIFO), not a MAT file");
+}
+
+TEST(MatFileIntegrity, RefusesALargeSparseFileQuicklyAndWithoutItsMemory) {
+  // 2 GiB of zeros that occupy no disk: mapped, not read, and refused by its first bytes.
+  testing::ScratchDir scratch;
+  const std::string path = scratch.Write("zeros.mat", "");
+  ASSERT_EQ(truncate(path.c_str(), 2ll << 30), 0);
+  rusage before;
+  getrusage(RUSAGE_SELF, &before);
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_ERROR_CONTAINS(Open(path), "the version 4 matrix at byte 0 declares 0x0 values");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  rusage after;
+  getrusage(RUSAGE_SELF, &after);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64 * 1024) << "kB";
+}
+
+// ---- Version 7.3 (HDF5) ------------------------------------------------------------------
+
+std::string WriteMat73(const testing::ScratchDir& scratch, const std::string& name, int rows) {
+  const std::string path = scratch.File(name);
+  mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, MAT_FT_MAT73);
+  EXPECT_NE(mat, nullptr) << "libmatio was built without HDF5";
+  if (mat == nullptr) return path;
+  std::vector<double> tita = Ramp(rows);
+  std::vector<double> datos = Ramp(2 * rows);
+  size_t tita_dims[2] = {static_cast<size_t>(rows), 1};
+  size_t datos_dims[2] = {static_cast<size_t>(rows), 2};
+  for (auto [variable_name, dims, values] : {std::make_tuple("tita", tita_dims, tita.data()),
+                                             std::make_tuple("datos", datos_dims, datos.data())}) {
+    matvar_t* var = Mat_VarCreate(variable_name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, values,
+                                  MAT_F_DONT_COPY_DATA);
+    EXPECT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(var);
+  }
+  Mat_Close(mat);
+  return path;
+}
+
+TEST(MatFile73, ReadsWhatMatioWroteSilently) {
+  testing::ScratchDir scratch;
+  const std::string path = WriteMat73(scratch, "ensayo.mat", 50);
+  ::testing::internal::CaptureStderr();
+  MatFileReader reader;
+  const Status opened = reader.Open(path);
+  std::vector<std::string> names;
+  MatMatrix datos;
+  const Status listed = reader.ListVariables(&names);
+  const Status read = reader.ReadMatrix("datos", &datos);
+  MatMatrix missing;
+  const Status absent = reader.ReadMatrix("theta", &missing);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  ASSERT_TRUE(listed.ok());
+  EXPECT_EQ(names, (std::vector<std::string>{"datos", "tita"}));  // HDF5 lists by name
+  ASSERT_TRUE(read.ok()) << read.message();
+  EXPECT_EQ(datos.rows, 50);
+  EXPECT_EQ(datos.cols, 2);
+  EXPECT_EQ(datos.values, Ramp(100));
+  EXPECT_ERROR_CONTAINS(absent, "variable 'theta' not found (the file has: datos, tita)");
+}
+
+TEST(MatFile73, RefusesATruncatedCopyInOneLineOnly) {
+  testing::ScratchDir scratch;
+  const std::string bytes = testing::ReadText(WriteMat73(scratch, "whole.mat", 50));
+  const std::string path = scratch.Write("cut.mat", bytes.substr(0, bytes.size() * 6 / 10));
+  ::testing::internal::CaptureStderr();
+  const Status status = Open(path);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_ERROR_CONTAINS(status, "the file is truncated: HDF5 wrote " +
+                                    std::to_string(bytes.size()) + " bytes but the file has " +
+                                    std::to_string(bytes.size() * 6 / 10) + "; copy it again");
+  EXPECT_ERROR_CONTAINS(Open(scratch.Write("header.mat", bytes.substr(0, 300))),
+                        "the file is truncated: 300 bytes, less than a version 7.3 MAT file's "
+                        "header and HDF5 signature");
+}
+
+TEST(MatFile73, RefusesADamagedFileInHdf5sWordsOnOneLine) {
+  // The root group's B-tree signature overwritten: HDF5 opens the file but cannot list it.
+  testing::ScratchDir scratch;
+  std::string bytes = testing::ReadText(WriteMat73(scratch, "whole.mat", 50));
+  const size_t tree = bytes.find("TREE");
+  ASSERT_NE(tree, std::string::npos);
+  bytes.replace(tree, 4, "XXXX");
+  ::testing::internal::CaptureStderr();
+  const Status status = Open(scratch.Write("damaged.mat", bytes));
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  EXPECT_ERROR_CONTAINS(status, "the version 7.3 file (");
+  EXPECT_ERROR_CONTAINS(status, "); the file is damaged");
+}
+
+}  // namespace
+}  // namespace accelcal
