@@ -4,7 +4,8 @@
 #   bad_flags_test.sh BIN_DIR GOOD_DIR CASES_FILE CASE
 #
 # The binary must end within 60 s with exit status 2 and one line on stderr matching the
-# case's regex, and leave nothing at {out}.
+# case's regex, and leave nothing at {out}. {good} is a valid data folder, {sparse} a 2 GB
+# sparse file of zeros named .csv.
 set -uo pipefail
 bin_dir=$1 good=$2 cases=$3 name=$4
 line=$(grep -E "^$name *\|" "$cases") || { echo "FAIL: no case '$name' in $cases" >&2; exit 1; }
@@ -15,6 +16,11 @@ trap 'rm -rf "$scratch"' EXIT
 out="$scratch/out"
 command_line=${command_line//\{out\}/$out}
 command_line=${command_line//\{good\}/$good}
+# {sparse}: a 2 GB sparse file of zeros (no disk space used), as a CSV.
+if [[ $command_line == *"{sparse}"* ]]; then
+  truncate -s 2G "$scratch/sparse.csv"
+  command_line=${command_line//\{sparse\}/$scratch/sparse.csv}
+fi
 read -r -a argv <<<"$command_line"
 timeout 60 "$bin_dir/${argv[0]}" "${argv[@]:1}" >"$scratch/stdout" 2>"$scratch/stderr"
 status=$?

@@ -254,7 +254,7 @@ Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, 
 Status ReadCsvFile(const std::string& path, const std::vector<CsvColumn>& columns,
                    CsvTable* table) {
   std::string text;
-  ACCELCAL_RETURN_IF_ERROR(ReadInputFile(path, kMaxCsvFileBytes, "a CSV file", &text));
+  ACCELCAL_RETURN_IF_ERROR(ReadInputText(path, kMaxCsvFileBytes, "a CSV file", &text));
   return ParseCsv(text, columns, table);
 }
 

@@ -94,4 +94,30 @@ Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::str
   return Status::Ok();
 }
 
+Status ReadInputText(const std::string& path, uint64_t max_bytes, const std::string& what,
+                     std::string* contents) {
+  uint64_t size = 0;
+  ACCELCAL_RETURN_IF_ERROR(CheckInputFile(path, max_bytes, what, &size));
+  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) {
+    return Status::Error(std::string("cannot open the file (") + std::strerror(errno) +
+                         "); check the path and permissions");
+  }
+  char prefix[1 << 16];
+  ssize_t count;
+  do {
+    count = read(fd, prefix, sizeof(prefix));
+  } while (count < 0 && errno == EINTR);
+  close(fd);
+  if (count > 0) {
+    const void* nul = std::memchr(prefix, '\0', static_cast<size_t>(count));
+    if (nul != nullptr) {
+      const long offset = static_cast<const char*>(nul) - prefix;
+      return Status::Error("holds a NUL byte at byte " + std::to_string(offset) + ": it is not " +
+                           what + " but a binary (or sparse, zero-filled) file");
+    }
+  }
+  return ReadInputFile(path, max_bytes, what, contents);
+}
+
 }  // namespace accelcal

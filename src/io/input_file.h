@@ -32,6 +32,12 @@ Status CheckInputFile(const std::string& path, uint64_t max_bytes, const std::st
 Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::string& what,
                      std::string* contents);
 
+// ReadInputFile for a text file (CSV, datos.txt, JSON): before the whole file is read, its
+// first 64 KiB must hold no NUL byte, so that a binary or sparse file (2 GB of zeros) is
+// refused at once instead of being read whole and then parsed.
+Status ReadInputText(const std::string& path, uint64_t max_bytes, const std::string& what,
+                     std::string* contents);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_INPUT_FILE_H_

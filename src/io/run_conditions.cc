@@ -113,7 +113,7 @@ Status LoadRunConditions(const std::string& path, RunConditions* conditions) {
                    return expected == std::tolower(static_cast<unsigned char>(actual));
                  });
   std::string text;
-  Status status = ReadInputFile(path, kMaxConditionsFileBytes,
+  Status status = ReadInputText(path, kMaxConditionsFileBytes,
                                 is_json ? "a scenario JSON file" : "a datos.txt file", &text);
   if (status.ok()) {
     status = is_json ? ParseScenarioJson(text, conditions) : ParseDatosTxt(text, conditions);

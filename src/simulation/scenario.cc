@@ -357,7 +357,7 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
 Status LoadScenario(const std::string& path, Scenario* scenario) {
   std::string text;
   ACCELCAL_RETURN_IF_ERROR(
-      ReadInputFile(path, kMaxConditionsFileBytes, "a scenario JSON file", &text).WithContext(path));
+      ReadInputText(path, kMaxConditionsFileBytes, "a scenario JSON file", &text).WithContext(path));
   const size_t slash = path.find_last_of('/');
   const std::string base_dir = slash == std::string::npos ? "." : path.substr(0, slash);
   return ParseScenario(text, base_dir, scenario).WithContext(path);
