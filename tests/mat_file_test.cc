@@ -108,6 +108,37 @@ Status Open(const std::string& path) {
   return reader.Open(path);
 }
 
+// puntos.mat may hold thousands of landmarks: all are read, in file order, with their values,
+// by one pass (ReadAllMatrices), and a variable larger than asked for is refused by name
+// before its data is read.
+TEST(MatFileReader, ReadsEveryVariableInOnePassInFileOrder) {
+  testing::ScratchDir scratch;
+  std::vector<std::pair<std::string, MatMatrix>> written;
+  for (int k = 0; k < 600; ++k) {
+    written.push_back({"L" + std::to_string(k), MatMatrix{1, 2, {1.5 * k, -0.25 * k}}});
+  }
+  ASSERT_TRUE(WriteMatFile(scratch.File("many.mat"), written).ok());
+  MatFileReader reader;
+  ASSERT_TRUE(reader.Open(scratch.File("many.mat")).ok());
+  std::vector<std::pair<std::string, MatMatrix>> read;
+  const Status status = reader.ReadAllMatrices(2, &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(read.size(), written.size());
+  for (size_t k = 0; k < read.size(); ++k) {
+    EXPECT_EQ(read[k].first, written[k].first);
+    EXPECT_EQ(read[k].second.values, written[k].second.values);
+  }
+  written.push_back({"Big", MatMatrix{3, 1, {1, 2, 3}}});
+  ASSERT_TRUE(WriteMatFile(scratch.File("big.mat"), written).ok());
+  MatFileReader big;
+  ASSERT_TRUE(big.Open(scratch.File("big.mat")).ok());
+  const Status refused = big.ReadAllMatrices(2, &read);
+  EXPECT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("variable 'Big' is 3x1; expected at most 2 values"),
+            std::string::npos)
+      << refused.message();
+}
+
 TEST(MatFileIntegrity, ReadsADoubleArrayMatlabStoredAsUint8) {
   // MATLAB stores a double array of small integers as miUINT8: legal, counted by values.
   testing::ScratchDir scratch;

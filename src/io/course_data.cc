@@ -170,15 +170,21 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
     // Every variable of puntos.mat is a landmark, so a variable MATLAB saves without being
     // asked (the last unnamed result `ans`, or a hidden one starting with '_') would become a
     // landmark nobody placed. Such a file is refused rather than read with a stray landmark.
-    if (name == "ans" || name.front() == '_') {
+    if (name == "ans" || name.empty() || name.front() == '_') {
       return Status::Error("variable '" + name + "' is " +
                            (name == "ans" ? "MATLAB's last unnamed result"
                                           : "a variable MATLAB hides") +
                            ", not a landmark: save the file with the landmarks only, e.g. save "
                            "puntos.mat A B C D");
     }
-    MatMatrix matrix;
-    ACCELCAL_RETURN_IF_ERROR(reader.ReadMatrix(name, &matrix));
+  }
+  // All at once: one pass over the file however many landmarks it holds.
+  std::vector<std::pair<std::string, MatMatrix>> matrices;
+  const Status status = reader.ReadAllMatrices(2, &matrices);
+  if (!status.ok()) {
+    return Status::Error(status.message() + "; every landmark must be a 1x2 [x y] in metres");
+  }
+  for (const auto& [name, matrix] : matrices) {
     if (matrix.values.size() != 2) {
       return Status::Error("variable '" + name + "' is " + Shape(matrix) +
                            "; every landmark must be a 1x2 [x y] in metres");

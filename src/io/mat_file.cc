@@ -1398,6 +1398,61 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
   return Status::Ok();
 }
 
+Status MatFileReader::ReadAllMatrices(uint64_t max_values,
+                                      std::vector<std::pair<std::string, MatMatrix>>* matrices) {
+  matrices->clear();
+  auto check_size = [&](const VariableInfo& info) {
+    uint64_t values = 1;
+    for (const uint64_t dimension : info.dims) values *= std::min<uint64_t>(dimension, 1ull << 32);
+    if (values <= max_values) return Status::Ok();
+    std::string shape;
+    for (const uint64_t dimension : info.dims)
+      shape += (shape.empty() ? "" : "x") + std::to_string(dimension);
+    return Status::Error("variable '" + info.name + "' is " + shape + "; expected at most " +
+                         std::to_string(max_values) + " values");
+  };
+  if (impl_->mat73) {
+    for (const Mat73Variable& candidate : impl_->mat73_variables) {
+      ACCELCAL_RETURN_IF_ERROR(check_size(candidate.info));
+      MatMatrix matrix;
+      ACCELCAL_RETURN_IF_ERROR(ReadMatrix(candidate.info.name, &matrix));
+      matrices->emplace_back(candidate.info.name, std::move(matrix));
+    }
+    return Status::Ok();
+  }
+  // First pass: headers only, so that nothing large is read.
+  std::vector<VariableInfo> infos;
+  Mat_Rewind(impl_->mat);
+  last_matio_message.clear();
+  while (matvar_t* info = Mat_VarReadNextInfo(impl_->mat)) {
+    const std::unique_ptr<matvar_t, void (*)(matvar_t*)> owner(info, Mat_VarFree);
+    infos.push_back(InfoOf(info));
+    ACCELCAL_RETURN_IF_ERROR(CheckReadable(
+        infos.back(), impl_->file_size,
+        info->compression == MAT_COMPRESSION_NONE ? 1 : kZlibExpansion));
+    ACCELCAL_RETURN_IF_ERROR(check_size(infos.back()));
+  }
+  if (!last_matio_message.empty()) {
+    return Status::Error("cannot list the variables (" + last_matio_message + ")");
+  }
+  // Second pass: the data, variable after variable.
+  Mat_Rewind(impl_->mat);
+  for (const VariableInfo& info : infos) {
+    matvar_t* var = Mat_VarReadNext(impl_->mat);
+    const std::unique_ptr<matvar_t, void (*)(matvar_t*)> owner(var, Mat_VarFree);
+    if (var == nullptr || var->data == nullptr || !last_matio_message.empty() ||
+        var->name == nullptr || info.name != var->name) {
+      return Status::Error("cannot read variable '" + info.name + "'" +
+                           (last_matio_message.empty() ? "" : " (" + last_matio_message + ")"));
+    }
+    MatMatrix matrix;
+    CopyValues(var, info, &matrix);
+    matrices->emplace_back(info.name, std::move(matrix));
+  }
+  Mat_Rewind(impl_->mat);
+  return Status::Ok();
+}
+
 Status WriteMatFile(const std::string& path,
                     const std::vector<std::pair<std::string, MatMatrix>>& variables) {
   InstallMatioLogger();
