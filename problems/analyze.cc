@@ -177,13 +177,17 @@ std::string Sentence(std::string text) {
   return text;
 }
 
+// A figure takes a few seconds; a plot program still running after this is stopped.
+constexpr double kPlotTimeoutS = 300.0;
+
 // Runs a plot script with an argument vector (no shell); returns "" or why the figure is
 // absent.
 std::string Plot(const std::string& script, const std::vector<std::string>& arguments) {
   const std::string path = FLAGS_tools_dir + "/" + script;
   if (access(path.c_str(), R_OK) != 0) return "the script " + path + " is not there (--tools_dir)";
   int exit_status = 0;
-  Status status = RunProgram({FLAGS_python, "-c", "import matplotlib, numpy"}, &exit_status);
+  Status status =
+      RunProgram({FLAGS_python, "-c", "import matplotlib, numpy"}, kPlotTimeoutS, &exit_status);
   if (!status.ok()) return status.message() + " (--python)";
   if (exit_status != 0) {
     return FLAGS_python +
@@ -191,7 +195,7 @@ std::string Plot(const std::string& script, const std::vector<std::string>& argu
   }
   std::vector<std::string> argv = {FLAGS_python, path};
   argv.insert(argv.end(), arguments.begin(), arguments.end());
-  status = RunProgram(argv, &exit_status);
+  status = RunProgram(argv, kPlotTimeoutS, &exit_status);
   if (!status.ok()) return status.message();
   return exit_status == 0 ? ""
                           : script + " failed (exit status " + std::to_string(exit_status) + ")";

@@ -128,6 +128,11 @@ inline std::string FirstBadArgument(int argc, char** argv) {
     const std::string body = argument.substr(argument[1] == '-' ? 2 : 1);
     const size_t equals = body.find('=');
     std::string name = body.substr(0, equals);
+    // gflags' own ways of reading flags end the program with status 1 and a message of
+    // theirs on a bad value; every flag is given on the command line instead.
+    if (name == "flagfile" || name == "fromenv" || name == "tryfromenv" || name == "undefok") {
+      return "--" + name + " is not supported; give each flag on the command line";
+    }
     gflags::CommandLineFlagInfo info;
     if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) {
       // --nofoo is gflags' spelling of --foo=false for booleans.
@@ -235,7 +240,9 @@ inline Status JsonText(const nlohmann::json& json, std::string* text) {
                          ", so nothing was written; this is a bug, please report it with the "
                          "command line and data");
   }
-  *text = json.dump(2) + "\n";
+  // Every string was checked where it was read; should one still not be UTF-8, it is
+  // written with U+FFFD rather than failing the whole run.
+  *text = json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   return Status::Ok();
 }
 

@@ -643,7 +643,8 @@ TEST(Landmarks, RefusesANameThatIsNotAPrintableLine) {
       scratch.Write("landmarks.csv", "name,x,y\nA,1,2\n" + std::string(5 << 20, 'B') + ",3,4\n");
   EXPECT_EQ(LoadLandmarks(path, &landmarks).message(),
             path + ": landmark 2's name '" + std::string(40, 'B') +
-                "...' (5242880 bytes) is not a name: use at most 100 printable characters");
+                "...' (5242880 bytes) is not a name: use at most 100 printable characters, in "
+                "UTF-8 (save the file as UTF-8, not Latin-1)");
   scratch.Write("landmarks.csv", "name,x,y\nA,1,2\nB\x1B[31m,3,4\n");
   EXPECT_ERROR_CONTAINS(LoadLandmarks(path, &landmarks), "landmark 2's name 'B\\x1B[31m'");
   EXPECT_TRUE(landmarks.empty());

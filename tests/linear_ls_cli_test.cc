@@ -208,7 +208,7 @@ TEST(LinearLsBinary, RefusesATestThatCannotSeparateBiasFromScale) {
                 "[0.25, 0.64]}");
   ExpectRefused("--data_dir='" + scratch.path() + "'",
                 scratch.File("calibration.csv") +
-                    ": theta spans 0.02 rad: bias_y and scale_y cannot be separated");
+                    ": the x axis' specific force varies by only");
 }
 
 TEST(LinearLsBinary, RefusesBadCsvCellsWithLineAndColumn) {

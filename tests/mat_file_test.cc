@@ -121,7 +121,7 @@ TEST(MatFileReader, ReadsEveryVariableInOnePassInFileOrder) {
   MatFileReader reader;
   ASSERT_TRUE(reader.Open(scratch.File("many.mat")).ok());
   std::vector<std::pair<std::string, MatMatrix>> read;
-  const Status status = reader.ReadAllMatrices(2, &read);
+  const Status status = reader.ReadAllMatrices(2, "a landmark is 1x2", &read);
   ASSERT_TRUE(status.ok()) << status.message();
   ASSERT_EQ(read.size(), written.size());
   for (size_t k = 0; k < read.size(); ++k) {
@@ -132,9 +132,9 @@ TEST(MatFileReader, ReadsEveryVariableInOnePassInFileOrder) {
   ASSERT_TRUE(WriteMatFile(scratch.File("big.mat"), written).ok());
   MatFileReader big;
   ASSERT_TRUE(big.Open(scratch.File("big.mat")).ok());
-  const Status refused = big.ReadAllMatrices(2, &read);
+  const Status refused = big.ReadAllMatrices(2, "a landmark is 1x2", &read);
   EXPECT_FALSE(refused.ok());
-  EXPECT_NE(refused.message().find("variable 'Big' is 3x1; expected at most 2 values"),
+  EXPECT_NE(refused.message().find("variable 'Big' is 3x1; a landmark is 1x2"),
             std::string::npos)
       << refused.message();
 }

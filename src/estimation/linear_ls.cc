@@ -335,6 +335,11 @@ void CalibrationAccumulator::AddSamples(const double* theta_rad, const double* m
 
 namespace {
 
+// What a tilt test must determine for its fit to be an answer: each scale to 10%, and each
+// scale error within 50% (beyond it the outputs are in another unit, or g is wrong).
+constexpr double kMaxScaleStddev = 0.1;
+constexpr double kMaxScaleError = 0.5;
+
 // Solves one axis into the rows/columns `first` (bias) and `first + 1` (scale).
 Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                  double noise_variance, const CalibrationAccumulator& statistics,
@@ -357,6 +362,21 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                          StringPrintf("%.7f", std::sqrt(1.0 - 1.0 / variance_inflation)) +
                          " correlated); rotate the table through a wider range of angles");
   }
+  // The test must exercise the axis: with its force nearly constant (a test at theta 0 and pi
+  // leaves f_x = -g sin(theta) at 0 throughout) the bias is fine but the scale is whatever
+  // the noise makes it (1.7e13 was reported, exit 0). Refused when the scale could not be
+  // known to 10%.
+  const double scale_stddev = std::sqrt(noise_variance / centered_ff);
+  if (!(scale_stddev <= kMaxScaleStddev)) {
+    return Status::Error(StringPrintf(
+        "the %s axis' specific force varies by only %.2g m/s^2 rms over the test (theta from "
+        "%.4g to %.4g rad), so scale_%s could not be known better than +-%.2g: the positions do "
+        "not exercise the %s axis; add positions where %s differs (f_x = -g sin(theta), "
+        "f_y = -g cos(theta))",
+        axis_name, std::sqrt(centered_ff / n), statistics.theta_min_rad(),
+        statistics.theta_max_rad(), axis_name, scale_stddev, axis_name,
+        axis_name[0] == 'x' ? "sin(theta)" : "cos(theta)"));
+  }
   const double scale = axis.CenteredForceResponse() / centered_ff;
   if (!(1.0 + scale > 0.0)) {
     // The output falls as the model's specific force rises: an inverted axis, theta turning
@@ -367,6 +387,18 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
         "model's specific force rises; check the axis' sign, the order x then y, and that theta "
         "follows the spec (f_x = -g sin(theta), f_y = -g cos(theta))",
         axis_name, scale, axis_name, axis_name));
+  }
+  if (std::abs(scale) > kMaxScaleError) {
+    // No scale factor error is 50%: outputs in g or mg, or a wrong g, read as one.
+    const double ratio = 1.0 + scale;
+    const char* hint = ratio < 0.2    ? "are the outputs in g rather than m/s^2?"
+                       : ratio > 50.0 ? "are the outputs in mg or cm/s^2 rather than m/s^2?"
+                                      : "are the outputs in m/s^2, and is g (--g, or gravity "
+                                        "in scenario.json) right?";
+    return Status::Error(StringPrintf(
+        "the tilt test gives scale_%s = %.4g: the %s output is %.3g times what g = %.6g m/s^2 "
+        "predicts, which no scale factor error explains; %s",
+        axis_name, scale, axis_name, ratio, statistics.gravity_mps2(), hint));
   }
   const double bias = axis.MeanResponse() - scale * mean_force;
   const double residual_sum_squares =

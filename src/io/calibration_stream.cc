@@ -160,7 +160,7 @@ Status Stream(const std::string& path, const CalibrationStreamOptions& options,
     held = static_cast<size_t>(end - line);
     if (count == 0) {
       // The last line has no '\n': a copy cut short, most likely inside a number.
-      if (held > 0) return parser.UnterminatedLastLine();
+      if (held > 0) return parser.UnterminatedLastLine(std::string_view(line, held));
       break;
     }
     if (held > max_line_bytes) {

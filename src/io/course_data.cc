@@ -124,14 +124,11 @@ Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expect
 constexpr size_t kMaxLandmarkNameBytes = 100;
 
 Status CheckLandmarkName(const std::string& name, int row) {
-  const bool printable = std::none_of(name.begin(), name.end(), [](char c) {
-    const unsigned char byte = static_cast<unsigned char>(c);
-    return byte < 0x20 || byte == 0x7F;
-  });
-  if (printable && name.size() <= kMaxLandmarkNameBytes) return Status::Ok();
+  if (IsPrintableUtf8(name) && name.size() <= kMaxLandmarkNameBytes) return Status::Ok();
   return Status::Error("landmark " + std::to_string(row) + "'s name '" + EchoInput(name) + "' (" +
                        std::to_string(name.size()) + " bytes) is not a name: use at most " +
-                       std::to_string(kMaxLandmarkNameBytes) + " printable characters");
+                       std::to_string(kMaxLandmarkNameBytes) +
+                       " printable characters, in UTF-8 (save the file as UTF-8, not Latin-1)");
 }
 
 const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
@@ -155,6 +152,11 @@ Status LoadRunMat(const std::string& path, VehicleRun* run, std::vector<std::str
   ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
   const bool has_aerr = std::find(names.begin(), names.end(), "Aerr") != names.end();
   const bool has_acel = std::find(names.begin(), names.end(), "acel") != names.end();
+  if (has_aerr && has_acel) {
+    return Status::Error(
+        "the file holds both 'Aerr' (the course's name) and 'acel' (the assignment's) for the "
+        "run's accelerations; keep the one that is the run");
+  }
   const std::string name = (!has_aerr && has_acel) ? "acel" : "Aerr";
   ACCELCAL_RETURN_IF_ERROR(
       ReadTwoColumns(&reader, name, run->size(), "t", &run->measured_x, &run->measured_y, notes));
@@ -180,10 +182,8 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
   }
   // All at once: one pass over the file however many landmarks it holds.
   std::vector<std::pair<std::string, MatMatrix>> matrices;
-  const Status status = reader.ReadAllMatrices(2, &matrices);
-  if (!status.ok()) {
-    return Status::Error(status.message() + "; every landmark must be a 1x2 [x y] in metres");
-  }
+  ACCELCAL_RETURN_IF_ERROR(
+      reader.ReadAllMatrices(2, "every landmark must be a 1x2 [x y] in metres", &matrices));
   for (const auto& [name, matrix] : matrices) {
     if (matrix.values.size() != 2) {
       return Status::Error("variable '" + name + "' is " + Shape(matrix) +
@@ -236,6 +236,15 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
   std::vector<double> sorted = steps;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   const double dt = sorted[sorted.size() / 2];
+  // An accelerometer run is sampled between 1 Hz and 100 kHz; a step outside that is a time
+  // axis in another unit (milliseconds read as seconds integrate to 10^8 m), not a run.
+  if (dt > kMaxRunStepS || dt < kMinRunStepS) {
+    return Status::Error(StringPrintf(
+        "%s steps by %.6g s, outside the [%g, %g] s of an accelerometer log: is %s in %s? "
+        "store it in seconds",
+        name.c_str(), dt, kMinRunStepS, kMaxRunStepS, name.c_str(),
+        dt > kMaxRunStepS ? "milliseconds (or another unit)" : "minutes or hours"));
+  }
   // Each timestamp is the double nearest its true value, within half an ulp of it, so a
   // step of an exact clock is off by up to an ulp of |t|; 4 ulp leave room for a clock
   // accumulated in doubles. Time increases, so the largest |t| is at one end.
@@ -306,6 +315,12 @@ Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
                          "holding ensayo.mat (course layout) or calibration.csv");
   }
   const std::string dir = data_dir.back() == '/' ? data_dir : data_dir + "/";
+  if (IsRegularFile(dir + "ensayo.mat") && IsRegularFile(dir + "calibration.csv")) {
+    return Status::Error(data_dir +
+                         ": holds both layouts (ensayo.mat and calibration.csv), so which data "
+                         "to read is not clear; keep one, or name the files with "
+                         "--calibration_file and the other --*_file flags");
+  }
   if (IsRegularFile(dir + "ensayo.mat")) {
     *files = {DataLayout::kCourseMat, dir + "ensayo.mat", dir + "acel.mat", dir + "puntos.mat",
               dir + "datos.txt"};

@@ -74,6 +74,10 @@ Status CheckThetaSpan(AngleUnit unit, double theta_min, double theta_max, long l
 // read as .mat.
 bool IsCsvPath(const std::string& path);
 
+// The time step of a run, in s: 1 Hz to 100 kHz (CheckUniformTime and the scenarios).
+constexpr double kMinRunStepS = 1e-5;
+constexpr double kMaxRunStepS = 1.0;
+
 // Whether the timestamps `timestamp_s` are strictly increasing and uniformly spaced, as the
 // integration's single dt needs; `name` is the variable's name in messages ("t"). A step may
 // differ from the median step by 1e-6 of it plus 4 ulp of the largest |t|, the resolution of

@@ -164,7 +164,13 @@ Status CsvLineParser::Finish() const {
   return Status::Ok();
 }
 
-Status CsvLineParser::UnterminatedLastLine() const {
+Status CsvLineParser::UnterminatedLastLine(std::string_view rest) const {
+  // '\r' inside what is left: lines that end in '\r' alone, not a cut.
+  if (rest.find('\r') != std::string_view::npos && rest.find('\r') + 1 < rest.size()) {
+    return Status::Error(Where(line_number_ + 1) +
+                         " and the lines after it end in '\\r' alone (old Mac line endings); "
+                         "convert them to '\\n'");
+  }
   return Status::Error(Where(line_number_ + 1) +
                        " has no line end: the file looks cut short; copy it again, or end the "
                        "line if it is complete");
@@ -225,7 +231,7 @@ Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, 
   try {
     while (begin < all.size()) {
       const size_t end = all.find('\n', begin);
-      if (end == std::string_view::npos) return parser.UnterminatedLastLine();
+      if (end == std::string_view::npos) return parser.UnterminatedLastLine(all.substr(begin));
       CsvLineParser::LineKind kind;
       ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(all.substr(begin, end - begin), &kind));
       begin = end + 1;

@@ -65,7 +65,7 @@ class CsvLineParser {
   Status Finish() const;
 
   // The refusal of a file whose last line (the next one, line_number() + 1) has no '\n'.
-  Status UnterminatedLastLine() const;
+  Status UnterminatedLastLine(std::string_view rest) const;
 
   long long line_number() const { return line_number_; }  // of the last line parsed
   long long row_count() const { return row_count_; }

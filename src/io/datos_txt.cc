@@ -101,7 +101,14 @@ constexpr std::array<const char*, 3> kKeyNames = {"Posición inicial", "Velocida
 Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
   std::array<bool, 3> seen = {false, false, false};
   std::array<std::array<double, 2>, 3> values{};
-  std::istringstream stream(text);
+  // Lines that end in '\r' alone (old Mac files) are lines all the same.
+  std::istringstream stream(text.find('\n') == std::string::npos && text.find('\r') != std::string::npos
+                                ? [&] {
+                                    std::string lines = text;
+                                    std::replace(lines.begin(), lines.end(), '\r', '\n');
+                                    return lines;
+                                  }()
+                                : text);
   std::string line;
   int line_number = 0;
   while (std::getline(stream, line)) {

@@ -61,4 +61,19 @@ std::string EchoInput(std::string_view text) {
   return echo;
 }
 
+bool IsPrintableUtf8(std::string_view text) {
+  for (size_t at = 0; at < text.size();) {
+    const unsigned char byte = static_cast<unsigned char>(text[at]);
+    if (byte < 0x20 || byte == 0x7f) return false;
+    if (byte < 0x80) {
+      ++at;
+      continue;
+    }
+    const size_t length = Utf8CharacterLength(text, at);
+    if (length == 0) return false;
+    at += length;
+  }
+  return true;
+}
+
 }  // namespace accelcal

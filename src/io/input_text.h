@@ -21,6 +21,10 @@ constexpr size_t kMaxEchoCharacters = 40;
 // is written as \xNN. Valid UTF-8 (accented Spanish keys) is kept as it is.
 std::string EchoInput(std::string_view text);
 
+// Whether `text` is valid UTF-8 with no control characters (C0, DEL or C1): what a name may
+// be that appears in tables and in JSON, which must be UTF-8.
+bool IsPrintableUtf8(std::string_view text);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_INPUT_TEXT_H_

@@ -52,7 +52,15 @@ std::string PointerToken(const std::string& token) {
 std::string ParseErrorText(const std::string& what) {
   const std::string marker = "last read: '";
   const size_t at = what.find(marker);
-  if (at == std::string::npos) return what;
+  if (at == std::string::npos) {
+    // Other errors quote the text too ("number overflow parsing '1000...'"): cap any quote.
+    const size_t open = what.find('\'');
+    const size_t close = open == std::string::npos ? open : what.rfind('\'');
+    if (open == std::string::npos || close <= open) return EchoInput(what);
+    return what.substr(0, open + 1) +
+           EchoInput(std::string_view(what).substr(open + 1, close - open - 1)) +
+           what.substr(close);
+  }
   const size_t begin = at + marker.size();
   size_t end = what.rfind("'; expected ");
   if (end == std::string::npos || end < begin) end = what.size() - 1;
@@ -138,7 +146,8 @@ Status WriteJsonAtomically(const std::string& path, const nlohmann::json& json) 
                          ", so nothing was written; this is a bug, please report it with the "
                          "command line and data");
   }
-  return WriteFileAtomically(path, json.dump(2) + "\n");
+  return WriteFileAtomically(
+      path, json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace accelcal

@@ -1398,7 +1398,7 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
   return Status::Ok();
 }
 
-Status MatFileReader::ReadAllMatrices(uint64_t max_values,
+Status MatFileReader::ReadAllMatrices(uint64_t max_values, const std::string& oversize_advice,
                                       std::vector<std::pair<std::string, MatMatrix>>* matrices) {
   matrices->clear();
   auto check_size = [&](const VariableInfo& info) {
@@ -1408,8 +1408,7 @@ Status MatFileReader::ReadAllMatrices(uint64_t max_values,
     std::string shape;
     for (const uint64_t dimension : info.dims)
       shape += (shape.empty() ? "" : "x") + std::to_string(dimension);
-    return Status::Error("variable '" + info.name + "' is " + shape + "; expected at most " +
-                         std::to_string(max_values) + " values");
+    return Status::Error("variable '" + info.name + "' is " + shape + "; " + oversize_advice);
   };
   if (impl_->mat73) {
     for (const Mat73Variable& candidate : impl_->mat73_variables) {

@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstring>
+#include <thread>
 
 #include "io/cleanup.h"
 
@@ -15,7 +17,7 @@ extern char** environ;
 
 namespace accelcal {
 
-Status RunProgram(const std::vector<std::string>& argv, int* exit_status) {
+Status RunProgram(const std::vector<std::string>& argv, double timeout_s, int* exit_status) {
   if (argv.empty()) return Status::Error("no program to run");
   std::vector<char*> arguments;
   for (const std::string& argument : argv) arguments.push_back(const_cast<char*>(argument.c_str()));
@@ -54,10 +56,30 @@ Status RunProgram(const std::vector<std::string>& argv, int* exit_status) {
   }
   int status = 0;
   pid_t waited;
-  do {
-    waited = waitpid(pid, &status, 0);
-  } while (waited < 0 && errno == EINTR);
+  bool timed_out = false;
+  const auto start = std::chrono::steady_clock::now();
+  while (true) {
+    waited = waitpid(pid, &status, timeout_s > 0.0 ? WNOHANG : 0);
+    if (waited < 0 && errno == EINTR) continue;
+    if (waited != 0) break;
+    const double elapsed =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (elapsed > timeout_s) {
+      kill(pid, SIGKILL);
+      timed_out = true;
+      do {
+        waited = waitpid(pid, &status, 0);
+      } while (waited < 0 && errno == EINTR);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   ForgetChild(pid);
+  if (timed_out) {
+    return Status::Error(argv[0] + " did not finish within " + std::to_string(static_cast<int>(
+                                                                   timeout_s)) +
+                         " s and was stopped");
+  }
   if (waited < 0) return Status::Error("lost track of " + argv[0] + " (" + std::strerror(errno) + ")");
   *exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return Status::Ok();

@@ -13,10 +13,11 @@
 
 namespace accelcal {
 
-// Runs argv[0] (a path, or a name searched on PATH) with `argv` and waits for it. `exit_status` is
-// the program's exit status, or 128 + the signal that ended it. Fails only when the program
-// cannot be started.
-Status RunProgram(const std::vector<std::string>& argv, int* exit_status);
+// Runs argv[0] (a path, or a name searched on PATH) with `argv` and waits for it, at most
+// `timeout_s` seconds (0: no limit); a program still running then is killed and the call
+// fails, saying so. `exit_status` is the program's exit status, or 128 + the signal that
+// ended it. Fails otherwise only when the program cannot be started.
+Status RunProgram(const std::vector<std::string>& argv, double timeout_s, int* exit_status);
 
 }  // namespace accelcal
 

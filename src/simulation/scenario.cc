@@ -7,6 +7,7 @@
 
 #include "common/format.h"
 #include "common/landmark_checks.h"
+#include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/input_file.h"
 #include "io/input_text.h"
@@ -202,10 +203,7 @@ Status ParseLandmarks(const json& landmarks, LandmarkSpec* spec) {
     }
     landmark.name = item.at("name").get<std::string>();
     // Names appear in every table and message: printable and short, as in landmarks.csv.
-    if (landmark.name.size() > 100 ||
-        !std::all_of(landmark.name.begin(), landmark.name.end(), [](char c) {
-          return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
-        })) {
+    if (landmark.name.size() > 100 || !IsPrintableUtf8(landmark.name)) {
       return Status::Error("landmark name '" + EchoInput(landmark.name) +
                            "' must be at most 100 printable characters");
     }
@@ -267,7 +265,7 @@ Status ValidateScenario(const Scenario& scenario) {
     }
   }
   const RunProfile& run = scenario.run;
-  ACCELCAL_RETURN_IF_ERROR(CheckRange("run_dt", run.dt_s, 1e-6, 10.0, "s"));
+  ACCELCAL_RETURN_IF_ERROR(CheckRange("run_dt", run.dt_s, kMinRunStepS, kMaxRunStepS, "s"));
   ACCELCAL_RETURN_IF_ERROR(CheckRange("run_duration", run.duration_s, 0.0, 1e7, "s"));
   // The run has llround(duration / dt) samples t_j = j dt; integrating needs two.
   const double run_samples = std::round(run.duration_s / run.dt_s);

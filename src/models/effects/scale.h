@@ -18,7 +18,7 @@ struct Scale : EffectTerms {
                                        0.0,                                      // neutral
                                        0.0,                                      // example_size
                                        1,                                       // force_degree
-                                       0.9};  // largest_deviation
+                                       0.5};  // largest_deviation
 
   template <typename T>
   static void AddAxisTerms(const T& scale, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

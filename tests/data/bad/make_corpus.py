@@ -396,6 +396,33 @@ def conditions_and_landmarks_issue_15():
                             "ans": np.array([[0.25, 0.64]])})
 
 
+def probe_findings_issue_15():
+    """What an outside probe of the reliability work still found (cases.txt)."""
+    rng = np.random.default_rng(15)
+    # A tilt test at 0 and pi only: f_x = -g sin(theta) is 0 at both, so scale_x is whatever
+    # the noise makes it (1.7e13 was reported, exit 0).
+    theta = np.repeat([0.0, np.pi], 100)
+    ax = 0.08 + 0.5 * rng.standard_normal(theta.size)
+    ay = -0.02 + (1 + 0.01) * -G * np.cos(theta) + 0.8 * rng.standard_normal(theta.size)
+    csv("calibration_two_angles_0_pi.csv", "theta,ax,ay", number_rows(theta, ax, ay))
+    # The outputs of a plausible test in g and in mg instead of m/s^2.
+    full_theta, datos = tilt_test()
+    save("ensayo_in_g.mat", {"tita": full_theta, "datos": datos / G})
+    save("ensayo_in_mg.mat", {"tita": full_theta, "datos": 1000.0 * datos / G})
+    # A run whose time is in milliseconds, and one holding both names of the accelerations.
+    t, aerr = run()
+    save("acel_time_ms.mat", {"t": 1000.0 * t, "Aerr": aerr})
+    save("acel_both_names.mat", {"t": t, "Aerr": aerr, "acel": np.zeros_like(aerr)})
+    # A landmark name written in Latin-1, and a calibration CSV with old Mac line ends.
+    write_text("landmarks_latin1_name.csv", "name,x,y\nA,120,45\n\u00d1and\u00fa,300,-20\n",
+               encoding="latin-1")
+    rows = number_rows(full_theta, datos[:, 0], datos[:, 1])
+    write_text("calibration_cr_only.csv",
+               "theta,ax,ay\r" + "".join(",".join(row) + "\r" for row in rows))
+    write_text("datos_cr_only.txt", "Posición inicial = [0 0]\rVelocidad inicial = [1 3]\r"
+               "varianza del ruido de los acelerómetros = [0.25 0.64]\r")
+
+
 def main():
     theta, datos = tilt_test()
 
@@ -535,6 +562,7 @@ def main():
     fuzz_seeds()
     readers_issue_15()
     conditions_and_landmarks_issue_15()
+    probe_findings_issue_15()
 
 
 if __name__ == "__main__":
