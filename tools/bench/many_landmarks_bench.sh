@@ -3,11 +3,11 @@
 # 100,000 landmarks take 69 s"): the course data with 2,001 landmarks in puntos.mat, all
 # within about 60 m of the endpoint (every one plausible, none coincident), and a CSV of
 # 100,000 landmarks; wall time and peak memory of each binary, median of three runs.
-#   tools/bench/many_landmarks_bench.sh [DATA_DIR]
+#   tools/bench/many_landmarks_bench.sh [DATA_DIR]     (ACCELCAL_BENCH_BIN=DIR: other binaries)
 set -euo pipefail
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 data=${1:-$root/../shared/data/tp2-2018}
-bin=$root/build/bin
+bin=${ACCELCAL_BENCH_BIN:-$root/build/bin}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cp -r "$data" "$work/course2k"
