@@ -425,4 +425,6 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::GuardedMain("analyze", accelcal::Run, argc, argv); }
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("analyze", accelcal::Run, argc, argv);
+}

@@ -92,4 +92,6 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::GuardedMain("discover", accelcal::Run, argc, argv); }
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("discover", accelcal::Run, argc, argv);
+}

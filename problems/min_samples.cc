@@ -371,4 +371,6 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::GuardedMain("min_samples", accelcal::Run, argc, argv); }
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("min_samples", accelcal::Run, argc, argv);
+}

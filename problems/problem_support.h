@@ -18,9 +18,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "common/format.h"
 #include "common/measurements.h"
 #include "common/status.h"
-#include "common/format.h"
 #include "io/atomic_file.h"
 #include "io/cleanup.h"
 #include "io/course_data.h"
@@ -69,8 +69,7 @@ inline int GuardedMain(const char* program, int (*run)(int, char**), int argc, c
     return ExitWithError(program, Status::Error("not enough memory for this input; free memory, "
                                                 "raise the limit (ulimit -v) or use less data"));
   } catch (const std::exception& exception) {
-    return ExitWithError(program, Status::Error(std::string("internal error (") +
-                                                exception.what() +
+    return ExitWithError(program, Status::Error(std::string("internal error (") + exception.what() +
                                                 "); please report it with the command line"));
   }
 }
@@ -108,10 +107,10 @@ bool RegisterFlagRange(const char* name, const T* flag, double low, double high,
   return gflags::RegisterFlagValidator(flag, &FlagInRange<T>);
 }
 
-#define ACCELCAL_FLAG_RANGE(name, low, high)                 \
+#define ACCELCAL_FLAG_RANGE(name, low, high)                      \
   static const bool accelcal_flag_range_##name [[maybe_unused]] = \
       ::accelcal::RegisterFlagRange(#name, &FLAGS_##name, low, high, false)
-#define ACCELCAL_FLAG_OPEN_RANGE(name, low, high)            \
+#define ACCELCAL_FLAG_OPEN_RANGE(name, low, high)                 \
   static const bool accelcal_flag_range_##name [[maybe_unused]] = \
       ::accelcal::RegisterFlagRange(#name, &FLAGS_##name, low, high, true)
 

@@ -61,8 +61,8 @@ Status ValidateFlags() {
 Status Load(Scenario* scenario) {
   RunInputs inputs;
   if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
-  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(
-      {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckOutputPaths({{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs));
   return LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, scenario);
 }
 
@@ -111,4 +111,6 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::GuardedMain("simulate", accelcal::Run, argc, argv); }
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("simulate", accelcal::Run, argc, argv);
+}

@@ -85,8 +85,8 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
-  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths({{"--json", FLAGS_json}, {"--path_csv", FLAGS_path_csv}},
-                                            InputsOf(FLAGS_data_dir, files)));
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(
+      {{"--json", FLAGS_json}, {"--path_csv", FLAGS_path_csv}}, InputsOf(FLAGS_data_dir, files)));
   LoadOptions load_options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &load_options));
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs, load_options));
@@ -139,4 +139,6 @@ int Run(int argc, char** argv) {
 }  // namespace
 }  // namespace accelcal
 
-int main(int argc, char** argv) { return accelcal::GuardedMain("trajectory", accelcal::Run, argc, argv); }
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("trajectory", accelcal::Run, argc, argv);
+}

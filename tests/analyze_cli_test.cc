@@ -112,8 +112,7 @@ TEST(AnalyzeBinary, AMissingPlotterIsSaidInTheReportNotAFailure) {
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   const std::string markdown = testing::ReadText(report + "/report.md");
   EXPECT_NE(markdown.find("## Figures not drawn"), std::string::npos);
-  EXPECT_NE(markdown.find("trajectory.png: cannot start /nonexistent/python3"),
-            std::string::npos)
+  EXPECT_NE(markdown.find("trajectory.png: cannot start /nonexistent/python3"), std::string::npos)
       << markdown;
 }
 

@@ -146,8 +146,8 @@ TEST(Discover, DropsAnEffectALaterEffectExplains) {
     SCOPED_TRACE("seed " + std::to_string(seed) + ": " + result.verdict);
     bool dropped = false;
     for (const SelectionEvent& event : result.history) {
-      dropped |= event.kind == SelectionEvent::Kind::kDropped &&
-                 event.effect == Parameter::kRunBiasShiftX;
+      dropped |=
+          event.kind == SelectionEvent::Kind::kDropped && event.effect == Parameter::kRunBiasShiftX;
     }
     EXPECT_TRUE(dropped);
     EXPECT_EQ(Names(result), std::vector<std::string>({"scale_nonlinearity_x"}));
@@ -164,10 +164,9 @@ TEST(Discover, DropsAnEffectALaterEffectExplains) {
       JointResult smaller;
       ASSERT_TRUE(
           SolveJoint(data.test, data.run, data.conditions, data.landmarks, without, &smaller).ok());
-      const double total = [](const JointResult& r) {
-        return r.chi2_x + r.chi2_y + r.chi2_endpoint;
-      }(smaller) - (result.extended.chi2_x + result.extended.chi2_y +
-                    result.extended.chi2_endpoint);
+      const double total =
+          [](const JointResult& r) { return r.chi2_x + r.chi2_y + r.chi2_endpoint; }(smaller) -
+          (result.extended.chi2_x + result.extended.chi2_y + result.extended.chi2_endpoint);
       EXPECT_NEAR(effect.delta_chi2, total, 1e-6 * total);
     }
   }

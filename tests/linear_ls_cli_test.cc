@@ -121,7 +121,8 @@ TEST(LinearLsBinary, RefusesMissingFolderFilesAndVariables) {
   ExpectRefused("--data_dir='" + scratch.path() + "'", "no course data here");
   const std::string dir = MakeDataDir(scratch);
   std::remove(scratch.File("datos.txt").c_str());
-  ExpectRefused("--data_dir='" + dir + "'", scratch.File("datos.txt") + ": no such file; check the path");
+  ExpectRefused("--data_dir='" + dir + "'",
+                scratch.File("datos.txt") + ": no such file; check the path");
   ASSERT_TRUE(
       WriteMatFile(scratch.File("ensayo.mat"), {{"tita", MatMatrix{3, 1, {0, 1, 2}}}}).ok());
   scratch.Write("datos.txt", kDatos);
@@ -207,8 +208,7 @@ TEST(LinearLsBinary, RefusesATestThatCannotSeparateBiasFromScale) {
                 "{\"initial_position\": [0, 0], \"initial_velocity\": [1, 3], \"noise_variance\": "
                 "[0.25, 0.64]}");
   ExpectRefused("--data_dir='" + scratch.path() + "'",
-                scratch.File("calibration.csv") +
-                    ": the x axis' specific force varies by only");
+                scratch.File("calibration.csv") + ": the x axis' specific force varies by only");
 }
 
 TEST(LinearLsBinary, RefusesBadCsvCellsWithLineAndColumn) {
@@ -235,7 +235,8 @@ TEST(LinearLsBinary, RefusesAJsonPathInAMissingFolderAfterPrintingNothingPartial
   const CommandResult result =
       RunLinearLs("--data_dir='" + dir + "' --json='" + out.File("no/such/dir/out.json") + "'");
   EXPECT_EQ(result.exit_status, 2);
-  EXPECT_NE(result.stderr_text.find("/no/such/dir does not exist; create it first"), std::string::npos)
+  EXPECT_NE(result.stderr_text.find("/no/such/dir does not exist; create it first"),
+            std::string::npos)
       << result.stderr_text;
 }
 

@@ -134,8 +134,7 @@ TEST(MatFileReader, ReadsEveryVariableInOnePassInFileOrder) {
   ASSERT_TRUE(big.Open(scratch.File("big.mat")).ok());
   const Status refused = big.ReadAllMatrices(2, "a landmark is 1x2", &read);
   EXPECT_FALSE(refused.ok());
-  EXPECT_NE(refused.message().find("variable 'Big' is 3x1; a landmark is 1x2"),
-            std::string::npos)
+  EXPECT_NE(refused.message().find("variable 'Big' is 3x1; a landmark is 1x2"), std::string::npos)
       << refused.message();
 }
 

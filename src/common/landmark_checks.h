@@ -37,7 +37,8 @@ inline Status CheckLandmarks(const std::vector<Landmark>& landmarks) {
     // Beyond 1e12 m no vehicle goes; the bound also keeps the cell indices in range.
     if (!std::isfinite(landmark.x_m) || !std::isfinite(landmark.y_m) ||
         std::abs(landmark.x_m) > 1e12 || std::abs(landmark.y_m) > 1e12) {
-      return Status::Error("landmark '" + landmark.name + "' is not a finite position within 1e12 m");
+      return Status::Error("landmark '" + landmark.name +
+                           "' is not a finite position within 1e12 m");
     }
     if (!names.insert(landmark.name).second) {
       return Status::Error("landmark '" + landmark.name + "' is listed twice");

@@ -269,9 +269,9 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       result->history.push_back({SelectionEvent::Kind::kDropped, gone, delta_chi2[weakest],
                                  p_values[weakest], joint.landmark_name});
       joint.effects.erase(joint.effects.begin() + weakest);
-      result->effects.erase(std::find_if(
-          result->effects.begin(), result->effects.end(),
-          [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
+      result->effects.erase(
+          std::find_if(result->effects.begin(), result->effects.end(),
+                       [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
       ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
       ACCELCAL_RETURN_IF_ERROR(
           retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));

@@ -149,17 +149,19 @@ Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
   std::string target = dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
   const fs::file_status existing = fs::symlink_status(target, error);
-  const bool exists = existing.type() != fs::file_type::not_found &&
-                      existing.type() != fs::file_type::none;
+  const bool exists =
+      existing.type() != fs::file_type::not_found && existing.type() != fs::file_type::none;
   if (exists && existing.type() != fs::file_type::directory) {
-    return Status::Error(target + " exists and is not a folder (a file, a link or a device); "
-                                  "it is left as it is: name another folder");
+    return Status::Error(target +
+                         " exists and is not a folder (a file, a link or a device); "
+                         "it is left as it is: name another folder");
   }
   const bool empty = exists && fs::is_empty(target, error);
   if (exists && !empty) {
     if (!overwrite) {
-      return Status::Error(target + " exists and is not empty; pass --overwrite to replace it "
-                                    "(only a folder accelcal wrote can be replaced)");
+      return Status::Error(target +
+                           " exists and is not empty; pass --overwrite to replace it "
+                           "(only a folder accelcal wrote can be replaced)");
     }
     const fs::file_status marker = fs::symlink_status(target + "/" + kOutputFolderMarker, error);
     if (marker.type() != fs::file_type::regular) {

@@ -173,11 +173,11 @@ Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmark
     // asked (the last unnamed result `ans`, or a hidden one starting with '_') would become a
     // landmark nobody placed. Such a file is refused rather than read with a stray landmark.
     if (name == "ans" || name.empty() || name.front() == '_') {
-      return Status::Error("variable '" + name + "' is " +
-                           (name == "ans" ? "MATLAB's last unnamed result"
-                                          : "a variable MATLAB hides") +
-                           ", not a landmark: save the file with the landmarks only, e.g. save "
-                           "puntos.mat A B C D");
+      return Status::Error(
+          "variable '" + name + "' is " +
+          (name == "ans" ? "MATLAB's last unnamed result" : "a variable MATLAB hides") +
+          ", not a landmark: save the file with the landmarks only, e.g. save "
+          "puntos.mat A B C D");
     }
   }
   // All at once: one pass over the file however many landmarks it holds.

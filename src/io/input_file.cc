@@ -75,8 +75,8 @@ Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::str
       const std::string why = count < 0 ? std::strerror(errno) : "it ended early";
       close(fd);
       contents->clear();
-      return Status::Error("cannot read the whole file (" + why + " after " + Bytes(done) +
-                           " of " + Bytes(size) + "); was it being written?");
+      return Status::Error("cannot read the whole file (" + why + " after " + Bytes(done) + " of " +
+                           Bytes(size) + "); was it being written?");
     }
     done += static_cast<uint64_t>(count);
   }

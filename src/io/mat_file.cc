@@ -1426,9 +1426,9 @@ Status MatFileReader::ReadAllMatrices(uint64_t max_values, const std::string& ov
   while (matvar_t* info = Mat_VarReadNextInfo(impl_->mat)) {
     const std::unique_ptr<matvar_t, void (*)(matvar_t*)> owner(info, Mat_VarFree);
     infos.push_back(InfoOf(info));
-    ACCELCAL_RETURN_IF_ERROR(CheckReadable(
-        infos.back(), impl_->file_size,
-        info->compression == MAT_COMPRESSION_NONE ? 1 : kZlibExpansion));
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckReadable(infos.back(), impl_->file_size,
+                      info->compression == MAT_COMPRESSION_NONE ? 1 : kZlibExpansion));
     ACCELCAL_RETURN_IF_ERROR(check_size(infos.back()));
   }
   if (!last_matio_message.empty()) {

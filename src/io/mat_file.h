@@ -52,9 +52,9 @@ class MatFileReader {
 
   // Every variable of the file in file order, each checked as ReadMatrix checks it, and each
   // of at most `max_values` values (a larger one is refused before any data is read, by name
-  // and shape, followed by `oversize_advice`). Two passes over the file whatever the number of variables: ReadMatrix
-  // looks a variable up from the start of the file, so reading n variables one by one takes
-  // n^2/2 element reads (2,001 landmarks: 1.5 minutes).
+  // and shape, followed by `oversize_advice`). Two passes over the file whatever the number of
+  // variables: ReadMatrix looks a variable up from the start of the file, so reading n variables
+  // one by one takes n^2/2 element reads (2,001 landmarks: 1.5 minutes).
   Status ReadAllMatrices(uint64_t max_values, const std::string& oversize_advice,
                          std::vector<std::pair<std::string, MatMatrix>>* matrices);
 

@@ -49,7 +49,8 @@ Status Resolve(const OutputPath& output, Resolved* resolved) {
     return Status::Error(where + " names a folder; name a file");
   }
   const size_t slash = path.find_last_of('/');
-  const std::string parent = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  const std::string parent =
+      slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
   const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
   if (name.empty() || name == "." || name == "..") {
     return Status::Error(where + " does not name a " +
@@ -60,15 +61,13 @@ Status Resolve(const OutputPath& output, Resolved* resolved) {
   struct stat parent_info;
   if (canonical_parent.empty() || stat(canonical_parent.c_str(), &parent_info) != 0 ||
       !S_ISDIR(parent_info.st_mode)) {
-    return Status::Error(where + ": the folder " + parent +
-                         " does not exist; create it first");
+    return Status::Error(where + ": the folder " + parent + " does not exist; create it first");
   }
   resolved->canonical = canonical_parent == "/" ? "/" + name : canonical_parent + "/" + name;
   if (lstat(path.c_str(), &resolved->info) == 0) {
     resolved->exists = true;
     const mode_t mode = resolved->info.st_mode;
-    const bool right_kind =
-        output.kind == OutputPath::Kind::kFile ? S_ISREG(mode) : S_ISDIR(mode);
+    const bool right_kind = output.kind == OutputPath::Kind::kFile ? S_ISREG(mode) : S_ISDIR(mode);
     if (!right_kind) {
       return Status::Error(where + " exists and is " + KindOf(mode) + "; accelcal replaces only " +
                            (output.kind == OutputPath::Kind::kFile ? "regular files" : "folders") +
@@ -112,7 +111,8 @@ Status CheckOutputPaths(const std::vector<OutputPath>& outputs, const RunInputs&
     const std::string where = output.flag + "=" + output.path;
     for (const std::string& other : seen) {
       if (IsWithin(resolved.canonical, other) || IsWithin(other, resolved.canonical)) {
-        return Status::Error(where + " overlaps another output of this run; give each its own path");
+        return Status::Error(where +
+                             " overlaps another output of this run; give each its own path");
       }
     }
     seen.push_back(resolved.canonical);

@@ -91,8 +91,9 @@ Status CheckRunConditions(const RunConditions& conditions) {
        {conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps}) {
     ACCELCAL_RETURN_IF_ERROR(within("initial velocity", value, -1e5, 1e5, "m/s", ""));
   }
-  const char* variance_hint = "; is it a variance in (m/s^2)^2 (not a standard deviation, not "
-                              "in other units)?";
+  const char* variance_hint =
+      "; is it a variance in (m/s^2)^2 (not a standard deviation, not "
+      "in other units)?";
   ACCELCAL_RETURN_IF_ERROR(within("noise variance of x", conditions.noise_variance_x, 1e-12, 1e4,
                                   "(m/s^2)^2", variance_hint));
   ACCELCAL_RETURN_IF_ERROR(within("noise variance of y", conditions.noise_variance_y, 1e-12, 1e4,

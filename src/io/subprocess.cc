@@ -76,11 +76,11 @@ Status RunProgram(const std::vector<std::string>& argv, double timeout_s, int* e
   }
   ForgetChild(pid);
   if (timed_out) {
-    return Status::Error(argv[0] + " did not finish within " + std::to_string(static_cast<int>(
-                                                                   timeout_s)) +
-                         " s and was stopped");
+    return Status::Error(argv[0] + " did not finish within " +
+                         std::to_string(static_cast<int>(timeout_s)) + " s and was stopped");
   }
-  if (waited < 0) return Status::Error("lost track of " + argv[0] + " (" + std::strerror(errno) + ")");
+  if (waited < 0)
+    return Status::Error("lost track of " + argv[0] + " (" + std::strerror(errno) + ")");
   *exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return Status::Ok();
 }

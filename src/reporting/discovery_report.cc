@@ -166,13 +166,12 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   }
   nlohmann::json history = nlohmann::json::array();
   for (const SelectionEvent& event : result.history) {
-    history.push_back(
-        {{"change", event.kind == SelectionEvent::Kind::kAdded ? "added" : "dropped"},
-         {"name", Info(event.effect).name},
-         {"delta_chi2", event.delta_chi2},
-         {"p_value", event.p_value},
-         {"tied_landmark",
-          event.landmark.empty() ? nlohmann::json(nullptr) : nlohmann::json(event.landmark)}});
+    history.push_back({{"change", event.kind == SelectionEvent::Kind::kAdded ? "added" : "dropped"},
+                       {"name", Info(event.effect).name},
+                       {"delta_chi2", event.delta_chi2},
+                       {"p_value", event.p_value},
+                       {"tied_landmark", event.landmark.empty() ? nlohmann::json(nullptr)
+                                                                : nlohmann::json(event.landmark)}});
   }
   nlohmann::json candidates = nlohmann::json::array();
   for (const CandidateScore& c : result.candidates) {

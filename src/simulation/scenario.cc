@@ -227,12 +227,11 @@ Status SetParameter(const std::string& name, double value, SimulationTruth* trut
   return Status::Ok();
 }
 
-
 Status CheckRange(const std::string& name, double value, double low, double high,
                   const char* unit) {
   if (std::isfinite(value) && value >= low && value <= high) return Status::Ok();
-  return Status::Error(StringPrintf("%s = %.6g is outside [%.6g, %.6g] %s", name.c_str(), value,
-                                    low, high, unit));
+  return Status::Error(
+      StringPrintf("%s = %.6g is outside [%.6g, %.6g] %s", name.c_str(), value, low, high, unit));
 }
 
 Status ValidateScenario(const Scenario& scenario) {
@@ -260,8 +259,7 @@ Status ValidateScenario(const Scenario& scenario) {
   }
   for (const std::vector<double>* angles : {&tilt.positions_rad, &tilt.angles_rad}) {
     for (const double angle : *angles) {
-      ACCELCAL_RETURN_IF_ERROR(
-          CheckRange("tilt angle", angle, -kMaxAngleRad, kMaxAngleRad, "rad"));
+      ACCELCAL_RETURN_IF_ERROR(CheckRange("tilt angle", angle, -kMaxAngleRad, kMaxAngleRad, "rad"));
     }
   }
   const RunProfile& run = scenario.run;
@@ -355,7 +353,8 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
 Status LoadScenario(const std::string& path, Scenario* scenario) {
   std::string text;
   ACCELCAL_RETURN_IF_ERROR(
-      ReadInputText(path, kMaxConditionsFileBytes, "a scenario JSON file", &text).WithContext(path));
+      ReadInputText(path, kMaxConditionsFileBytes, "a scenario JSON file", &text)
+          .WithContext(path));
   const size_t slash = path.find_last_of('/');
   const std::string base_dir = slash == std::string::npos ? "." : path.substr(0, slash);
   return ParseScenario(text, base_dir, scenario).WithContext(path);

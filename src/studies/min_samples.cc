@@ -65,8 +65,7 @@ namespace {
 // its point is a vertex of the convex hull of all of them; the others are implied. This makes
 // a cell of n landmarks cost O(n log n) once instead of O(n) per quadrature direction (2,000
 // landmarks: the radius loop had 1.4 million terms per evaluation).
-void PruneRedundantHalfPlanes(std::vector<Eigen::Vector2d>* normals,
-                              std::vector<double>* margins) {
+void PruneRedundantHalfPlanes(std::vector<Eigen::Vector2d>* normals, std::vector<double>* margins) {
   const size_t count = normals->size();
   if (count <= 3) return;
   std::vector<size_t> order(count);

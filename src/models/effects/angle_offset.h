@@ -17,8 +17,8 @@ struct AngleOffset : EffectTerms {
       ActsIn::kCalibrationTest,                                                          // acts_in
       Role::kEffect,                                                                     // role
       0.0,                                                                               // neutral
-      0.004,  // example_size
-      0,     // force_degree
+      0.004,     // example_size
+      0,         // force_degree
       3.14159};  // largest_deviation
 
   template <typename T>

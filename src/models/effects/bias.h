@@ -17,8 +17,8 @@ struct Bias : EffectTerms {
                                        Role::kBaseline,                     // role
                                        0.0,                                 // neutral
                                        0.0,                                 // example_size
-                                       0,                                  // force_degree
-                                       100.0};  // largest_deviation
+                                       0,                                   // force_degree
+                                       100.0};                              // largest_deviation
 
   template <typename T>
   static void AddAxisTerms(const T& bias, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

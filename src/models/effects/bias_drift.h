@@ -20,8 +20,8 @@ struct BiasDrift : EffectTerms {
       Role::kEffect,                                                       // role
       0.0,                                                                 // neutral
       0.1,                                                                 // example_size
-      0,                                                                  // force_degree
-      100.0};  // largest_deviation
+      0,                                                                   // force_degree
+      100.0};                                                              // largest_deviation
 
   template <typename T>
   static void AddAxisTerms(const T& drift, double drift_coordinate, AxisPolynomial<T>* output) {

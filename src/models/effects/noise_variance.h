@@ -19,8 +19,8 @@ struct NoiseVariance : EffectTerms {
       Role::kNoiseRatio,                                            // role
       1.0,                                                          // neutral
       2.0,                                                          // example_size
-      0,                                                           // force_degree
-      1e4};  // largest_deviation
+      0,                                                            // force_degree
+      1e4};                                                         // largest_deviation
 };
 
 }  // namespace accelcal

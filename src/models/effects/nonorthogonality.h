@@ -20,8 +20,8 @@ struct Nonorthogonality : EffectTerms {
                                        Role::kEffect,                     // role
                                        0.0,                               // neutral
                                        0.004,                             // example_size
-                                       0,                                // force_degree
-                                       0.5};  // largest_deviation
+                                       0,                                 // force_degree
+                                       0.5};                              // largest_deviation
 
   template <typename T>
   static void Project(const T& eps_rad, T* along_x, T* along_y) {

@@ -19,8 +19,8 @@ struct RunBiasShift : EffectTerms {
       Role::kEffect,                                                        // role
       0.0,                                                                  // neutral
       0.02,                                                                 // example_size
-      0,                                                                   // force_degree
-      100.0};  // largest_deviation
+      0,                                                                    // force_degree
+      100.0};                                                               // largest_deviation
 
   template <typename T>
   static void AddAxisTerms(const T& shift, double /*drift_coordinate*/, AxisPolynomial<T>* output) {

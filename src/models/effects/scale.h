@@ -17,7 +17,7 @@ struct Scale : EffectTerms {
                                        Role::kBaseline,                          // role
                                        0.0,                                      // neutral
                                        0.0,                                      // example_size
-                                       1,                                       // force_degree
+                                       1,                                        // force_degree
                                        0.5};  // largest_deviation
 
   template <typename T>

@@ -17,7 +17,7 @@ struct ScaleNonlinearity : EffectTerms {
                                        Role::kEffect,                                 // role
                                        0.0,                                           // neutral
                                        0.001,  // example_size
-                                       2,     // force_degree
+                                       2,      // force_degree
                                        0.05};  // largest_deviation
 
   template <typename T>
