@@ -401,11 +401,7 @@ Status Write(const Inputs& inputs, const Results& r, int* figures_drawn) {
 int Run(int argc, char** argv) {
   if (!InitProblem("analyze", kUsage, "problems/analyze", &argc, &argv)) return kExitBadInput;
   Status status;
-  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
-    status = Status::Error("--alpha must be in (0, 0.5)");
-  if (status.ok() && !(FLAGS_max_error > 0.0 && FLAGS_max_error < 0.5))
-    status = Status::Error("--max_error must be in (0, 0.5)");
-  if (status.ok() && FLAGS_out_dir.empty()) status = Status::Error("--out_dir must name a folder");
+  if (FLAGS_out_dir.empty()) status = Status::Error("--out_dir must name a folder");
   Inputs inputs;
   if (status.ok()) status = Load(&inputs);
   Results results;

@@ -41,11 +41,9 @@ constexpr char kUsage[] =
 int Run(int argc, char** argv) {
   if (!InitProblem("coverage", kUsage, "problems/coverage", &argc, &argv)) return kExitBadInput;
   Status status;
-  if (FLAGS_trials < 10) status = Status::Error("--trials must be at least 10");
-  if (status.ok() && FLAGS_effect_trials != 0 && FLAGS_effect_trials < 10) {
+  if (FLAGS_effect_trials != 0 && FLAGS_effect_trials < 10) {
     status = Status::Error("--effect_trials must be 0 or at least 10");
   }
-  if (status.ok() && FLAGS_threads < 0) status = Status::Error("--threads must be >= 0");
   Scenario scenario;
   RunInputs inputs;
   if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);

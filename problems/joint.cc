@@ -77,14 +77,9 @@ Status Load(Inputs* inputs) {
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {
-  if (!(FLAGS_landmark_sigma >= 0.0)) return Status::Error("--landmark_sigma must be >= 0 (m)");
   if (FLAGS_loss != "none" && FLAGS_loss != "huber" && FLAGS_loss != "cauchy") {
     return Status::Error("--loss must be none, huber or cauchy, got '" + FLAGS_loss + "'");
   }
-  if (!(FLAGS_loss_scale > 0.0)) return Status::Error("--loss_scale must be positive (sigmas)");
-  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 1.0)) return Status::Error("--alpha must be in (0, 1)");
-  if (FLAGS_num_threads < 1) return Status::Error("--num_threads must be at least 1");
-  if (FLAGS_max_iterations < 1) return Status::Error("--max_iterations must be at least 1");
   ACCELCAL_RETURN_IF_ERROR(ParseEffects(FLAGS_effects, &options->effects).WithContext("--effects"));
   options->gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
   options->noise_variance_x = inputs.conditions.noise_variance_x;

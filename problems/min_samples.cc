@@ -178,9 +178,6 @@ int Run(int argc, char** argv) {
   if (!InitProblem("min_samples", kUsage, "problems/min_samples", &argc, &argv))
     return kExitBadInput;
   Status status;
-  if (!(FLAGS_max_error > 0.0 && FLAGS_max_error < 0.5))
-    status = Status::Error("--max_error must be in (0, 0.5)");
-  if (status.ok() && FLAGS_repetitions < 0) status = Status::Error("--repetitions must be >= 0");
   std::vector<std::string> designs;
   if (FLAGS_design == "all") {
     designs = {"uniform", "four", "two", "optimal"};

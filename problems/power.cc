@@ -55,9 +55,6 @@ int Run(int argc, char** argv) {
   if (status.ok() && options.sizes_sigma.empty()) status = Status::Error("--sizes is empty");
   if (status.ok() && options.sizes_sigma.size() > 50)
     status = Status::Error("--sizes lists more than 50 sizes");
-  if (status.ok() && FLAGS_trials < 10) status = Status::Error("--trials must be at least 10");
-  if (status.ok() && !(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5))
-    status = Status::Error("--alpha must be in (0, 0.5)");
   Scenario scenario;
   RunInputs inputs;
   if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);

@@ -230,21 +230,6 @@ inline RunInputs InputsOf(const std::string& data_dir, const DataFiles& files) {
   return inputs;
 }
 
-// A JSON document as the text of an output file; a non-finite number is refused (nothing is
-// written), as WriteJsonAtomically does.
-inline Status JsonText(const nlohmann::json& json, std::string* text) {
-  const std::string where = FirstNonFiniteNumber(json);
-  if (!where.empty()) {
-    return Status::Error("the result holds a non-finite number at " + where +
-                         ", so nothing was written; this is a bug, please report it with the "
-                         "command line and data");
-  }
-  // Every string was checked where it was read; should one still not be UTF-8, it is
-  // written with U+FFFD rather than failing the whole run.
-  *text = json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-  return Status::Ok();
-}
-
 // The files a binary writes, all or none (io/atomic_file.h); those with an empty path were
 // not asked for.
 struct OutputFile {

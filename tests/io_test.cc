@@ -28,14 +28,6 @@
 namespace accelcal {
 namespace {
 
-#define EXPECT_ERROR_CONTAINS(status_expression, fragment)                      \
-  do {                                                                          \
-    const ::accelcal::Status status_ = (status_expression);                     \
-    EXPECT_FALSE(status_.ok()) << "expected an error containing: " << fragment; \
-    EXPECT_NE(status_.message().find(fragment), std::string::npos)              \
-        << "message: " << status_.message() << "\nexpected: " << fragment;      \
-  } while (false)
-
 // ---- datos.txt ---------------------------------------------------------------------
 
 constexpr char kCourseDatos[] =

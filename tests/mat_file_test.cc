@@ -23,15 +23,6 @@
 namespace accelcal {
 namespace {
 
-#define EXPECT_ERROR_CONTAINS(status_expression, fragment)                           \
-  do {                                                                               \
-    const ::accelcal::Status status_ = (status_expression);                          \
-    EXPECT_FALSE(status_.ok()) << "expected an error containing: " << fragment;      \
-    EXPECT_NE(status_.message().find(fragment), std::string::npos)                   \
-        << "message: " << status_.message() << "\nexpected: " << fragment;           \
-    EXPECT_EQ(status_.message().find('\n'), std::string::npos) << status_.message(); \
-  } while (false)
-
 // ---- A version 5 file, byte by byte (MAT-File Format, "Level 5"), little endian --------
 
 constexpr uint32_t kMiInt8 = 1;

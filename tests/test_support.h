@@ -152,4 +152,14 @@ inline int CountLines(const std::string& text) {
 }  // namespace testing
 }  // namespace accelcal
 
+// A Status that failed with a message of one line containing `fragment`.
+#define EXPECT_ERROR_CONTAINS(status_expression, fragment)                           \
+  do {                                                                               \
+    const ::accelcal::Status status_ = (status_expression);                          \
+    EXPECT_FALSE(status_.ok()) << "expected an error containing: " << fragment;      \
+    EXPECT_NE(status_.message().find(fragment), std::string::npos)                   \
+        << "message: " << status_.message() << "\nexpected: " << fragment;           \
+    EXPECT_EQ(status_.message().find('\n'), std::string::npos) << status_.message(); \
+  } while (false)
+
 #endif  // ACCELCAL_TESTS_TEST_SUPPORT_H_

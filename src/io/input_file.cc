@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <memory>
 #include <new>
 
 namespace accelcal {
@@ -50,8 +51,12 @@ Status CheckInputFile(const std::string& path, uint64_t max_bytes, const std::st
   return Status::Ok();
 }
 
-Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::string& what,
-                     std::string* contents) {
+namespace {
+
+// CheckInputFile, then the whole file into `contents`; with `text`, its first 64 KiB must hold
+// no NUL byte before anything larger is allocated.
+Status ReadWhole(const std::string& path, uint64_t max_bytes, const std::string& what, bool text,
+                 std::string* contents) {
   uint64_t size = 0;
   ACCELCAL_RETURN_IF_ERROR(CheckInputFile(path, max_bytes, what, &size));
   const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -59,21 +64,41 @@ Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::str
     return Status::Error(std::string("cannot open the file (") + std::strerror(errno) +
                          "); check the path and permissions");
   }
+  // Closes the file on every return.
+  const std::unique_ptr<const int, void (*)(const int*)> closer(&fd,
+                                                                [](const int* f) { close(*f); });
+  auto read_some = [fd](char* data, size_t bytes) {
+    ssize_t count;
+    do {
+      count = read(fd, data, bytes);
+    } while (count < 0 && errno == EINTR);
+    return count;
+  };
+  if (text) {
+    char prefix[1 << 16];
+    const ssize_t count = read_some(prefix, sizeof(prefix));
+    const void* nul = count > 0 ? std::memchr(prefix, '\0', static_cast<size_t>(count)) : nullptr;
+    if (nul != nullptr) {
+      const long offset = static_cast<const char*>(nul) - prefix;
+      return Status::Error("holds a NUL byte at byte " + std::to_string(offset) + ": it is not " +
+                           what + " but a binary (or sparse, zero-filled) file");
+    }
+    if (lseek(fd, 0, SEEK_SET) != 0) {
+      return Status::Error(std::string("cannot read the file (") + std::strerror(errno) + ")");
+    }
+  }
   try {
     contents->assign(size, '\0');
   } catch (const std::bad_alloc&) {
-    close(fd);
     contents->clear();
     return Status::Error("not enough memory to read the file's " + Bytes(size) +
                          "; free memory or raise the limit (ulimit -v)");
   }
   uint64_t done = 0;
   while (done < size) {
-    const ssize_t count = read(fd, &(*contents)[done], size - done);
-    if (count < 0 && errno == EINTR) continue;
+    const ssize_t count = read_some(&(*contents)[done], size - done);
     if (count <= 0) {
       const std::string why = count < 0 ? std::strerror(errno) : "it ended early";
-      close(fd);
       contents->clear();
       return Status::Error("cannot read the whole file (" + why + " after " + Bytes(done) + " of " +
                            Bytes(size) + "); was it being written?");
@@ -82,42 +107,23 @@ Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::str
   }
   // A file that grew while it was read is not the file that was checked.
   char extra;
-  ssize_t more;
-  do {
-    more = read(fd, &extra, 1);
-  } while (more < 0 && errno == EINTR);
-  close(fd);
-  if (more != 0) {
+  if (read_some(&extra, 1) != 0) {
     contents->clear();
     return Status::Error("the file changed while it was read; read it again when it is complete");
   }
   return Status::Ok();
 }
 
+}  // namespace
+
+Status ReadInputFile(const std::string& path, uint64_t max_bytes, const std::string& what,
+                     std::string* contents) {
+  return ReadWhole(path, max_bytes, what, /*text=*/false, contents);
+}
+
 Status ReadInputText(const std::string& path, uint64_t max_bytes, const std::string& what,
                      std::string* contents) {
-  uint64_t size = 0;
-  ACCELCAL_RETURN_IF_ERROR(CheckInputFile(path, max_bytes, what, &size));
-  const int fd = open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) {
-    return Status::Error(std::string("cannot open the file (") + std::strerror(errno) +
-                         "); check the path and permissions");
-  }
-  char prefix[1 << 16];
-  ssize_t count;
-  do {
-    count = read(fd, prefix, sizeof(prefix));
-  } while (count < 0 && errno == EINTR);
-  close(fd);
-  if (count > 0) {
-    const void* nul = std::memchr(prefix, '\0', static_cast<size_t>(count));
-    if (nul != nullptr) {
-      const long offset = static_cast<const char*>(nul) - prefix;
-      return Status::Error("holds a NUL byte at byte " + std::to_string(offset) + ": it is not " +
-                           what + " but a binary (or sparse, zero-filled) file");
-    }
-  }
-  return ReadInputFile(path, max_bytes, what, contents);
+  return ReadWhole(path, max_bytes, what, /*text=*/true, contents);
 }
 
 }  // namespace accelcal

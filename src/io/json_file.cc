@@ -139,15 +139,23 @@ Status ParseJsonStrict(const std::string& text, nlohmann::json* document) {
 
 std::string FirstNonFiniteNumber(const nlohmann::json& json) { return FindNonFinite(json, ""); }
 
-Status WriteJsonAtomically(const std::string& path, const nlohmann::json& json) {
+Status JsonText(const nlohmann::json& json, std::string* text) {
   const std::string where = FirstNonFiniteNumber(json);
   if (!where.empty()) {
     return Status::Error("the result holds a non-finite number at " + where +
                          ", so nothing was written; this is a bug, please report it with the "
                          "command line and data");
   }
-  return WriteFileAtomically(
-      path, json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  // Every string was checked where it was read; should one still not be UTF-8, it is
+  // written with U+FFFD rather than failing the whole run.
+  *text = json.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  return Status::Ok();
+}
+
+Status WriteJsonAtomically(const std::string& path, const nlohmann::json& json) {
+  std::string text;
+  ACCELCAL_RETURN_IF_ERROR(JsonText(json, &text));
+  return WriteFileAtomically(path, text);
 }
 
 }  // namespace accelcal

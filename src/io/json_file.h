@@ -30,6 +30,11 @@ Status ParseJsonStrict(const std::string& text, nlohmann::json* document);
 // checking that every number in it is finite; otherwise writes nothing and fails.
 Status WriteJsonAtomically(const std::string& path, const nlohmann::json& json);
 
+// The text WriteJsonAtomically writes (indented, a final newline, any string that is not
+// UTF-8 written with U+FFFD), or the same refusal of a non-finite number; for binaries that
+// write several outputs at once (WriteFilesAtomically).
+Status JsonText(const nlohmann::json& json, std::string* text);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_JSON_FILE_H_
