@@ -61,73 +61,88 @@ TEST(CalibrationResidual, IsZeroAtTheTrueParametersOfTheFullModel) {
 }
 
 // The compressed block's sum of squares and J^T J equal the per-sample residuals' at any
-// parameters, far from the reference too, and for a rank-deficient two-position design.
+// parameters, far from the reference too, for a rank-deficient two-position design, and
+// with time-correlated noise and outliers (whitened rows).
 TEST(CompressedCalibrationResidual, HasThePerSampleSumOfSquaresAndInformationAnywhere) {
   constexpr int kP = CalibrationResidual::kBlockCount;
   const SimulationTruth truth = EveryEffectTruth();
-  for (const bool two_positions : {false, true}) {
-    SCOPED_TRACE(two_positions ? "two positions" : "uniform");
-    TiltSchedule schedule;
-    schedule.sample_count = 2001;
-    if (two_positions) {
-      schedule.kind = TiltSchedule::Kind::kStaticPositions;
-      schedule.positions_rad = {0.5, 2.0};
-    }
-    const CalibrationTest test = SimulateTiltTest(schedule, truth, 3);
-    ModelParameters<double> reference;  // a baseline fit's neighbourhood
-    reference[Parameter::kBiasX] = 0.07;
-    reference[Parameter::kScaleX] = -0.03;
-    reference[Parameter::kBiasY] = -0.02;
-    reference[Parameter::kScaleY] = 0.01;
-    const double sigmas[2] = {0.5, 0.8};
-    std::unique_ptr<CompressedCalibrationResidual> functors[2];
-    ASSERT_TRUE(CompressedCalibrationResidual::Make(test, 9.8, sigmas, reference, functors).ok());
-    for (const SensingAxis axis : {SensingAxis::kX, SensingAxis::kY}) {
-      const int a = axis == SensingAxis::kX ? 0 : 1;
-      const std::unique_ptr<ceres::CostFunction> compressed(
-          CompressedCalibrationResidual::Create(functors[a].release()));
-      RandomSource rng(7);
-      for (int trial = 0; trial < 5; ++trial) {
-        ModelParameters<double> p = reference;
-        for (const Parameter parameter : CalibrationResidual::Blocks(axis)) {
-          const bool nonlinearity = EffectOf(parameter).force_degree == 2;
-          p[parameter] += 0.01 * rng.StandardNormal() * (nonlinearity ? 0.1 : 1.0);
-        }
-        const std::vector<const double*> pointers =
-            testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
-        const double* const* blocks = pointers.data();
-        double per_sample_sum = 0.0;
-        Eigen::Matrix<double, kP, kP> per_sample_information =
-            Eigen::Matrix<double, kP, kP>::Zero();
-        for (int i = 0; i < test.size(); ++i) {
-          const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::Create(
-              test.theta_rad[i], axis == SensingAxis::kX ? test.measured_x[i] : test.measured_y[i],
-              axis, DriftCoordinate(i, test.size()), 9.8, sigmas[a]));
-          double residual;
-          double jacobian_storage[kP];
+  for (const bool two_positions : {false, true})
+    for (const bool correlated : {false, true}) {
+      SCOPED_TRACE(two_positions ? "two positions" : "uniform");
+      SCOPED_TRACE(correlated ? "AR(1) noise with outliers" : "white noise");
+      TiltSchedule schedule;
+      schedule.sample_count = 2001;
+      if (two_positions) {
+        schedule.kind = TiltSchedule::Kind::kStaticPositions;
+        schedule.positions_rad = {0.5, 2.0};
+      }
+      const CalibrationTest test = SimulateTiltTest(schedule, truth, 3);
+      ModelParameters<double> reference;  // a baseline fit's neighbourhood
+      reference[Parameter::kBiasX] = 0.07;
+      reference[Parameter::kScaleX] = -0.03;
+      reference[Parameter::kBiasY] = -0.02;
+      reference[Parameter::kScaleY] = 0.01;
+      AxisNoise noise[2] = {{0.25}, {0.64}};
+      if (correlated) {
+        noise[0].correlation = 0.6;
+        noise[1].correlation = -0.3;
+        noise[0].outliers = {0, 7, 8, 1500};
+        noise[1].outliers = {3};
+      }
+      std::unique_ptr<CompressedCalibrationResidual> functors[2];
+      ASSERT_TRUE(CompressedCalibrationResidual::Make(test, 9.8, noise, reference, functors).ok());
+      for (const SensingAxis axis : {SensingAxis::kX, SensingAxis::kY}) {
+        const int a = axis == SensingAxis::kX ? 0 : 1;
+        const std::unique_ptr<ceres::CostFunction> compressed(
+            CompressedCalibrationResidual::Create(functors[a].release()));
+        RandomSource rng(7);
+        for (int trial = 0; trial < 5; ++trial) {
+          ModelParameters<double> p = reference;
+          for (const Parameter parameter : CalibrationResidual::Blocks(axis)) {
+            const bool nonlinearity = EffectOf(parameter).force_degree == 2;
+            p[parameter] += 0.01 * rng.StandardNormal() * (nonlinearity ? 0.1 : 1.0);
+          }
+          const std::vector<const double*> pointers =
+              testing::BlockPointers(CalibrationResidual::Blocks(axis), p);
+          const double* const* blocks = pointers.data();
+          double per_sample_sum = 0.0;
+          Eigen::Matrix<double, kP, kP> per_sample_information =
+              Eigen::Matrix<double, kP, kP>::Zero();
+          const std::vector<double>& measured = a == 0 ? test.measured_x : test.measured_y;
+          const std::vector<AxisNoise::Whitening> weights = noise[a].WhiteningOf(test.size());
+          for (int i = 0; i < test.size(); ++i) {
+            const CalibrationResidual::Sample previous =
+                i > 0 ? CalibrationResidual::Sample{test.theta_rad[i - 1], measured[i - 1],
+                                                    DriftCoordinate(i - 1, test.size())}
+                      : CalibrationResidual::Sample();
+            const std::unique_ptr<ceres::CostFunction> cost(CalibrationResidual::CreateWhitened(
+                {test.theta_rad[i], measured[i], DriftCoordinate(i, test.size())}, previous, axis,
+                9.8, weights[i].current, weights[i].previous));
+            double residual;
+            double jacobian_storage[kP];
+            double* jacobians[kP];
+            for (int k = 0; k < kP; ++k) jacobians[k] = &jacobian_storage[k];
+            ASSERT_TRUE(cost->Evaluate(blocks, &residual, jacobians));
+            const Eigen::Map<const Eigen::Matrix<double, kP, 1>> row(jacobian_storage);
+            per_sample_sum += residual * residual;
+            per_sample_information += row * row.transpose();
+          }
+          double residuals[7];
+          double jacobian_storage[kP][7];
           double* jacobians[kP];
-          for (int k = 0; k < kP; ++k) jacobians[k] = &jacobian_storage[k];
-          ASSERT_TRUE(cost->Evaluate(blocks, &residual, jacobians));
-          const Eigen::Map<const Eigen::Matrix<double, kP, 1>> row(jacobian_storage);
-          per_sample_sum += residual * residual;
-          per_sample_information += row * row.transpose();
+          for (int k = 0; k < kP; ++k) jacobians[k] = jacobian_storage[k];
+          ASSERT_TRUE(compressed->Evaluate(blocks, residuals, jacobians));
+          const Eigen::Map<const Eigen::Matrix<double, 7, 1>> r(residuals);
+          Eigen::Matrix<double, 7, kP> jacobian;
+          for (int k = 0; k < kP; ++k) {
+            jacobian.col(k) = Eigen::Map<const Eigen::Matrix<double, 7, 1>>(jacobian_storage[k]);
+          }
+          EXPECT_NEAR(r.squaredNorm(), per_sample_sum, 1e-10 * per_sample_sum);
+          EXPECT_LT((jacobian.transpose() * jacobian - per_sample_information).norm(),
+                    1e-10 * per_sample_information.norm());
         }
-        double residuals[7];
-        double jacobian_storage[kP][7];
-        double* jacobians[kP];
-        for (int k = 0; k < kP; ++k) jacobians[k] = jacobian_storage[k];
-        ASSERT_TRUE(compressed->Evaluate(blocks, residuals, jacobians));
-        const Eigen::Map<const Eigen::Matrix<double, 7, 1>> r(residuals);
-        Eigen::Matrix<double, 7, kP> jacobian;
-        for (int k = 0; k < kP; ++k) {
-          jacobian.col(k) = Eigen::Map<const Eigen::Matrix<double, 7, 1>>(jacobian_storage[k]);
-        }
-        EXPECT_NEAR(r.squaredNorm(), per_sample_sum, 1e-10 * per_sample_sum);
-        EXPECT_LT((jacobian.transpose() * jacobian - per_sample_information).norm(),
-                  1e-10 * per_sample_information.norm());
       }
     }
-  }
 }
 
 TEST(CalibrationResidual, GradientCheckerAgreesWithAutodiff) {

@@ -59,14 +59,12 @@ class JointProblem {
       for (const Parameter parameter : parameters) pointers.push_back(&(*values)[parameter]);
       return pointers;
     };
-    const double sigma_x = std::sqrt(options_.noise_variance_x);
-    const double sigma_y = std::sqrt(options_.noise_variance_y);
     const int n = test_.size();
+    const AxisNoise noise[2] = {options_.Noise(0), options_.Noise(1)};
     std::unique_ptr<CompressedCalibrationResidual> compressed[2];
     if (compress && loss_ == nullptr) {
-      const double sigmas[2] = {sigma_x, sigma_y};
       // A model outside the compressed basis falls back to the per-sample residuals.
-      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, sigmas, *values,
+      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, noise, *values,
                                                compressed)
                .ok()) {
         compressed[0].reset();
@@ -85,16 +83,26 @@ class JointProblem {
     }
     const std::vector<double*> blocks_x = blocks(CalibrationResidual::Blocks(SensingAxis::kX));
     const std::vector<double*> blocks_y = blocks(CalibrationResidual::Blocks(SensingAxis::kY));
+    const std::vector<AxisNoise::Whitening> whitening[2] = {
+        per_sample ? noise[0].WhiteningOf(n) : std::vector<AxisNoise::Whitening>(),
+        per_sample ? noise[1].WhiteningOf(n) : std::vector<AxisNoise::Whitening>()};
     for (int i = 0; per_sample && i < n; ++i) {
       const double u = DriftCoordinate(i, n);
-      groups->x.push_back(problem->AddResidualBlock(
-          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_x[i], SensingAxis::kX, u,
-                                      options_.gravity_mps2, sigma_x),
-          loss_.get(), blocks_x));
-      groups->y.push_back(problem->AddResidualBlock(
-          CalibrationResidual::Create(test_.theta_rad[i], test_.measured_y[i], SensingAxis::kY, u,
-                                      options_.gravity_mps2, sigma_y),
-          loss_.get(), blocks_y));
+      const double u_previous = i > 0 ? DriftCoordinate(i - 1, n) : 0.0;
+      for (int a = 0; a < 2; ++a) {
+        const std::vector<double>& measured = a == 0 ? test_.measured_x : test_.measured_y;
+        const CalibrationResidual::Sample sample = {test_.theta_rad[i], measured[i], u};
+        const CalibrationResidual::Sample previous =
+            i > 0 ? CalibrationResidual::Sample{test_.theta_rad[i - 1], measured[i - 1], u_previous}
+                  : CalibrationResidual::Sample();
+        // An outlier's block stays (with zero weight), so rows keep their sample's place.
+        (a == 0 ? groups->x : groups->y)
+            .push_back(problem->AddResidualBlock(
+                CalibrationResidual::CreateWhitened(
+                    sample, previous, a == 0 ? SensingAxis::kX : SensingAxis::kY,
+                    options_.gravity_mps2, whitening[a][i].current, whitening[a][i].previous),
+                loss_.get(), a == 0 ? blocks_x : blocks_y));
+      }
     }
     if (landmark != nullptr) {
       // The endpoint's noise covariance at the starting point (the baseline): the
@@ -134,6 +142,7 @@ class JointProblem {
           options_.noise_variance_x / conditions_.noise_variance_x;
       start.values[Parameter::kNoiseVarianceY] =
           options_.noise_variance_y / conditions_.noise_variance_y;
+      start.noise_correlation = options_.noise_correlation;
       DeadReckoningResult result;
       ACCELCAL_RETURN_IF_ERROR(DeadReckon(run_, conditions_, start, trajectory_options, &result));
       baseline_trajectory_ = std::move(result);
@@ -153,6 +162,7 @@ class JointProblem {
     }
     values[Parameter::kNoiseVarianceX] = options_.noise_variance_x / conditions_.noise_variance_x;
     values[Parameter::kNoiseVarianceY] = options_.noise_variance_y / conditions_.noise_variance_y;
+    estimate.noise_correlation = options_.noise_correlation;
     estimate.free = baseline.free;
     for (const Parameter effect : options_.effects) estimate.free.push_back(effect);
 
@@ -402,12 +412,13 @@ Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
 Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                       const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
-                      Eigen::VectorXd* residual) {
+                      Eigen::VectorXd* residual, const std::vector<Parameter>* columns) {
   BaselineFit start;
   ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
   const Landmark* tied = FindLandmark(landmarks, at.landmark);
   JointProblem problem(test, run, conditions, options, start);
-  return problem.Linearize(tied, at.estimate.values, at.estimate.free, jacobian, residual);
+  return problem.Linearize(tied, at.estimate.values,
+                           columns != nullptr ? *columns : at.estimate.free, jacobian, residual);
 }
 
 void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,

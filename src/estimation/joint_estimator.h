@@ -14,6 +14,7 @@
 // reported as not separable, and no covariance is claimed for them.
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "common/status.h"
 #include "estimation/parameter_estimate.h"
 #include "estimation/solver_report.h"
+#include "models/noise_model.h"
 
 namespace accelcal {
 
@@ -29,6 +31,16 @@ struct JointOptions {
   double gravity_mps2 = 9.8;
   double noise_variance_x = 0.0;  // stated, (m/s^2)^2
   double noise_variance_y = 0.0;
+  // The noise's structure beyond its variance (models/noise_model.h): each axis's
+  // correlation of consecutive samples (tilt test and run), and the tilt-test samples set
+  // aside as outliers (ascending).
+  std::array<double, 2> noise_correlation = {0.0, 0.0};
+  std::array<std::vector<int>, 2> outliers;
+  // The noise model of axis k (0: x, 1: y) these options describe.
+  AxisNoise Noise(int axis) const {
+    return {axis == 0 ? noise_variance_x : noise_variance_y, noise_correlation[axis],
+            outliers[axis]};
+  }
   enum class Landmark { kNone, kNamed, kAuto };
   Landmark landmark_mode = Landmark::kNone;
   std::string landmark_name;      // with kNamed
@@ -91,12 +103,13 @@ Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
                        const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2);
 
 // The whitened residuals of the joint problem at `at` and their Jacobian with respect to
-// at.estimate.free. Rows: x_0, y_0, x_1, y_1, ... for the tilt test, then the endpoint's
-// two when the run is tied to a landmark.
+// at.estimate.free (or `columns` when given). Rows: x_0, y_0, x_1, y_1, ... for the tilt
+// test (an outlier's rows are zero), then the endpoint's two when the run is tied to a
+// landmark.
 Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                       const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
-                      Eigen::VectorXd* residual);
+                      Eigen::VectorXd* residual, const std::vector<Parameter>* columns = nullptr);
 
 // The tilt test's residuals m - prediction (m/s^2) of each axis under `values`.
 void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,

@@ -8,6 +8,7 @@
 // scale_y), so code written for any estimate serves the baseline unchanged.
 
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,9 @@ struct ParameterEstimate {
   ModelParameters<double> values;
   std::vector<Parameter> free;  // the covariance's order
   Eigen::MatrixXd covariance;   // free.size() x free.size(), in the spec's units
+  // Each axis's noise correlation of consecutive samples (models/noise_model.h; 0: white),
+  // which dead reckoning integrates with the variance noise_variance_k scales.
+  std::array<double, 2> noise_correlation = {0.0, 0.0};
 
   // Index of `parameter` in `free`, or -1 when it was not estimated.
   int IndexOf(Parameter parameter) const;

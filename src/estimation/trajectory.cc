@@ -17,29 +17,31 @@ namespace {
 constexpr const std::array<Parameter, kRunParameterCount>& kRunParameters = RunParameters();
 using Jet = ceres::Jet<double, kRunParameterCount>;
 
-// Covariance of (p, v, a_prev) of one axis under white acceleration noise of variance q.
-// One trapezoidal step with the new acceleration noise n:
-//   p' = p + dt v + dt^2/4 (a_prev + n),  v' = v + dt/2 (a_prev + n),  a_prev' = n.
+// Covariance of (p, v, n_prev) of one axis, n the acceleration noise: AR(1) across
+// samples (models/noise_model.h), n' = rho n_prev + w with w of variance q (1 - rho^2), so
+// that every n has the variance q (white when rho = 0). One trapezoidal step:
+//   p' = p + dt v + dt^2/4 (n_prev + n'),  v' = v + dt/2 (n_prev + n'),  n_prev' = n'.
 class AxisNoisePropagator {
  public:
-  AxisNoisePropagator(double dt_s, double acceleration_variance)
-      : variance_(acceleration_variance) {
-    transition_ << 1.0, dt_s, 0.25 * dt_s * dt_s,  //
-        0.0, 1.0, 0.5 * dt_s,                      //
-        0.0, 0.0, 0.0;
+  AxisNoisePropagator(double dt_s, double acceleration_variance, double correlation)
+      : innovation_variance_(acceleration_variance * (1.0 - correlation * correlation)) {
+    const double carried = 1.0 + correlation;                // n_prev + rho n_prev
+    transition_ << 1.0, dt_s, 0.25 * dt_s * dt_s * carried,  //
+        0.0, 1.0, 0.5 * dt_s * carried,                      //
+        0.0, 0.0, correlation;
     input_ << 0.25 * dt_s * dt_s, 0.5 * dt_s, 1.0;
     covariance_.setZero();
-    covariance_(2, 2) = variance_;  // the first sample's noise
+    covariance_(2, 2) = acceleration_variance;  // the first sample's noise
   }
 
   void Step() {
     covariance_ = transition_ * covariance_ * transition_.transpose() +
-                  variance_ * input_ * input_.transpose();
+                  innovation_variance_ * input_ * input_.transpose();
   }
   double PositionVariance() const { return covariance_(0, 0); }
 
  private:
-  double variance_;
+  double innovation_variance_;
   Eigen::Matrix3d transition_;
   Eigen::Vector3d input_;
   Eigen::Matrix3d covariance_;
@@ -115,8 +117,10 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
       conditions.noise_variance_x * estimate.values[Parameter::kNoiseVarianceX];
   const double variance_y =
       conditions.noise_variance_y * estimate.values[Parameter::kNoiseVarianceY];
-  AxisNoisePropagator noise_x(dt_s, variance_x / (slope_x * slope_x));
-  AxisNoisePropagator noise_y(dt_s, variance_y / (slope_y * slope_y));
+  AxisNoisePropagator noise_x(dt_s, variance_x / (slope_x * slope_x),
+                              estimate.noise_correlation[0]);
+  AxisNoisePropagator noise_y(dt_s, variance_y / (slope_y * slope_y),
+                              estimate.noise_correlation[1]);
 
   result->path.clear();
   result->path.reserve(count / stride + 2);

@@ -9,10 +9,11 @@
 //                   the nine parameters that act in the run (bias, scale, quadratic term
 //                   and run bias shift of each axis, and the non-orthogonality); the
 //                   calibration-only parameters (angle offset, drift) have zero columns;
-//   noise part      the run's own white noise through the integration,
-//                   sum_j w_j^2 sigma_k^2 / (1 + s_k)^2 per axis, which no calibration
-//                   can shrink (exact for the baseline; with a quadratic term, the
-//                   first-order value at zero acceleration).
+//   noise part      the run's own noise through the integration, white
+//                   (sum_j w_j^2 sigma_k^2 / (1 + s_k)^2 per axis) or AR(1) with the
+//                   estimate's noise_correlation (models/noise_model.h), which no
+//                   calibration can shrink (exact for the baseline; with a quadratic term,
+//                   the first-order value at zero acceleration).
 //
 // Along the path the noise part is propagated as the covariance of (p, v, a_prev):
 // a_j enters two consecutive trapezoidal steps, so the previous acceleration's noise

@@ -11,6 +11,12 @@
 // the spec's units: with the built-in effects bias_k, scale_k, angle_offset,
 // nonorthogonality, bias_drift_k, scale_nonlinearity_k. An effect registered later that
 // acts in the tilt test becomes a block here without a change to this file.
+//
+// With time-correlated noise (models/noise_model.h) the residual is the whitened one,
+//
+//   w_i = current (m_i - prediction_i) - previous (m_{i-1} - prediction_{i-1}),
+//
+// so the block also holds the previous sample (CreateWhitened).
 
 #include <array>
 
@@ -23,23 +29,29 @@ class CalibrationResidual {
  public:
   static constexpr int kBlockCount = kCalibrationParameterCount;
 
-  CalibrationResidual(double theta_rad, double measured_mps2, SensingAxis axis,
-                      double drift_coordinate, double gravity_mps2, double noise_stddev_mps2)
-      : theta_rad_(theta_rad),
-        measured_mps2_(measured_mps2),
+  // One sample of the test.
+  struct Sample {
+    double theta_rad = 0.0;
+    double measured_mps2 = 0.0;
+    double drift_coordinate = 0.0;
+  };
+
+  CalibrationResidual(const Sample& sample, const Sample& previous, SensingAxis axis,
+                      double gravity_mps2, double current_weight, double previous_weight)
+      : sample_(sample),
+        previous_(previous),
         axis_(axis),
-        drift_coordinate_(drift_coordinate),
         gravity_mps2_(gravity_mps2),
-        sqrt_information_(1.0 / noise_stddev_mps2),
+        current_weight_(current_weight),
+        previous_weight_(previous_weight),
         blocks_(Blocks(axis)) {}
 
   template <typename T, typename... Rest>
   bool operator()(const T* const first, Rest... rest) const {
     ModelParameters<T> parameters;
     T* residual = GatherParameters(blocks_, &parameters, first, rest...);
-    const T predicted =
-        PredictCalibrationOutput(theta_rad_, drift_coordinate_, axis_, gravity_mps2_, parameters);
-    residual[0] = (T(measured_mps2_) - predicted) * sqrt_information_;
+    residual[0] = current_weight_ * Error(sample_, parameters);
+    if (previous_weight_ != 0.0) residual[0] -= previous_weight_ * Error(previous_, parameters);
     return true;
   }
 
@@ -48,21 +60,37 @@ class CalibrationResidual {
     return CalibrationParameters(axis);
   }
 
+  // White noise of standard deviation noise_stddev_mps2.
   static ceres::CostFunction* Create(double theta_rad, double measured_mps2, SensingAxis axis,
                                      double drift_coordinate, double gravity_mps2,
                                      double noise_stddev_mps2) {
+    return CreateWhitened({theta_rad, measured_mps2, drift_coordinate}, Sample(), axis,
+                          gravity_mps2, 1.0 / noise_stddev_mps2, 0.0);
+  }
+
+  // current_weight e(sample) - previous_weight e(previous), e = measured - prediction.
+  static ceres::CostFunction* CreateWhitened(const Sample& sample, const Sample& previous,
+                                             SensingAxis axis, double gravity_mps2,
+                                             double current_weight, double previous_weight) {
     return new ScalarBlocksCostFunction<CalibrationResidual, 1, kBlockCount>(
-        new CalibrationResidual(theta_rad, measured_mps2, axis, drift_coordinate, gravity_mps2,
-                                noise_stddev_mps2));
+        new CalibrationResidual(sample, previous, axis, gravity_mps2, current_weight,
+                                previous_weight));
   }
 
  private:
-  const double theta_rad_;
-  const double measured_mps2_;
+  template <typename T>
+  T Error(const Sample& sample, const ModelParameters<T>& parameters) const {
+    return T(sample.measured_mps2) - PredictCalibrationOutput(sample.theta_rad,
+                                                              sample.drift_coordinate, axis_,
+                                                              gravity_mps2_, parameters);
+  }
+
+  const Sample sample_;
+  const Sample previous_;
   const SensingAxis axis_;
-  const double drift_coordinate_;
   const double gravity_mps2_;
-  const double sqrt_information_;
+  const double current_weight_;
+  const double previous_weight_;
   const std::array<Parameter, kBlockCount>& blocks_;
 };
 

@@ -36,7 +36,7 @@ ModelParameters<double> Spread(const ModelParameters<double>& reference, Sensing
 }  // namespace
 
 Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double gravity_mps2,
-                                           const double noise_stddev_mps2[2],
+                                           const AxisNoise noise[2],
                                            const ModelParameters<double>& reference,
                                            std::unique_ptr<CompressedCalibrationResidual> out[2]) {
   constexpr int kGramEntries = kResidualCount * (kResidualCount + 1) / 2;
@@ -101,6 +101,10 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
   constexpr int kBlock = 512;
   double sines[kBlock];
   double cosines[kBlock];
+  const std::vector<AxisNoise::Whitening> whitening[2] = {noise[0].WhiteningOf(n),
+                                                          noise[1].WhiteningOf(n)};
+  double previous_x[kResidualCount] = {};
+  double previous_y[kResidualCount] = {};
   for (int i = 0; i < n; ++i) {
     if (i % kBlock == 0) {
       SinCos(test.theta_rad.data() + i, std::min(kBlock, n - i), sines, cosines);
@@ -120,11 +124,22 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
     }
     row_x[kBasisSize] = test.measured_x[i] - predicted_x;
     row_y[kBasisSize] = test.measured_y[i] - predicted_y;
+    // Whitened rows: a_i row_i - b_i row_{i-1}.
+    const AxisNoise::Whitening& wx = whitening[0][i];
+    const AxisNoise::Whitening& wy = whitening[1][i];
+    double white_x[kResidualCount];
+    double white_y[kResidualCount];
+    for (int k = 0; k < kResidualCount; ++k) {
+      white_x[k] = wx.current * row_x[k] - wx.previous * previous_x[k];
+      white_y[k] = wy.current * row_y[k] - wy.previous * previous_y[k];
+      previous_x[k] = row_x[k];
+      previous_y[k] = row_y[k];
+    }
     int entry = 0;
     for (int row = 0; row < kResidualCount; ++row) {
       for (int col = 0; col <= row; ++col, ++entry) {
-        gram_x[entry] += row_x[row] * row_x[col];
-        gram_y[entry] += row_y[row] * row_y[col];
+        gram_x[entry] += white_x[row] * white_x[col];
+        gram_y[entry] += white_y[row] * white_y[col];
       }
     }
   }
@@ -153,8 +168,8 @@ Status CompressedCalibrationResidual::Make(const CalibrationTest& test, double g
     }
     const Eigen::Matrix<double, kResidualCount, 1> root =
         eigen.eigenvalues().cwiseMax(0.0).cwiseSqrt();
-    residuals[a]->weights_ = root.asDiagonal() * eigen.eigenvectors().transpose() *
-                             norms.asDiagonal() / noise_stddev_mps2[a];
+    residuals[a]->weights_ =
+        root.asDiagonal() * eigen.eigenvectors().transpose() * norms.asDiagonal();
   }
   out[0] = std::move(residuals[0]);
   out[1] = std::move(residuals[1]);

@@ -25,6 +25,10 @@
 // lie in span(phi) and fails otherwise (an effect registered later with another shape,
 // e.g. a cubic scale term), so the caller can fall back to the per-sample residuals.
 //
+// Time-correlated noise and outliers (models/noise_model.h) whiten the rows themselves:
+// the whitened residual w_i = a_i e_i - b_i e_{i-1} is linear in the same c(p), with the
+// row a_i [phi_i; e_i] - b_i [phi_{i-1}; e_{i-1}], so G stays exact.
+//
 // Cost: one pass over the test to build G (a sin and a cos per sample and 28 products),
 // then each evaluation is six predictions and a 7x7 product, independent of N. Robust
 // losses act per sample and cannot be compressed; use CalibrationResidual for those.
@@ -36,6 +40,7 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
+#include "models/noise_model.h"
 #include "models/sensor_model.h"
 #include "residuals/scalar_blocks.h"
 
@@ -52,8 +57,8 @@ class CompressedCalibrationResidual {
   // Accumulates G of both axes (index 0: x, 1: y) over `test` in one pass, about the
   // `reference` parameters (the residuals are best conditioned near them). Fails when the
   // model is not in span(phi).
-  static Status Make(const CalibrationTest& test, double gravity_mps2,
-                     const double noise_stddev_mps2[2], const ModelParameters<double>& reference,
+  static Status Make(const CalibrationTest& test, double gravity_mps2, const AxisNoise noise[2],
+                     const ModelParameters<double>& reference,
                      std::unique_ptr<CompressedCalibrationResidual> residuals[2]);
 
   template <typename T, typename... Rest>
@@ -94,7 +99,7 @@ class CompressedCalibrationResidual {
   double probe_drift_[kBasisSize] = {};
   Eigen::Matrix<double, kBasisSize, kBasisSize> probe_inverse_;    // P^-1: c = P^-1 y
   Eigen::Matrix<double, kBasisSize, 1> reference_coefficients_;    // c(p0)
-  Eigen::Matrix<double, kResidualCount, kResidualCount> weights_;  // W / sigma
+  Eigen::Matrix<double, kResidualCount, kResidualCount> weights_;  // W (the rows are whitened)
 };
 
 }  // namespace accelcal

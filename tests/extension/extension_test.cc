@@ -104,9 +104,9 @@ TEST(ScaleCubic, TheCompressedResidualDeclinesAndTheSolveFallsBack) {
   Scenario scenario;
   ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
   const SimulatedData data = SimulateScenario(scenario, 2);
-  const double sigmas[2] = {0.5, 0.8};
+  const AxisNoise noise[2] = {{0.25}, {0.64}};
   std::unique_ptr<CompressedCalibrationResidual> residuals[2];
-  const Status status = CompressedCalibrationResidual::Make(data.test, 9.8, sigmas,
+  const Status status = CompressedCalibrationResidual::Make(data.test, 9.8, noise,
                                                             ModelParameters<double>(), residuals);
   EXPECT_FALSE(status.ok());
   EXPECT_NE(status.message().find("not a combination of the compressed basis"), std::string::npos);
