@@ -1,6 +1,7 @@
 // The simulator: portable randomness, the scenario format, the course's setting
 // reproduced, each effect's signature in the baseline's residuals, data that round-trips
-// through the course layout, and Monte Carlo results independent of the thread count.
+// through the course layout, Monte Carlo results independent of the thread count, and the
+// disturbances outside the catalogue (their statistics, and no change when neutral).
 
 #include <gtest/gtest.h>
 
@@ -15,7 +16,9 @@
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
+#include "models/sensor_model.h"
 #include "models/tilt_table.h"
+#include "simulation/disturbances.h"
 #include "simulation/embedded_scenarios.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
@@ -427,6 +430,368 @@ TEST(CoverageStudy, AHiddenEffectBiasesWhatItShould) {
   EXPECT_NEAR(result.parameters[kBiasX].bias_sigma, 0.0, 0.5);
   EXPECT_NEAR(result.endpoint_bias_sigma.x(), 0.02 * 59.99 * 59.99 / 2 / 0.97 / std::sqrt(234.3),
               0.5);
+}
+
+// Disturbances: truths outside the catalogue (simulation/disturbances.h).
+
+// The course scenario with `disturbances` as its "disturbances" object ("" for none).
+Status CourseScenarioWith(const std::string& disturbances, Scenario* scenario) {
+  std::string text = DefaultScenarioJson();
+  if (!disturbances.empty()) text.insert(text.rfind('}'), ", \"disturbances\": " + disturbances);
+  return ParseScenario(text, ".", scenario);
+}
+
+// Each axis's measured output minus the catalogue model's noiseless prediction.
+void TiltTestResiduals(const CalibrationTest& test, const SimulationTruth& truth,
+                       std::vector<double>* residual_x, std::vector<double>* residual_y) {
+  const int n = test.size();
+  residual_x->resize(n);
+  residual_y->resize(n);
+  for (int i = 0; i < n; ++i) {
+    double predicted_x;
+    double predicted_y;
+    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), truth.gravity_mps2,
+                              truth.parameters, &predicted_x, &predicted_y);
+    (*residual_x)[i] = test.measured_x[i] - predicted_x;
+    (*residual_y)[i] = test.measured_y[i] - predicted_y;
+  }
+}
+
+void RunResiduals(const VehicleRun& run, const std::vector<double>& acceleration_x,
+                  const std::vector<double>& acceleration_y, const SimulationTruth& truth,
+                  std::vector<double>* residual_x, std::vector<double>* residual_y) {
+  residual_x->resize(run.size());
+  residual_y->resize(run.size());
+  for (int j = 0; j < run.size(); ++j) {
+    double predicted_x;
+    double predicted_y;
+    PredictRunOutputs(acceleration_x[j], acceleration_y[j], truth.parameters, &predicted_x,
+                      &predicted_y);
+    (*residual_x)[j] = run.measured_x[j] - predicted_x;
+    (*residual_y)[j] = run.measured_y[j] - predicted_y;
+  }
+}
+
+// Moments of a zero-mean series.
+struct SeriesMoments {
+  double variance = 0.0;
+  double lag1_correlation = 0.0;
+  double excess_kurtosis = 0.0;
+};
+
+SeriesMoments Moments(const std::vector<double>& e) {
+  double sum2 = 0.0;
+  double sum4 = 0.0;
+  double lagged = 0.0;
+  for (size_t i = 0; i < e.size(); ++i) {
+    sum2 += e[i] * e[i];
+    sum4 += e[i] * e[i] * e[i] * e[i];
+    if (i > 0) lagged += e[i] * e[i - 1];
+  }
+  const double n = static_cast<double>(e.size());
+  SeriesMoments moments;
+  moments.variance = sum2 / n;
+  moments.lag1_correlation = lagged / sum2;
+  moments.excess_kurtosis = (sum4 / n) / (moments.variance * moments.variance) - 3.0;
+  return moments;
+}
+
+// The innovations e_i - rho e_{i-1} of an AR(1) series.
+std::vector<double> Innovations(const std::vector<double>& e, double rho) {
+  std::vector<double> innovations(e.size() - 1);
+  for (size_t i = 1; i < e.size(); ++i) innovations[i - 1] = e[i] - rho * e[i - 1];
+  return innovations;
+}
+
+// A long tilt test and a long run on the course's truth, with a stated variance ratio on y.
+struct LongExperiment {
+  static constexpr int kSamples = 200000;
+  SimulationTruth truth = CourseTableOneTruth();
+  TiltSchedule schedule;
+  std::vector<double> timestamp_s;
+  std::vector<double> acceleration_x;
+  std::vector<double> acceleration_y;
+
+  LongExperiment() {
+    truth.parameters[Parameter::kNoiseVarianceY] = 1.5;
+    schedule.sample_count = kSamples;
+    for (int j = 0; j < kSamples; ++j) {
+      timestamp_s.push_back(0.01 * j);
+      acceleration_x.push_back(2.0 * std::sin(1e-3 * j));
+      acceleration_y.push_back(-1.0 + 0.5 * std::cos(3e-4 * j));
+    }
+  }
+  // The test's and the run's residuals, x then y.
+  std::vector<std::vector<double>> Residuals(uint64_t seed) const {
+    std::vector<std::vector<double>> residuals(4);
+    TiltTestResiduals(SimulateTiltTest(schedule, truth, seed), truth, &residuals[0], &residuals[1]);
+    RunResiduals(SimulateVehicleRun(timestamp_s, acceleration_x, acceleration_y, truth, seed),
+                 acceleration_x, acceleration_y, truth, &residuals[2], &residuals[3]);
+    return residuals;
+  }
+  double TrueVariance(int series) const {
+    return series % 2 == 0 ? truth.TrueNoiseVarianceX() : truth.TrueNoiseVarianceY();
+  }
+};
+
+TEST(Disturbances, NeutralOnesLeaveTheSimulationBitIdentical) {
+  Scenario plain;
+  ASSERT_TRUE(CourseScenarioWith("", &plain).ok());
+  const SimulatedData reference = SimulateScenario(plain, 7, 3);
+  for (const std::string& neutral :
+       {std::string("{}"), std::string(R"({"noise_ar1": [0, 0]})"),
+        std::string(R"({"noise_ar1": [0, 0], "outlier_fraction": 0, "outlier_sigma": 30,
+                        "theta_harmonic": {"order": 3, "amplitude": [0, 0], "phase": 1},
+                        "bias_step": {"at": 0.2, "size": [0, 0]}, "scale_cubic": [0, 0]})")}) {
+    Scenario scenario;
+    const Status status = CourseScenarioWith(neutral, &scenario);
+    ASSERT_TRUE(status.ok()) << status.message();
+    EXPECT_FALSE(scenario.truth.disturbances.any()) << neutral;
+    const SimulatedData data = SimulateScenario(scenario, 7, 3);
+    EXPECT_EQ(data.test.measured_x, reference.test.measured_x) << neutral;
+    EXPECT_EQ(data.test.measured_y, reference.test.measured_y) << neutral;
+    EXPECT_EQ(data.run.measured_x, reference.run.measured_x) << neutral;
+    EXPECT_EQ(data.run.measured_y, reference.run.measured_y) << neutral;
+    EXPECT_TRUE(data.outlier_indices_x.empty() && data.outlier_indices_y.empty());
+    EXPECT_FALSE(TruthJson(scenario, data, 7).contains("disturbances")) << neutral;
+  }
+}
+
+TEST(Disturbances, Ar1NoiseHasItsCorrelationAndKeepsTheTrueVariance) {
+  LongExperiment experiment;
+  const double rho[2] = {0.6, -0.3};
+  experiment.truth.disturbances.noise_ar1_x = rho[0];
+  experiment.truth.disturbances.noise_ar1_y = rho[1];
+  const std::vector<std::vector<double>> residuals = experiment.Residuals(41);
+  const double n = LongExperiment::kSamples;
+  for (int series = 0; series < 4; ++series) {
+    const double r = rho[series % 2];
+    const double variance = experiment.TrueVariance(series);
+    const SeriesMoments moments = Moments(residuals[series]);
+    // Bartlett: the lag-1 estimate of an AR(1) has variance (1 - rho^2) / N; the variance
+    // estimate 2 sigma^4 (1 + rho^2) / ((1 - rho^2) N).
+    EXPECT_NEAR(moments.lag1_correlation, r, 3 * std::sqrt((1 - r * r) / n)) << series;
+    EXPECT_NEAR(moments.variance, variance,
+                3 * variance * std::sqrt(2 * (1 + r * r) / ((1 - r * r) * n)))
+        << series;
+  }
+}
+
+TEST(Disturbances, StudentTNoiseHasTheTrueVarianceAndHeavyTails) {
+  LongExperiment experiment;
+  const LongExperiment gaussian = experiment;
+  experiment.truth.disturbances.noise_student_t_dof = 5.0;
+  const std::vector<std::vector<double>> residuals = experiment.Residuals(43);
+  const std::vector<std::vector<double>> gaussian_residuals = gaussian.Residuals(43);
+  const double n = LongExperiment::kSamples;
+  for (int series = 0; series < 4; ++series) {
+    const double variance = experiment.TrueVariance(series);
+    const SeriesMoments moments = Moments(residuals[series]);
+    // A t of 5 degrees of freedom has kurtosis 9: the variance estimate's sd is
+    // sigma^2 sqrt(8 / N); its excess kurtosis is 6 (a Gaussian's 0).
+    EXPECT_NEAR(moments.variance, variance, 5 * variance * std::sqrt(8.0 / n)) << series;
+    EXPECT_GT(moments.excess_kurtosis, 1.0) << series;
+    EXPECT_NEAR(Moments(gaussian_residuals[series]).excess_kurtosis, 0.0, 0.1) << series;
+    // The numerators are the simulator's own normal draws: every sample keeps its sign.
+    int same_sign = 0;
+    for (size_t i = 0; i < residuals[series].size(); ++i)
+      same_sign += (residuals[series][i] > 0) == (gaussian_residuals[series][i] > 0);
+    EXPECT_EQ(same_sign, LongExperiment::kSamples) << series;
+  }
+  // With AR(1), the innovations are the t draws: heavy-tailed, the marginal variance kept.
+  const double rho = 0.5;
+  experiment.truth.disturbances.noise_ar1_x = rho;
+  experiment.truth.disturbances.noise_ar1_y = rho;
+  const std::vector<std::vector<double>> correlated = experiment.Residuals(45);
+  for (int series = 0; series < 4; ++series) {
+    const double variance = experiment.TrueVariance(series);
+    const SeriesMoments moments = Moments(correlated[series]);
+    EXPECT_NEAR(moments.lag1_correlation, rho, 4 * std::sqrt((1 - rho * rho) / n)) << series;
+    EXPECT_NEAR(moments.variance, variance,
+                5 * variance * std::sqrt(8.0 * (1 + rho * rho) / ((1 - rho * rho) * n)))
+        << series;
+    const SeriesMoments innovations = Moments(Innovations(correlated[series], rho));
+    EXPECT_NEAR(innovations.variance, (1 - rho * rho) * variance,
+                5 * (1 - rho * rho) * variance * std::sqrt(8.0 / n))
+        << series;
+    EXPECT_GT(innovations.excess_kurtosis, 1.0) << series;
+  }
+}
+
+TEST(Disturbances, OutliersHitTheirFractionOfTheTestAndAreReportedInTheTruth) {
+  Scenario scenario;
+  ASSERT_TRUE(CourseScenarioWith("", &scenario).ok());
+  ASSERT_TRUE(ApplyScenarioOverrides("tilt_samples=200000", &scenario).ok());
+  const SimulatedData plain = SimulateScenario(scenario, 5);
+  const double fraction = 0.05;
+  const double k = 20.0;
+  ASSERT_TRUE(ApplyScenarioOverrides("outlier_fraction=0.05,outlier_sigma=20", &scenario).ok());
+  const SimulatedData data = SimulateScenario(scenario, 5);
+  std::vector<double> residual_x;
+  std::vector<double> residual_y;
+  TiltTestResiduals(data.test, scenario.truth, &residual_x, &residual_y);
+  const double n = data.test.size();
+  const double count_sd = std::sqrt(n * fraction * (1 - fraction));
+  const nlohmann::json truth = TruthJson(scenario, data, 5);
+  ASSERT_TRUE(truth.contains("disturbances"));
+  EXPECT_EQ(truth["disturbances"]["outlier_fraction"], fraction);
+  EXPECT_EQ(truth["disturbances"]["outlier_sigma"], k);
+  for (const bool x_axis : {true, false}) {
+    const std::vector<int>& reported = x_axis ? data.outlier_indices_x : data.outlier_indices_y;
+    const std::vector<double>& residual = x_axis ? residual_x : residual_y;
+    const std::vector<double>& measured = x_axis ? data.test.measured_x : data.test.measured_y;
+    const std::vector<double>& plain_measured =
+        x_axis ? plain.test.measured_x : plain.test.measured_y;
+    const double sigma = std::sqrt(x_axis ? scenario.truth.TrueNoiseVarianceX()
+                                          : scenario.truth.TrueNoiseVarianceY());
+    EXPECT_NEAR(reported.size(), fraction * n, 4 * count_sd);
+    // A Gaussian sample never reaches (k - 5) sigma; an outlier always does.
+    std::vector<int> large;
+    int positive = 0;
+    for (int i = 0; i < data.test.size(); ++i) {
+      if (std::abs(residual[i]) > (k - 5) * sigma) {
+        large.push_back(i);
+        positive += residual[i] > 0;
+      }
+    }
+    EXPECT_EQ(large, reported);
+    EXPECT_NEAR(positive, 0.5 * reported.size(), 4 * std::sqrt(0.25 * reported.size()));
+    // The outliers come from a stream of their own: every other sample is as without them.
+    std::vector<bool> hit(data.test.size(), false);
+    for (const int i : reported) hit[i] = true;
+    int unchanged = 0;
+    for (int i = 0; i < data.test.size(); ++i)
+      unchanged += !hit[i] && measured[i] == plain_measured[i];
+    EXPECT_EQ(unchanged, data.test.size() - static_cast<int>(reported.size()));
+    EXPECT_EQ(truth["disturbances"][x_axis ? "outlier_indices_x" : "outlier_indices_y"],
+              nlohmann::json(reported));
+  }
+  // Test only: the run is untouched.
+  EXPECT_EQ(data.run.measured_x, plain.run.measured_x);
+  EXPECT_EQ(data.run.measured_y, plain.run.measured_y);
+}
+
+TEST(Disturbances, HarmonicStepAndCubicScaleAddExactlyTheirTerms) {
+  // With sigma = 1e-6 the measured output minus the catalogue's prediction is the added
+  // term itself, sample by sample.
+  Scenario scenario;
+  ASSERT_TRUE(CourseScenarioWith(R"({"theta_harmonic": {"order": 3, "amplitude": [0.05, -0.02],
+                                                          "phase": 0.4},
+                                      "bias_step": {"at": 0.3, "size": [0.01, -0.03]},
+                                      "scale_cubic": [1e-4, -2e-4]})",
+                                 &scenario)
+                  .ok());
+  ASSERT_TRUE(ApplyScenarioOverrides("noise_variance_x_stated=1e-12,noise_variance_y_stated=1e-12,"
+                                     "tilt_samples=1001,angle_offset=0.01",
+                                     &scenario)
+                  .ok());
+  const SimulationTruth& truth = scenario.truth;
+  const SimulatedData data = SimulateScenario(scenario, 17);
+  std::vector<double> residual_x;
+  std::vector<double> residual_y;
+  TiltTestResiduals(data.test, truth, &residual_x, &residual_y);
+  const double tolerance = 1e-5;  // 10 sigma
+  const double g = truth.gravity_mps2;
+  for (int i = 0; i < data.test.size(); ++i) {
+    // The spec's forces at the true angle theta + delta; the step starts at floor(0.3 N).
+    const double theta = data.test.theta_rad[i];
+    const double force_x = -g * std::sin(theta + 0.01);
+    const double force_y = -g * std::cos(theta + 0.01);
+    const double harmonic = std::sin(3 * theta + 0.4);
+    const bool stepped = i >= 300;
+    EXPECT_NEAR(residual_x[i],
+                0.05 * harmonic + (stepped ? 0.01 : 0.0) + 1e-4 * force_x * force_x * force_x,
+                tolerance)
+        << i;
+    EXPECT_NEAR(residual_y[i],
+                -0.02 * harmonic + (stepped ? -0.03 : 0.0) - 2e-4 * force_y * force_y * force_y,
+                tolerance)
+        << i;
+  }
+  // In the run only the cubic term acts, on the true acceleration.
+  const std::vector<double> t = {0.0, 0.01, 0.02, 0.03};
+  const std::vector<double> ax = {5.0, -3.0, 0.5, 8.0};
+  const std::vector<double> ay = {-4.0, 2.0, 7.0, -0.1};
+  const VehicleRun run = SimulateVehicleRun(t, ax, ay, truth, 17);
+  std::vector<double> run_x;
+  std::vector<double> run_y;
+  RunResiduals(run, ax, ay, truth, &run_x, &run_y);
+  for (int j = 0; j < 4; ++j) {
+    EXPECT_NEAR(run_x[j], 1e-4 * ax[j] * ax[j] * ax[j], tolerance) << j;
+    EXPECT_NEAR(run_y[j], -2e-4 * ay[j] * ay[j] * ay[j], tolerance) << j;
+  }
+}
+
+TEST(Disturbances, OverridesSetEachDisturbanceByName) {
+  Scenario scenario;
+  ASSERT_TRUE(CourseScenarioWith("", &scenario).ok());
+  const Status status = ApplyScenarioOverrides(
+      "noise_ar1_x=0.1,noise_ar1_y=-0.2,noise_student_t_dof=7.5,outlier_fraction=0.01,"
+      "outlier_sigma=12,theta_harmonic_order=4,theta_harmonic_x=0.03,theta_harmonic_y=0.04,"
+      "theta_harmonic_phase=-1,bias_step_at=0.25,bias_step_x=0.05,bias_step_y=0.06,"
+      "scale_cubic_x=1e-5,scale_cubic_y=-3e-5",
+      &scenario);
+  ASSERT_TRUE(status.ok()) << status.message();
+  const Disturbances& d = scenario.truth.disturbances;
+  EXPECT_EQ(d.noise_ar1_x, 0.1);
+  EXPECT_EQ(d.noise_ar1_y, -0.2);
+  EXPECT_EQ(d.noise_student_t_dof, 7.5);
+  EXPECT_EQ(d.outlier_fraction, 0.01);
+  EXPECT_EQ(d.outlier_sigma, 12.0);
+  EXPECT_EQ(d.theta_harmonic_order, 4);
+  EXPECT_EQ(d.theta_harmonic_x, 0.03);
+  EXPECT_EQ(d.theta_harmonic_y, 0.04);
+  EXPECT_EQ(d.theta_harmonic_phase_rad, -1.0);
+  EXPECT_EQ(d.bias_step_at, 0.25);
+  EXPECT_EQ(d.bias_step_x, 0.05);
+  EXPECT_EQ(d.bias_step_y, 0.06);
+  EXPECT_EQ(d.scale_cubic_x, 1e-5);
+  EXPECT_EQ(d.scale_cubic_y, -3e-5);
+  const nlohmann::json truth =
+      TruthJson(scenario, SimulateScenario(scenario, 1), 1)["disturbances"];
+  EXPECT_EQ(truth["theta_harmonic_order"], 4);
+  EXPECT_EQ(truth["scale_cubic_y"], -3e-5);
+  EXPECT_EQ(truth.size(), DisturbanceNames().size() + 2);  // and the two index lists
+}
+
+TEST(Disturbances, BadValuesAreRefusedNamingTheKeyAndItsRange) {
+  Scenario scenario;
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"noise_ar2": [0.5, 0]})", &scenario),
+                        "disturbances: unknown key \"noise_ar2\"");
+  EXPECT_ERROR_CONTAINS(
+      CourseScenarioWith(R"({"theta_harmonic": {"order": 2, "amplitude": [1, 0], "phse": 1}})",
+                         &scenario),
+      "disturbances.theta_harmonic: unknown key \"phse\"");
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"noise_ar1": [1, 0]})", &scenario),
+                        "noise_ar1_x = 1 is outside (-0.99, 0.99)");
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"noise_ar1": 0.5})", &scenario),
+                        "disturbances.noise_ar1 must be two finite numbers [x, y]");
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"noise_student_t_dof": 2})", &scenario),
+                        "noise_student_t_dof = 2 is outside (2, 1000]");
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"outlier_fraction": 0.5})", &scenario),
+                        "outlier_fraction = 0.5 is outside [0, 0.2]");
+  EXPECT_ERROR_CONTAINS(
+      CourseScenarioWith(R"({"theta_harmonic": {"order": 2.5, "amplitude": [1, 0]}})", &scenario),
+      "theta_harmonic_order = 2.5 must be a whole number from 1 to 20");
+  EXPECT_ERROR_CONTAINS(CourseScenarioWith(R"({"theta_harmonic": {"order": 2}})", &scenario),
+                        "disturbances.theta_harmonic needs \"amplitude\"");
+  EXPECT_ERROR_CONTAINS(
+      CourseScenarioWith(R"({"bias_step": {"at": 1, "size": [1, 0]}})", &scenario),
+      "bias_step_at = 1 is outside (0, 1)");
+  // --set is held to the same ranges, and an unknown name lists the disturbances.
+  const auto override_message = [](const std::string& assignments) {
+    Scenario course;
+    EXPECT_TRUE(CourseScenarioWith("", &course).ok());
+    return ApplyScenarioOverrides(assignments, &course);
+  };
+  EXPECT_ERROR_CONTAINS(override_message("noise_ar1_y=-0.99"),
+                        "noise_ar1_y = -0.99 is outside (-0.99, 0.99)");
+  EXPECT_ERROR_CONTAINS(override_message("scale_cubic_x=1"),
+                        "scale_cubic_x = 1 is outside [-0.01, 0.01] 1/(m/s^2)^2");
+  EXPECT_ERROR_CONTAINS(override_message("theta_harmonic_order=21"),
+                        "theta_harmonic_order = 21 must be a whole number from 1 to 20");
+  EXPECT_ERROR_CONTAINS(override_message("noise_ar2=1"),
+                        "nor a disturbance (noise_ar1_x, noise_ar1_y, noise_student_t_dof,");
 }
 
 }  // namespace

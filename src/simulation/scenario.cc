@@ -297,7 +297,7 @@ Status ValidateScenario(const Scenario& scenario) {
     ACCELCAL_RETURN_IF_ERROR(
         CheckRange(info.name, value, info.neutral - largest, info.neutral + largest, info.unit));
   }
-  return Status::Ok();
+  return ValidateDisturbances(truth.disturbances);
 }
 
 }  // namespace
@@ -309,7 +309,7 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
   ACCELCAL_RETURN_IF_ERROR(
       CheckKeys(document,
                 {"name", "description", "gravity", "noise_variance", "initial_position",
-                 "initial_velocity", "tilt", "run", "landmarks", "truth"},
+                 "initial_velocity", "tilt", "run", "landmarks", "truth", "disturbances"},
                 "scenario"));
   Scenario parsed;
   parsed.name = document.value("name", std::string("unnamed"));
@@ -344,6 +344,9 @@ Status ParseScenario(const std::string& json_text, const std::string& base_dir,
       ACCELCAL_RETURN_IF_ERROR(
           SetParameter(item.key(), item.value().get<double>(), &truth).WithContext("truth"));
     }
+  }
+  if (document.contains("disturbances")) {
+    ACCELCAL_RETURN_IF_ERROR(ParseDisturbances(document.at("disturbances"), &truth.disturbances));
   }
   ACCELCAL_RETURN_IF_ERROR(ValidateScenario(parsed));
   *scenario = parsed;
@@ -390,14 +393,21 @@ Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario
       scenario->tilt.sample_count = static_cast<int>(value);
     } else if (FindParameter(name) != nullptr) {
       ACCELCAL_RETURN_IF_ERROR(SetParameter(name, value, &truth));
+    } else if (IsDisturbanceName(name)) {
+      // Ranges are checked with the rest of the scenario below.
+      ACCELCAL_RETURN_IF_ERROR(SetDisturbance(name, value, &truth.disturbances));
     } else {
       std::string names;
       for (const ParameterInfo& info : ParameterCatalogue())
         names += std::string(names.empty() ? "" : ", ") + info.name;
+      std::string disturbances;
+      for (const std::string& disturbance : DisturbanceNames())
+        disturbances += std::string(disturbances.empty() ? "" : ", ") + disturbance;
       return Status::Error(
           "'" + name + "' is neither a parameter (" + names +
-          ") nor a setting (gravity, noise_variance_x_stated, noise_variance_y_stated, "
-          "tilt_samples, run_duration, run_dt)");
+          "), a setting (gravity, noise_variance_x_stated, noise_variance_y_stated, "
+          "tilt_samples, run_duration, run_dt) nor a disturbance (" +
+          disturbances + ")");
     }
   }
   const RunProfile& run = scenario->run;
@@ -459,7 +469,8 @@ void TrueRunAcceleration(const RunProfile& profile, std::vector<double>* timesta
 
 SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t trial) {
   SimulatedData data;
-  data.test = SimulateTiltTest(scenario.tilt, scenario.truth, seed, trial);
+  data.test = SimulateTiltTest(scenario.tilt, scenario.truth, seed, trial, &data.outlier_indices_x,
+                               &data.outlier_indices_y);
   std::vector<double> timestamp_s;
   TrueRunAcceleration(scenario.run, &timestamp_s, &data.true_acceleration_x,
                       &data.true_acceleration_y);
@@ -535,7 +546,7 @@ json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t see
   for (const Landmark& landmark : data.landmarks) {
     landmarks.push_back({{"name", landmark.name}, {"x", landmark.x_m}, {"y", landmark.y_m}});
   }
-  return {
+  json truth = {
       {"scenario", scenario.name},
       {"seed", seed},
       {"parameters", parameters},
@@ -552,6 +563,13 @@ json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t see
       {"reached_landmark", data.reached_landmark},
       {"reached_distance_m", data.reached_distance_m},
       {"landmarks", landmarks}};
+  if (scenario.truth.disturbances.any()) {
+    json disturbances = DisturbancesJson(scenario.truth.disturbances);
+    disturbances["outlier_indices_x"] = data.outlier_indices_x;
+    disturbances["outlier_indices_y"] = data.outlier_indices_y;
+    truth["disturbances"] = disturbances;
+  }
+  return truth;
 }
 
 }  // namespace accelcal

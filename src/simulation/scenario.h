@@ -18,11 +18,20 @@
 //                   or {"csv": "profile.csv"}},  columns t,ax,ay (m/s^2), one row per sample
 //   "landmarks": {"listed": [{"name": "A", "position": [353.6, 73.2]}, ...]}
 //             or {"decoys": {"count": 3, "min_distance": 100}},  the true endpoint + decoys
-//   "truth": {"bias_x": 0.07667, "angle_offset": 0.004, ...}    any name of models/effects.h
+//   "truth": {"bias_x": 0.07667, "angle_offset": 0.004, ...},   any name of models/effects.h
+//   "disturbances": {                            truths outside the catalogue, each optional
+//                                                (simulation/disturbances.h states them)
+//     "noise_ar1": [0.5, 0],                     lag-1 correlation of each axis's noise
+//     "noise_student_t_dof": 5,                  Student-t noise, nu in (2, 1000]
+//     "outlier_fraction": 0.01,                  of the tilt test's samples, in [0, 0.2]
+//     "outlier_sigma": 10,                       an outlier's size in noise sigmas
+//     "theta_harmonic": {"order": 2, "amplitude": [0.01, 0], "phase": 0},   m/s^2, rad
+//     "bias_step": {"at": 0.5, "size": [0.02, 0]},   from sample floor(at N), m/s^2
+//     "scale_cubic": [1e-4, 0]}                  c_k f_k^3, 1/(m/s^2)^2
 // }
 //
 // Every key is checked; an unknown one is an error (a typo must not silently simulate
-// the wrong experiment). Omitted truths are neutral (no effect).
+// the wrong experiment). Omitted truths and disturbances are neutral (no effect).
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -75,9 +84,12 @@ struct Scenario {
 Status ParseScenario(const std::string& json_text, const std::string& base_dir, Scenario* scenario);
 Status LoadScenario(const std::string& path, Scenario* scenario);
 
-// Applies "name=value,name=value": any parameter of models/effects.h, or one of the
+// Applies "name=value,name=value": any parameter of models/effects.h, one of the
 // settings gravity, noise_variance_x_stated, noise_variance_y_stated, tilt_samples,
-// run_duration, run_dt.
+// run_duration, run_dt, or a disturbance (simulation/disturbances.h): noise_ar1_x,
+// noise_ar1_y, noise_student_t_dof, outlier_fraction, outlier_sigma, theta_harmonic_order,
+// theta_harmonic_x, theta_harmonic_y, theta_harmonic_phase, bias_step_at, bias_step_x,
+// bias_step_y, scale_cubic_x, scale_cubic_y.
 Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario);
 
 // One simulated experiment with its truth.
@@ -91,6 +103,9 @@ struct SimulatedData {
   Eigen::Vector2d true_endpoint = Eigen::Vector2d::Zero();
   std::string reached_landmark;     // the landmark nearest the true endpoint
   double reached_distance_m = 0.0;  // its distance from the true endpoint
+  // The tilt-test samples the outlier disturbance hit, per axis, ascending.
+  std::vector<int> outlier_indices_x;
+  std::vector<int> outlier_indices_y;
 };
 
 // The true accelerations of the run (segments smoothed, or the CSV) at t_j = j dt.
@@ -100,7 +115,9 @@ void TrueRunAcceleration(const RunProfile& profile, std::vector<double>* timesta
 // Deterministic for (seed, trial) on any machine.
 SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t trial = 0);
 
-// Every true value and setting, named as in the spec (for truth.json).
+// Every true value and setting, named as in the spec (for truth.json). When a disturbance
+// is set, "disturbances" holds every one by its --set name and the outlier samples,
+// "outlier_indices_x" and "outlier_indices_y".
 nlohmann::json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t seed);
 
 }  // namespace accelcal

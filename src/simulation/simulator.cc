@@ -53,7 +53,9 @@ SimulationTruth CourseTableOneTruth() {
 }
 
 CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationTruth& truth,
-                                 uint64_t seed, uint64_t stream) {
+                                 uint64_t seed, uint64_t stream,
+                                 std::vector<int>* outlier_indices_x,
+                                 std::vector<int>* outlier_indices_y) {
   RandomSource random(seed, 2 * stream);
   const ModelParameters<double>& p = truth.parameters;
   const double sigma_x = std::sqrt(truth.TrueNoiseVarianceX());
@@ -63,12 +65,24 @@ CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationT
   const int n = test.size();
   test.measured_x.resize(n);
   test.measured_y.resize(n);
+  SampleDisturber disturber(truth.disturbances, Phase::kCalibrationTest, n, sigma_x, sigma_y, seed,
+                            2 * stream);
   for (int i = 0; i < n; ++i) {
     PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), truth.gravity_mps2, p,
                               &test.measured_x[i], &test.measured_y[i]);
-    test.measured_x[i] += sigma_x * random.StandardNormal();
-    test.measured_y[i] += sigma_y * random.StandardNormal();
+    double along_x = 0.0;
+    double along_y = 0.0;
+    if (disturber.needs_forces()) {
+      CalibrationForcesAlongAxes(test.theta_rad[i], truth.gravity_mps2, p, &along_x, &along_y);
+    }
+    // x's draw first, as always: a seed's data must not change.
+    const double normal_x = random.StandardNormal();
+    const double normal_y = random.StandardNormal();
+    disturber.Apply(i, test.theta_rad[i], along_x, along_y, normal_x, normal_y, &test.measured_x[i],
+                    &test.measured_y[i]);
   }
+  if (outlier_indices_x != nullptr) *outlier_indices_x = disturber.outlier_indices_x();
+  if (outlier_indices_y != nullptr) *outlier_indices_y = disturber.outlier_indices_y();
   return test;
 }
 
@@ -84,11 +98,22 @@ VehicleRun SimulateVehicleRun(const std::vector<double>& timestamp_s,
   run.timestamp_s = timestamp_s;
   run.measured_x.resize(timestamp_s.size());
   run.measured_y.resize(timestamp_s.size());
+  SampleDisturber disturber(truth.disturbances, Phase::kVehicleRun,
+                            static_cast<int>(timestamp_s.size()), sigma_x, sigma_y, seed,
+                            2 * stream + 1);
   for (size_t j = 0; j < timestamp_s.size(); ++j) {
     PredictRunOutputs(true_acceleration_x[j], true_acceleration_y[j], p, &run.measured_x[j],
                       &run.measured_y[j]);
-    run.measured_x[j] += sigma_x * random.StandardNormal();
-    run.measured_y[j] += sigma_y * random.StandardNormal();
+    double along_x = 0.0;
+    double along_y = 0.0;
+    if (disturber.needs_forces()) {
+      ProjectOnSensingAxes(true_acceleration_x[j], true_acceleration_y[j], p, Phase::kVehicleRun,
+                           &along_x, &along_y);
+    }
+    const double normal_x = random.StandardNormal();
+    const double normal_y = random.StandardNormal();
+    disturber.Apply(static_cast<int>(j), 0.0, along_x, along_y, normal_x, normal_y,
+                    &run.measured_x[j], &run.measured_y[j]);
   }
   return run;
 }

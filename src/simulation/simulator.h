@@ -5,13 +5,16 @@
 // (models/tilt_table.h, models/sensor_model.h, the functions the estimators use) plus
 // white Gaussian noise, with every effect of the catalogue (models/effects.h): the
 // angle offset and the drift only in the test, the run bias shift only in the run, and
-// noise whose true variance is the stated one times noise_variance_k.
+// noise whose true variance is the stated one times noise_variance_k. On top of the
+// catalogue, the truth may hold disturbances that no effect represents
+// (simulation/disturbances.h); all neutral, the output is what it would be without them.
 
 #include <cstdint>
 #include <vector>
 
 #include "common/measurements.h"
 #include "models/effects.h"
+#include "simulation/disturbances.h"
 
 namespace accelcal {
 
@@ -37,6 +40,7 @@ struct SimulationTruth {
   double gravity_mps2 = 9.8;
   double stated_noise_variance_x = 0.25;  // (m/s^2)^2, as datos.txt would state it
   double stated_noise_variance_y = 0.64;
+  Disturbances disturbances;  // outside the catalogue; every one neutral unless set
 
   double TrueNoiseVarianceX() const {
     return stated_noise_variance_x * parameters[Parameter::kNoiseVarianceX];
@@ -52,8 +56,12 @@ SimulationTruth CourseTableOneTruth();
 
 // Noise streams: (seed, stream) selects an independent sequence, so that a Monte Carlo
 // trial's data depends on its index only, not on how trials are spread over threads.
+// When given, outlier_indices_x and outlier_indices_y receive the samples the outlier
+// disturbance hit on each axis, ascending.
 CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationTruth& truth,
-                                 uint64_t seed, uint64_t stream = 0);
+                                 uint64_t seed, uint64_t stream = 0,
+                                 std::vector<int>* outlier_indices_x = nullptr,
+                                 std::vector<int>* outlier_indices_y = nullptr);
 
 // The vehicle run's outputs for the true accelerations (reference frame, m/s^2) at the
 // given times. Its noise comes from a stream of its own, independent of the tilt test's
