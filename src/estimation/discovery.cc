@@ -9,6 +9,33 @@
 #include "estimation/linear_ls.h"
 
 namespace accelcal {
+
+const char* VerdictCode(Verdict verdict) {
+  switch (verdict) {
+    case Verdict::kExplained:
+      return "explained";
+    case Verdict::kMissing:
+      return "missing";
+    case Verdict::kUnexplained:
+      return "unexplained";
+    case Verdict::kCannotTellApart:
+      return "cannot_tell_apart";
+  }
+  return "explained";
+}
+
+const char* NoiseFindingName(NoiseFinding::Kind kind) {
+  switch (kind) {
+    case NoiseFinding::Kind::kCorrelation:
+      return "noise_correlation";
+    case NoiseFinding::Kind::kOutliers:
+      return "outliers";
+    case NoiseFinding::Kind::kHeavyTails:
+      return "heavy_tailed_noise";
+  }
+  return "noise_correlation";
+}
+
 namespace {
 
 double TotalChi2(const JointResult& result) {
@@ -88,7 +115,6 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   std::array<std::vector<double>, 2> residuals;
   CalibrationResiduals(test, baseline.values, options.gravity_mps2, &residuals[0], &residuals[1]);
   const std::array<double, 2> stated = {conditions.noise_variance_x, conditions.noise_variance_y};
-  std::vector<double> noise_p_values;
   for (int k = 0; k < 2; ++k) {
     AxisDiagnostics& axis = result->axes[k];
     axis.noise = TestNoiseLevel(residuals[k], stated[k]);
@@ -96,33 +122,115 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     axis.dof = (k == 0 ? result->baseline.chi2_x : result->baseline.chi2_y).dof;
     axis.whiteness = LjungBox(residuals[k], options.ljung_box_lags);
     axis.normality = JarqueBera(residuals[k]);
-    noise_p_values.push_back(axis.noise.p_value);
   }
-  // 2. Noise first. The procedure has two families of tests, the noise levels and the
-  // effects; each gets alpha/2 (Holm within it), so that the whole discovery keeps its
-  // family-wise error rate at alpha (Bonferroni across the two).
+  // 2. Noise first, as a model: per axis its outliers, tails, level and correlation, read
+  // from local differences (estimation/noise_analysis.h). The procedure has three families
+  // of tests, each with Holm inside its share of alpha (Bonferroni across them, so the
+  // whole discovery keeps its family-wise error rate at alpha): the noise (alpha/4), the
+  // effects (alpha/2) and the checks of what the final model leaves (alpha/4).
+  const double noise_alpha = 0.25 * options.alpha;
   const double family_alpha = 0.5 * options.alpha;
-  const std::vector<bool> noise_flagged = HolmRejections(noise_p_values, family_alpha);
+  const double checks_alpha = 0.25 * options.alpha;
+  NoiseAnalysisOptions analysis_options;
+  analysis_options.outlier_alpha = noise_alpha / 8.0;
+  std::array<NoiseAnalysis, 2> first;
+  for (int k = 0; k < 2; ++k)
+    first[k] = AnalyzeNoise(residuals[k], stated[k], {}, false, analysis_options);
+  auto family = [](const std::array<NoiseAnalysis, 2>& a) {
+    return std::vector<double>{a[0].outlier_p, a[0].kurtosis_p, a[0].level_p, a[0].correlation_p,
+                               a[1].outlier_p, a[1].kurtosis_p, a[1].level_p, a[1].correlation_p};
+  };
+  std::vector<bool> flags = HolmRejections(family(first), noise_alpha);
+  std::array<bool, 2> heavy{}, outlying{};
+  std::array<NoiseAnalysis, 2>& analysis = result->noise_analysis;
+  for (int k = 0; k < 2; ++k) {
+    heavy[k] = flags[4 * k + 1];
+    outlying[k] = flags[4 * k] && !heavy[k] && !first[k].outlier_candidates.empty();
+    // Level and correlation again without the outliers, or with the sample's own moments
+    // under heavy tails (a variance test with Gaussian error bars would be wrong there).
+    analysis[k] = (heavy[k] || outlying[k])
+                      ? AnalyzeNoise(residuals[k], stated[k],
+                                     outlying[k] ? first[k].outlier_candidates : std::vector<int>(),
+                                     heavy[k], analysis_options)
+                      : first[k];
+    analysis[k].outlier_p = first[k].outlier_p;
+    analysis[k].largest_score = first[k].largest_score;
+    analysis[k].outlier_candidates = first[k].outlier_candidates;
+    analysis[k].excess_kurtosis = first[k].excess_kurtosis;
+    analysis[k].kurtosis_z = first[k].kurtosis_z;
+    analysis[k].kurtosis_p = first[k].kurtosis_p;
+  }
+  flags = HolmRejections(family(analysis), noise_alpha);
+  const char* axis_name[2] = {"x", "y"};
   for (int k = 0; k < 2; ++k) {
     AxisDiagnostics& axis = result->axes[k];
-    axis.noise_flagged = noise_flagged[k];
-    result->noise_variance_used[k] = stated[k] * (axis.noise_flagged ? axis.noise.ratio : 1.0);
-    axis.bins = BinByTheta(test.theta_rad, residuals[k], options.theta_bins,
-                           result->noise_variance_used[k]);
+    AxisNoise& noise = result->noise_model[k];
+    const NoiseAnalysis& a = analysis[k];
+    axis.noise_flagged = flags[4 * k + 2];
+    const bool correlated = flags[4 * k + 3];
+    noise.variance = stated[k] * (axis.noise_flagged ? a.variance_ratio : 1.0);
+    noise.correlation = correlated ? a.correlation : 0.0;
+    if (outlying[k]) noise.outliers = a.outlier_candidates;
+    result->noise_variance_used[k] = noise.variance;
+    axis.bins = BinByTheta(test.theta_rad, residuals[k], options.theta_bins, noise.variance);
     if (axis.noise_flagged) {
       DiscoveredEffect effect;
       effect.effect = k == 0 ? Parameter::kNoiseVarianceX : Parameter::kNoiseVarianceY;
-      effect.estimate = axis.noise.ratio;
-      effect.stddev = axis.noise.ratio_stddev;
-      effect.p_value = axis.noise.p_value;
-      effect.delta_chi2 = axis.noise.z * axis.noise.z;
+      effect.estimate = a.variance_ratio;
+      effect.stddev = a.variance_ratio_stddev;
+      effect.p_value = a.level_p;
+      effect.delta_chi2 = a.level_z * a.level_z;
       result->effects.push_back(effect);
+    }
+    if (correlated) {
+      NoiseFinding finding;
+      finding.kind = NoiseFinding::Kind::kCorrelation;
+      finding.axis = k;
+      finding.estimate = a.correlation;
+      finding.stddev = a.correlation_stddev;
+      finding.p_value = a.correlation_p;
+      finding.description = StringPrintf(
+          "%s: time-correlated noise, AR(1) with lag-1 correlation %.3g +- %.2g (p = %.2g); "
+          "marginal variance %.3g of the stated",
+          axis_name[k], a.correlation, a.correlation_stddev, a.correlation_p, a.variance_ratio);
+      result->noise_findings.push_back(finding);
+    }
+    if (outlying[k]) {
+      NoiseFinding finding;
+      finding.kind = NoiseFinding::Kind::kOutliers;
+      finding.axis = k;
+      finding.estimate = static_cast<double>(noise.outliers.size());
+      finding.p_value = a.outlier_p;
+      finding.samples = noise.outliers;
+      std::string listed;
+      for (size_t i = 0; i < noise.outliers.size() && i < 8; ++i)
+        listed += (i ? ", " : "") + std::to_string(noise.outliers[i]);
+      if (noise.outliers.size() > 8) listed += ", ...";
+      finding.description = StringPrintf(
+          "%s: outliers, %zu samples set aside (largest %.1f robust sigma, p = %.2g; samples %s)",
+          axis_name[k], noise.outliers.size(), a.largest_score, a.outlier_p, listed.c_str());
+      result->noise_findings.push_back(finding);
+    }
+    if (heavy[k]) {
+      NoiseFinding finding;
+      finding.kind = NoiseFinding::Kind::kHeavyTails;
+      finding.axis = k;
+      finding.estimate = a.excess_kurtosis;
+      finding.p_value = a.kurtosis_p;
+      finding.description = StringPrintf(
+          "%s: heavy-tailed noise, excess kurtosis %.3g (p = %.2g; %zu samples beyond %.1f "
+          "robust sigma); the level's spread is the sample's own",
+          axis_name[k], a.excess_kurtosis, a.kurtosis_p, a.outlier_candidates.size(),
+          TwoSidedNormalQuantile(analysis_options.outlier_alpha / std::max(1, a.samples)));
+      result->noise_findings.push_back(finding);
     }
   }
   // The endpoint against the landmarks, with the noise the data show.
   ParameterEstimate noise_scaled = baseline;
   noise_scaled.values[Parameter::kNoiseVarianceX] = result->noise_variance_used[0] / stated[0];
   noise_scaled.values[Parameter::kNoiseVarianceY] = result->noise_variance_used[1] / stated[1];
+  noise_scaled.noise_correlation = {result->noise_model[0].correlation,
+                                    result->noise_model[1].correlation};
   TrajectoryOptions trajectory;
   trajectory.path_stride = run.size();
   ACCELCAL_RETURN_IF_ERROR(
@@ -157,6 +265,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   joint.gravity_mps2 = options.gravity_mps2;
   joint.noise_variance_x = result->noise_variance_used[0];
   joint.noise_variance_y = result->noise_variance_used[1];
+  joint.noise_correlation = noise_scaled.noise_correlation;
+  joint.outliers = {result->noise_model[0].outliers, result->noise_model[1].outliers};
   joint.num_threads = options.num_threads;
   joint.landmark_mode = result->tied_landmark.empty() ? JointOptions::Landmark::kNone
                                                       : JointOptions::Landmark::kNamed;
@@ -278,6 +388,81 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       changed = true;
     }
   }
+  // 5. What the final model leaves (estimation/residual_checks.h), Holm within the checks'
+  // share of alpha. A shape they find is outside the catalogue; an effect named only
+  // because it resembles that shape is not needed once the shape is allowed for, so each
+  // effect is tested again with the shapes as nuisance columns and the weakest one not
+  // needed is dropped, until every effect left is needed.
+  ResidualChecksOptions check_options;
+  check_options.max_harmonic = options.max_harmonic;
+  check_options.ljung_box_lags = options.ljung_box_lags;
+  const AxisNoise final_noise[2] = {joint.Noise(0), joint.Noise(1)};
+  Eigen::MatrixXd jacobian;
+  Eigen::VectorXd linear_residual;
+  auto run_checks = [&]() -> Status {
+    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(test, run, conditions, landmarks, joint, current,
+                                            &jacobian, &linear_residual));
+    result->checks = CheckResiduals(test, jacobian, linear_residual,
+                                    current.landmark.empty() ? 0 : 2, final_noise, check_options);
+    std::vector<double> p_values;
+    for (const ResidualCheck& check : result->checks) p_values.push_back(check.p_value);
+    const std::vector<bool> flagged = HolmRejections(p_values, checks_alpha);
+    for (size_t c = 0; c < flagged.size(); ++c) result->checks[c].flagged = flagged[c];
+    return Status::Ok();
+  };
+  ACCELCAL_RETURN_IF_ERROR(run_checks());
+  while (!joint.effects.empty()) {
+    std::vector<Eigen::VectorXd> nuisance;
+    for (const ResidualCheck& check : result->checks) {
+      if (!check.flagged) continue;
+      for (const std::vector<double>& shape : check.shape)
+        nuisance.push_back(WhitenedShapeColumn(shape, check.axis, final_noise[check.axis],
+                                               static_cast<int>(jacobian.rows())));
+    }
+    if (nuisance.empty()) break;
+    // Columns of the current free parameters, by name.
+    const std::vector<Parameter>& free = current.estimate.free;
+    std::vector<double> p_values;
+    std::vector<double> delta_chi2;
+    for (const Parameter effect : joint.effects) {
+      Eigen::MatrixXd others(jacobian.rows(),
+                             static_cast<Eigen::Index>(free.size() - 1 + nuisance.size()));
+      Eigen::MatrixXd own(jacobian.rows(), 1);
+      int column = 0;
+      for (size_t c = 0; c < free.size(); ++c) {
+        if (free[c] == effect) {
+          own.col(0) = jacobian.col(c);
+        } else {
+          others.col(column++) = jacobian.col(c);
+        }
+      }
+      for (const Eigen::VectorXd& shape : nuisance) others.col(column++) = shape;
+      delta_chi2.push_back(ExtraChiSquare(others, own, linear_residual));
+      p_values.push_back(ChiSquareSurvival(delta_chi2.back(), 1.0));
+    }
+    const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
+    int weakest = -1;
+    for (size_t e = 0; e < joint.effects.size(); ++e) {
+      if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
+        weakest = static_cast<int>(e);
+    }
+    if (weakest < 0) break;
+    const Parameter gone = joint.effects[weakest];
+    result->history.push_back({SelectionEvent::Kind::kDroppedForShape, gone, delta_chi2[weakest],
+                               p_values[weakest], joint.landmark_name});
+    joint.effects.erase(joint.effects.begin() + weakest);
+    result->effects.erase(
+        std::find_if(result->effects.begin(), result->effects.end(),
+                     [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+    ACCELCAL_RETURN_IF_ERROR(
+        retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
+    ACCELCAL_RETURN_IF_ERROR(run_checks());
+  }
+  for (const ResidualCheck& check : result->checks) {
+    if (check.flagged) result->remaining.push_back(check.description);
+  }
+
   // Every figure of the final model's effects against the final model itself.
   {
     std::vector<double> delta_chi2;
@@ -333,6 +518,14 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     result->cross_validation.extended =
         CrossValidate(calibration, residual.head(calibration_rows), calibration_rows,
                       options.cross_validation_folds);
+    const double rows =
+        joint.Noise(0).InlierCount(test.size()) + joint.Noise(1).InlierCount(test.size());
+    CrossValidation& cv = result->cross_validation;
+    cv.null_mean = 1.0 + columns.size() / (rows * (1.0 - 1.0 / options.cross_validation_folds));
+    cv.null_stddev = std::sqrt(2.0 / rows);
+    // Held-out outlier rows are zero and count in the mean; compare like with like.
+    cv.extended *= calibration_rows / rows;
+    cv.z = (cv.extended - cv.null_mean) / cv.null_stddev;
     // The baseline's own linearisation at its own solution (no effect, same noise).
     JointOptions base = joint;
     base.effects.clear();
@@ -343,6 +536,78 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                       calibration_rows, options.cross_validation_folds);
   }
 
+  // 6. Effects another candidate would replace at about the same fit.
+  {
+    std::vector<double> necessary;
+    ACCELCAL_RETURN_IF_ERROR(necessity(&necessary));
+    std::vector<Parameter> candidates;
+    for (const ParameterInfo& info : ParameterCatalogue()) {
+      if (info.baseline || IsNoiseRatio(info.parameter)) continue;
+      if (ActsOnlyInRun(info.parameter) && joint.landmark_mode != JointOptions::Landmark::kNamed)
+        continue;
+      if (std::find(joint.effects.begin(), joint.effects.end(), info.parameter) !=
+          joint.effects.end())
+        continue;
+      candidates.push_back(info.parameter);
+    }
+    for (size_t e = 0; e < joint.effects.size(); ++e) {
+      Ambiguity ambiguity;
+      ambiguity.effect = joint.effects[e];
+      ambiguity.effect_estimate = current.estimate.Value(ambiguity.effect);
+      ambiguity.effect_stddev = current.estimate.StandardDeviation(ambiguity.effect);
+      for (const Parameter candidate : candidates) {
+        JointOptions swapped = joint;
+        swapped.effects[e] = candidate;
+        JointResult alternative;
+        if (!SolveJoint(test, run, conditions, landmarks, swapped, &alternative).ok()) continue;
+        const double worse = TotalChi2(alternative) - TotalChi2(current);
+        // It must explain, alone, what the effect explains (significantly), and about as well.
+        const double explained = necessary[e] - worse;
+        if (!(worse < options.ambiguity_delta_chi2)) continue;
+        if (!(ChiSquareSurvival(explained, 1.0) <= family_alpha / candidates.size())) continue;
+        ambiguity.alternatives.push_back({candidate, alternative.estimate.Value(candidate),
+                                          alternative.estimate.StandardDeviation(candidate),
+                                          worse});
+      }
+      if (ambiguity.alternatives.empty()) continue;
+      // What would separate them: the run, where one acts in it and another does not; else
+      // more samples (the chi-square between the two models grows with them), unless this
+      // design cannot separate them at any size.
+      std::string separation;
+      for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+        const bool run_effect = EffectOf(ambiguity.effect).acts_in != ActsIn::kCalibrationTest;
+        const bool run_alternative =
+            EffectOf(alternative.effect).acts_in != ActsIn::kCalibrationTest;
+        std::string line;
+        if (run_effect != run_alternative) {
+          line = StringPrintf(
+              "the run separates %s from %s (only %s acts in it): tie the run "
+              "to a landmark whose position is known well",
+              Info(ambiguity.effect).name, Info(alternative.effect).name,
+              Info(run_effect ? ambiguity.effect : alternative.effect).name);
+        }
+        const double gap = std::abs(alternative.delta_chi2);
+        const double factor = 9.2 / std::max(gap, 1e-3);
+        const std::string more =
+            factor > 1e4 ? StringPrintf(
+                               "this test design cannot separate %s from %s at any "
+                               "size: another range of theta or other positions",
+                               Info(ambiguity.effect).name, Info(alternative.effect).name)
+                         : StringPrintf(
+                               "about %.3g times more samples of this design (their "
+                               "chi-squares differ by %.2g; a likelihood ratio of 100 "
+                               "needs 9.2), or a design where their signatures differ",
+                               std::max(1.0, factor), gap);
+        line += (line.empty() ? "" : "; or ") + more;
+        separation += (separation.empty() ? "" : "; ") + line;
+      }
+      ambiguity.separation = separation;
+      result->ambiguities.push_back(std::move(ambiguity));
+    }
+  }
+  for (int k = 0; k < 2; ++k) result->final_residuals[k] = extended_residuals[k];
+  result->noise_model = {joint.Noise(0), joint.Noise(1)};
+
   // The verdict, first line of every report.
   std::string missing;
   for (const DiscoveredEffect& effect : result->effects) {
@@ -351,11 +616,40 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                Fixed(effect.estimate, effect.stddev, info.unit) +
                StringPrintf(" (delta chi2 = %.1f, p = %.2g)", effect.delta_chi2, effect.p_value);
   }
-  result->verdict =
-      missing.empty() ? "the baseline explains the data: no effect of the catalogue is significant "
-                        "at alpha = " +
-                            StringPrintf("%g", options.alpha)
-                      : "missing: " + missing;
+  for (const NoiseFinding& finding : result->noise_findings)
+    missing += (missing.empty() ? "" : "; ") + finding.description;
+  std::string left;
+  for (const std::string& line : result->remaining) left += (left.empty() ? "" : "; ") + line;
+  if (!left.empty()) {
+    result->verdict_code = Verdict::kUnexplained;
+    result->verdict = (missing.empty() ? std::string("unexplained: structure remains")
+                                       : "missing: " + missing + ", but structure remains") +
+                      " that no effect of the catalogue explains: " + left;
+  } else if (!result->ambiguities.empty()) {
+    result->verdict_code = Verdict::kCannotTellApart;
+    std::string sets;
+    for (const Ambiguity& ambiguity : result->ambiguities) {
+      sets +=
+          (sets.empty() ? "" : "; ") + std::string(Info(ambiguity.effect).name) + " = " +
+          Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
+      for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+        sets += StringPrintf(
+            " or %s = %s (delta chi2 %+.2g)", Info(alternative.effect).name,
+            Fixed(alternative.estimate, alternative.stddev, Info(alternative.effect).unit).c_str(),
+            alternative.delta_chi2);
+      }
+      sets += "; what would separate them: " + ambiguity.separation;
+    }
+    result->verdict = "cannot tell apart: " + sets + " (the model as fitted: " + missing + ")";
+  } else if (!missing.empty()) {
+    result->verdict_code = Verdict::kMissing;
+    result->verdict = "missing: " + missing + " (and the extended model explains the data)";
+  } else {
+    result->verdict_code = Verdict::kExplained;
+    result->verdict =
+        "the baseline explains the data: no effect of the catalogue is significant at alpha = " +
+        StringPrintf("%g", options.alpha) + ", and nothing remains that the checks can see";
+  }
   return Status::Ok();
 }
 

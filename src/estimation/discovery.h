@@ -37,11 +37,16 @@
 #include "estimation/diagnostics.h"
 #include "estimation/joint_estimator.h"
 #include "estimation/landmark_decision.h"
+#include "estimation/noise_analysis.h"
+#include "estimation/residual_checks.h"
 #include "estimation/trajectory.h"
+#include "models/noise_model.h"
 
 namespace accelcal {
 
 struct DiscoveryOptions {
+  // The whole procedure's family-wise error rate: a null dataset gets any verdict but
+  // "explained" with probability at most alpha (docs/discovery.md measures it).
   double alpha = 0.01;
   double gravity_mps2 = 9.8;
   int theta_bins = 36;
@@ -49,6 +54,48 @@ struct DiscoveryOptions {
   int cross_validation_folds = 5;  // 0: skip
   int max_effects = 6;
   int num_threads = 1;
+  int max_harmonic = 6;  // the residual checks' theta harmonics
+  // Two candidates whose models' chi-squares differ by less than this (a likelihood ratio
+  // below exp(3) = 20) explain the data about equally well.
+  double ambiguity_delta_chi2 = 6.0;
+};
+
+// The four answers. kExplained: the baseline explains the data. kMissing: effects (or a
+// noise model) the catalogue has are missing, and the extended model explains the data.
+// kUnexplained: structure remains that no effect of the catalogue explains (with or
+// without named effects). kCannotTellApart: the named effects include one that another
+// candidate explains about equally well.
+enum class Verdict { kExplained, kMissing, kUnexplained, kCannotTellApart };
+const char* VerdictCode(
+    Verdict verdict);  // "explained", "missing", "unexplained", "cannot_tell_apart"
+
+// What the noise analysis found on one axis beyond a wrong level (which is
+// noise_variance_k among the effects).
+struct NoiseFinding {
+  enum class Kind { kCorrelation, kOutliers, kHeavyTails };
+  Kind kind = Kind::kCorrelation;
+  int axis = 0;
+  double estimate = 0.0;  // the correlation, the outlier count, or the excess kurtosis
+  double stddev = 0.0;    // the correlation's (0 for the others)
+  double p_value = 1.0;
+  std::vector<int> samples;  // kOutliers: the samples set aside
+  std::string description;
+};
+const char* NoiseFindingName(NoiseFinding::Kind kind);  // "noise_correlation", ...
+
+// Effects of the final model that another candidate would replace at about the same fit.
+struct Ambiguity {
+  Parameter effect;  // in the final model
+  double effect_estimate = 0.0;
+  double effect_stddev = 0.0;
+  struct Alternative {
+    Parameter effect;
+    double estimate = 0.0;  // in the model with it instead
+    double stddev = 0.0;
+    double delta_chi2 = 0.0;  // its model's chi-square minus the final model's
+  };
+  std::vector<Alternative> alternatives;
+  std::string separation;  // what would tell them apart
 };
 
 struct AxisDiagnostics {
@@ -90,7 +137,9 @@ struct DiscoveredEffect {
 // One change of the model, in order: forward selection adds an effect, backward elimination
 // drops one that the grown model no longer needs (tested against the model of that moment).
 struct SelectionEvent {
-  enum class Kind { kAdded, kDropped };
+  // kDropped: the grown model no longer needs it; kDroppedForShape: not needed once the
+  // structure the residual checks found (outside the catalogue) is allowed for.
+  enum class Kind { kAdded, kDropped, kDroppedForShape };
   Kind kind = Kind::kAdded;
   Parameter effect;
   double delta_chi2 = 0.0;  // what it removed when added, or what it still removed when dropped
@@ -103,12 +152,23 @@ struct CrossValidation {
   // Mean whitened squared prediction error of the held-out samples (1 for a right model).
   double baseline = 0.0;
   double extended = 0.0;
+  // What the extended model's figure would be if the model and its noise model were right:
+  // 1 + p / (rows (1 - 1/folds)) for p parameters seen by the test, and its spread
+  // sqrt(2 / rows); z = (extended - null_mean) / null_stddev.
+  double null_mean = 1.0;
+  double null_stddev = 0.0;
+  double z = 0.0;
 };
 
 struct DiscoveryResult {
+  Verdict verdict_code = Verdict::kExplained;
   BaselineFit baseline;
   std::array<AxisDiagnostics, 2> axes;
   std::array<double, 2> noise_variance_used{};  // stated, or estimated when flagged
+  std::array<NoiseAnalysis, 2> noise_analysis;  // of the baseline's residuals
+  std::array<AxisNoise, 2> noise_model;         // the noise model of the final fit
+  std::vector<NoiseFinding> noise_findings;
+  bool robust_fit = false;  // heavy tails: the final estimates are Huber's, sandwich covariance
   DeadReckoningResult baseline_trajectory;
   LandmarkDecision baseline_decision;
   std::string tied_landmark;  // the landmark the run is tied to in step 3 (or empty)
@@ -121,7 +181,15 @@ struct DiscoveryResult {
   DeadReckoningResult extended_trajectory;
   LandmarkDecision extended_decision;
   CrossValidation cross_validation;
-  std::string verdict;
+  // The checks of what the final model leaves (Holm within their share of alpha), and the
+  // flagged ones' descriptions.
+  std::vector<ResidualCheck> checks;
+  std::vector<std::string> remaining;
+  std::vector<Ambiguity> ambiguities;
+  // The final model's tilt-test residuals (m/s^2, measured minus predicted), per axis, in
+  // sample order, for the plots of what remains against theta and against time.
+  std::array<std::vector<double>, 2> final_residuals;
+  std::string verdict;  // the verdict line, in words
 };
 
 Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,

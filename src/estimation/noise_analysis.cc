@@ -16,7 +16,8 @@ double DifferenceAutocovariance(double s2, double rho, int lag) {
 // Covariance of (A, B) times n for Gaussian AR(1) noise (sums over every lag; the terms
 // decay as rho^|h|).
 Eigen::Matrix2d MomentCovariance(double s2, double rho) {
-  const int lags = std::min(4000, 8 + static_cast<int>(40.0 / std::max(1e-3, -std::log(std::abs(rho) + 1e-300))));
+  const int lags = std::min(
+      4000, 8 + static_cast<int>(40.0 / std::max(1e-3, -std::log(std::abs(rho) + 1e-300))));
   auto c = [&](int h) { return DifferenceAutocovariance(s2, rho, h); };
   double var_a = 0.0, var_b = 0.0, cov_ab = 0.0;
   for (int h = -lags; h <= lags; ++h) {

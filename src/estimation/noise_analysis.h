@@ -44,13 +44,13 @@ struct NoiseAnalysis {
   double correlation_z = 0.0;
   double correlation_p = 1.0;  // two-sided, against 0
   // Outliers.
-  double largest_score = 0.0;  // the largest |s_i| in robust sigma
-  double outlier_p = 1.0;      // Bonferroni over the samples
+  double largest_score = 0.0;           // the largest |s_i| in robust sigma
+  double outlier_p = 1.0;               // Bonferroni over the samples
   std::vector<int> outlier_candidates;  // ascending
   // Tails, after the candidates.
   double excess_kurtosis = 0.0;
   double kurtosis_z = 0.0;
-  double kurtosis_p = 1.0;  // one-sided: heavier than Gaussian
+  double kurtosis_p = 1.0;           // one-sided: heavier than Gaussian
   bool moments_from_sample = false;  // the sds above come from the sample's moments
 };
 

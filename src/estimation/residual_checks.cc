@@ -54,7 +54,8 @@ double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra
   Eigen::MatrixXd projected = extra;
   if (model.cols() > 0) {
     const Eigen::HouseholderQR<Eigen::MatrixXd> qr(model);
-    const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(model.rows(), model.cols());
+    const Eigen::MatrixXd q =
+        qr.householderQ() * Eigen::MatrixXd::Identity(model.rows(), model.cols());
     // Twice, for the columns nearly inside the model's span.
     for (int pass = 0; pass < 2; ++pass) projected -= q * (q.transpose() * projected);
   }
@@ -73,8 +74,7 @@ double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra
   const int added = kept.empty() ? 0 : static_cast<int>(qr.rank());
   if (rank != nullptr) *rank = added;
   if (added == 0) return 0.0;
-  const Eigen::MatrixXd q =
-      Eigen::MatrixXd(qr.householderQ()).leftCols(added);
+  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(columns.rows(), added);
   // r minus its part in the model's span (zero at an optimum, not exactly after rounding).
   return (q.transpose() * r).squaredNorm();
 }
@@ -111,8 +111,7 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
         cosine[i] = std::cos(k * test.theta_rad[i]);
         sine[i] = std::sin(k * test.theta_rad[i]);
       }
-      auto [check, extra] =
-          shape_check(StringPrintf("%d theta harmonic", k), axis, {cosine, sine});
+      auto [check, extra] = shape_check(StringPrintf("%d theta harmonic", k), axis, {cosine, sine});
       if (check.dof == 0) continue;  // all of it inside the model, or aliased
       const Eigen::VectorXd beta = ProjectedCoefficients(jacobian, extra, residual);
       const double amplitude = std::hypot(beta[0], beta[1]);
@@ -183,8 +182,8 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
       const double size = sample < n ? ProjectedCoefficients(jacobian, extra, residual)[0] : 0.0;
       check.description = StringPrintf(
           "%s: a step of %.2g m/s^2 at sample %d (theta = %.3g rad) (CUSUM %.2f, p = %.2g)",
-          kAxisName[axis], size, sample, sample < n ? test.theta_rad[sample] : 0.0,
-          check.statistic, check.p_value);
+          kAxisName[axis], size, sample, sample < n ? test.theta_rad[sample] : 0.0, check.statistic,
+          check.p_value);
       check.shape = {step};
       checks.push_back(std::move(check));
     }

@@ -42,7 +42,7 @@ struct ResidualCheck {
   double statistic = 0.0;
   double dof = 0.0;
   double p_value = 1.0;
-  bool flagged = false;  // rejected by Holm in the checks' family
+  bool flagged = false;     // rejected by Holm in the checks' family
   std::string description;  // what it looks like, in numbers
   // The shape (one raw per-sample column per coefficient, m/s^2 per unit, on this axis);
   // empty for checks that describe no shape.
