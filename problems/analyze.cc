@@ -171,6 +171,11 @@ Status Analyse(const Inputs& inputs, double gravity, Results* results) {
 
 std::string Num(double value, const char* format = "%.4g") { return StringPrintf(format, value); }
 
+// `value` with `format`, or "n/a" when it is not finite.
+std::string Finite(double value, const char* format) {
+  return std::isfinite(value) ? StringPrintf(format, value) : std::string("n/a");
+}
+
 // `text` with its first letter capitalised, to start a sentence.
 std::string Sentence(std::string text) {
   if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
@@ -201,13 +206,41 @@ std::string Plot(const std::string& script, const std::vector<std::string>& argu
                           : script + " failed (exit status " + std::to_string(exit_status) + ")";
 }
 
+// The verdict box's discovery part: the verdict in its four-verdict form, and whatever of
+// the remaining structure, the ambiguities and the noise findings its sentence does not
+// already say.
+std::string DiscoveryBox(const DiscoveryResult& d) {
+  std::string box = d.verdict + ".";
+  auto says = [&](const std::string& text) { return d.verdict.find(text) != std::string::npos; };
+  std::string left;
+  for (const std::string& line : d.remaining)
+    if (!says(line)) left += (left.empty() ? "" : "; ") + line;
+  if (!left.empty()) box += " What remains that no effect of the catalogue explains: " + left + ".";
+  for (const Ambiguity& ambiguity : d.ambiguities) {
+    if (ambiguity.separation.empty() || says(ambiguity.separation)) continue;
+    box += StringPrintf(" %s cannot be told apart from ", Info(ambiguity.effect).name);
+    for (size_t i = 0; i < ambiguity.alternatives.size(); ++i) {
+      box += std::string(i == 0                                   ? ""
+                         : i + 1 == ambiguity.alternatives.size() ? " or "
+                                                                  : ", ") +
+             Info(ambiguity.alternatives[i].effect).name;
+    }
+    box += "; what would separate them: " + ambiguity.separation + ".";
+  }
+  std::string noise;
+  for (const NoiseFinding& finding : d.noise_findings)
+    if (!says(finding.description)) noise += (noise.empty() ? "" : "; ") + finding.description;
+  if (!noise.empty()) box += " Noise: " + noise + ".";
+  return box;
+}
+
 ReportDocument Document(const Inputs& inputs, const Results& r,
                         const std::map<std::string, std::string>& absent) {
   ReportDocument doc;
   doc.title = "accelcal report";
   const DiscoveryResult& d = r.discovery;
   const LandmarkDecision& decision = r.trajectory.decision;
-  doc.verdict = d.verdict + ". Landmark: " +
+  doc.verdict = DiscoveryBox(d) + " Landmark: " +
                 (decision.reached.empty()
                      ? std::string("no landmark is consistent with the endpoint")
                      : decision.reached +
@@ -273,12 +306,76 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
   doc.sections.push_back(trajectory);
 
   ReportSection discovery{"3. What the baseline gets wrong: discovery"};
-  discovery.paragraphs.push_back(d.verdict + ".");
+  discovery.paragraphs.push_back(
+      StringPrintf("Verdict: %s (of explained, missing, unexplained, cannot_tell_apart). ",
+                   VerdictCode(d.verdict_code)) +
+      Sentence(d.verdict) + ".");
   discovery.paragraphs.push_back(
       StringPrintf("Noise level against the statement (von Neumann): ratio %.4f +- %.4f (x), %.4f "
                    "+- %.4f (y). %s.",
                    d.axes[0].noise.ratio, d.axes[0].noise.ratio_stddev, d.axes[1].noise.ratio,
                    d.axes[1].noise.ratio_stddev, Sentence(d.landmark_note).c_str()));
+  {
+    // The noise read from local differences of the baseline's residuals, and what was named.
+    std::string noise = "Noise read from local differences:";
+    for (int k = 0; k < 2; ++k) {
+      const NoiseAnalysis& a = d.noise_analysis[k];
+      noise += StringPrintf(
+          "%s %s level ratio %s, lag-1 correlation %s, %zu outlier candidates, excess kurtosis %s",
+          k == 0 ? "" : ";", k == 0 ? "x" : "y", Finite(a.variance_ratio, "%.4f").c_str(),
+          Finite(a.correlation, "%+.3f").c_str(), a.outlier_candidates.size(),
+          Finite(a.excess_kurtosis, "%+.2f").c_str());
+    }
+    noise += ".";
+    if (d.noise_findings.empty()) {
+      noise += " No correlation, outliers or heavy tails named.";
+    } else {
+      // Their sentences are in the verdict above.
+      noise += " Named:";
+      for (const NoiseFinding& finding : d.noise_findings)
+        noise += StringPrintf(" %s on %s,", NoiseFindingName(finding.kind),
+                              finding.axis == 0 ? "x" : "y");
+      noise.back() = '.';
+    }
+    if (d.robust_fit) noise += " The final estimates are Huber's (sandwich covariance).";
+    discovery.paragraphs.push_back(noise);
+  }
+  {
+    std::string remains = "What the final model leaves: ";
+    if (d.remaining.empty()) {
+      remains += "nothing the checks can see";
+      if (!d.checks.empty()) remains += StringPrintf(" (%zu checks)", d.checks.size());
+    } else {
+      for (size_t i = 0; i < d.remaining.size(); ++i)
+        remains += (i == 0 ? "" : "; ") + d.remaining[i];
+    }
+    const CrossValidation& cv = d.cross_validation;
+    if (cv.folds > 0 && cv.null_stddev > 0.0 && std::isfinite(cv.z)) {
+      remains += StringPrintf(
+          ". Cross-validation: held-out error %.4f against %.4f +- %.4f for a right model (z = "
+          "%+.2f), %s",
+          cv.extended, cv.null_mean, cv.null_stddev, cv.z,
+          cv.z > 3.0    ? "above its null spread: the model misses something"
+          : cv.z < -3.0 ? "below its null spread"
+                        : "within its null spread");
+    }
+    discovery.paragraphs.push_back(remains + ".");
+  }
+  for (const Ambiguity& ambiguity : d.ambiguities) {
+    std::string text =
+        StringPrintf("Cannot tell apart: %s = %s +- %s %s", Info(ambiguity.effect).name,
+                     Finite(ambiguity.effect_estimate, "%.4g").c_str(),
+                     Finite(ambiguity.effect_stddev, "%.2g").c_str(), Info(ambiguity.effect).unit);
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+      text += StringPrintf(
+          " or %s = %s +- %s %s (delta chi2 %s)", Info(alternative.effect).name,
+          Finite(alternative.estimate, "%.4g").c_str(), Finite(alternative.stddev, "%.2g").c_str(),
+          Info(alternative.effect).unit, Finite(alternative.delta_chi2, "%+.2f").c_str());
+    }
+    if (!ambiguity.separation.empty())
+      text += ". What would separate them: " + ambiguity.separation;
+    discovery.paragraphs.push_back(text + ".");
+  }
   discovery.table.push_back({"step", "candidate", "delta chi2", "p-value", "significant"});
   for (const CandidateScore& c : d.candidates) {
     if (c.step == 1 || c.significant) {
@@ -290,7 +387,8 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
   discovery.figure = "discovery.png";
   discovery.figure_caption =
       "The baseline's residual against theta with the named effects' signatures; endpoint before "
-      "and after";
+      "and after; what the final model leaves, against theta and against the sample's place in "
+      "the test, with a running mean";
   doc.sections.push_back(discovery);
 
   ReportSection joint{"4. The joint model with what discovery selected"};
@@ -376,6 +474,8 @@ Status Write(const Inputs& inputs, const Results& r, int* figures_drawn) {
     ACCELCAL_RETURN_IF_ERROR(
         WriteFileAtomically(dir + "/path.csv", TrajectoryPathCsv(r.trajectory.trajectory)));
     ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/bins.csv", DiscoveryBinsCsv(r.discovery)));
+    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/residuals.csv",
+                                                 DiscoveryResidualsCsv(r.discovery, inputs.test)));
     std::map<std::string, std::string> absent;
     const std::map<std::string, std::pair<std::string, std::vector<std::string>>> figures = {
         {"trajectory.png",
@@ -383,7 +483,8 @@ Status Write(const Inputs& inputs, const Results& r, int* figures_drawn) {
           {"--json=" + dir + "/trajectory.json", "--path_csv=" + dir + "/path.csv"}}},
         {"discovery.png",
          {"plot_discovery.py",
-          {"--json=" + dir + "/discover.json", "--bins_csv=" + dir + "/bins.csv"}}},
+          {"--json=" + dir + "/discover.json", "--bins_csv=" + dir + "/bins.csv",
+           "--residuals_csv=" + dir + "/residuals.csv"}}},
         {"min_samples.png", {"plot_min_samples.py", {"--json=" + dir + "/min_samples.json"}}}};
     for (const auto& [figure, script] : figures) {
       std::vector<std::string> arguments = script.second;

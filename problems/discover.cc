@@ -1,10 +1,14 @@
 // discover: does the baseline model explain the measured data, and if not, what is
-// missing? Fits the baseline, tests the noise level per axis, then scores every effect
-// of the catalogue (score test, 1 dof each, Holm at --alpha), adds the strongest, refits
-// the joint problem in Ceres, and repeats; reports each named effect +- sigma and what
-// adding it gains (delta chi2, BIC, cross-validation, the endpoint before and after).
+// missing? Fits the baseline, analyses the noise per axis (level, correlation, outliers,
+// tails), then scores every effect of the catalogue (score test, 1 dof each, Holm at
+// --alpha), adds the strongest, refits the joint problem in Ceres, and repeats; checks what
+// the final model leaves and which named effect another candidate would replace. Reports
+// one of four verdicts (explained, missing, unexplained, cannot_tell_apart), each named
+// effect +- sigma and what adding it gains (delta chi2, BIC, cross-validation, the
+// endpoint before and after).
 //
-//   build/bin/discover --data_dir=../shared/data/tp2-2018 --json=discover.json --bins_csv=bins.csv
+//   build/bin/discover --data_dir=../shared/data/tp2-2018 --json=discover.json \
+//       --bins_csv=bins.csv --residuals_csv=residuals.csv
 
 #include <gflags/gflags.h>
 
@@ -34,6 +38,9 @@ DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(bins_csv, "",
               "Write the binned residuals and the named effects' signatures as CSV (for "
               "tools/plot_discovery.py).");
+DEFINE_string(residuals_csv, "",
+              "Write the final model's tilt-test residual per sample as CSV (at most 5000 rows, "
+              "evenly spread; for tools/plot_discovery.py --residuals_csv).");
 DEFINE_int32(num_threads, 1, "Threads Ceres may use, 1 to 256.");
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
@@ -45,9 +52,14 @@ namespace accelcal {
 namespace {
 
 constexpr char kUsage[] =
-    "Tells whether the baseline (bias and scale per axis) explains the data and, if not, which\n"
-    "effect of the catalogue is missing, how large (in the spec's units), and what adding it "
-    "gains.\n"
+    "Tells whether the baseline (bias and scale per axis) explains the data and, if not, what is\n"
+    "missing, how large (in the spec's units), and what adding it gains. The verdict is one of:\n"
+    "  explained          the baseline explains the data; nothing remains that the checks see\n"
+    "  missing            effects (or a noise model) of the catalogue are missing; with them the\n"
+    "                     model explains the data\n"
+    "  unexplained        structure remains that no effect of the catalogue explains\n"
+    "  cannot_tell_apart  a named effect and another candidate explain the data about equally\n"
+    "                     well; the report says what would separate them\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  discover --data_dir=../shared/data/tp2-2018 [--alpha=0.01] [--json=discover.json]";
 
@@ -57,7 +69,10 @@ Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
   return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
-                        {{"--json", FLAGS_json}, {"--bins_csv", FLAGS_bins_csv}}, inputs);
+                        {{"--json", FLAGS_json},
+                         {"--bins_csv", FLAGS_bins_csv},
+                         {"--residuals_csv", FLAGS_residuals_csv}},
+                        inputs);
 }
 
 int Run(int argc, char** argv) {
@@ -82,7 +97,9 @@ int Run(int argc, char** argv) {
   if (status.ok()) {
     status = WriteOutputFiles(
         {{FLAGS_json, json_text},
-         {FLAGS_bins_csv, FLAGS_bins_csv.empty() ? "" : DiscoveryBinsCsv(result)}});
+         {FLAGS_bins_csv, FLAGS_bins_csv.empty() ? "" : DiscoveryBinsCsv(result)},
+         {FLAGS_residuals_csv,
+          FLAGS_residuals_csv.empty() ? "" : DiscoveryResidualsCsv(result, inputs.test)}});
   }
   if (!status.ok()) return ExitWithError("discover", status);
   std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;

@@ -60,6 +60,9 @@ TEST(AnalyzeBinary, OnTheCourseDataItAgreesWithTheIndividualBinaries) {
             0);
   const nlohmann::json discover = nlohmann::json::parse(testing::ReadText(out.File("d.json")));
   EXPECT_EQ(results["discover"]["verdict"], discover["verdict"]);
+  EXPECT_EQ(results["discover"]["verdict_code"], "explained");
+  EXPECT_EQ(results["discover"]["verdict_code"], discover["verdict_code"]);
+  EXPECT_EQ(results["discover"]["remaining"], discover["remaining"]);
   EXPECT_EQ(results["discover"]["effects"], discover["effects"]);
 
   ASSERT_EQ(RunBinary("min_samples", "--data_dir='" + dir + "' --repetitions=0 --json='" +
@@ -77,6 +80,12 @@ TEST(AnalyzeBinary, OnTheCourseDataItAgreesWithTheIndividualBinaries) {
   const std::string markdown = testing::ReadText(report + "/report.md");
   EXPECT_EQ(markdown.find("# accelcal report\n\n**Verdict.** the baseline explains the data"), 0u)
       << markdown.substr(0, 200);
+  EXPECT_NE(markdown.find("Verdict: explained (of explained, missing, unexplained, "
+                          "cannot_tell_apart)"),
+            std::string::npos);
+  EXPECT_NE(markdown.find("What the final model leaves: nothing the checks can see"),
+            std::string::npos);
+  EXPECT_EQ(testing::CountLines(testing::ReadText(report + "/residuals.csv")), 1 + 5000);
 }
 
 TEST(AnalyzeBinary, TheHtmlEmbedsEveryFigureAndEachIsAValidImage) {

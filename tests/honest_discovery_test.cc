@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <string>
 
 #include "estimation/discovery.h"
@@ -114,6 +115,29 @@ INSTANTIATE_TEST_SUITE_P(OutsideTheCatalogue, HonestVerdictTest, testing::Values
                              name += std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_';
                            return name + std::to_string(info.index);
                          });
+
+// Two catalogue effects the data cannot tell apart: with the x axis 100 times noisier
+// than y, the angle offset and the non-orthogonality both show only as a sin(theta) term
+// on y (their x signatures are buried), and the run is not tied to a landmark it could
+// separate them with well. The verdict must say so, with both estimates.
+TEST(Ambiguity, TwoEffectsTheDataCannotSeparateAreReportedAsSuch) {
+  const Scenario scenario = ScenarioWith("noise_variance_x_stated=100,angle_offset=0.02");
+  int ambiguous = 0;
+  for (int seed = 1; seed <= 10; ++seed) {
+    const DiscoveryResult result = DiscoverIn(scenario, seed);
+    bool pair = false;
+    for (const Ambiguity& ambiguity : result.ambiguities) {
+      for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+        const std::set<std::string> names = {Info(ambiguity.effect).name,
+                                             Info(alternative.effect).name};
+        pair |= names == std::set<std::string>{"angle_offset", "nonorthogonality"} &&
+                !ambiguity.separation.empty();
+      }
+    }
+    ambiguous += result.verdict_code == Verdict::kCannotTellApart && pair;
+  }
+  EXPECT_GE(ambiguous, 8);
+}
 
 // With AR(1) noise the reported sigma of bias and scale must match their Monte Carlo
 // spread (within 15%): the whitening carries the correlation into the covariance. The

@@ -1,10 +1,14 @@
 #!/usr/bin/python3
 """Draws discover's outputs: the baseline's residual against theta (binned means with their
 standard errors) with the fitted signature of each named effect over it, and the endpoint
-before and after with its 1-sigma and 3-sigma ellipses and the landmarks.
+before and after with its 1-sigma and 3-sigma ellipses and the landmarks. With
+--residuals_csv, a second row shows what the final model leaves, per axis, against theta and
+against the sample's place in the test (time), with a running mean: structure the catalogue
+does not explain shows there as a curve the running mean follows away from zero.
 
-    build/bin/discover --data_dir=DIR --json=discover.json --bins_csv=bins.csv
-    /usr/bin/python3 tools/plot_discovery.py --json=discover.json --bins_csv=bins.csv --out=discovery.png
+    build/bin/discover --data_dir=DIR --json=discover.json --bins_csv=bins.csv --residuals_csv=residuals.csv
+    /usr/bin/python3 tools/plot_discovery.py --json=discover.json --bins_csv=bins.csv \
+        --residuals_csv=residuals.csv --out=discovery.png
 
 Needs Debian's python3-matplotlib and python3-numpy (tools/run.sh installs them).
 """
@@ -12,6 +16,7 @@ import argparse
 import csv
 import json
 import sys
+import textwrap
 
 import matplotlib
 
@@ -25,10 +30,96 @@ def axis_aligned_ellipse(center, sigma_x, sigma_y, radius, **style):
     return Ellipse(center, 2 * radius * sigma_x, 2 * radius * sigma_y, fill=False, **style)
 
 
+def read_residuals(path):
+    """The residuals CSV as arrays; an empty cell (a non-finite residual) reads as NaN."""
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if not rows:
+        raise ValueError(f"{path}: no samples")
+    columns = {}
+    for key in ("sample", "theta_rad", "residual_x", "residual_y", "outlier_x", "outlier_y"):
+        columns[key] = np.array([float(row[key]) if row[key] != "" else np.nan for row in rows])
+    return columns
+
+
+def running_mean(values, window):
+    """The centred mean of the finite values among `window` consecutive ones; NaN where fewer
+    than half the window is there (the ends), whose means would be noisier than the band."""
+    finite = np.isfinite(values)
+    filled = np.where(finite, values, 0.0)
+    kernel = np.ones(window)
+    sums = np.convolve(filled, kernel, mode="same")
+    counts = np.convolve(finite.astype(float), kernel, mode="same")
+    return np.where(counts >= 0.5 * window, sums / np.maximum(counts, 1), np.nan)
+
+
+def draw_remains(axes_, x_values, residuals, noise, against, sort):
+    """Both axes' final residuals against `x_values` as a faint cloud (outliers marked) on the
+    left scale, and their running means on a zoomed right scale with the band a running mean
+    of noise alone stays in 95% of the time, so structure shows as a mean leaving its band."""
+    count = len(x_values)
+    # Wide enough that a structure of a tenth of the noise shows, narrow enough to follow a
+    # few cycles over the test.
+    window = max(5, count // 16)
+    means = axes_.twinx()
+    inliers_all = []
+    outliers = []
+    largest = 0.0
+    for axis_name, color in (("x", "tab:blue"), ("y", "tab:orange")):
+        residual = residuals[f"residual_{axis_name}"]
+        outlier = residuals[f"outlier_{axis_name}"] > 0
+        order = np.argsort(x_values, kind="stable") if sort else np.arange(count)
+        xs, ys, out = x_values[order], residual[order], outlier[order]
+        inlier = np.isfinite(ys) & ~out
+        inliers_all.append(ys[inlier])
+        axes_.plot(xs[inlier], ys[inlier], ".", color=color, markersize=1.5, alpha=0.15)
+        if np.any(out):
+            outliers.append((xs[out], ys[out], color, axis_name))
+        mean = running_mean(np.where(inlier, ys, np.nan), window)
+        means.plot(xs, mean, "-", color=color, linewidth=1.8, label=f"{axis_name}: running mean of {window} rows")
+        # The band: 2 sigma of a mean of `window` rows of the noise model (AR(1) between rows
+        # `stride` samples apart, when the rows are a decimation of the test).
+        model = noise.get(axis_name, {}).get("model", {})
+        variance, rho = model.get("variance"), model.get("correlation") or 0.0
+        if variance:
+            stride = max(1.0, float(np.median(np.diff(residuals["sample"])))) if count > 1 else 1.0
+            rho_rows = rho ** stride if rho > 0 else 0.0
+            half = 2.0 * np.sqrt(variance / window * (1 + rho_rows) / (1 - rho_rows))
+            means.axhspan(-half, half, color=color, alpha=0.08, linewidth=0)
+            largest = max(largest, 1.5 * half)
+        finite = mean[np.isfinite(mean)]
+        if finite.size:
+            largest = max(largest, 1.2 * float(np.max(np.abs(finite))))
+    axes_.axhline(0.0, color="0.3", linewidth=0.8)
+    # Scale the cloud to the inliers, so a few outliers do not flatten it.
+    inliers = np.concatenate(inliers_all) if inliers_all else np.array([])
+    inliers = inliers[np.isfinite(inliers)]
+    if inliers.size > 10:
+        low, high = np.percentile(inliers, [0.5, 99.5])
+        pad = 0.15 * (high - low) if high > low else 1.0
+        axes_.set_ylim(low - pad, high + pad)
+    # Outliers beyond the frame are drawn at its edge.
+    low, high = axes_.get_ylim()
+    for xs, ys, color, axis_name in outliers:
+        axes_.plot(xs, np.clip(ys, low, high), "x", color=color, markersize=6,
+                   label=f"{axis_name}: {len(xs)} set aside as outliers (at the edge when beyond it)")
+    if largest > 0:
+        means.set_ylim(-largest, largest)
+    axes_.set_xlabel(against)
+    axes_.set_ylabel("final residual (m/s²), points")
+    means.set_ylabel("running mean (m/s²); band: noise alone, 95%")
+    axes_.grid(True, alpha=0.3)
+    handles, labels = axes_.get_legend_handles_labels()
+    more_handles, more_labels = means.get_legend_handles_labels()
+    means.legend(handles + more_handles, labels + more_labels, loc="upper right", fontsize=8)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--json", required=True, help="discover's --json output")
     parser.add_argument("--bins_csv", required=True, help="discover's --bins_csv output")
+    parser.add_argument("--residuals_csv", default="",
+                        help="discover's --residuals_csv output: adds what the final model leaves")
     parser.add_argument("--out", default="discovery.png", help="PNG to write")
     args = parser.parse_args()
     try:
@@ -37,12 +128,28 @@ def main():
         with open(args.bins_csv, newline="") as handle:
             rows = list(csv.DictReader(handle))
         bins = {key: np.array([float(row[key]) for row in rows]) for key in rows[0]}
+        residuals = read_residuals(args.residuals_csv) if args.residuals_csv else None
     except (OSError, ValueError, KeyError, IndexError) as error:
         print(f"plot_discovery: error: {error}", file=sys.stderr)
         return 2
 
     named = [effect["name"] for effect in result["effects"]]
-    figure, axes = plt.subplots(1, 3, figsize=(16, 5.2), gridspec_kw={"width_ratios": [1, 1, 1.1]})
+    if residuals is None:
+        figure, axes = plt.subplots(1, 3, figsize=(16, 5.2), gridspec_kw={"width_ratios": [1, 1, 1.1]})
+    else:
+        # Top row as without residuals; the bottom row's two panels each span half the width.
+        figure = plt.figure(figsize=(16, 10.4))
+        grid = figure.add_gridspec(2, 6)
+        axes = [figure.add_subplot(grid[0, 0:2]), figure.add_subplot(grid[0, 2:4]),
+                figure.add_subplot(grid[0, 4:6])]
+        remains_theta = figure.add_subplot(grid[1, 0:3])
+        remains_time = figure.add_subplot(grid[1, 3:6])
+        draw_remains(remains_theta, residuals["theta_rad"], residuals, result.get("noise", {}), "θ (rad)",
+                     sort=True)
+        remains_theta.set_title("what the final model leaves, against θ")
+        draw_remains(remains_time, residuals["sample"], residuals, result.get("noise", {}),
+                     "sample (place in the test)", sort=False)
+        remains_time.set_title("what the final model leaves, against time")
     for axis_index, axis_name in enumerate(("x", "y")):
         axes_ = axes[axis_index]
         theta = bins["theta_rad"]
@@ -75,8 +182,14 @@ def main():
     axes_.grid(True, alpha=0.3)
     axes_.legend(loc="best", fontsize=8)
     axes_.set_title("endpoint before and after (1σ solid, 3σ dotted)")
-    figure.suptitle(result["verdict"], fontsize=10)
-    figure.tight_layout()
+    title = result["verdict"]
+    code = result.get("verdict_code", "")
+    if code and not title.startswith(code.replace("_", " ")):
+        title = f"{code}: {title}"
+    lines = textwrap.wrap(textwrap.shorten(title, width=720, placeholder=" ..."), width=180)
+    figure.suptitle("\n".join(lines), fontsize=9)
+    # Room at the top for the verdict's lines.
+    figure.tight_layout(rect=(0, 0, 1, 1 - 0.16 * len(lines) / figure.get_figheight()))
     figure.savefig(args.out, dpi=110)
     print(args.out)
     return 0

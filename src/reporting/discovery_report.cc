@@ -1,12 +1,72 @@
 #include "reporting/discovery_report.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 #include "common/format.h"
 #include "estimation/parameter_estimate.h"
 
 namespace accelcal {
 namespace {
+
+const char* const kAxisName[2] = {"x", "y"};
+
+// `value` printed with `format`, or "n/a" when it is not finite (an undefined figure).
+std::string Figure(const char* format, double value) {
+  return std::isfinite(value) ? StringPrintf(format, value) : std::string("n/a");
+}
+
+// `value`, or null when it is not finite (JSON has no NaN, and the writer refuses one).
+nlohmann::json Finite(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+// The first `shown` of `samples`, comma-separated.
+std::string SampleList(const std::vector<int>& samples, size_t shown = 10) {
+  std::string text;
+  for (size_t i = 0; i < samples.size() && i < shown; ++i)
+    text += (i ? ", " : "") + std::to_string(samples[i]);
+  if (samples.size() > shown) text += ", ...";
+  return text;
+}
+
+const char* EventName(SelectionEvent::Kind kind) {
+  return kind == SelectionEvent::Kind::kAdded ? "added" : "dropped";
+}
+
+// Why an effect left the model, or null for an addition.
+nlohmann::json EventReason(SelectionEvent::Kind kind) {
+  switch (kind) {
+    case SelectionEvent::Kind::kAdded:
+      return nullptr;
+    case SelectionEvent::Kind::kDropped:
+      return "not_needed";
+    case SelectionEvent::Kind::kDroppedForShape:
+      return "remaining_structure";
+  }
+  return nullptr;
+}
+
+// The cross-validation's extended figure against what it would be for a right model.
+std::string CrossValidationComment(const CrossValidation& cv) {
+  if (!(cv.null_stddev > 0.0) || !std::isfinite(cv.z)) return "";
+  if (cv.z > 3.0) return "above its null spread: the model misses something";
+  if (cv.z < -3.0) return "below its null spread: the noise is smaller than its model says";
+  return "within its null spread";
+}
+
+// The checks, most significant first.
+std::vector<const ResidualCheck*> StrongestChecks(const std::vector<ResidualCheck>& checks) {
+  std::vector<const ResidualCheck*> sorted;
+  for (const ResidualCheck& check : checks) sorted.push_back(&check);
+  std::stable_sort(sorted.begin(), sorted.end(),
+                   [](const ResidualCheck* a, const ResidualCheck* b) {
+                     if (a->flagged != b->flagged) return a->flagged;
+                     return a->p_value < b->p_value;
+                   });
+  return sorted;
+}
 
 const LandmarkScore* Tied(const LandmarkDecision& decision, const std::string& name) {
   for (const LandmarkScore& score : decision.scores) {
@@ -45,36 +105,172 @@ nlohmann::json Side(const ParameterEstimate& estimate, double chi2_x, double chi
            decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)}};
 }
 
+// Per axis: what the noise analysis of the baseline's residuals found, the noise model the
+// final fit used, and what was named.
+std::string NoiseBlock(const DiscoveryResult& result) {
+  if (result.noise_analysis[0].samples == 0 && result.noise_analysis[1].samples == 0) return "";
+  std::string text =
+      "\n  noise (the baseline's residuals, read from local differences; p two-sided, kurtosis "
+      "one-sided)\n"
+      "  axis  level ratio             p   lag-1 correlation       "
+      " p   outliers (largest, p)       excess kurtosis (p)\n";
+  for (int k = 0; k < 2; ++k) {
+    const NoiseAnalysis& a = result.noise_analysis[k];
+    const std::string level =
+        Figure("%.4f", a.variance_ratio) + " +- " + Figure("%.4f", a.variance_ratio_stddev);
+    const std::string correlation =
+        Figure("%+.4f", a.correlation) + " +- " + Figure("%.4f", a.correlation_stddev);
+    const std::string outliers =
+        StringPrintf("%zu (%s sigma, p %s)", a.outlier_candidates.size(),
+                     Figure("%.1f", a.largest_score).c_str(), Figure("%.2g", a.outlier_p).c_str());
+    text += StringPrintf("  %-4s  %-17s %7s   %-18s %7s   %-27s %s (p %s)%s\n", kAxisName[k],
+                         level.c_str(), Figure("%.2g", a.level_p).c_str(), correlation.c_str(),
+                         Figure("%.2g", a.correlation_p).c_str(), outliers.c_str(),
+                         Figure("%+.3g", a.excess_kurtosis).c_str(),
+                         Figure("%.2g", a.kurtosis_p).c_str(),
+                         a.moments_from_sample ? "  (sds from the sample's moments)" : "");
+  }
+  for (int k = 0; k < 2; ++k) {
+    const NoiseAnalysis& a = result.noise_analysis[k];
+    if (a.outlier_candidates.empty()) continue;
+    text += StringPrintf(
+        "  %s: %zu outlier candidates, %s: samples %s\n", kAxisName[k], a.outlier_candidates.size(),
+        result.noise_model[k].outliers.empty() ? "kept in the fit" : "set aside in the fit",
+        SampleList(a.outlier_candidates).c_str());
+  }
+  text += "  noise model of the final fit:";
+  for (int k = 0; k < 2; ++k) {
+    const AxisNoise& noise = result.noise_model[k];
+    text += StringPrintf("%s %s variance %s (m/s^2)^2, correlation %s, %zu samples set aside",
+                         k == 0 ? "" : ";", kAxisName[k], Figure("%.4g", noise.variance).c_str(),
+                         Figure("%.3g", noise.correlation).c_str(), noise.outliers.size());
+  }
+  text += result.robust_fit ? "; estimates by Huber's loss (sandwich covariance)\n" : "\n";
+  std::string named;
+  for (int k = 0; k < 2; ++k) {
+    if (!result.axes[k].noise_flagged) continue;
+    named += StringPrintf("    %-20s %s: level ratio %s +- %s of the stated (p = %s)\n",
+                          k == 0 ? "noise_variance_x" : "noise_variance_y", kAxisName[k],
+                          Figure("%.4g", result.noise_analysis[k].variance_ratio).c_str(),
+                          Figure("%.2g", result.noise_analysis[k].variance_ratio_stddev).c_str(),
+                          Figure("%.2g", result.noise_analysis[k].level_p).c_str());
+  }
+  for (const NoiseFinding& finding : result.noise_findings) {
+    named +=
+        StringPrintf("    %-20s %s\n", NoiseFindingName(finding.kind), finding.description.c_str());
+  }
+  text +=
+      named.empty() ? "  named: nothing (white noise at the stated level)\n" : "  named:\n" + named;
+  return text;
+}
+
+// What the final model leaves: the flagged checks' sentences, then the strongest checks.
+std::string RemainsBlock(const DiscoveryResult& result) {
+  if (result.checks.empty() && result.remaining.empty()) return "";
+  std::string text =
+      "\n  what remains (checks of the final model's residuals, Holm within their "
+      "share of alpha)\n";
+  if (result.remaining.empty()) {
+    text += "  nothing the checks can see\n";
+  } else {
+    for (const std::string& line : result.remaining) text += "  - " + line + "\n";
+  }
+  const std::vector<const ResidualCheck*> sorted = StrongestChecks(result.checks);
+  size_t shown = 0;
+  for (const ResidualCheck* check : sorted) shown += check->flagged;
+  shown = std::min(sorted.size(), std::max<size_t>(shown, 5));
+  if (shown > 0) {
+    text += StringPrintf("  strongest of %zu checks     statistic     dof      p-value  flagged\n",
+                         sorted.size());
+    for (size_t i = 0; i < shown; ++i) {
+      const ResidualCheck& check = *sorted[i];
+      text +=
+          StringPrintf("  %-24s %12s %7s %12s  %s\n", check.name.c_str(),
+                       Figure("%.2f", check.statistic).c_str(), Figure("%.0f", check.dof).c_str(),
+                       Figure("%.3g", check.p_value).c_str(), check.flagged ? "yes" : "");
+    }
+  }
+  return text;
+}
+
+// Effects of the final model another candidate would replace at about the same fit.
+std::string AmbiguityBlock(const DiscoveryResult& result) {
+  if (result.ambiguities.empty()) return "";
+  std::string text =
+      "\n  cannot tell apart (effects another candidate replaces at about the same fit)\n";
+  for (const Ambiguity& ambiguity : result.ambiguities) {
+    const ParameterInfo& info = Info(ambiguity.effect);
+    text += StringPrintf("  %-24s = %s +- %s %s  (in the final model)\n", info.name,
+                         Figure("%+.4e", ambiguity.effect_estimate).c_str(),
+                         Figure("%.3e", ambiguity.effect_stddev).c_str(), info.unit);
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+      const ParameterInfo& other = Info(alternative.effect);
+      text += StringPrintf("    or %-21s = %s +- %s %s  (delta chi2 %s)\n", other.name,
+                           Figure("%+.4e", alternative.estimate).c_str(),
+                           Figure("%.3e", alternative.stddev).c_str(), other.unit,
+                           Figure("%+.2f", alternative.delta_chi2).c_str());
+    }
+    if (!ambiguity.separation.empty())
+      text += "    what would tell them apart: " + ambiguity.separation + "\n";
+  }
+  return text;
+}
+
+std::string CrossValidationLine(const CrossValidation& cv) {
+  if (cv.folds <= 0) return "";
+  std::string text = StringPrintf(
+      "  cross-validation (%d contiguous theta blocks): held-out mean squared whitened error "
+      "%s baseline, %s extended\n",
+      cv.folds, Figure("%.4f", cv.baseline).c_str(), Figure("%.4f", cv.extended).c_str());
+  const std::string comment = CrossValidationComment(cv);
+  if (!comment.empty()) {
+    text += StringPrintf(
+        "    a right model would give %s +- %s; z = %s: %s\n", Figure("%.4f", cv.null_mean).c_str(),
+        Figure("%.4f", cv.null_stddev).c_str(), Figure("%+.2f", cv.z).c_str(), comment.c_str());
+  }
+  return text;
+}
+
 }  // namespace
 
 std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
   std::string text =
       "accelcal discover: does the baseline explain the data?\n\n  verdict: " + result.verdict +
       "\n";
+  text += StringPrintf("  in short: %s (of explained, missing, unexplained, cannot_tell_apart)\n",
+                       VerdictCode(result.verdict_code));
+  text += NoiseBlock(result);
+  text += RemainsBlock(result);
+  text += AmbiguityBlock(result);
+
   text += "\n  what the baseline leaves (residuals against the stated noise)\n";
   text +=
       "  axis  noise ratio (von Neumann)      p   chi2/dof  Ljung-Box Q(p)       Jarque-Bera (p)\n";
   for (int k = 0; k < 2; ++k) {
     const AxisDiagnostics& a = result.axes[k];
-    text += StringPrintf("  %-4s  %6.4f +- %.4f %s  %9.2g  %8.4f  %8.1f (%7.2g)  %8.2f (%.2g)\n",
-                         k == 0 ? "x" : "y", a.noise.ratio, a.noise.ratio_stddev,
-                         a.noise_flagged ? "(off)" : "     ", a.noise.p_value, a.chi2 / a.dof,
-                         a.whiteness.q, a.whiteness.p_value, a.normality.jarque_bera,
-                         a.normality.p_value);
+    text += StringPrintf(
+        "  %-4s  %6s +- %s %s  %9s  %8s  %8s (%7s)  %8s (%s)\n", kAxisName[k],
+        Figure("%6.4f", a.noise.ratio).c_str(), Figure("%.4f", a.noise.ratio_stddev).c_str(),
+        a.noise_flagged ? "(off)" : "     ", Figure("%9.2g", a.noise.p_value).c_str(),
+        Figure("%8.4f", a.dof > 0 ? a.chi2 / a.dof : NAN).c_str(),
+        Figure("%8.1f", a.whiteness.q).c_str(), Figure("%7.2g", a.whiteness.p_value).c_str(),
+        Figure("%8.2f", a.normality.jarque_bera).c_str(),
+        Figure("%.2g", a.normality.p_value).c_str());
   }
   // The largest binned residual, in its standard error: where a model term is missing.
   for (int k = 0; k < 2; ++k) {
     double worst = 0.0;
     double at = 0.0;
     for (const ResidualBin& bin : result.axes[k].bins) {
-      if (bin.count > 0 && std::abs(bin.mean / bin.standard_error) > std::abs(worst)) {
-        worst = bin.mean / bin.standard_error;
+      const double z = bin.mean / bin.standard_error;
+      if (bin.count > 0 && std::isfinite(z) && std::abs(z) > std::abs(worst)) {
+        worst = z;
         at = bin.theta_center_rad;
       }
     }
     text += StringPrintf(
         "  axis %s: largest binned residual %+.1f standard errors at theta = %.2f rad (%zu bins)\n",
-        k == 0 ? "x" : "y", worst, at, result.axes[k].bins.size());
+        kAxisName[k], worst, at, result.axes[k].bins.size());
   }
   text += "  endpoint: " +
           (result.landmark_note.empty() ? std::string("no landmarks") : result.landmark_note) +
@@ -83,23 +279,30 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
   text += StringPrintf(
       "\n  candidates (score test, 1 dof each; Holm at alpha/2 = %g among those left at each step, "
       "the other\n"
-      "  alpha/2 going to the two noise tests)\n",
+      "  alpha/2 going to the noise tests and the checks of what remains)\n",
       alpha / 2);
   text += "  step  effect                  delta chi2        p-value  significant\n";
   for (const CandidateScore& c : result.candidates) {
-    text += StringPrintf("  %4d  %-22s %11.2f %14.3g  %s\n", c.step, Info(c.effect).name,
-                         c.delta_chi2, c.p_value, c.significant ? "yes" : "");
+    text += StringPrintf("  %4d  %-22s %11s %14s  %s\n", c.step, Info(c.effect).name,
+                         Figure("%.2f", c.delta_chi2).c_str(), Figure("%.3g", c.p_value).c_str(),
+                         c.significant ? "yes" : "");
   }
   bool dropped = false;
   for (const SelectionEvent& event : result.history)
-    dropped |= event.kind == SelectionEvent::Kind::kDropped;
+    dropped |= event.kind != SelectionEvent::Kind::kAdded;
   if (dropped) {
-    text += "\n  how the model grew (backward elimination drops what a later effect explains)\n";
+    text +=
+        "\n  how the model grew (backward elimination drops what a later effect explains, or what "
+        "the\n  remaining structure explains)\n";
     for (const SelectionEvent& event : result.history) {
-      const bool added = event.kind == SelectionEvent::Kind::kAdded;
-      text += StringPrintf("  %-8s %-22s delta chi2 %8.2f  p %9.3g  (run tied to %s)\n",
-                           added ? "added" : "dropped", Info(event.effect).name, event.delta_chi2,
-                           event.p_value, event.landmark.empty() ? "none" : event.landmark.c_str());
+      text += StringPrintf("  %-8s %-22s delta chi2 %8s  p %9s  (run tied to %s)%s\n",
+                           EventName(event.kind), Info(event.effect).name,
+                           Figure("%.2f", event.delta_chi2).c_str(),
+                           Figure("%.3g", event.p_value).c_str(),
+                           event.landmark.empty() ? "none" : event.landmark.c_str(),
+                           event.kind == SelectionEvent::Kind::kDroppedForShape
+                               ? "; dropped: explained by the remaining structure"
+                               : "");
     }
   }
   if (!result.effects.empty()) {
@@ -109,29 +312,27 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
         "                                  estimate       1 sigma  unit        delta chi2   "
         "p-value   delta BIC\n";
     for (const DiscoveredEffect& e : result.effects) {
-      text += StringPrintf("  %-28s %+12.4e  %12.3e  %-10s %10.1f %9.2g  %10.1f\n",
-                           Info(e.effect).name, e.estimate, e.stddev, Info(e.effect).unit,
-                           e.delta_chi2, e.p_value, e.bic_change);
+      text += StringPrintf("  %-28s %12s  %12s  %-10s %10s %9s  %10s\n", Info(e.effect).name,
+                           Figure("%+.4e", e.estimate).c_str(), Figure("%.3e", e.stddev).c_str(),
+                           Info(e.effect).unit, Figure("%.1f", e.delta_chi2).c_str(),
+                           Figure("%.2g", e.p_value).c_str(), Figure("%.1f", e.bic_change).c_str());
     }
     text +=
         "\n  gain: the baseline parameters in the extended model, shifted by (in the baseline's "
         "sigma)\n  ";
     const ParameterEstimate baseline = FromBaselineFit(result.baseline);
     for (const Parameter parameter : baseline.free) {
-      text += StringPrintf(" %s %+.2f", Info(parameter).name,
-                           (result.extended.estimate.Value(parameter) - baseline.Value(parameter)) /
-                               baseline.StandardDeviation(parameter));
+      text += StringPrintf(
+          " %s %s", Info(parameter).name,
+          Figure("%+.2f", (result.extended.estimate.Value(parameter) - baseline.Value(parameter)) /
+                              baseline.StandardDeviation(parameter))
+              .c_str());
     }
     text += "\n";
-    if (result.cross_validation.folds > 0) {
-      text += StringPrintf(
-          "  cross-validation (%d contiguous theta blocks): held-out mean squared whitened error "
-          "%.4f baseline, "
-          "%.4f extended\n",
-          result.cross_validation.folds, result.cross_validation.baseline,
-          result.cross_validation.extended);
-    }
+  } else {
+    text += "\n";
   }
+  text += CrossValidationLine(result.cross_validation);
   text += "\n  endpoint (m)            x          y     1 sigma x, y    reached";
   if (!result.tied_landmark.empty())
     text += StringPrintf("    posterior of %s", result.tied_landmark.c_str());
@@ -139,13 +340,14 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
   for (const auto& [name, trajectory, decision] :
        {std::make_tuple("baseline", &result.baseline_trajectory, &result.baseline_decision),
         std::make_tuple("extended", &result.extended_trajectory, &result.extended_decision)}) {
-    text += StringPrintf("  %-10s     %10.3f %10.3f   %6.2f, %6.2f   %-16s", name,
-                         trajectory->endpoint.x(), trajectory->endpoint.y(),
-                         std::sqrt(trajectory->covariance(0, 0)),
-                         std::sqrt(trajectory->covariance(1, 1)),
+    text += StringPrintf("  %-10s     %10s %10s   %6s, %6s   %-16s", name,
+                         Figure("%10.3f", trajectory->endpoint.x()).c_str(),
+                         Figure("%10.3f", trajectory->endpoint.y()).c_str(),
+                         Figure("%6.2f", std::sqrt(trajectory->covariance(0, 0))).c_str(),
+                         Figure("%6.2f", std::sqrt(trajectory->covariance(1, 1))).c_str(),
                          decision->reached.empty() ? "none consistent" : decision->reached.c_str());
     if (const LandmarkScore* score = Tied(*decision, result.tied_landmark))
-      text += StringPrintf(" %.3g", score->posterior);
+      text += " " + Figure("%.3g", score->posterior);
     text += "\n";
   }
   return text;
@@ -166,7 +368,8 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   }
   nlohmann::json history = nlohmann::json::array();
   for (const SelectionEvent& event : result.history) {
-    history.push_back({{"change", event.kind == SelectionEvent::Kind::kAdded ? "added" : "dropped"},
+    history.push_back({{"change", EventName(event.kind)},
+                       {"reason", EventReason(event.kind)},
                        {"name", Info(event.effect).name},
                        {"delta_chi2", event.delta_chi2},
                        {"p_value", event.p_value},
@@ -194,7 +397,80 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
                                  {"ljung_box_p", a.whiteness.p_value},
                                  {"jarque_bera", a.normality.jarque_bera},
                                  {"jarque_bera_p", a.normality.p_value}};
+    const NoiseAnalysis& n = result.noise_analysis[k];
+    nlohmann::json& axis = noise[kAxisName[k]];
+    axis["analysis"] = {{"samples", n.samples},
+                        {"variance_ratio", Finite(n.variance_ratio)},
+                        {"variance_ratio_stddev", Finite(n.variance_ratio_stddev)},
+                        {"level_z", Finite(n.level_z)},
+                        {"level_p", Finite(n.level_p)},
+                        {"correlation", Finite(n.correlation)},
+                        {"correlation_stddev", Finite(n.correlation_stddev)},
+                        {"correlation_z", Finite(n.correlation_z)},
+                        {"correlation_p", Finite(n.correlation_p)},
+                        {"largest_outlier_score", Finite(n.largest_score)},
+                        {"outlier_p", Finite(n.outlier_p)},
+                        {"outlier_candidates", n.outlier_candidates},
+                        {"excess_kurtosis", Finite(n.excess_kurtosis)},
+                        {"kurtosis_z", Finite(n.kurtosis_z)},
+                        {"kurtosis_p", Finite(n.kurtosis_p)},
+                        {"moments_from_sample", n.moments_from_sample}};
+    const AxisNoise& model = result.noise_model[k];
+    axis["model"] = {{"variance", Finite(model.variance)},
+                     {"correlation", Finite(model.correlation)},
+                     {"outliers", model.outliers}};
+    axis["variance_used"] = Finite(result.noise_variance_used[k]);
+    nlohmann::json findings = nlohmann::json::array();
+    for (const NoiseFinding& finding : result.noise_findings) {
+      if (finding.axis != k) continue;
+      findings.push_back({{"name", NoiseFindingName(finding.kind)},
+                          {"estimate", Finite(finding.estimate)},
+                          {"stddev", Finite(finding.stddev)},
+                          {"p_value", Finite(finding.p_value)},
+                          {"samples", finding.samples},
+                          {"description", finding.description}});
+    }
+    axis["findings"] = findings;
   }
+  nlohmann::json checks = nlohmann::json::array();
+  for (const ResidualCheck& check : result.checks) {
+    checks.push_back(
+        {{"name", check.name},
+         {"axis", check.axis >= 0 && check.axis < 2 ? nlohmann::json(kAxisName[check.axis])
+                                                    : nlohmann::json(nullptr)},
+         {"statistic", Finite(check.statistic)},
+         {"dof", Finite(check.dof)},
+         {"p_value", Finite(check.p_value)},
+         {"flagged", check.flagged},
+         {"description", check.description}});
+  }
+  nlohmann::json ambiguities = nlohmann::json::array();
+  for (const Ambiguity& ambiguity : result.ambiguities) {
+    nlohmann::json alternatives = nlohmann::json::array();
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+      alternatives.push_back({{"name", Info(alternative.effect).name},
+                              {"unit", Info(alternative.effect).unit},
+                              {"estimate", Finite(alternative.estimate)},
+                              {"stddev", Finite(alternative.stddev)},
+                              {"delta_chi2", Finite(alternative.delta_chi2)}});
+    }
+    ambiguities.push_back({{"name", Info(ambiguity.effect).name},
+                           {"unit", Info(ambiguity.effect).unit},
+                           {"estimate", Finite(ambiguity.effect_estimate)},
+                           {"stddev", Finite(ambiguity.effect_stddev)},
+                           {"alternatives", alternatives},
+                           {"separation", ambiguity.separation}});
+  }
+  const CrossValidation& cv = result.cross_validation;
+  const bool has_null = cv.folds > 0 && cv.null_stddev > 0.0;
+  nlohmann::json cross_validation = {{"folds", cv.folds},
+                                     {"baseline", cv.baseline},
+                                     {"extended", cv.extended},
+                                     {"null_mean", has_null ? Finite(cv.null_mean) : nullptr},
+                                     {"null_stddev", has_null ? Finite(cv.null_stddev) : nullptr},
+                                     {"z", has_null ? Finite(cv.z) : nullptr}};
+  const std::string comment = CrossValidationComment(cv);
+  cross_validation["comment"] = comment.empty() ? nlohmann::json(nullptr) : nlohmann::json(comment);
   nlohmann::json shifts = nlohmann::json::object();
   const ParameterEstimate baseline = FromBaselineFit(result.baseline);
   for (const Parameter parameter : baseline.free) {
@@ -207,6 +483,7 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   return {{"problem", "discover"},
           {"alpha", alpha},
           {"verdict", result.verdict},
+          {"verdict_code", VerdictCode(result.verdict_code)},
           {"effects", effects},
           {"effects_figures",
            "delta_chi2, p_value and delta_bic of each effect are against the final model: the "
@@ -215,6 +492,10 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
           {"history", history},
           {"candidates", candidates},
           {"noise", noise},
+          {"robust_fit", result.robust_fit},
+          {"checks", checks},
+          {"remaining", result.remaining},
+          {"ambiguities", ambiguities},
           {"landmark", result.extended_decision.reached.empty()
                            ? nlohmann::json(nullptr)
                            : nlohmann::json(result.extended_decision.reached)},
@@ -228,10 +509,7 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
                             result.extended_trajectory, result.extended_decision)},
           {"gain",
            {{"baseline_shift_sigma", shifts},
-            {"cross_validation",
-             {{"folds", result.cross_validation.folds},
-              {"baseline", result.cross_validation.baseline},
-              {"extended", result.cross_validation.extended}}},
+            {"cross_validation", cross_validation},
             {"posterior_before", before != nullptr ? before->posterior : 0.0},
             {"posterior_after", after != nullptr ? after->posterior : 0.0}}}};
 }
@@ -246,6 +524,49 @@ std::string DiscoveryBinsCsv(const DiscoveryResult& result) {
                          b < x.bin_signature.size() ? x.bin_signature[b] : 0.0, y.bins[b].mean,
                          y.bins[b].standard_error,
                          b < y.bin_signature.size() ? y.bin_signature[b] : 0.0);
+  }
+  return text;
+}
+
+std::string DiscoveryResidualsCsv(const DiscoveryResult& result, const CalibrationTest& test,
+                                  int max_rows) {
+  std::string text = "sample,theta_rad,residual_x,residual_y,outlier_x,outlier_y\n";
+  const int samples = std::min({test.size(), static_cast<int>(result.final_residuals[0].size()),
+                                static_cast<int>(result.final_residuals[1].size())});
+  if (samples == 0) return text;
+  const int rows = std::min(samples, std::max(2, max_rows));
+  std::vector<int> chosen;
+  chosen.reserve(rows);
+  for (int row = 0; row < rows; ++row) {
+    // Evenly spread, the first and the last sample included.
+    chosen.push_back(
+        rows == 1 ? 0
+                  : static_cast<int>((static_cast<long long>(row) * (samples - 1)) / (rows - 1)));
+  }
+  if (rows < samples) {
+    // The samples set aside as outliers too (a fifth of max_rows at most), so the plot shows
+    // where they are.
+    std::vector<int> outliers;
+    std::set_union(result.noise_model[0].outliers.begin(), result.noise_model[0].outliers.end(),
+                   result.noise_model[1].outliers.begin(), result.noise_model[1].outliers.end(),
+                   std::back_inserter(outliers));
+    outliers.erase(std::remove_if(outliers.begin(), outliers.end(),
+                                  [&](int i) { return i < 0 || i >= samples; }),
+                   outliers.end());
+    if (static_cast<int>(outliers.size()) > max_rows / 5) outliers.resize(max_rows / 5);
+    std::vector<int> merged;
+    std::set_union(chosen.begin(), chosen.end(), outliers.begin(), outliers.end(),
+                   std::back_inserter(merged));
+    chosen.swap(merged);
+  }
+  for (const int i : chosen) {
+    const double x = result.final_residuals[0][i];
+    const double y = result.final_residuals[1][i];
+    text += StringPrintf("%d,%.9g,%s,%s,%d,%d\n", i, test.theta_rad[i],
+                         std::isfinite(x) ? StringPrintf("%.9g", x).c_str() : "",
+                         std::isfinite(y) ? StringPrintf("%.9g", y).c_str() : "",
+                         result.noise_model[0].IsOutlier(i) ? 1 : 0,
+                         result.noise_model[1].IsOutlier(i) ? 1 : 0);
   }
   return text;
 }
