@@ -56,6 +56,7 @@ bool Finds(const DiscoveryResult& result, NoiseFinding::Kind kind) {
 }
 
 struct ClassCase {
+  const char* id;  // the test's name
   const char* name;
   const char* assignments;
   // Honest: the class named and no catalogue effect claimed as the whole cause.
@@ -65,29 +66,35 @@ struct ClassCase {
 // N = 4000, sigma_x = 0.5: a shape of amplitude a on x has signature N a^2 / (2 sigma^2)
 // once the baseline has taken its share; a = 0.11 gives about 100 for a 2-theta harmonic.
 const ClassCase kClasses[] = {
-    {"correlated noise", "noise_ar1_x=0.6,noise_ar1_y=0.6",
+    {"CorrelatedNoise", "correlated noise", "noise_ar1_x=0.6,noise_ar1_y=0.6",
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kCorrelation) && !NamesCatalogueEffect(r);
      }},
-    {"weakly correlated noise (10 sigma of the lag-1 test)", "noise_ar1_x=0.22",
+    {"WeaklyCorrelatedNoise", "weakly correlated noise (10 sigma of the lag-1 test)",
+     "noise_ar1_x=0.22",
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kCorrelation) && !NamesCatalogueEffect(r);
      }},
-    {"outliers", "outlier_fraction=0.01,outlier_sigma=12",
+    {"Outliers", "outliers", "outlier_fraction=0.01,outlier_sigma=12",
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kOutliers) && !NamesCatalogueEffect(r);
      }},
-    {"heavy tails", "noise_student_t_dof=3",
+    {"HeavyTails", "heavy tails", "noise_student_t_dof=3",
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kHeavyTails) && !NamesCatalogueEffect(r);
      }},
-    {"a 2-theta harmonic", "theta_harmonic_order=2,theta_harmonic_x=0.11",
+    {"ThetaHarmonic", "a 2-theta harmonic", "theta_harmonic_order=2,theta_harmonic_x=0.11",
      [](const DiscoveryResult& r) { return r.verdict_code == Verdict::kUnexplained; }},
-    {"a cubic scale term (a 3-theta shape)", "scale_cubic_x=0.00047",
+    {"CubicScale", "a cubic scale term (a 3-theta shape)", "scale_cubic_x=0.00047",
      [](const DiscoveryResult& r) { return r.verdict_code == Verdict::kUnexplained; }},
-    {"a step in the middle of the test", "bias_step_at=0.5,bias_step_x=0.36",
+    {"StepInTheMiddle", "a step in the middle of the test", "bias_step_at=0.5,bias_step_x=0.36",
+     [](const DiscoveryResult& r) { return r.verdict_code == Verdict::kUnexplained; }},
+    // After the baseline, a step at 30% of the sweep keeps sum r^2 = 493 of its unit shape.
+    {"StepAtThirtyPercent", "a step at 30% of the test", "bias_step_at=0.3,bias_step_x=0.225",
      [](const DiscoveryResult& r) { return r.verdict_code == Verdict::kUnexplained; }},
 };
+
+void PrintTo(const ClassCase& c, std::ostream* os) { *os << c.name; }
 
 class HonestVerdictTest : public testing::TestWithParam<ClassCase> {};
 
@@ -110,10 +117,7 @@ TEST_P(HonestVerdictTest, ComesInAtLeastNinetyPercentOfSeeds) {
 
 INSTANTIATE_TEST_SUITE_P(OutsideTheCatalogue, HonestVerdictTest, testing::ValuesIn(kClasses),
                          [](const testing::TestParamInfo<ClassCase>& info) {
-                           std::string name;
-                           for (const char* p = info.param.name; *p && *p != ' ' && *p != '('; ++p)
-                             name += std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_';
-                           return name + std::to_string(info.index);
+                           return std::string(info.param.id);
                          });
 
 // Two catalogue effects the data cannot tell apart: with the x axis 100 times noisier
@@ -173,6 +177,46 @@ TEST(CorrelatedNoise, ReportedSigmasMatchTheMonteCarloSpread) {
                 Info(parameters[p]).name, spread, sigma, sigma / spread);
     // 150 trials: the spread's own relative sd is about 6%.
     EXPECT_NEAR(sigma / spread, 1.0, 0.15) << Info(parameters[p]).name;
+  }
+}
+
+// With Student-t noise (3 dof) discovery fits the final model with a Huber loss; its
+// sandwich covariance must match the Monte Carlo spread of the Huber estimates (within 15%),
+// and the Huber estimates must be more precise than least squares' (whose spread is the
+// stated sigma's, since the noise has the stated variance).
+TEST(HeavyTails, TheRobustFitsSigmasMatchTheMonteCarloSpread) {
+  Scenario scenario = ScenarioWith("noise_student_t_dof=3");
+  scenario.landmarks = LandmarkSpec();
+  scenario.landmarks.decoys = true;
+  scenario.landmarks.decoy_count = 3;
+  scenario.landmarks.decoy_min_distance_m = 400.0;
+  const Parameter parameters[4] = {Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY,
+                                   Parameter::kScaleY};
+  constexpr int kTrials = 150;
+  double sum[4] = {}, sum2[4] = {}, reported[4] = {}, least_squares[4] = {};
+  int robust = 0;
+  for (int seed = 1; seed <= kTrials; ++seed) {
+    const DiscoveryResult result = DiscoverIn(scenario, 2000 + seed);
+    robust += result.robust_fit;
+    for (int p = 0; p < 4; ++p) {
+      const double value = result.extended.estimate.Value(parameters[p]);
+      sum[p] += value;
+      sum2[p] += value * value;
+      reported[p] += result.extended.estimate.StandardDeviation(parameters[p]);
+      least_squares[p] += std::sqrt(result.baseline.covariance(p, p));
+    }
+  }
+  EXPECT_GE(robust, 0.9 * kTrials);
+  for (int p = 0; p < 4; ++p) {
+    const double mean = sum[p] / kTrials;
+    const double spread = std::sqrt((sum2[p] / kTrials - mean * mean) * kTrials / (kTrials - 1));
+    const double sigma = reported[p] / kTrials;
+    std::printf(
+        "%s: Monte Carlo spread %.4g, mean sandwich sigma %.4g (ratio %.3f); least "
+        "squares sigma %.4g\n",
+        Info(parameters[p]).name, spread, sigma, sigma / spread, least_squares[p] / kTrials);
+    EXPECT_NEAR(sigma / spread, 1.0, 0.15) << Info(parameters[p]).name;
+    EXPECT_LT(spread, least_squares[p] / kTrials) << Info(parameters[p]).name;
   }
 }
 

@@ -410,6 +410,30 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     for (size_t c = 0; c < flagged.size(); ++c) result->checks[c].flagged = flagged[c];
     return Status::Ok();
   };
+  // A step can be mimicked by several catalogue effects at once (a run bias shift, a drift
+  // and an angle offset together), after which the final model's checks see nothing. When
+  // a single step on the baseline (its size and place: two parameters) explains at least as
+  // much as all the named effects do, by BIC, the step is the simpler account: it joins the
+  // nuisance shapes. A true effect explains more than any step resembling it, so it stays.
+  std::vector<std::pair<int, std::vector<double>>> simpler_steps;
+  if (!joint.effects.empty()) {
+    JointOptions base = joint;
+    base.effects.clear();
+    Eigen::MatrixXd base_jacobian;
+    Eigen::VectorXd base_residual;
+    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(test, run, conditions, landmarks, base,
+                                            result->baseline_joint, &base_jacobian,
+                                            &base_residual));
+    const double effects_gain = TotalChi2(result->baseline_joint) - TotalChi2(current);
+    const double effects_bic = effects_gain - joint.effects.size() * log_n;
+    for (const ResidualCheck& check : CheckResiduals(
+             test, base_jacobian, base_residual, result->baseline_joint.landmark.empty() ? 0 : 2,
+             final_noise, check_options)) {
+      if (check.name.find("step") == std::string::npos) continue;
+      if (check.statistic - 2.0 * log_n >= effects_bic && check.p_value <= checks_alpha)
+        simpler_steps.push_back({check.axis, check.shape[0]});
+    }
+  }
   ACCELCAL_RETURN_IF_ERROR(run_checks());
   while (!joint.effects.empty()) {
     std::vector<Eigen::VectorXd> nuisance;
@@ -418,6 +442,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       for (const std::vector<double>& shape : check.shape)
         nuisance.push_back(WhitenedShapeColumn(shape, check.axis, final_noise[check.axis],
                                                static_cast<int>(jacobian.rows())));
+    }
+    for (const auto& [axis, shape] : simpler_steps) {
+      nuisance.push_back(
+          WhitenedShapeColumn(shape, axis, final_noise[axis], static_cast<int>(jacobian.rows())));
     }
     if (nuisance.empty()) break;
     // Columns of the current free parameters, by name.
@@ -459,8 +487,47 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
     ACCELCAL_RETURN_IF_ERROR(run_checks());
   }
-  for (const ResidualCheck& check : result->checks) {
-    if (check.flagged) result->remaining.push_back(check.description);
+  // What remains, in words: the flagged shapes strongest first, each kept only if it still
+  // stands once the shapes before it are allowed for (a 2-theta harmonic also shows as a
+  // curved trend and a step; those are parts of the same shape, not more of them).
+  {
+    std::vector<const ResidualCheck*> flagged;
+    for (const ResidualCheck& check : result->checks) {
+      if (check.flagged) flagged.push_back(&check);
+    }
+    std::sort(flagged.begin(), flagged.end(), [](const ResidualCheck* a, const ResidualCheck* b) {
+      return a->p_value < b->p_value;
+    });
+    std::vector<Eigen::VectorXd> kept;
+    std::string parts;
+    for (const ResidualCheck* check : flagged) {
+      if (check->shape.empty()) {
+        result->remaining.push_back(check->description);
+        continue;
+      }
+      Eigen::MatrixXd extra(jacobian.rows(), check->shape.size());
+      for (size_t c = 0; c < check->shape.size(); ++c)
+        extra.col(c) = WhitenedShapeColumn(check->shape[c], check->axis, final_noise[check->axis],
+                                           static_cast<int>(jacobian.rows()));
+      Eigen::MatrixXd model(jacobian.rows(), jacobian.cols() + static_cast<int>(kept.size()));
+      model.leftCols(jacobian.cols()) = jacobian;
+      for (size_t c = 0; c < kept.size(); ++c) model.col(jacobian.cols() + c) = kept[c];
+      int rank = 0;
+      const double delta = ExtraChiSquare(model, extra, linear_residual, &rank);
+      const bool stands =
+          kept.empty() ||
+          (rank > 0 && ChiSquareSurvival(delta, rank) <=
+                           checks_alpha / std::max<size_t>(1, result->checks.size()));
+      if (!stands) {
+        parts += (parts.empty() ? "" : ", ") + check->name;
+        continue;
+      }
+      result->remaining.push_back(check->description);
+      for (int c = 0; c < extra.cols(); ++c) kept.push_back(extra.col(c));
+    }
+    if (!parts.empty()) {
+      result->remaining.push_back("also flagged, but parts of the shapes above: " + parts);
+    }
   }
 
   // Every figure of the final model's effects against the final model itself.
@@ -475,6 +542,24 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         effect.bic_change = -effect.delta_chi2 + log_n;
       }
     }
+  }
+  // Heavy tails: the final model again with a Huber loss (1.345 sigma: 95% of least squares'
+  // efficiency under Gaussian noise, far better under heavy tails), and the sandwich
+  // covariance, right whatever the tails.
+  if (std::any_of(result->noise_findings.begin(), result->noise_findings.end(),
+                  [](const NoiseFinding& finding) {
+                    return finding.kind == NoiseFinding::Kind::kHeavyTails;
+                  })) {
+    JointOptions robust = joint;
+    robust.loss = "huber";
+    robust.loss_scale = 1.345;
+    robust.compress_calibration = false;
+    JointResult fit;
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, robust, &fit));
+    ACCELCAL_RETURN_IF_ERROR(
+        HuberSandwichCovariance(test, run, conditions, landmarks, robust, &fit));
+    current = fit;
+    result->robust_fit = true;
   }
   result->extended = current;
   for (DiscoveredEffect& effect : result->effects) {

@@ -111,6 +111,17 @@ Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
                       const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
                       Eigen::VectorXd* residual, const std::vector<Parameter>* columns = nullptr);
 
+// Replaces the covariance of `result` (a SolveJoint solution with options.loss = "huber")
+// by the M-estimator's sandwich A^-1 B A^-1, A = sum psi'(r_i) J_i J_i^T and
+// B = sum psi(r_i)^2 J_i J_i^T over the tilt-test rows (psi the Huber influence at
+// options.loss_scale), plus J^T J for the endpoint's rows (which carry no loss). It is right
+// for independent noise of any distribution with finite variance, heavy tails included,
+// where ceres::Covariance's loss-corrected information is not.
+Status HuberSandwichCovariance(const CalibrationTest& test, const VehicleRun& run,
+                               const RunConditions& conditions,
+                               const std::vector<Landmark>& landmarks, const JointOptions& options,
+                               JointResult* result);
+
 // The tilt test's residuals m - prediction (m/s^2) of each axis under `values`.
 void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
                           double gravity_mps2, std::vector<double>* residual_x,

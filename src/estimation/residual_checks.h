@@ -10,9 +10,10 @@
 //                        what the model can already make: the chi-square they remove
 //                        (dof = the rank left), chi-square tail;
 //   curved trend         u^2 and u^3 of the sample's place u in the test, likewise;
-//   step                 the CUSUM of the whitened residuals in sample order: its largest
-//                        |S_c| / sqrt(n) against the Kolmogorov distribution (the sup of a
-//                        Brownian bridge); the step's place and size from the regression;
+//   step                 the largest chi-square a step removes over the change points
+//                        in the middle 96% of the test, each projected off the model,
+//                        against the sup of a standardised Brownian bridge (Miller and
+//                        Siegmund's approximation); the step's place and size with it;
 //   lag-1 correlation    sqrt(n) r_1, two-sided normal;
 //   portmanteau          Ljung-Box over `ljung_box_lags` lags, chi-square tail;
 //
