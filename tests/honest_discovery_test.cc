@@ -79,6 +79,11 @@ const ClassCase kClasses[] = {
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kOutliers) && !NamesCatalogueEffect(r);
      }},
+    // Enough large outliers to carry least squares' bias, and the run, to another landmark.
+    {"ManyLargeOutliers", "outliers, 5% at 50 sigma", "outlier_fraction=0.05,outlier_sigma=50",
+     [](const DiscoveryResult& r) {
+       return Finds(r, NoiseFinding::Kind::kOutliers) && !NamesCatalogueEffect(r);
+     }},
     {"HeavyTails", "heavy tails", "noise_student_t_dof=3",
      [](const DiscoveryResult& r) {
        return Finds(r, NoiseFinding::Kind::kHeavyTails) && !NamesCatalogueEffect(r);

@@ -146,6 +146,16 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   for (int k = 0; k < 2; ++k) {
     heavy[k] = flags[4 * k + 1];
     outlying[k] = flags[4 * k] && !heavy[k] && !first[k].outlier_candidates.empty();
+    // Outliers can hide one another (two in one neighbourhood, or a scale they inflate): look
+    // again without those found, until no more are.
+    for (int pass = 0; outlying[k] && pass < 5; ++pass) {
+      const NoiseAnalysis again = AnalyzeNoise(residuals[k], stated[k], first[k].outlier_candidates,
+                                               false, analysis_options);
+      if (again.outlier_candidates.empty()) break;
+      std::vector<int>& found = first[k].outlier_candidates;
+      found.insert(found.end(), again.outlier_candidates.begin(), again.outlier_candidates.end());
+      std::sort(found.begin(), found.end());
+    }
     // Level and correlation again without the outliers, or with the sample's own moments
     // under heavy tails (a variance test with Gaussian error bars would be wrong there).
     analysis[k] = (heavy[k] || outlying[k])
@@ -225,8 +235,27 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       result->noise_findings.push_back(finding);
     }
   }
-  // The endpoint against the landmarks, with the noise the data show.
+  // The endpoint against the landmarks, with the noise the data show. With outliers or
+  // correlated noise the baseline is refitted under that noise model first: least squares
+  // over every sample would carry the outliers into the bias, and the run to a wrong
+  // landmark, and would understate its covariance under correlation.
   ParameterEstimate noise_scaled = baseline;
+  const bool structured =
+      !result->noise_model[0].outliers.empty() || !result->noise_model[1].outliers.empty() ||
+      result->noise_model[0].correlation != 0.0 || result->noise_model[1].correlation != 0.0;
+  if (structured) {
+    JointOptions refit;
+    refit.gravity_mps2 = options.gravity_mps2;
+    refit.noise_variance_x = result->noise_variance_used[0];
+    refit.noise_variance_y = result->noise_variance_used[1];
+    refit.noise_correlation = {result->noise_model[0].correlation,
+                               result->noise_model[1].correlation};
+    refit.outliers = {result->noise_model[0].outliers, result->noise_model[1].outliers};
+    refit.num_threads = options.num_threads;
+    JointResult fit;
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, refit, &fit));
+    noise_scaled = fit.estimate;
+  }
   noise_scaled.values[Parameter::kNoiseVarianceX] = result->noise_variance_used[0] / stated[0];
   noise_scaled.values[Parameter::kNoiseVarianceY] = result->noise_variance_used[1] / stated[1];
   noise_scaled.noise_correlation = {result->noise_model[0].correlation,
