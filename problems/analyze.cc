@@ -223,7 +223,7 @@ std::string DiscoveryBox(const DiscoveryResult& d) {
       box += std::string(i == 0                                   ? ""
                          : i + 1 == ambiguity.alternatives.size() ? " or "
                                                                   : ", ") +
-             Info(ambiguity.alternatives[i].effect).name;
+             ambiguity.alternatives[i].Name();
     }
     box += "; what would separate them: " + ambiguity.separation + ".";
   }
@@ -367,10 +367,10 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
                      Finite(ambiguity.effect_estimate, "%.4g").c_str(),
                      Finite(ambiguity.effect_stddev, "%.2g").c_str(), Info(ambiguity.effect).unit);
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-      text += StringPrintf(
-          " or %s = %s +- %s %s (delta chi2 %s)", Info(alternative.effect).name,
-          Finite(alternative.estimate, "%.4g").c_str(), Finite(alternative.stddev, "%.2g").c_str(),
-          Info(alternative.effect).unit, Finite(alternative.delta_chi2, "%+.2f").c_str());
+      text += StringPrintf(" or %s = %s +- %s %s (delta chi2 %s)", alternative.Name().c_str(),
+                           Finite(alternative.estimate, "%.4g").c_str(),
+                           Finite(alternative.stddev, "%.2g").c_str(), alternative.Unit().c_str(),
+                           Finite(alternative.delta_chi2, "%+.2f").c_str());
     }
     if (!ambiguity.separation.empty())
       text += ". What would separate them: " + ambiguity.separation;

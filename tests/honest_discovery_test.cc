@@ -148,6 +148,31 @@ TEST(Ambiguity, TwoEffectsTheDataCannotSeparateAreReportedAsSuch) {
   EXPECT_GE(ambiguous, 8);
 }
 
+// Over half a circle, a 3-theta harmonic on x and scale_nonlinearity_x are nearly the same
+// shape: the catalogue effect fits it, and the checks of the final model see nothing. The
+// answer must not be "missing: scale_nonlinearity_x" alone: either the shape is named as
+// an alternative the design cannot tell apart, or structure remains.
+TEST(Ambiguity, AShapeOutsideTheCatalogueThatACatalogueEffectMimicsIsNamedAsAnAlternative) {
+  Scenario scenario = ScenarioWith("theta_harmonic_order=3,theta_harmonic_x=0.12");
+  scenario.tilt.kind = TiltSchedule::Kind::kUniform;
+  scenario.tilt.sample_count = 2000;
+  scenario.tilt.theta_begin_rad = 0.0;
+  scenario.tilt.theta_end_rad = M_PI;
+  int honest = 0;
+  std::string example;
+  for (int seed = 1; seed <= 20; ++seed) {
+    const DiscoveryResult result = DiscoverIn(scenario, seed);
+    bool shape_named = result.verdict_code == Verdict::kUnexplained;
+    for (const Ambiguity& ambiguity : result.ambiguities) {
+      for (const Ambiguity::Alternative& alternative : ambiguity.alternatives)
+        shape_named |= alternative.shape == "x: 3-theta harmonic";
+    }
+    honest += shape_named;
+    if (!shape_named && example.empty()) example = result.verdict;
+  }
+  EXPECT_GE(honest, 18) << example;
+}
+
 // With AR(1) noise the reported sigma of bias and scale must match their Monte Carlo
 // spread (within 15%): the whitening carries the correlation into the covariance. The
 // white-noise fit of the same data reports sigmas about sqrt((1 + rho) / (1 - rho)) = 2

@@ -681,7 +681,76 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         if (!(ChiSquareSurvival(explained, 1.0) <= family_alpha / candidates.size())) continue;
         ambiguity.alternatives.push_back({candidate, alternative.estimate.Value(candidate),
                                           alternative.estimate.StandardDeviation(candidate),
-                                          worse});
+                                          worse, ""});
+      }
+      // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
+      // about as well, alone explains what the effect explains, and is not merely a
+      // generalisation of it (over half a circle, a 3-theta harmonic on x and
+      // scale_nonlinearity_x are nearly the same shape; over a full circle, a 2-theta
+      // harmonic contains scale_nonlinearity_x and is not an alternative to it). Linearised
+      // at the final solution: without the effect, the residual is r + J_e (neutral - value).
+      const std::vector<Parameter>& free = current.estimate.free;
+      const auto column = std::find(free.begin(), free.end(), ambiguity.effect);
+      if (column != free.end() && jacobian.cols() == static_cast<Eigen::Index>(free.size())) {
+        const int e_col = static_cast<int>(column - free.begin());
+        const Eigen::VectorXd j_e = jacobian.col(e_col);
+        Eigen::MatrixXd others(jacobian.rows(), jacobian.cols() - 1);
+        for (int c = 0, o = 0; c < jacobian.cols(); ++c) {
+          if (c != e_col) others.col(o++) = jacobian.col(c);
+        }
+        const Eigen::VectorXd without =
+            linear_residual +
+            j_e * (Info(ambiguity.effect).neutral - current.estimate.Value(ambiguity.effect));
+        // The effect's signature in the test (a harmonic can only stand for that part).
+        Eigen::VectorXd test_signature = j_e;
+        test_signature.tail(jacobian.rows() - 2 * test.size()).setZero();
+        Eigen::MatrixXd others_in_test = others;
+        others_in_test.bottomRows(jacobian.rows() - 2 * test.size()).setZero();
+        const double own = ExtraChiSquare(others_in_test, test_signature, test_signature);
+        for (int axis = 0; axis < 2; ++axis) {
+          for (int k = 1; k <= options.max_harmonic; ++k) {
+            std::vector<double> cosine(test.size()), sine(test.size());
+            for (int i = 0; i < test.size(); ++i) {
+              cosine[i] = std::cos(k * test.theta_rad[i]);
+              sine[i] = std::sin(k * test.theta_rad[i]);
+            }
+            Eigen::MatrixXd shape(jacobian.rows(), 2);
+            shape.col(0) = WhitenedShapeColumn(cosine, axis, final_noise[axis],
+                                               static_cast<int>(jacobian.rows()));
+            shape.col(1) = WhitenedShapeColumn(sine, axis, final_noise[axis],
+                                               static_cast<int>(jacobian.rows()));
+            Eigen::MatrixXd swapped(jacobian.rows(), others.cols() + 2);
+            swapped << others, shape;
+            // The harmonic must not contain the effect's own signature.
+            // (in the test's rows: the run's rows of the others would hide it there)
+            Eigen::MatrixXd swapped_in_test = swapped;
+            swapped_in_test.bottomRows(jacobian.rows() - 2 * test.size()).setZero();
+            if (!(own > 0.0) ||
+                ExtraChiSquare(swapped_in_test, test_signature, test_signature) < 0.01 * own)
+              continue;
+            int rank = 0;
+            const double gain = ExtraChiSquare(others, shape, without, &rank);
+            if (rank < 1) continue;
+            const double worse = necessary[e] - gain;  // its chi-square over the final model's
+            if (!(worse < options.ambiguity_delta_chi2)) continue;
+            if (!(ChiSquareSurvival(gain, rank) <= family_alpha / candidates.size())) continue;
+            // Its amplitude in that model.
+            const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> fit(swapped);
+            const Eigen::VectorXd beta = fit.solve(without);
+            Ambiguity::Alternative alternative;
+            alternative.shape = StringPrintf("%s: %d-theta harmonic", axis == 0 ? "x" : "y", k);
+            alternative.estimate = std::hypot(beta[beta.size() - 2], beta[beta.size() - 1]);
+            // Its spread: the harmonic's two coefficients' (whitened rows: unit noise).
+            const Eigen::MatrixXd information = swapped.transpose() * swapped;
+            const Eigen::MatrixXd covariance =
+                information.completeOrthogonalDecomposition().pseudoInverse();
+            const Eigen::Index last = covariance.rows() - 1;
+            alternative.stddev = std::sqrt(
+                0.5 * std::max(0.0, covariance(last, last) + covariance(last - 1, last - 1)));
+            alternative.delta_chi2 = worse;
+            ambiguity.alternatives.push_back(alternative);
+          }
+        }
       }
       if (ambiguity.alternatives.empty()) continue;
       // What would separate them: the run, where one acts in it and another does not; else
@@ -690,6 +759,18 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       std::string separation;
       for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
         const bool run_effect = EffectOf(ambiguity.effect).acts_in != ActsIn::kCalibrationTest;
+        if (!alternative.shape.empty()) {
+          // A shape acts only in the test (it was seen there); the run separates them when
+          // the effect acts in it.
+          const std::string line = StringPrintf(
+              "%s%s, a shape outside the catalogue, fits as well as %s: this design cannot say "
+              "which; a test over a full circle of theta or more positions, where their "
+              "signatures differ, would",
+              run_effect ? "the run, if tied to a well-known landmark, may separate them; " : "",
+              alternative.shape.c_str(), Info(ambiguity.effect).name);
+          separation += (separation.empty() ? "" : "; ") + line;
+          continue;
+        }
         const bool run_alternative =
             EffectOf(alternative.effect).acts_in != ActsIn::kCalibrationTest;
         std::string line;
@@ -748,8 +829,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
           Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
       for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
         sets += StringPrintf(
-            " or %s = %s (delta chi2 %+.2g)", Info(alternative.effect).name,
-            Fixed(alternative.estimate, alternative.stddev, Info(alternative.effect).unit).c_str(),
+            " or %s = %s (delta chi2 %+.2g)", alternative.Name().c_str(),
+            Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
             alternative.delta_chi2);
       }
       sets += "; what would separate them: " + ambiguity.separation;

@@ -90,9 +90,14 @@ struct Ambiguity {
   double effect_stddev = 0.0;
   struct Alternative {
     Parameter effect;
-    double estimate = 0.0;  // in the model with it instead
+    double estimate = 0.0;  // in the model with it instead (a shape: its amplitude)
     double stddev = 0.0;
     double delta_chi2 = 0.0;  // its model's chi-square minus the final model's
+    // Not empty: the alternative is a shape outside the catalogue ("x: 3-theta harmonic"),
+    // not `effect`.
+    std::string shape;
+    std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
+    std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
   };
   std::vector<Alternative> alternatives;
   std::string separation;  // what would tell them apart

@@ -204,10 +204,11 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
                          Figure("%+.4e", ambiguity.effect_estimate).c_str(),
                          Figure("%.3e", ambiguity.effect_stddev).c_str(), info.unit);
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-      const ParameterInfo& other = Info(alternative.effect);
-      text += StringPrintf("    or %-21s = %s +- %s %s  (delta chi2 %s)\n", other.name,
+      const std::string other_name = alternative.Name();
+      const std::string other_unit = alternative.Unit();
+      text += StringPrintf("    or %-21s = %s +- %s %s  (delta chi2 %s)\n", other_name.c_str(),
                            Figure("%+.4e", alternative.estimate).c_str(),
-                           Figure("%.3e", alternative.stddev).c_str(), other.unit,
+                           Figure("%.3e", alternative.stddev).c_str(), other_unit.c_str(),
                            Figure("%+.2f", alternative.delta_chi2).c_str());
     }
     if (!ambiguity.separation.empty())
@@ -448,8 +449,9 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   for (const Ambiguity& ambiguity : result.ambiguities) {
     nlohmann::json alternatives = nlohmann::json::array();
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-      alternatives.push_back({{"name", Info(alternative.effect).name},
-                              {"unit", Info(alternative.effect).unit},
+      alternatives.push_back({{"name", alternative.Name()},
+                              {"outside_catalogue", !alternative.shape.empty()},
+                              {"unit", alternative.Unit()},
                               {"estimate", Finite(alternative.estimate)},
                               {"stddev", Finite(alternative.stddev)},
                               {"delta_chi2", Finite(alternative.delta_chi2)}});
