@@ -1,31 +1,33 @@
 #ifndef ACCELCAL_ESTIMATION_DISCOVERY_H_
 #define ACCELCAL_ESTIMATION_DISCOVERY_H_
 
-// Does the baseline explain the data, and if not, which effect of the catalogue is
-// missing? In order:
+// Does the baseline explain the data; if not, what is missing, is it in the catalogue,
+// and can the data tell the candidates apart? Three families of tests share alpha (Holm
+// within each, Bonferroni across), so that on null data any verdict but "explained" comes
+// with probability at most alpha (docs/discovery.md measures it). In order:
 //
-// 1. Fit the baseline and look at what it leaves: per axis, the noise level against the
-//    stated variance (von Neumann's successive differences, immune to smooth effects),
-//    chi-square, the residual against theta in bins, whiteness (Ljung-Box) and normality
-//    (Jarque-Bera); and the endpoint against the landmarks.
-// 2. Noise first: an axis whose noise level is off (two-sided, Holm over the two axes at
-//    alpha/2) is reported as noise_variance_k, and its estimated variance is used for
-//    everything after, so a wrong statement does not pass for an effect.
-// 3. Forward selection: tie the run to the most probable landmark, score every candidate
-//    effect (the chi-square it would remove, one dof each), keep those Holm rejects at
-//    alpha/2 among the candidates left, add the strongest, refit the joint problem in
-//    Ceres, and repeat until none is significant. (alpha/2 for each of the two families
-//    keeps the whole procedure's family-wise error rate at alpha.)
-//    Then backward elimination: every selected effect is tested against the grown model
-//    (the chi-square it removes from it, Holm at alpha/2 over the selected effects); the
-//    least significant of those not rejected is dropped, the landmark tie is decided again,
-//    and the test repeats until every effect left is significant. Forward selection then
-//    resumes over the candidates never dropped, until neither step changes the model. An
-//    effect added early (e.g. a run bias shift while a missing calibration effect pointed
-//    the run at the wrong landmark) is thus not reported once a later effect explains it.
-// 4. The gain: delta chi2 and BIC per effect, the shift of each baseline parameter in its
-//    sigma, the endpoint and landmark posterior before and after, and k-fold
-//    cross-validation over contiguous blocks of the tilt test.
+// 1. Noise, alpha/4 (estimation/noise_analysis.h, docs/noise-models.md): per axis, from
+//    local differences of the baseline's residuals, outliers (set aside by index), heavy
+//    tails, the level and the AR(1) correlation. What it finds is the noise model of every
+//    fit after it (models/noise_model.h): whitening, the samples set aside, the run's
+//    endpoint covariance. With outliers or correlation the baseline is refitted under it
+//    before the run is tied to a landmark.
+// 2. Effects, alpha/2: forward selection (score every candidate by the chi-square it would
+//    remove, Holm among those left, add the strongest, refit in Ceres, re-decide the
+//    landmark tie), then backward elimination against the grown model, alternating until
+//    neither changes the model.
+// 3. Checks of what the final model leaves, alpha/4 (estimation/residual_checks.h): theta
+//    harmonics, a curved trend, a step, lag-1 correlation, a portmanteau, the endpoint.
+//    Flagged shapes (and a baseline step that explains by BIC as much as every named
+//    effect) are nuisance columns: an effect they explain is dropped. What remains is
+//    described strongest first, each shape only if it stands once those before it are
+//    allowed for.
+// 4. Ambiguity: each effect swapped for every other candidate, and for theta-harmonic
+//    shapes outside the catalogue; alternatives that fit about as well are reported with
+//    what would separate them.
+// 5. Heavy tails: the final model refitted with a Huber loss, sandwich covariance.
+// 6. The gain: delta chi2 and BIC per effect, the endpoint and landmark posterior before
+//    and after, k-fold cross-validation against its null value. Then the verdict.
 
 #include <array>
 #include <string>
