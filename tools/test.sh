@@ -22,9 +22,10 @@ if [ "${1:-}" = "--sanitize" ]; then
   export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1:strict_string_checks=1}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
   export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$ACCELCAL_ROOT/tests/sanitizer/lsan.supp}
-  # Five statistical tests repeat, thousands of times, code that the other tests run once;
-  # instrumented, they take 18 of the suite's 20 minutes and find nothing the others do not.
-  # The plain suite runs them; ACCELCAL_SANITIZE_ALL=1 runs them here too.
+  # The statistical tests of ACCELCAL_SANITIZE_SKIPPED (tools/setup.sh) repeat, hundreds or
+  # thousands of times, code that the other tests run once; instrumented, they would take
+  # most of the suite's time and find nothing the others do not. The plain suite runs them;
+  # ACCELCAL_SANITIZE_ALL=1 runs them here too.
   if [ "${ACCELCAL_SANITIZE_ALL:-0}" != 1 ]; then
     set -- -E "$ACCELCAL_SANITIZE_SKIPPED" "$@"
   fi
