@@ -340,6 +340,33 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     }
     return Status::Ok();
   };
+  // Drops the least significant effect of the model that Holm (alpha/2 over the model's
+  // effects) does not find needed, given each effect's delta chi2 and p-value, refits and
+  // re-decides the landmark tie; *dropped says whether there was one.
+  auto drop_weakest = [&](const std::vector<double>& delta_chi2,
+                          const std::vector<double>& p_values, SelectionEvent::Kind kind,
+                          bool* dropped) -> Status {
+    *dropped = false;
+    const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
+    int weakest = -1;
+    for (size_t e = 0; e < joint.effects.size(); ++e) {
+      if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
+        weakest = static_cast<int>(e);
+    }
+    if (weakest < 0) return Status::Ok();
+    const Parameter gone = joint.effects[weakest];
+    result->history.push_back(
+        {kind, gone, delta_chi2[weakest], p_values[weakest], joint.landmark_name});
+    joint.effects.erase(joint.effects.begin() + weakest);
+    result->effects.erase(
+        std::find_if(result->effects.begin(), result->effects.end(),
+                     [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+    ACCELCAL_RETURN_IF_ERROR(
+        retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
+    *dropped = true;
+    return Status::Ok();
+  };
   // An effect dropped by backward elimination is not offered again (it left `remaining` when
   // it was added), so the alternation ends.
   int step = 1;
@@ -397,23 +424,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       ACCELCAL_RETURN_IF_ERROR(necessity(&delta_chi2));
       std::vector<double> p_values;
       for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
-      const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
-      int weakest = -1;
-      for (size_t e = 0; e < joint.effects.size(); ++e) {
-        if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
-          weakest = static_cast<int>(e);
-      }
-      if (weakest < 0) break;
-      const Parameter gone = joint.effects[weakest];
-      result->history.push_back({SelectionEvent::Kind::kDropped, gone, delta_chi2[weakest],
-                                 p_values[weakest], joint.landmark_name});
-      joint.effects.erase(joint.effects.begin() + weakest);
-      result->effects.erase(
-          std::find_if(result->effects.begin(), result->effects.end(),
-                       [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
-      ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+      bool dropped = false;
       ACCELCAL_RETURN_IF_ERROR(
-          retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
+          drop_weakest(delta_chi2, p_values, SelectionEvent::Kind::kDropped, &dropped));
+      if (!dropped) break;
       changed = true;
     }
   }
@@ -497,23 +511,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       delta_chi2.push_back(ExtraChiSquare(others, own, linear_residual));
       p_values.push_back(ChiSquareSurvival(delta_chi2.back(), 1.0));
     }
-    const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
-    int weakest = -1;
-    for (size_t e = 0; e < joint.effects.size(); ++e) {
-      if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
-        weakest = static_cast<int>(e);
-    }
-    if (weakest < 0) break;
-    const Parameter gone = joint.effects[weakest];
-    result->history.push_back({SelectionEvent::Kind::kDroppedForShape, gone, delta_chi2[weakest],
-                               p_values[weakest], joint.landmark_name});
-    joint.effects.erase(joint.effects.begin() + weakest);
-    result->effects.erase(
-        std::find_if(result->effects.begin(), result->effects.end(),
-                     [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
-    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+    bool dropped = false;
     ACCELCAL_RETURN_IF_ERROR(
-        retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
+        drop_weakest(delta_chi2, p_values, SelectionEvent::Kind::kDroppedForShape, &dropped));
+    if (!dropped) break;
     ACCELCAL_RETURN_IF_ERROR(run_checks());
   }
   // What remains, in words: the flagged shapes strongest first, each kept only if it still
@@ -680,8 +681,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         if (!(worse < options.ambiguity_delta_chi2)) continue;
         if (!(ChiSquareSurvival(explained, 1.0) <= family_alpha / candidates.size())) continue;
         ambiguity.alternatives.push_back({candidate, alternative.estimate.Value(candidate),
-                                          alternative.estimate.StandardDeviation(candidate),
-                                          worse, ""});
+                                          alternative.estimate.StandardDeviation(candidate), worse,
+                                          ""});
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
       // about as well, alone explains what the effect explains, and is not merely a
