@@ -77,9 +77,7 @@ Status Load(Inputs* inputs) {
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {
-  if (FLAGS_loss != "none" && FLAGS_loss != "huber" && FLAGS_loss != "cauchy") {
-    return Status::Error("--loss must be none, huber or cauchy, got '" + FLAGS_loss + "'");
-  }
+  ACCELCAL_RETURN_IF_ERROR(ParseRobustLoss(FLAGS_loss, &options->loss));
   ACCELCAL_RETURN_IF_ERROR(ParseEffects(FLAGS_effects, &options->effects).WithContext("--effects"));
   options->gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
   options->noise_variance_x = inputs.conditions.noise_variance_x;
@@ -93,7 +91,6 @@ Status Options(const Inputs& inputs, JointOptions* options) {
     options->landmark_name = FLAGS_landmark;
   }
   options->landmark_sigma_m = FLAGS_landmark_sigma;
-  options->loss = FLAGS_loss;
   options->loss_scale = FLAGS_loss_scale;
   options->num_threads = FLAGS_num_threads;
   options->max_iterations = FLAGS_max_iterations;

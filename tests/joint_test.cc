@@ -474,12 +474,13 @@ TEST(SolveJoint, ARobustLossResistsOutliersThatBiasThePlainFit) {
       SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &plain).ok());
   const double sigma = plain.estimate.StandardDeviation(Parameter::kBiasX);
   EXPECT_GT((plain.estimate.Value(Parameter::kBiasX) - truth) / sigma, 10.0);
-  for (const char* loss : {"huber", "cauchy"}) {
+  for (const RobustLoss loss : {RobustLoss::kHuber, RobustLoss::kCauchy}) {
     options.loss = loss;
     JointResult robust;
     ASSERT_TRUE(
         SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &robust).ok());
-    EXPECT_LT(std::abs(robust.estimate.Value(Parameter::kBiasX) - truth) / sigma, 3.0) << loss;
+    EXPECT_LT(std::abs(robust.estimate.Value(Parameter::kBiasX) - truth) / sigma, 3.0)
+        << RobustLossName(loss);
   }
 }
 

@@ -33,6 +33,12 @@ struct VehicleRun {
   std::vector<double> measured_y;   // m/s^2
 
   int size() const { return static_cast<int>(timestamp_s.size()); }
+
+  // The uniform sample interval dt = (t_last - t_first) / (n - 1), s; 0 with fewer than two
+  // samples. The one place dt is computed (io/ checks on reading that the steps are uniform).
+  double SampleInterval() const {
+    return size() < 2 ? 0.0 : (timestamp_s.back() - timestamp_s.front()) / (size() - 1);
+  }
 };
 
 // A candidate place where the run may have ended.

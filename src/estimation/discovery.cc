@@ -6,7 +6,9 @@
 
 #include "common/format.h"
 #include "estimation/chi_square.h"
-#include "estimation/linear_ls.h"
+#include "estimation/joint_data.h"
+#include "estimation/robust_covariance.h"
+#include "estimation/score_test.h"
 
 namespace accelcal {
 
@@ -46,10 +48,10 @@ double TotalChi2(const JointResult& result) {
 // landmark-free fit of the model, dead-reckoned, scored by Mahalanobis distance. An
 // unmodelled effect can bias the baseline's endpoint toward the wrong landmark, so the
 // tie is decided again each time the model grows.
-Status MostProbableLandmark(const CalibrationTest& test, const VehicleRun& run,
-                            const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                            JointOptions options, double alpha, std::string* name) {
+Status MostProbableLandmark(const JointData& data, JointOptions options, double alpha,
+                            std::string* name) {
   name->clear();
+  const std::vector<Landmark>& landmarks = data.landmarks();
   if (landmarks.empty()) return Status::Ok();
   options.landmark_mode = JointOptions::Landmark::kNone;
   std::vector<Parameter> calibration_effects;
@@ -58,11 +60,12 @@ Status MostProbableLandmark(const CalibrationTest& test, const VehicleRun& run,
   }
   options.effects = calibration_effects;
   JointResult free_run;
-  ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, options, &free_run));
+  ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, options, &free_run));
   TrajectoryOptions trajectory;
-  trajectory.path_stride = run.size();
+  trajectory.path_stride = data.run().size();
   DeadReckoningResult result;
-  ACCELCAL_RETURN_IF_ERROR(DeadReckon(run, conditions, free_run.estimate, trajectory, &result));
+  ACCELCAL_RETURN_IF_ERROR(
+      DeadReckon(data.run(), data.conditions(), free_run.estimate, trajectory, &result));
   const LandmarkDecision decision =
       DecideLandmark(result.endpoint, result.covariance, landmarks, alpha);
   if (decision.best >= 0) *name = decision.scores[decision.best].landmark.name;
@@ -105,12 +108,16 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                 const std::vector<Landmark>& landmarks, const DiscoveryOptions& options,
                 DiscoveryResult* result) {
   *result = DiscoveryResult();
+  // Every fit below starts from the baseline of its noise model; each is computed once.
+  const JointData data(test, run, conditions, landmarks);
   // 1. The baseline and what it leaves.
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = conditions.noise_variance_x;
-  linear.noise_variance_y = conditions.noise_variance_y;
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, linear, &result->baseline));
+  JointOptions stated_noise;
+  stated_noise.gravity_mps2 = options.gravity_mps2;
+  stated_noise.noise_variance_x = conditions.noise_variance_x;
+  stated_noise.noise_variance_y = conditions.noise_variance_y;
+  const BaselineFit* baseline_fit = nullptr;
+  ACCELCAL_RETURN_IF_ERROR(data.Baseline(stated_noise, &baseline_fit));
+  result->baseline = *baseline_fit;
   const ParameterEstimate baseline = FromBaselineFit(result->baseline);
   std::array<std::vector<double>, 2> residuals;
   CalibrationResiduals(test, baseline.values, options.gravity_mps2, &residuals[0], &residuals[1]);
@@ -253,7 +260,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     refit.outliers = {result->noise_model[0].outliers, result->noise_model[1].outliers};
     refit.num_threads = options.num_threads;
     JointResult fit;
-    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, refit, &fit));
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, refit, &fit));
     noise_scaled = fit.estimate;
   }
   noise_scaled.values[Parameter::kNoiseVarianceX] = result->noise_variance_used[0] / stated[0];
@@ -300,8 +307,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   joint.landmark_mode = result->tied_landmark.empty() ? JointOptions::Landmark::kNone
                                                       : JointOptions::Landmark::kNamed;
   joint.landmark_name = result->tied_landmark;
-  ACCELCAL_RETURN_IF_ERROR(
-      SolveJoint(test, run, conditions, landmarks, joint, &result->baseline_joint));
+  ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &result->baseline_joint));
   JointResult current = result->baseline_joint;
   const double log_n = std::log(2.0 * test.size() + (result->tied_landmark.empty() ? 0 : 2));
   std::vector<Parameter> remaining;
@@ -314,14 +320,13 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   auto retie = [&](const char* because) -> Status {
     if (joint.landmark_mode != JointOptions::Landmark::kNamed) return Status::Ok();
     std::string tie;
-    ACCELCAL_RETURN_IF_ERROR(
-        MostProbableLandmark(test, run, conditions, landmarks, joint, options.alpha, &tie));
+    ACCELCAL_RETURN_IF_ERROR(MostProbableLandmark(data, joint, options.alpha, &tie));
     if (!tie.empty() && tie != joint.landmark_name) {
       result->landmark_note += StringPrintf("; %s, the run points at %s, not %s, and is tied to it",
                                             because, tie.c_str(), joint.landmark_name.c_str());
       joint.landmark_name = tie;
       result->tied_landmark = tie;
-      ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+      ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &current));
     }
     return Status::Ok();
   };
@@ -334,7 +339,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       JointOptions smaller = joint;
       smaller.effects.erase(smaller.effects.begin() + e);
       JointResult without;
-      if (SolveJoint(test, run, conditions, landmarks, smaller, &without).ok()) {
+      if (SolveJoint(data, smaller, &without).ok()) {
         (*delta_chi2)[e] = std::max(0.0, TotalChi2(without) - TotalChi2(current));
       }
     }
@@ -361,7 +366,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     result->effects.erase(
         std::find_if(result->effects.begin(), result->effects.end(),
                      [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
-    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, joint, &current));
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &current));
     ACCELCAL_RETURN_IF_ERROR(
         retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
     *dropped = true;
@@ -377,8 +382,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     for (; !remaining.empty() && static_cast<int>(joint.effects.size()) < options.max_effects;
          ++step) {
       std::vector<double> delta_chi2;
-      ACCELCAL_RETURN_IF_ERROR(ScoreCandidates(test, run, conditions, landmarks, joint, current,
-                                               remaining, &delta_chi2));
+      ACCELCAL_RETURN_IF_ERROR(ScoreCandidates(data, joint, current, remaining, &delta_chi2));
       std::vector<double> p_values;
       for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
       const std::vector<bool> significant = HolmRejections(p_values, family_alpha);
@@ -393,7 +397,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       JointOptions extended = joint;
       extended.effects.push_back(remaining[best]);
       JointResult refit;
-      const Status status = SolveJoint(test, run, conditions, landmarks, extended, &refit);
+      const Status status = SolveJoint(data, extended, &refit);
       if (!status.ok()) {
         // Not separable from what is already in the model: drop it and look again.
         remaining.erase(remaining.begin() + best);
@@ -443,8 +447,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   Eigen::MatrixXd jacobian;
   Eigen::VectorXd linear_residual;
   auto run_checks = [&]() -> Status {
-    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(test, run, conditions, landmarks, joint, current,
-                                            &jacobian, &linear_residual));
+    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &linear_residual));
     result->checks = CheckResiduals(test, jacobian, linear_residual,
                                     current.landmark.empty() ? 0 : 2, final_noise, check_options);
     std::vector<double> p_values;
@@ -464,9 +467,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     base.effects.clear();
     Eigen::MatrixXd base_jacobian;
     Eigen::VectorXd base_residual;
-    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(test, run, conditions, landmarks, base,
-                                            result->baseline_joint, &base_jacobian,
-                                            &base_residual));
+    ACCELCAL_RETURN_IF_ERROR(
+        LinearizeJoint(data, base, result->baseline_joint, &base_jacobian, &base_residual));
     const double effects_gain = TotalChi2(result->baseline_joint) - TotalChi2(current);
     const double effects_bic = effects_gain - joint.effects.size() * log_n;
     for (const ResidualCheck& check : CheckResiduals(
@@ -581,13 +583,12 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                     return finding.kind == NoiseFinding::Kind::kHeavyTails;
                   })) {
     JointOptions robust = joint;
-    robust.loss = "huber";
+    robust.loss = RobustLoss::kHuber;
     robust.loss_scale = 1.345;
     robust.compress_calibration = false;
     JointResult fit;
-    ACCELCAL_RETURN_IF_ERROR(SolveJoint(test, run, conditions, landmarks, robust, &fit));
-    ACCELCAL_RETURN_IF_ERROR(
-        HuberSandwichCovariance(test, run, conditions, landmarks, robust, &fit));
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, robust, &fit));
+    ACCELCAL_RETURN_IF_ERROR(HuberSandwichCovariance(data, robust, &fit));
     current = fit;
     result->robust_fit = true;
   }
@@ -619,8 +620,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     const int calibration_rows = 2 * test.size();
     Eigen::MatrixXd jacobian;
     Eigen::VectorXd residual;
-    ACCELCAL_RETURN_IF_ERROR(
-        LinearizeJoint(test, run, conditions, landmarks, joint, current, &jacobian, &residual));
+    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &residual));
     // Only the parameters the tilt test sees are refitted per fold.
     std::vector<int> columns;
     for (size_t c = 0; c < current.estimate.free.size(); ++c) {
@@ -644,8 +644,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     // The baseline's own linearisation at its own solution (no effect, same noise).
     JointOptions base = joint;
     base.effects.clear();
-    ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(test, run, conditions, landmarks, base,
-                                            result->baseline_joint, &jacobian, &residual));
+    ACCELCAL_RETURN_IF_ERROR(
+        LinearizeJoint(data, base, result->baseline_joint, &jacobian, &residual));
     result->cross_validation.baseline =
         CrossValidate(jacobian.topLeftCorner(calibration_rows, 4), residual.head(calibration_rows),
                       calibration_rows, options.cross_validation_folds);
@@ -674,7 +674,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         JointOptions swapped = joint;
         swapped.effects[e] = candidate;
         JointResult alternative;
-        if (!SolveJoint(test, run, conditions, landmarks, swapped, &alternative).ok()) continue;
+        if (!SolveJoint(data, swapped, &alternative).ok()) continue;
         const double worse = TotalChi2(alternative) - TotalChi2(current);
         // It must explain, alone, what the effect explains (significantly), and about as well.
         const double explained = necessary[e] - worse;

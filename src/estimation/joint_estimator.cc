@@ -6,12 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <optional>
-#include <sstream>
 
 #include "common/format.h"
 #include "estimation/ceres_solve.h"
-#include "estimation/linear_ls.h"
+#include "estimation/identifiability.h"
+#include "estimation/joint_data.h"
 #include "estimation/trajectory.h"
 #include "residuals/calibration_residual.h"
 #include "residuals/compressed_calibration_residual.h"
@@ -21,22 +20,22 @@ namespace accelcal {
 namespace {
 
 std::unique_ptr<ceres::LossFunction> MakeLoss(const JointOptions& options) {
-  if (options.loss == "huber") return std::make_unique<ceres::HuberLoss>(options.loss_scale);
-  if (options.loss == "cauchy") return std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+  switch (options.loss) {
+    case RobustLoss::kNone:
+      return nullptr;
+    case RobustLoss::kHuber:
+      return std::make_unique<ceres::HuberLoss>(options.loss_scale);
+    case RobustLoss::kCauchy:
+      return std::make_unique<ceres::CauchyLoss>(options.loss_scale);
+  }
   return nullptr;
 }
 
 // One solve with the run tied to `landmark` (or to none).
 class JointProblem {
  public:
-  JointProblem(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,
-               const JointOptions& options, const BaselineFit& start)
-      : test_(test),
-        run_(run),
-        conditions_(conditions),
-        options_(options),
-        start_(start),
-        loss_(MakeLoss(options)) {}
+  JointProblem(const JointData& data, const JointOptions& options)
+      : data_(data), test_(data.test()), options_(options), loss_(MakeLoss(options)) {}
 
   // The residual blocks of each group, for chi-square per group.
   struct Groups {
@@ -63,10 +62,9 @@ class JointProblem {
     const AxisNoise noise[2] = {options_.Noise(0), options_.Noise(1)};
     std::unique_ptr<CompressedCalibrationResidual> compressed[2];
     if (compress && loss_ == nullptr) {
-      // A model outside the compressed basis falls back to the per-sample residuals.
-      if (!CompressedCalibrationResidual::Make(test_, options_.gravity_mps2, noise, *values,
-                                               compressed)
-               .ok()) {
+      // A model outside the compressed basis falls back to the per-sample residuals. The
+      // Gram matrices are taken about the baseline, where every solve starts.
+      if (!data_.CompressedResiduals(options_, compressed).ok()) {
         compressed[0].reset();
         compressed[1].reset();
       }
@@ -108,12 +106,13 @@ class JointProblem {
       // The endpoint's noise covariance at the starting point (the baseline): the
       // whitening must not move with the parameters, or the cost would not be a chi-square.
       const DeadReckoningResult* baseline_trajectory = nullptr;
-      ACCELCAL_RETURN_IF_ERROR(BaselineTrajectory(&baseline_trajectory));
-      const double dt = (run_.timestamp_s.back() - run_.timestamp_s.front()) / (run_.size() - 1);
+      ACCELCAL_RETURN_IF_ERROR(data_.BaselineTrajectory(options_, &baseline_trajectory));
+      const VehicleRun& run = data_.run();
+      const RunConditions& conditions = data_.conditions();
       auto* functor = new EndpointResidual(
-          run_.measured_x, run_.measured_y, dt,
-          Eigen::Vector2d(conditions_.initial_position_x_m, conditions_.initial_position_y_m),
-          Eigen::Vector2d(conditions_.initial_velocity_x_mps, conditions_.initial_velocity_y_mps),
+          run.measured_x, run.measured_y, run.SampleInterval(),
+          Eigen::Vector2d(conditions.initial_position_x_m, conditions.initial_position_y_m),
+          Eigen::Vector2d(conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps),
           Eigen::Vector2d(landmark->x_m, landmark->y_m), baseline_trajectory->noise_part,
           options_.landmark_sigma_m,
           /*linear_inverse=*/EndpointResidual::InverseIsAffine(*values, free));
@@ -131,37 +130,20 @@ class JointProblem {
     return Status::Ok();
   }
 
-  // The baseline's dead-reckoned run (endpoint, covariance and its noise part), computed
-  // once however many landmarks are tried.
-  Status BaselineTrajectory(const DeadReckoningResult** trajectory) {
-    if (!baseline_trajectory_) {
-      TrajectoryOptions trajectory_options;
-      trajectory_options.path_stride = std::max(1, run_.size());
-      ParameterEstimate start = FromBaselineFit(start_);
-      start.values[Parameter::kNoiseVarianceX] =
-          options_.noise_variance_x / conditions_.noise_variance_x;
-      start.values[Parameter::kNoiseVarianceY] =
-          options_.noise_variance_y / conditions_.noise_variance_y;
-      start.noise_correlation = options_.noise_correlation;
-      DeadReckoningResult result;
-      ACCELCAL_RETURN_IF_ERROR(DeadReckon(run_, conditions_, start, trajectory_options, &result));
-      baseline_trajectory_ = std::move(result);
-    }
-    *trajectory = &*baseline_trajectory_;
-    return Status::Ok();
-  }
-
   Status Solve(const Landmark* landmark, JointResult* result) {
     ParameterEstimate& estimate = result->estimate;
     estimate = ParameterEstimate();
     ModelParameters<double>& values = estimate.values;
     // Start from the closed-form baseline; every effect from its neutral value.
-    const ParameterEstimate baseline = FromBaselineFit(start_);
+    const BaselineFit* start = nullptr;
+    ACCELCAL_RETURN_IF_ERROR(data_.Baseline(options_, &start));
+    const ParameterEstimate baseline = FromBaselineFit(*start);
     for (const Parameter parameter : baseline.free) {
       values[parameter] = baseline.Value(parameter);
     }
-    values[Parameter::kNoiseVarianceX] = options_.noise_variance_x / conditions_.noise_variance_x;
-    values[Parameter::kNoiseVarianceY] = options_.noise_variance_y / conditions_.noise_variance_y;
+    const RunConditions& conditions = data_.conditions();
+    values[Parameter::kNoiseVarianceX] = options_.noise_variance_x / conditions.noise_variance_x;
+    values[Parameter::kNoiseVarianceY] = options_.noise_variance_y / conditions.noise_variance_y;
     estimate.noise_correlation = options_.noise_correlation;
     estimate.free = baseline.free;
     for (const Parameter effect : options_.effects) estimate.free.push_back(effect);
@@ -242,9 +224,8 @@ class JointProblem {
   }
 
  private:
-  // Looks for directions in which the data do not constrain the free parameters: the
-  // eigenvectors of the column-scaled J^T J with tiny eigenvalues. A column of zeros (a
-  // parameter no residual depends on) is the extreme case.
+  // The information matrix J^T J of the free parameters at the problem's current values,
+  // checked for directions the data do not constrain (estimation/identifiability.h).
   Status CheckIdentifiable(ceres::Problem* problem, const std::vector<double*>& blocks,
                            const std::vector<Parameter>& names) {
     ceres::Problem::EvaluateOptions evaluate_options;
@@ -261,62 +242,14 @@ class JointProblem {
         }
       }
     }
-    std::string unconstrained;
-    for (int i = 0; i < p; ++i) {
-      if (!(information(i, i) > 0.0)) {
-        unconstrained += std::string(unconstrained.empty() ? "" : ", ") + Info(names[i]).name;
-      }
-    }
-    if (!unconstrained.empty()) {
-      std::string hint;
-      for (const Parameter parameter : names) {
-        if (ActsOnlyInRun(parameter))
-          hint =
-              "; an effect acting only in the run is observable only through a landmark "
-              "(--landmark)";
-      }
-      return Status::Error("not identifiable: no residual depends on " + unconstrained + hint);
-    }
-    const Eigen::VectorXd scale = information.diagonal().cwiseSqrt().cwiseInverse();
-    const Eigen::MatrixXd normalized = scale.asDiagonal() * information * scale.asDiagonal();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normalized);
-    const double largest = eigen.eigenvalues().maxCoeff();
-    for (int k = 0; k < p; ++k) {
-      if (eigen.eigenvalues()[k] > options_.identifiability_threshold * largest) continue;
-      std::string together;
-      const Eigen::VectorXd direction = eigen.eigenvectors().col(k);
-      for (int i = 0; i < p; ++i) {
-        if (std::abs(direction[i]) > 0.1) {
-          together += std::string(together.empty() ? "" : ", ") + Info(names[i]).name;
-        }
-      }
-      return Status::Error(StringPrintf(
-          "not identifiable: %s cannot be separated with these data (their information "
-          "matrix has a near-null direction, eigenvalue ratio %.1e); fix one of them or "
-          "change the test design",
-          together.c_str(), eigen.eigenvalues()[k] / largest));
-    }
-    return Status::Ok();
+    return accelcal::CheckIdentifiable(information, names, options_.identifiability_threshold);
   }
 
+  const JointData& data_;
   const CalibrationTest& test_;
-  const VehicleRun& run_;
-  const RunConditions& conditions_;
   const JointOptions& options_;
-  const BaselineFit& start_;
-  std::optional<DeadReckoningResult> baseline_trajectory_;
   std::unique_ptr<ceres::LossFunction> loss_;
 };
-
-// The closed-form baseline every joint solve starts from (and whose run-noise covariance
-// whitens the endpoint residual).
-Status BaselineStart(const CalibrationTest& test, const JointOptions& options, BaselineFit* start) {
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = options.noise_variance_x;
-  linear.noise_variance_y = options.noise_variance_y;
-  return EstimateLinearLs(test, linear, start);
-}
 
 // How many sigma each landmark is from the baseline's dead-reckoned endpoint, with the
 // endpoint covariance (parameters and run noise) plus the landmarks' own uncertainty.
@@ -334,151 +267,48 @@ std::vector<double> BaselineLandmarkSigmas(const DeadReckoningResult& baseline,
   return sigmas;
 }
 
-const Landmark* FindLandmark(const std::vector<Landmark>& landmarks, const std::string& name) {
-  for (const Landmark& landmark : landmarks) {
-    if (landmark.name == name) return &landmark;
-  }
-  return nullptr;
-}
-
 }  // namespace
 
-Status ParseEffects(const std::string& list, std::vector<Parameter>* effects) {
-  effects->clear();
-  if (list.empty() || list == "none") return Status::Ok();
-  std::istringstream stream(list);
-  std::string name;
-  while (std::getline(stream, name, ',')) {
-    if (name.empty()) continue;
-    if (name == "all") {
-      for (const ParameterInfo& info : ParameterCatalogue()) {
-        if (!info.baseline && !IsNoiseRatio(info.parameter)) effects->push_back(info.parameter);
-      }
-      continue;
-    }
-    const ParameterInfo* info = FindParameter(name);
-    if (info == nullptr || info->baseline) {
-      std::string names;
-      for (const ParameterInfo& entry : ParameterCatalogue()) {
-        if (!entry.baseline && !IsNoiseRatio(entry.parameter))
-          names += std::string(names.empty() ? "" : ", ") + entry.name;
-      }
-      return Status::Error("'" + name +
-                           "' is not an effect the joint model estimates; choose from " + names +
-                           " (bias and scale are always estimated)");
-    }
-    if (IsNoiseRatio(info->parameter)) {
-      return Status::Error(std::string(info->name) +
-                           " is not a model parameter: it is read from chi-square (see discover)");
-    }
-    if (std::find(effects->begin(), effects->end(), info->parameter) == effects->end()) {
-      effects->push_back(info->parameter);
-    }
+const char* RobustLossName(RobustLoss loss) {
+  switch (loss) {
+    case RobustLoss::kNone:
+      return "none";
+    case RobustLoss::kHuber:
+      return "huber";
+    case RobustLoss::kCauchy:
+      return "cauchy";
   }
-  return Status::Ok();
+  return "none";
 }
 
-Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
-                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                       const JointOptions& options, const JointResult& current,
-                       const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2) {
-  BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
-  const Landmark* tied = FindLandmark(landmarks, current.landmark);
-  // The score statistic: with r the whitened residuals, J_A the Jacobian of the current
-  // free parameters and j_c the candidate's column, delta chi2 = (e^T r)^2 / (e^T e),
-  // e = j_c projected off the span of J_A (at an optimum J_A^T r = 0).
-  std::vector<Parameter> columns = current.estimate.free;
-  columns.insert(columns.end(), candidates.begin(), candidates.end());
-  Eigen::MatrixXd jacobian;
-  Eigen::VectorXd r;
-  JointProblem problem(test, run, conditions, options, start);
-  ACCELCAL_RETURN_IF_ERROR(
-      problem.Linearize(tied, current.estimate.values, columns, &jacobian, &r));
-  const int a = static_cast<int>(current.estimate.free.size());
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(jacobian.leftCols(a));
-  const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(jacobian.rows(), a);
-  delta_chi2->assign(candidates.size(), 0.0);
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    const Eigen::VectorXd column = jacobian.col(a + static_cast<int>(c));
-    const Eigen::VectorXd e = column - q * (q.transpose() * column);
-    const double energy = e.squaredNorm();
-    if (energy > 1e-12 * column.squaredNorm() && energy > 0.0)
-      (*delta_chi2)[c] = std::pow(e.dot(r), 2) / energy;
+Status ParseRobustLoss(const std::string& name, RobustLoss* loss) {
+  for (const RobustLoss candidate : {RobustLoss::kNone, RobustLoss::kHuber, RobustLoss::kCauchy}) {
+    if (name == RobustLossName(candidate)) {
+      *loss = candidate;
+      return Status::Ok();
+    }
   }
-  return Status::Ok();
+  return Status::Error("--loss must be none, huber or cauchy, got '" + name + "'");
 }
 
-Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
-                      const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                      const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
-                      Eigen::VectorXd* residual, const std::vector<Parameter>* columns) {
-  BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
-  const Landmark* tied = FindLandmark(landmarks, at.landmark);
-  JointProblem problem(test, run, conditions, options, start);
-  return problem.Linearize(tied, at.estimate.values,
+Status LinearizeJoint(const JointData& data, const JointOptions& options, const JointResult& at,
+                      Eigen::MatrixXd* jacobian, Eigen::VectorXd* residual,
+                      const std::vector<Parameter>* columns) {
+  JointProblem problem(data, options);
+  return problem.Linearize(data.FindLandmark(at.landmark), at.estimate.values,
                            columns != nullptr ? *columns : at.estimate.free, jacobian, residual);
-}
-
-Status HuberSandwichCovariance(const CalibrationTest& test, const VehicleRun& run,
-                               const RunConditions& conditions,
-                               const std::vector<Landmark>& landmarks, const JointOptions& options,
-                               JointResult* result) {
-  if (options.loss != "huber") return Status::Error("the sandwich covariance is for a Huber fit");
-  Eigen::MatrixXd jacobian;
-  Eigen::VectorXd residual;
-  ACCELCAL_RETURN_IF_ERROR(
-      LinearizeJoint(test, run, conditions, landmarks, options, *result, &jacobian, &residual));
-  const int p = static_cast<int>(jacobian.cols());
-  const int calibration_rows = 2 * test.size();
-  const double k = options.loss_scale;
-  Eigen::MatrixXd a = Eigen::MatrixXd::Zero(p, p);
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(p, p);
-  for (int row = 0; row < jacobian.rows(); ++row) {
-    const Eigen::VectorXd j = jacobian.row(row).transpose();
-    if (row >= calibration_rows) {  // the endpoint: no loss
-      a.noalias() += j * j.transpose();
-      b.noalias() += j * j.transpose();
-      continue;
-    }
-    const double r = residual[row];
-    const bool inside = std::abs(r) <= k;
-    const double psi = inside ? r : std::copysign(k, r);
-    if (inside) a.noalias() += j * j.transpose();
-    b.noalias() += psi * psi * j * j.transpose();
-  }
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
-  if (!lu.isInvertible()) {
-    return Status::Error(
-        "the Huber fit's information matrix is singular: too few samples inside "
-        "the loss's quadratic region");
-  }
-  const Eigen::MatrixXd a_inverse = lu.inverse();
-  result->estimate.covariance = a_inverse * b * a_inverse;
-  return Status::Ok();
-}
-
-void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
-                          double gravity_mps2, std::vector<double>* residual_x,
-                          std::vector<double>* residual_y) {
-  const int n = test.size();
-  residual_x->resize(n);
-  residual_y->resize(n);
-  for (int i = 0; i < n; ++i) {
-    double predicted_x;
-    double predicted_y;
-    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), gravity_mps2, values,
-                              &predicted_x, &predicted_y);
-    (*residual_x)[i] = test.measured_x[i] - predicted_x;
-    (*residual_y)[i] = test.measured_y[i] - predicted_y;
-  }
 }
 
 Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
                   const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                   const JointOptions& options, JointResult* result) {
+  const JointData data(test, run, conditions, landmarks);
+  return SolveJoint(data, options, result);
+}
+
+Status SolveJoint(const JointData& data, const JointOptions& options, JointResult* result) {
   *result = JointResult();
+  const std::vector<Landmark>& landmarks = data.landmarks();
   for (const Parameter effect : options.effects) {
     if (IsNoiseRatio(effect) || Info(effect).baseline) {
       return Status::Error(std::string(Info(effect).name) + " cannot be a joint effect");
@@ -489,12 +319,12 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
                            "landmark (--landmark=NAME or --landmark=auto)");
     }
   }
-  BaselineFit start;
-  ACCELCAL_RETURN_IF_ERROR(BaselineStart(test, options, &start));
-  JointProblem problem(test, run, conditions, options, start);
+  const BaselineFit* start = nullptr;
+  ACCELCAL_RETURN_IF_ERROR(data.Baseline(options, &start));
+  JointProblem problem(data, options);
   if (options.landmark_mode == JointOptions::Landmark::kNone) return problem.Solve(nullptr, result);
   const DeadReckoningResult* baseline = nullptr;
-  ACCELCAL_RETURN_IF_ERROR(problem.BaselineTrajectory(&baseline));
+  ACCELCAL_RETURN_IF_ERROR(data.BaselineTrajectory(options, &baseline));
   const std::vector<double> sigmas =
       BaselineLandmarkSigmas(*baseline, landmarks, options.landmark_sigma_m);
   const Eigen::Vector2d& endpoint = baseline->endpoint;
@@ -507,7 +337,7 @@ Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
         endpoint.y(), options.implausible_landmark_sigma);
   };
   if (options.landmark_mode == JointOptions::Landmark::kNamed) {
-    if (const Landmark* landmark = FindLandmark(landmarks, options.landmark_name)) {
+    if (const Landmark* landmark = data.FindLandmark(options.landmark_name)) {
       const size_t k = static_cast<size_t>(landmark - landmarks.data());
       if (!(sigmas[k] <= options.implausible_landmark_sigma)) {
         return Status::Error(implausible(k) + " or choose another with --landmark");

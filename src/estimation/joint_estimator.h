@@ -10,8 +10,13 @@
 // parameters' covariance in the spec's units.
 //
 // Before the covariance, the information matrix J^T J (columns scaled to unit norm) is
-// checked for near-null directions; parameters that move together along one are
-// reported as not separable, and no covariance is claimed for them.
+// checked for near-null directions (estimation/identifiability.h); parameters that move
+// together along one are reported as not separable, and no covariance is claimed for them.
+//
+// Beside it: estimation/joint_data.h (the data and the baseline every solve starts from,
+// prepared once), estimation/score_test.h (what a candidate effect would gain, for
+// discovery), estimation/robust_covariance.h (the Huber fit's sandwich covariance) and
+// models/effect_names.h (effects by name).
 
 #include <Eigen/Core>
 #include <array>
@@ -22,9 +27,18 @@
 #include "common/status.h"
 #include "estimation/parameter_estimate.h"
 #include "estimation/solver_report.h"
+#include "models/effect_names.h"
 #include "models/noise_model.h"
 
 namespace accelcal {
+
+// A robust loss on the tilt-test residuals (Ceres' HuberLoss and CauchyLoss).
+enum class RobustLoss { kNone, kHuber, kCauchy };
+// "none", "huber", "cauchy".
+const char* RobustLossName(RobustLoss loss);
+// The loss named `name` (as RobustLossName writes it); anything else is an error naming the
+// choices.
+Status ParseRobustLoss(const std::string& name, RobustLoss* loss);
 
 struct JointOptions {
   std::vector<Parameter> effects;  // estimated beyond bias and scale (no noise_variance_k)
@@ -45,9 +59,9 @@ struct JointOptions {
   Landmark landmark_mode = Landmark::kNone;
   std::string landmark_name;      // with kNamed
   double landmark_sigma_m = 0.0;  // the landmark's position uncertainty
-  // Robust loss on the calibration residuals: "none", "huber" or "cauchy"; the scale is
-  // in units of the (whitened) residual, i.e. of sigma.
-  std::string loss = "none";
+  // Robust loss on the calibration residuals; its scale is in units of the (whitened)
+  // residual, i.e. of sigma.
+  RobustLoss loss = RobustLoss::kNone;
   double loss_scale = 1.345;
   int max_iterations = 100;
   // Each axis's tilt-test residuals as one CompressedCalibrationResidual (exact, and its
@@ -86,49 +100,24 @@ struct JointResult {
   SolverReport solver;
 };
 
+class JointData;  // estimation/joint_data.h: the data, prepared once for many solves
+
 // Fails (naming the parameters) when the chosen effects cannot be separated with these
 // data, e.g. run_bias_shift_x without a landmark, or bias, scale and scale_nonlinearity
 // from a test with two static positions.
+Status SolveJoint(const JointData& data, const JointOptions& options, JointResult* result);
+// The same for one solve: prepares the data and forgets them.
 Status SolveJoint(const CalibrationTest& test, const VehicleRun& run,
                   const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                   const JointOptions& options, JointResult* result);
-
-// The chi-square each candidate would remove if added to the solution `current` (a
-// SolveJoint result for these data and options), by the score statistic: exact for
-// effects linear in their parameter, first order otherwise. One Jacobian evaluation
-// serves all candidates, which is what makes discovery fast.
-Status ScoreCandidates(const CalibrationTest& test, const VehicleRun& run,
-                       const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                       const JointOptions& options, const JointResult& current,
-                       const std::vector<Parameter>& candidates, std::vector<double>* delta_chi2);
 
 // The whitened residuals of the joint problem at `at` and their Jacobian with respect to
 // at.estimate.free (or `columns` when given). Rows: x_0, y_0, x_1, y_1, ... for the tilt
 // test (an outlier's rows are zero), then the endpoint's two when the run is tied to a
 // landmark.
-Status LinearizeJoint(const CalibrationTest& test, const VehicleRun& run,
-                      const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                      const JointOptions& options, const JointResult& at, Eigen::MatrixXd* jacobian,
-                      Eigen::VectorXd* residual, const std::vector<Parameter>* columns = nullptr);
-
-// Replaces the covariance of `result` (a SolveJoint solution with options.loss = "huber")
-// by the M-estimator's sandwich A^-1 B A^-1, A = sum psi'(r_i) J_i J_i^T and
-// B = sum psi(r_i)^2 J_i J_i^T over the tilt-test rows (psi the Huber influence at
-// options.loss_scale), plus J^T J for the endpoint's rows (which carry no loss). It is right
-// for independent noise of any distribution with finite variance, heavy tails included,
-// where ceres::Covariance's loss-corrected information is not.
-Status HuberSandwichCovariance(const CalibrationTest& test, const VehicleRun& run,
-                               const RunConditions& conditions,
-                               const std::vector<Landmark>& landmarks, const JointOptions& options,
-                               JointResult* result);
-
-// The tilt test's residuals m - prediction (m/s^2) of each axis under `values`.
-void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
-                          double gravity_mps2, std::vector<double>* residual_x,
-                          std::vector<double>* residual_y);
-
-// Parses "angle_offset,nonorthogonality,..." (or "none", or "all") into effects.
-Status ParseEffects(const std::string& list, std::vector<Parameter>* effects);
+Status LinearizeJoint(const JointData& data, const JointOptions& options, const JointResult& at,
+                      Eigen::MatrixXd* jacobian, Eigen::VectorXd* residual,
+                      const std::vector<Parameter>* columns = nullptr);
 
 }  // namespace accelcal
 

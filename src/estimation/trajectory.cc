@@ -81,7 +81,7 @@ Status DeadReckon(const VehicleRun& run, const RunConditions& conditions,
                          " sample(s); at least 2 are needed to integrate");
   }
   const double duration_s = run.timestamp_s.back() - run.timestamp_s.front();
-  const double dt_s = duration_s / (count - 1);
+  const double dt_s = run.SampleInterval();
   if (!(dt_s > 0.0)) return Status::Error("the run's time does not increase");
   if (!(conditions.noise_variance_x > 0.0) || !(conditions.noise_variance_y > 0.0)) {
     return Status::Error("the run's stated noise variances must be positive");

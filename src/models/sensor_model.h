@@ -17,7 +17,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "common/measurements.h"
 #include "models/effects.h"
 #include "models/tilt_table.h"
 
@@ -195,6 +197,23 @@ void PredictCalibrationOutputs(double theta_reported_rad, double drift_coordinat
       AxisOutput(along_y, parameters, SensingAxis::kY, drift_coordinate, Phase::kCalibrationTest);
 }
 
+// The tilt test's residuals m - prediction (m/s^2) of each axis under `values`.
+inline void CalibrationResiduals(const CalibrationTest& test, const ModelParameters<double>& values,
+                                 double gravity_mps2, std::vector<double>* residual_x,
+                                 std::vector<double>* residual_y) {
+  const int n = test.size();
+  residual_x->resize(n);
+  residual_y->resize(n);
+  for (int i = 0; i < n; ++i) {
+    double predicted_x;
+    double predicted_y;
+    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), gravity_mps2, values,
+                              &predicted_x, &predicted_y);
+    (*residual_x)[i] = test.measured_x[i] - predicted_x;
+    (*residual_y)[i] = test.measured_y[i] - predicted_y;
+  }
+}
+
 // The vehicle run's correction: each axis's output inverted (InvertAxisResponse), then the
 // projection undone (UndoProjection). The axes' responses are formed once, so correcting
 // a sample costs two inversions.
@@ -237,13 +256,13 @@ class RunCorrection {
 // The run's noiseless outputs for the vehicle's true acceleration (reference frame).
 template <typename T>
 void PredictRunOutputs(const T& acceleration_x, const T& acceleration_y,
-                       const ModelParameters<T>& parameters, T* measured_x, T* measured_y) {
+                       const ModelParameters<T>& parameters, T* output_x, T* output_y) {
   T along_x;
   T along_y;
   ProjectOnSensingAxes(acceleration_x, acceleration_y, parameters, Phase::kVehicleRun, &along_x,
                        &along_y);
-  *measured_x = AxisOutput(along_x, parameters, SensingAxis::kX, 0.0, Phase::kVehicleRun);
-  *measured_y = AxisOutput(along_y, parameters, SensingAxis::kY, 0.0, Phase::kVehicleRun);
+  *output_x = AxisOutput(along_x, parameters, SensingAxis::kX, 0.0, Phase::kVehicleRun);
+  *output_y = AxisOutput(along_y, parameters, SensingAxis::kY, 0.0, Phase::kVehicleRun);
 }
 
 }  // namespace accelcal

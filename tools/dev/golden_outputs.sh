@@ -2,7 +2,8 @@
 # Runs every problem binary on the course data and on the default simulation and writes what each
 # printed and wrote (stdout, stderr, exit status, JSON, CSV, the analyze report) under OUT_DIR.
 # Used to show that a restructuring changes no output: run it before and after, then
-#   diff -r -I "\"seconds\"" -I " s on [0-9]* thread" BEFORE AFTER   (timings are the only nondeterministic text)
+#   diff -r -I '"seconds"' -I ' s on [0-9]* thread' -I 'threads, [0-9.]* s)' BEFORE AFTER
+# (timings are the only text that differs from run to run)
 # Usage: tools/dev/golden_outputs.sh BIN_DIR OUT_DIR [COURSE_DATA_DIR]
 set -u
 bin=$(cd "${1:?BIN_DIR}" && pwd); out=${2:?OUT_DIR}
