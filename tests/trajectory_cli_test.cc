@@ -104,6 +104,7 @@ TEST(TrajectoryBinary, DecidesCOnTheCourseDataAndWritesJsonAndPath) {
   double endpoint[2];
   double raw_endpoint[2];
   double total_variance[2];
+  double noise_variance_part[2];
   for (int axis = 0; axis < 2; ++axis) {
     const testing::PlainAxisFit fit = testing::PlainBaselineFit(course.test, axis, variance[axis]);
     const double one_plus_s = 1 + fit.scale;
@@ -128,7 +129,8 @@ TEST(TrajectoryBinary, DecidesCOnTheCourseDataAndWritesJsonAndPath) {
       impulse[j] = 0.0;
       sum_w2 += w * w;
     }
-    total_variance[axis] = parameter_part + sum_w2 * variance[axis] / (one_plus_s * one_plus_s);
+    noise_variance_part[axis] = sum_w2 * variance[axis] / (one_plus_s * one_plus_s);
+    total_variance[axis] = parameter_part + noise_variance_part[axis];
   }
   EXPECT_NEAR(json["endpoint"]["x"].get<double>(), endpoint[0], 1e-6);
   EXPECT_NEAR(json["endpoint"]["y"].get<double>(), endpoint[1], 1e-6);
@@ -150,6 +152,10 @@ TEST(TrajectoryBinary, DecidesCOnTheCourseDataAndWritesJsonAndPath) {
   EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
   std::snprintf(line, sizeof(line), "raw            %10.3f %10.3f", raw_endpoint[0],
                 raw_endpoint[1]);
+  EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
+  // The report's noise term is 3 sigma of one sample; the run's is 3 sqrt(noise part).
+  std::snprintf(line, sizeof(line), "is %.1f times too small",
+                std::sqrt(noise_variance_part[0] / variance[0]));
   EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
 
   const std::string path = testing::ReadText(out.File("path.csv"));
