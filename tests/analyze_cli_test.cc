@@ -1,12 +1,23 @@
 // The main job: one command from data to a report folder whose figures are embedded, whose
 // results agree with the individual binaries, and which is never left half-written.
 
+#include <dirent.h>
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
+
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
+
+extern char** environ;
 
 namespace accelcal {
 namespace {
@@ -125,21 +136,124 @@ TEST(AnalyzeBinary, AMissingPlotterIsSaidInTheReportNotAFailure) {
       << markdown;
 }
 
-TEST(AnalyzeBinary, AnInterruptedRunLeavesNoPartialReportAndAnOldOneStays) {
-  ScratchDir out;
-  const std::string report = out.File("report");
-  // Killed mid-way: no report folder at all.
-  testing::RunCommand("'" + testing::BinaryPath("analyze") + "' --out_dir='" + report +
-                      "' >/dev/null 2>&1 & pid=$!; sleep 0.8; kill -9 $pid; wait $pid");
+// A stand-in for --python that interrupts the run that started it: analyze starts the
+// plotter only once it is filling its staging folder (results.json and the CSVs written, the
+// figures and report.md/html not yet), so the signal lands mid-write by construction, not
+// after a guessed sleep. The plotter records the staging folder's name and listing at that
+// moment, then sends `signal_name` to its parent, analyze. Its first call (`-c "import
+// matplotlib, numpy"`) only succeeds.
+std::string WriteInterruptingPlotter(const ScratchDir& scratch, const std::string& signal_name) {
+  const std::string path = scratch.Write(
+      "interrupting_python",
+      "#!/bin/sh\n"
+      "case \"$1\" in -c) exit 0 ;; esac\n"
+      "for argument in \"$@\"; do\n"
+      "  case \"$argument\" in --json=*) json=\"${argument#--json=}\" ;; esac\n"
+      "done\n"
+      "staging=$(dirname \"$json\")\n"
+      "ls -A \"$staging\" > '" + scratch.File("listing") + "'\n"
+      "echo \"$staging\" > '" + scratch.File("staging") + "'\n"
+      "kill -" + signal_name + " $PPID\n"
+      "exit 0\n");
+  chmod(path.c_str(), 0755);
+  return path;
+}
+
+// Runs analyze with `arguments` (no shell) and returns its wait status.
+int RunAnalyzeDirectly(const std::vector<std::string>& arguments) {
+  std::vector<std::string> argv_strings = {testing::BinaryPath("analyze")};
+  argv_strings.insert(argv_strings.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& argument : argv_strings) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  EXPECT_EQ(spawned, 0) << argv[0];
+  if (spawned != 0) return -1;
+  int status = 0;
+  EXPECT_EQ(waitpid(pid, &status, 0), pid);
+  return status;
+}
+
+// The folder's entries beside `path` whose names start with path's name + ".tmp.".
+std::vector<std::string> StagingFoldersBeside(const std::string& path) {
+  const std::string parent = path.substr(0, path.rfind('/'));
+  const std::string prefix = path.substr(path.rfind('/') + 1) + ".tmp.";
+  std::vector<std::string> found;
+  DIR* dir = opendir(parent.c_str());
+  if (dir == nullptr) return found;
+  while (const dirent* entry = readdir(dir)) {
+    if (std::string(entry->d_name).rfind(prefix, 0) == 0) found.push_back(entry->d_name);
+  }
+  closedir(dir);
+  return found;
+}
+
+// What the plotter saw when it sent the signal: the staging folder beside `report` (not
+// `report` itself), part-way filled.
+void ExpectKilledWhileWriting(const ScratchDir& scratch, const std::string& report) {
+  std::string staging = testing::ReadText(scratch.File("staging"));
+  ASSERT_FALSE(staging.empty()) << "the plotter never ran: the signal was not sent mid-write";
+  staging.pop_back();  // the newline
+  EXPECT_EQ(staging.rfind(report + ".tmp.", 0), 0u) << staging;
+  const std::string listing = testing::ReadText(scratch.File("listing"));
+  EXPECT_NE(listing.find(".accelcal-output\n"), std::string::npos) << listing;
+  EXPECT_NE(listing.find("results.json\n"), std::string::npos) << listing;
+  EXPECT_EQ(listing.find("report.html"), std::string::npos) << listing;  // not yet written
+}
+
+TEST(AnalyzeBinary, KilledWhileWritingItLeavesNoReportFolder) {
+  ScratchDir scratch;
+  const std::string report = scratch.File("report");
+  const std::string plotter = WriteInterruptingPlotter(scratch, "KILL");
+  const int status = RunAnalyzeDirectly({"--out_dir=" + report, "--python=" + plotter});
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL)
+      << "analyze was not killed (wait status " << status << ")";
+  ExpectKilledWhileWriting(scratch, report);
   EXPECT_FALSE(testing::PathExists(report));
-  // A finished report is not replaced without --overwrite, nor by a killed overwrite.
-  ASSERT_EQ(RunBinary("analyze", "--out_dir='" + report + "' --set=").exit_status, 0);
+  // SIGKILL cannot be caught: the staging folder stays beside --out_dir, never at it.
+  EXPECT_EQ(StagingFoldersBeside(report).size(), 1u);
+}
+
+TEST(AnalyzeBinary, InterruptedWhileWritingItLeavesNothingAtAll) {
+  for (const char* signal_name : {"TERM", "INT"}) {
+    SCOPED_TRACE(signal_name);
+    ScratchDir scratch;
+    const std::string report = scratch.File("report");
+    const std::string plotter = WriteInterruptingPlotter(scratch, signal_name);
+    const int status = RunAnalyzeDirectly({"--out_dir=" + report, "--python=" + plotter});
+    EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "analyze finished normally";
+    ExpectKilledWhileWriting(scratch, report);
+    EXPECT_FALSE(testing::PathExists(report));
+    // A signal it can catch: the staging folder is removed too.
+    EXPECT_TRUE(StagingFoldersBeside(report).empty());
+  }
+}
+
+TEST(AnalyzeBinary, AFinishedReportOutlivesARefusedAndAKilledOverwrite) {
+  ScratchDir scratch;
+  const std::string report = scratch.File("report");
+  ASSERT_EQ(RunBinary("analyze", "--out_dir='" + report + "' --set= --python=/nonexistent/python3")
+                .exit_status,
+            0);
   const std::string before = testing::ReadText(report + "/results.json");
+  const std::string markdown_before = testing::ReadText(report + "/report.md");
+  ASSERT_FALSE(before.empty());
   testing::ExpectBadInputContract(RunBinary("analyze", "--out_dir='" + report + "'"), "analyze",
                                   "exists and is not empty; pass --overwrite");
-  testing::RunCommand("'" + testing::BinaryPath("analyze") + "' --overwrite --out_dir='" + report +
-                      "' >/dev/null 2>&1 & pid=$!; sleep 0.8; kill -9 $pid; wait $pid");
+  // The overwrite computes a different report (angle_offset hidden), killed mid-write.
+  const std::string plotter = WriteInterruptingPlotter(scratch, "KILL");
+  const int status =
+      RunAnalyzeDirectly({"--overwrite", "--out_dir=" + report, "--python=" + plotter});
+  ASSERT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) << "wait status " << status;
+  ExpectKilledWhileWriting(scratch, report);
   EXPECT_EQ(testing::ReadText(report + "/results.json"), before);
+  EXPECT_EQ(testing::ReadText(report + "/report.md"), markdown_before);
 }
 
 }  // namespace

@@ -101,6 +101,14 @@ TEST(CourseData, ReproducesTheReportsTableOne) {
   EXPECT_NEAR(fit.parameters[kScaleX], -3.014181300939e-02, 1e-12);
   EXPECT_NEAR(fit.parameters[kBiasY], -1.750807246292e-02, 1e-12);
   EXPECT_NEAR(fit.parameters[kScaleY], 1.004157204455e-02, 1e-12);
+  // And against the normal equations solved here.
+  const CourseFit course = FitCourseData(dir);
+  const testing::PlainAxisFit x = testing::PlainBaselineFit(course.test, 0, 0.25);
+  const testing::PlainAxisFit y = testing::PlainBaselineFit(course.test, 1, 0.64);
+  EXPECT_NEAR(fit.parameters[kBiasX], x.bias, 1e-12);
+  EXPECT_NEAR(fit.parameters[kScaleX], x.scale, 1e-12);
+  EXPECT_NEAR(fit.parameters[kBiasY], y.bias, 1e-12);
+  EXPECT_NEAR(fit.parameters[kScaleY], y.scale, 1e-12);
 }
 
 TEST(CourseData, ReproducesTheReportsCovarianceAndFindsItsTypo) {
@@ -129,6 +137,11 @@ TEST(CourseData, ChiSquareAgreesWithTheStatedNoise) {
   // Independent figures: sum of squared lstsq residuals / sigma^2 (numpy).
   EXPECT_NEAR(fit.chi2_x.chi2, 19847.931, 1e-3);
   EXPECT_NEAR(fit.chi2_y.chi2, 19964.104, 1e-3);
+  const CourseFit course = FitCourseData(dir);
+  const double plain_x = testing::PlainBaselineFit(course.test, 0, 0.25).chi2;
+  const double plain_y = testing::PlainBaselineFit(course.test, 1, 0.64).chi2;
+  EXPECT_NEAR(fit.chi2_x.chi2, plain_x, 1e-6 * plain_x);
+  EXPECT_NEAR(fit.chi2_y.chi2, plain_y, 1e-6 * plain_y);
   EXPECT_EQ(fit.chi2_x.dof, 19999);
   EXPECT_GT(fit.chi2_x.p_value, 0.01);
   EXPECT_GT(fit.chi2_y.p_value, 0.01);
@@ -164,9 +177,10 @@ TEST(CourseData, ACsvCopyGivesTheSameAnswer) {
 }
 
 // The vehicle run of the course, dead-reckoned with the baseline fit. The figures are the
-// program's; the test recomputes them independently: the endpoint by a plain double
-// loop, the noise part by brute-force impulse responses and the closed form
-// sigma^2 dt T^3 / 3, the parameter part from the analytic derivatives.
+// program's (pinned as the README prints them); the test recomputes each independently: the
+// endpoints by a plain double loop, the noise part by brute-force impulse responses and the
+// closed form sigma^2 dt T^3 / 3, the parameter part from the analytic derivatives of the
+// corrected accelerations, C's Mahalanobis distance and p-value from those.
 TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   const CourseFit course = FitCourseData(dir);
@@ -179,7 +193,7 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   DeadReckoningResult result;
   ASSERT_TRUE(DeadReckon(run, course.conditions, course.fit, TrajectoryOptions(), &result).ok());
 
-  // Pinned figures (printed by build/bin/trajectory on the course data).
+  // The figures build/bin/trajectory prints (README), each recomputed independently below.
   EXPECT_NEAR(result.endpoint.x(), 468.685, 1e-3);
   EXPECT_NEAR(result.endpoint.y(), 42.140, 1e-3);
   EXPECT_NEAR(result.raw_endpoint.x(), 594.315, 1e-3);
@@ -189,37 +203,93 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   EXPECT_NEAR(result.noise_part(0, 0), 191.243, 1e-3);
   EXPECT_NEAR(result.noise_part(1, 1), 451.401, 1e-3);
 
-  // Independent: a plain loop over (m - b)/(1 + s).
+  // Independent: the spec's trapezoidal recursion as a plain loop over accelerations a_j,
+  // from p0 = (0, 0) and a given v0; returns the endpoint of one axis.
   const Eigen::Vector4d& p = course.fit.parameters;
-  double px = 0.0, py = 0.0, vx = 1.0, vy = 3.0;
   const double dt = 0.01;
-  for (int j = 1; j < run.size(); ++j) {
-    const double ax0 = (run.measured_x[j - 1] - p[kBiasX]) / (1 + p[kScaleX]);
-    const double ax1 = (run.measured_x[j] - p[kBiasX]) / (1 + p[kScaleX]);
-    const double ay0 = (run.measured_y[j - 1] - p[kBiasY]) / (1 + p[kScaleY]);
-    const double ay1 = (run.measured_y[j] - p[kBiasY]) / (1 + p[kScaleY]);
-    const double vx1 = vx + dt / 2 * (ax0 + ax1);
-    const double vy1 = vy + dt / 2 * (ay0 + ay1);
-    px += dt / 2 * (vx + vx1);
-    py += dt / 2 * (vy + vy1);
-    vx = vx1;
-    vy = vy1;
+  const int samples = run.size();
+  auto endpoint_of = [&](const std::vector<double>& a, double v0) {
+    return testing::PlainTrapezoidEndpoint(a, dt, v0);
+  };
+  std::vector<double> corrected[2];
+  std::vector<double> raw[2] = {run.measured_x, run.measured_y};
+  const int bias[2] = {kBiasX, kBiasY};
+  const int scale[2] = {kScaleX, kScaleY};
+  const double v0[2] = {1.0, 3.0};
+  const double stated_variance[2] = {0.25, 0.64};
+  double expected_endpoint[2];
+  double expected_raw[2];
+  double expected_parameter_part[2];
+  double expected_noise_part[2];
+  for (int axis = 0; axis < 2; ++axis) {
+    const double b = p[bias[axis]];
+    const double one_plus_s = 1 + p[scale[axis]];
+    std::vector<double> d_bias(samples);
+    std::vector<double> d_scale(samples);
+    for (int j = 0; j < samples; ++j) {
+      corrected[axis].push_back((raw[axis][j] - b) / one_plus_s);
+      d_bias[j] = -1.0 / one_plus_s;  // d a_j / d b
+      d_scale[j] = -(raw[axis][j] - b) / (one_plus_s * one_plus_s);  // d a_j / d s
+    }
+    expected_endpoint[axis] = endpoint_of(corrected[axis], v0[axis]);
+    expected_raw[axis] = endpoint_of(raw[axis], v0[axis]);
+    // The parameter part: J Sigma J^T with J from the derivatives of a_j (the endpoint is
+    // linear in the a_j), Sigma the fit's (bias, scale) block of this axis.
+    const Eigen::Vector2d jacobian(endpoint_of(d_bias, 0.0), endpoint_of(d_scale, 0.0));
+    Eigen::Matrix2d block;
+    block << course.fit.covariance(bias[axis], bias[axis]),
+        course.fit.covariance(bias[axis], scale[axis]),
+        course.fit.covariance(scale[axis], bias[axis]),
+        course.fit.covariance(scale[axis], scale[axis]);
+    expected_parameter_part[axis] = jacobian.dot(block * jacobian);
+    // The noise part: sum_j w_j^2 sigma^2 / (1 + s)^2, w_j the endpoint's response to a
+    // unit impulse at sample j (brute force, one recursion per sample).
+    double sum_w2 = 0.0;
+    std::vector<double> impulse(samples, 0.0);
+    for (int j = 0; j < samples; ++j) {
+      impulse[j] = 1.0;
+      const double w = endpoint_of(impulse, 0.0);
+      impulse[j] = 0.0;
+      sum_w2 += w * w;
+    }
+    expected_noise_part[axis] = sum_w2 * stated_variance[axis] / (one_plus_s * one_plus_s);
   }
-  EXPECT_NEAR(result.endpoint.x(), px, 1e-6);
-  EXPECT_NEAR(result.endpoint.y(), py, 1e-6);
-  // Independent: sigma^2 dt T^3 / 3 / (1 + s)^2, within the discretisation's 0.1%.
+  EXPECT_NEAR(result.endpoint.x(), expected_endpoint[0], 1e-6);
+  EXPECT_NEAR(result.endpoint.y(), expected_endpoint[1], 1e-6);
+  EXPECT_NEAR(result.raw_endpoint.x(), expected_raw[0], 1e-6);
+  EXPECT_NEAR(result.raw_endpoint.y(), expected_raw[1], 1e-6);
+  EXPECT_NEAR(result.parameter_part(0, 0), expected_parameter_part[0],
+              1e-9 * expected_parameter_part[0]);
+  EXPECT_NEAR(result.parameter_part(1, 1), expected_parameter_part[1],
+              1e-9 * expected_parameter_part[1]);
+  EXPECT_NEAR(result.noise_part(0, 0), expected_noise_part[0], 1e-9 * expected_noise_part[0]);
+  EXPECT_NEAR(result.noise_part(1, 1), expected_noise_part[1], 1e-9 * expected_noise_part[1]);
+  // And the closed form sigma^2 dt T^3 / 3 / (1 + s)^2, within the discretisation's 0.1%.
   const double t3 = std::pow(59.99, 3);
   EXPECT_NEAR(result.noise_part(0, 0) / (0.25 * dt * t3 / 3 / std::pow(1 + p[kScaleX], 2)), 1.0,
               3e-3);
   EXPECT_NEAR(result.noise_part(1, 1) / (0.64 * dt * t3 / 3 / std::pow(1 + p[kScaleY], 2)), 1.0,
               3e-3);
 
+  // C's distance from the independent endpoint under the independent covariance (the
+  // cross terms are zero to 1e-3 m^2: the x endpoint depends on x's parameters only, and the
+  // fit's x-y covariance is 0); p-value of chi^2 with 2 dof: exp(-d^2 / 2).
+  ASSERT_EQ(landmarks[2].name, "C");
+  const double dx = landmarks[2].x_m - expected_endpoint[0];
+  const double dy = landmarks[2].y_m - expected_endpoint[1];
+  const double total[2] = {expected_parameter_part[0] + expected_noise_part[0],
+                           expected_parameter_part[1] + expected_noise_part[1]};
+  const double c_distance2 = dx * dx / total[0] + dy * dy / total[1];
+  const double c_parameters_only =
+      dx * dx / expected_parameter_part[0] + dy * dy / expected_parameter_part[1];
   const LandmarkDecision decision =
       DecideLandmark(result.endpoint, result.covariance, landmarks, 0.01);
   EXPECT_EQ(decision.reached, "C");
   EXPECT_NEAR(decision.scores[2].mahalanobis2, 0.910, 1e-3);
+  EXPECT_NEAR(decision.scores[2].mahalanobis2, c_distance2, 1e-4 * c_distance2);
   EXPECT_GT(decision.scores[2].posterior, 0.999999);
   EXPECT_NEAR(decision.scores[2].p_value, 0.634, 1e-3);
+  EXPECT_NEAR(decision.scores[2].p_value, std::exp(-c_distance2 / 2), 1e-4);
   // Without the run's own noise (the other group bounded only the parameter terms), the
   // ellipse is 2.3 times too small per axis: C's squared distance grows from 0.91 to 4.95
   // (p = 0.084). C still passes here, but a 95% ellipse drawn that way covers the truth
@@ -227,13 +297,21 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   const LandmarkDecision parameters_only =
       DecideLandmark(result.endpoint, result.parameter_part, landmarks, 0.01);
   EXPECT_NEAR(parameters_only.scores[2].mahalanobis2, 4.95, 0.01);
+  EXPECT_NEAR(parameters_only.scores[2].mahalanobis2, c_parameters_only, 1e-4 * c_parameters_only);
   EXPECT_NEAR(std::sqrt(result.covariance(0, 0) / result.parameter_part(0, 0)), 2.33, 0.01);
+  EXPECT_NEAR(std::sqrt(result.covariance(0, 0) / result.parameter_part(0, 0)),
+              std::sqrt(total[0] / expected_parameter_part[0]), 1e-6);
 
   const auto budget = ComputeErrorBudget(result, course.fit, run, course.conditions);
   EXPECT_STREQ(budget[0].dominant, "noise");
   EXPECT_STREQ(budget[1].dominant, "noise");
   EXPECT_NEAR(budget[0].noise.three_sigma_m / budget[0].noise.report_m, 27.7, 0.05);
   EXPECT_NEAR(budget[1].noise.three_sigma_m / budget[1].noise.report_m, 26.6, 0.05);
+  // Independent: 3 sqrt(noise part) against the report's 3 sigma_eta (one sample's noise).
+  EXPECT_NEAR(budget[0].noise.three_sigma_m, 3 * std::sqrt(expected_noise_part[0]), 1e-6);
+  EXPECT_NEAR(budget[1].noise.three_sigma_m, 3 * std::sqrt(expected_noise_part[1]), 1e-6);
+  EXPECT_NEAR(budget[0].noise.report_m, 3 * std::sqrt(0.25), 1e-12);
+  EXPECT_NEAR(budget[1].noise.report_m, 3 * std::sqrt(0.64), 1e-12);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <map>
 
+#include "estimation/joint_estimator.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "io/course_data.h"
@@ -243,9 +244,50 @@ TEST(Discover, OnTheCourseDataTheBaselineExplainsTheData) {
   }
   EXPECT_EQ(strongest_name, "nonorthogonality");
   EXPECT_NEAR(strongest, 2.29, 0.01);
+  // Independently of the score test: the likelihood-ratio chi-square of two joint solves with
+  // the run tied to C, with and without nonorthogonality. The score statistic is exact for an
+  // effect linear in its parameter; nonorthogonality enters through cos and sin of an angle of
+  // 1e-3 rad, so the two agree to far better than the 1% allowed.
+  JointOptions joint;
+  joint.noise_variance_x = course.conditions.noise_variance_x;
+  joint.noise_variance_y = course.conditions.noise_variance_y;
+  joint.landmark_mode = JointOptions::Landmark::kNamed;
+  joint.landmark_name = "C";
+  JointResult baseline;
+  ASSERT_TRUE(SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint,
+                         &baseline)
+                  .ok());
+  ASSERT_TRUE(ParseEffects("nonorthogonality", &joint.effects).ok());
+  JointResult extended;
+  ASSERT_TRUE(SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint,
+                         &extended)
+                  .ok());
+  const double likelihood_ratio =
+      (baseline.chi2_x + baseline.chi2_y + baseline.chi2_endpoint) -
+      (extended.chi2_x + extended.chi2_y + extended.chi2_endpoint);
+  EXPECT_NEAR(strongest, likelihood_ratio, 0.01 * likelihood_ratio);
   EXPECT_FALSE(result.axes[0].noise_flagged);
   EXPECT_FALSE(result.axes[1].noise_flagged);
   EXPECT_NEAR(result.axes[0].noise.ratio, 0.9871, 1e-4);
+  // Independently: von Neumann's estimate from the baseline's residuals in the test's order,
+  // sum (r_i - r_{i-1})^2 / (2 (N - 1) sigma^2), the residuals from the plain normal equations.
+  for (int axis = 0; axis < 2; ++axis) {
+    const double variance =
+        axis == 0 ? course.conditions.noise_variance_x : course.conditions.noise_variance_y;
+    const testing::PlainAxisFit plain = testing::PlainBaselineFit(course.test, axis, variance);
+    double sum = 0.0;
+    double previous = 0.0;
+    for (int i = 0; i < course.test.size(); ++i) {
+      const double theta = course.test.theta_rad[i];
+      const double f = axis == 0 ? -9.8 * std::sin(theta) : -9.8 * std::cos(theta);
+      const double m = axis == 0 ? course.test.measured_x[i] : course.test.measured_y[i];
+      const double r = m - (1 + plain.scale) * f - plain.bias;
+      if (i > 0) sum += (r - previous) * (r - previous);
+      previous = r;
+    }
+    const double von_neumann = sum / (2.0 * (course.test.size() - 1) * variance);
+    EXPECT_NEAR(result.axes[axis].noise.ratio, von_neumann, 1e-9) << "axis " << axis;
+  }
 }
 
 TEST(HolmRejections, StepsDownFromTheSmallestPValue) {

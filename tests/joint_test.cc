@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <sstream>
+#include <string>
 
 #include "estimation/joint_estimator.h"
 #include "estimation/linear_ls.h"
@@ -258,6 +260,36 @@ LinearLsOptions LinearOptions(const RunConditions& conditions) {
   return options;
 }
 
+// The size of the problem a solve handed Ceres, read from its FullReport ("Residual blocks"
+// and "Residuals", the Original column): SolverReport has no field of its own for it.
+struct ProblemSize {
+  int residual_blocks = -1;
+  int residuals = -1;
+};
+
+ProblemSize ProblemSizeOf(const SolverReport& report) {
+  ProblemSize size;
+  std::istringstream lines(report.full_report);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    std::string first;
+    std::string second;
+    words >> first;
+    if (first != "Residual" && first != "Residuals") continue;
+    if (first == "Residual") {
+      words >> second;
+      if (second != "blocks") continue;
+      words >> size.residual_blocks;
+    } else {
+      words >> size.residuals;
+    }
+  }
+  EXPECT_GE(size.residual_blocks, 0) << "no residual block count in:\n" << report.full_report;
+  EXPECT_GE(size.residuals, 0) << "no residual count in:\n" << report.full_report;
+  return size;
+}
+
 JointOptions JointFor(const RunConditions& conditions) {
   JointOptions options;
   options.noise_variance_x = conditions.noise_variance_x;
@@ -383,9 +415,41 @@ TEST(SolveJoint, CompressedResidualsGiveThePerSampleSolution) {
     EXPECT_NEAR(compressed.chi2_y, per_sample.chi2_y, 1e-7 * per_sample.chi2_y);
     EXPECT_NEAR(compressed.chi2_endpoint, per_sample.chi2_endpoint,
                 1e-7 * (1.0 + per_sample.chi2_endpoint));
-    // One block per axis instead of one per sample is what makes it fast.
-    EXPECT_LT(compressed.solver.iterations, 50);
+    // One block per axis instead of one per sample is what makes it fast: the problem the
+    // compressed solve hands Ceres has two tilt-test blocks whatever the test's size, the
+    // per-sample one two per sample (both plus the endpoint's block when tied to a landmark).
+    const ProblemSize compressed_size = ProblemSizeOf(compressed.solver);
+    const ProblemSize per_sample_size = ProblemSizeOf(per_sample.solver);
+    const int endpoint_blocks = landmark_mode == JointOptions::Landmark::kNone ? 0 : 1;
+    EXPECT_EQ(per_sample_size.residual_blocks, 2 * data.test.size() + endpoint_blocks);
+    EXPECT_EQ(compressed_size.residual_blocks, 2 + endpoint_blocks);
+    EXPECT_LT(compressed_size.residuals, 64);
   }
+}
+
+// The compressed problem's size does not depend on the test's: a test ten times smaller
+// gives a problem with the same residual blocks and residuals (and the same solution as its
+// own per-sample problem), so the cost of an evaluation is independent of N.
+TEST(SolveJoint, TheCompressedProblemDoesNotGrowWithTheTest) {
+  ProblemSize sizes[2];
+  int k = 0;
+  for (const char* samples : {"tilt_samples=20001", "tilt_samples=2001"}) {
+    Scenario scenario;
+    ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
+    ASSERT_TRUE(ApplyScenarioOverrides(samples, &scenario).ok());
+    const SimulatedData data = SimulateScenario(scenario, 12);
+    JointOptions options = JointFor(data.conditions);
+    ASSERT_TRUE(ParseEffects("angle_offset,bias_drift_x,scale_nonlinearity_y", &options.effects)
+                    .ok());
+    JointResult compressed;
+    ASSERT_TRUE(
+        SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &compressed)
+            .ok());
+    sizes[k++] = ProblemSizeOf(compressed.solver);
+  }
+  EXPECT_GT(sizes[0].residual_blocks, 0);
+  EXPECT_EQ(sizes[0].residual_blocks, sizes[1].residual_blocks);
+  EXPECT_EQ(sizes[0].residuals, sizes[1].residuals);
 }
 
 // The failure paths a user can reach: each ends in one message, never in NaN estimates.

@@ -6,6 +6,7 @@
 #include <matio.h>
 
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "io/course_data.h"
@@ -80,6 +81,45 @@ TEST(LinearLsBinary, ReproducesTableOneOnTheCourseDataAndWritesJson) {
   EXPECT_EQ(json["input_files"]["conditions"].get<std::string>(), dir + "/datos.txt");
   EXPECT_LT(json["solvers"]["max_relative_difference"]["parameters"].get<double>(), 1e-9);
   EXPECT_LT(json["solvers"]["max_relative_difference"]["covariance"].get<double>(), 1e-9);
+
+  // The pinned figures above are the reference report's (Table 1, its variances) or numpy's;
+  // here every written figure is recomputed from the data by the plain normal equations of
+  // test_support.h, and the printed rows are formatted from those.
+  DataFiles files;
+  ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
+  CalibrationTest test;
+  ASSERT_TRUE(LoadCalibrationTest(files.calibration, &test).ok());
+  const testing::PlainAxisFit axes[2] = {testing::PlainBaselineFit(test, 0, 0.25),
+                                         testing::PlainBaselineFit(test, 1, 0.64)};
+  const char* names[2] = {"x", "y"};
+  for (int axis = 0; axis < 2; ++axis) {
+    const testing::PlainAxisFit& plain = axes[axis];
+    const std::string bias = std::string("bias_") + names[axis];
+    const std::string scale = std::string("scale_") + names[axis];
+    EXPECT_NEAR(json["parameters"][bias].get<double>(), plain.bias, 1e-12);
+    EXPECT_NEAR(json["parameters"][scale].get<double>(), plain.scale, 1e-12);
+    EXPECT_NEAR(json["stddev"][bias].get<double>(), std::sqrt(plain.var_bias),
+                1e-9 * std::sqrt(plain.var_bias));
+    EXPECT_NEAR(json["stddev"][scale].get<double>(), std::sqrt(plain.var_scale),
+                1e-9 * std::sqrt(plain.var_scale));
+    const int b = 2 * axis;
+    EXPECT_NEAR(json["covariance"][b][b].get<double>(), plain.var_bias, 1e-9 * plain.var_bias);
+    EXPECT_NEAR(json["covariance"][b + 1][b + 1].get<double>(), plain.var_scale,
+                1e-9 * plain.var_scale);
+    EXPECT_NEAR(json["covariance"][b][b + 1].get<double>(), plain.cov_bias_scale,
+                1e-9 * std::sqrt(plain.var_bias * plain.var_scale));
+    EXPECT_NEAR(json["chi2"][names[axis]].get<double>(), plain.chi2, 1e-6 * plain.chi2);
+    char row[96];
+    std::snprintf(row, sizeof(row), "%-10s %+.4e  %.4e  m/s^2", bias.c_str(), plain.bias,
+                  std::sqrt(plain.var_bias));
+    EXPECT_NE(result.stdout_text.find(row), std::string::npos) << "expected: " << row;
+    std::snprintf(row, sizeof(row), "%-10s %+.4e  %.4e  1", scale.c_str(), plain.scale,
+                  std::sqrt(plain.var_scale));
+    EXPECT_NE(result.stdout_text.find(row), std::string::npos) << "expected: " << row;
+  }
+  // The two axes' parameters are uncorrelated: separate problems.
+  EXPECT_NEAR(json["covariance"][0][2].get<double>(), 0.0,
+              1e-9 * std::sqrt(axes[0].var_bias * axes[1].var_bias));
 }
 
 TEST(LinearLsBinary, RunsTheEmbeddedDefaultWithoutData) {

@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "common/measurements.h"
 #include "models/effects.h"
 
 namespace accelcal {
@@ -147,6 +149,67 @@ inline int CountLines(const std::string& text) {
   int lines = 0;
   for (char c : text) lines += c == '\n';
   return lines;
+}
+
+
+// Independent of the library's estimators, for tests that check a printed or written figure
+// against a computation of their own: per axis, the 2x2 normal equations of the baseline,
+// m - f = b + s f (f = -g sin theta for x, -g cos theta for y), accumulated in long double
+// and solved by Cramer's rule; the covariance sigma^2 (A^T A)^-1 and the chi-square of the
+// residuals against the stated noise variance.
+struct PlainAxisFit {
+  double bias = 0.0;
+  double scale = 0.0;
+  double var_bias = 0.0;
+  double var_scale = 0.0;
+  double cov_bias_scale = 0.0;
+  double chi2 = 0.0;
+};
+
+inline PlainAxisFit PlainBaselineFit(const CalibrationTest& test, int axis, double variance,
+                                     double gravity_mps2 = 9.8) {
+  auto force = [&](int i) {
+    return axis == 0 ? -gravity_mps2 * std::sin(test.theta_rad[i])
+                     : -gravity_mps2 * std::cos(test.theta_rad[i]);
+  };
+  auto measured = [&](int i) { return axis == 0 ? test.measured_x[i] : test.measured_y[i]; };
+  long double n = 0, sf = 0, sff = 0, sy = 0, sfy = 0;
+  for (int i = 0; i < test.size(); ++i) {
+    const long double f = force(i);
+    const long double y = measured(i) - f;
+    n += 1;
+    sf += f;
+    sff += f * f;
+    sy += y;
+    sfy += f * y;
+  }
+  const long double determinant = n * sff - sf * sf;
+  PlainAxisFit fit;
+  fit.bias = static_cast<double>((sff * sy - sf * sfy) / determinant);
+  fit.scale = static_cast<double>((n * sfy - sf * sy) / determinant);
+  fit.var_bias = static_cast<double>(variance * sff / determinant);
+  fit.var_scale = static_cast<double>(variance * n / determinant);
+  fit.cov_bias_scale = static_cast<double>(-variance * sf / determinant);
+  long double chi2 = 0;
+  for (int i = 0; i < test.size(); ++i) {
+    const long double r = measured(i) - (1 + fit.scale) * force(i) - fit.bias;
+    chi2 += r * r / variance;
+  }
+  fit.chi2 = static_cast<double>(chi2);
+  return fit;
+}
+
+// The spec's trapezoidal double integration as a plain loop: the position after the last of
+// the accelerations `a` (spaced dt), from position 0 and velocity v0.
+inline double PlainTrapezoidEndpoint(const std::vector<double>& a, double dt, double v0) {
+  double position = 0.0;
+  double velocity = v0;
+  for (size_t j = 1; j < a.size(); ++j) {
+    const double next = velocity + dt / 2 * (a[j] + a[j - 1]);
+    position += dt / 2 * (velocity + next);
+    velocity = next;
+  }
+  return position;
 }
 
 }  // namespace testing

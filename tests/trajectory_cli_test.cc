@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "io/course_data.h"
@@ -81,6 +83,80 @@ TEST(TrajectoryBinary, DecidesCOnTheCourseDataAndWritesJsonAndPath) {
   EXPECT_NEAR(posterior_sum, 1.0, 1e-12);
   EXPECT_EQ(json["landmarks"][2]["name"], "C");
   EXPECT_NEAR(json["landmarks"][2]["mahalanobis2"].get<double>(), 0.910, 1e-3);
+
+  // The pinned figures above are the README's; here each is recomputed from the data in the
+  // test: the fit by plain normal equations, the endpoints by a plain trapezoidal loop over
+  // (m - b) / (1 + s), the covariance from the derivatives of the corrected accelerations and
+  // the endpoint's impulse responses (sum w_j^2 sigma^2 / (1 + s)^2), C's distance from those.
+  DataFiles files;
+  ASSERT_TRUE(ResolveDataFiles(dir, &files).ok());
+  CourseData course;
+  ASSERT_TRUE(LoadDataFiles(files, &course).ok());
+  const double dt = course.run.timestamp_s[1] - course.run.timestamp_s[0];
+  const int samples = course.run.size();
+  const double v0[2] = {course.conditions.initial_velocity_x_mps,
+                        course.conditions.initial_velocity_y_mps};
+  const double p0[2] = {course.conditions.initial_position_x_m,
+                        course.conditions.initial_position_y_m};
+  const double variance[2] = {course.conditions.noise_variance_x,
+                              course.conditions.noise_variance_y};
+  const std::vector<double>* measured[2] = {&course.run.measured_x, &course.run.measured_y};
+  double endpoint[2];
+  double raw_endpoint[2];
+  double total_variance[2];
+  double noise_variance_part[2];
+  for (int axis = 0; axis < 2; ++axis) {
+    const testing::PlainAxisFit fit = testing::PlainBaselineFit(course.test, axis, variance[axis]);
+    const double one_plus_s = 1 + fit.scale;
+    std::vector<double> corrected(samples);
+    std::vector<double> d_bias(samples, -1.0 / one_plus_s);
+    std::vector<double> d_scale(samples);
+    for (int j = 0; j < samples; ++j) {
+      corrected[j] = ((*measured[axis])[j] - fit.bias) / one_plus_s;
+      d_scale[j] = -corrected[j] / one_plus_s;
+    }
+    endpoint[axis] = p0[axis] + testing::PlainTrapezoidEndpoint(corrected, dt, v0[axis]);
+    raw_endpoint[axis] = p0[axis] + testing::PlainTrapezoidEndpoint(*measured[axis], dt, v0[axis]);
+    const double jb = testing::PlainTrapezoidEndpoint(d_bias, dt, 0.0);
+    const double js = testing::PlainTrapezoidEndpoint(d_scale, dt, 0.0);
+    const double parameter_part =
+        jb * jb * fit.var_bias + 2 * jb * js * fit.cov_bias_scale + js * js * fit.var_scale;
+    double sum_w2 = 0.0;
+    std::vector<double> impulse(samples, 0.0);
+    for (int j = 0; j < samples; ++j) {
+      impulse[j] = 1.0;
+      const double w = testing::PlainTrapezoidEndpoint(impulse, dt, 0.0);
+      impulse[j] = 0.0;
+      sum_w2 += w * w;
+    }
+    noise_variance_part[axis] = sum_w2 * variance[axis] / (one_plus_s * one_plus_s);
+    total_variance[axis] = parameter_part + noise_variance_part[axis];
+  }
+  EXPECT_NEAR(json["endpoint"]["x"].get<double>(), endpoint[0], 1e-6);
+  EXPECT_NEAR(json["endpoint"]["y"].get<double>(), endpoint[1], 1e-6);
+  EXPECT_NEAR(json["raw_endpoint"]["x"].get<double>(), raw_endpoint[0], 1e-6);
+  EXPECT_NEAR(json["raw_endpoint"]["y"].get<double>(), raw_endpoint[1], 1e-6);
+  EXPECT_NEAR(total[0][0].get<double>(), total_variance[0], 1e-9 * total_variance[0]);
+  EXPECT_NEAR(total[1][1].get<double>(), total_variance[1], 1e-9 * total_variance[1]);
+  // x's endpoint depends on x's parameters only, y's on y's, and the fit's x-y covariance is
+  // zero: the cross term vanishes (to 1e-3 m^2 of 234 and 553).
+  EXPECT_NEAR(total[0][1].get<double>(), 0.0, 1e-3);
+  const double dx = course.landmarks[2].x_m - endpoint[0];
+  const double dy = course.landmarks[2].y_m - endpoint[1];
+  const double c_distance2 = dx * dx / total_variance[0] + dy * dy / total_variance[1];
+  EXPECT_NEAR(json["landmarks"][2]["mahalanobis2"].get<double>(), c_distance2, 1e-4 * c_distance2);
+  EXPECT_NEAR(json["p_value"].get<double>(), std::exp(-c_distance2 / 2), 1e-4);  // chi^2, 2 dof
+  char line[96];
+  std::snprintf(line, sizeof(line), "corrected      %10.3f %10.3f   %.2f, %.2f", endpoint[0],
+                endpoint[1], std::sqrt(total_variance[0]), std::sqrt(total_variance[1]));
+  EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
+  std::snprintf(line, sizeof(line), "raw            %10.3f %10.3f", raw_endpoint[0],
+                raw_endpoint[1]);
+  EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
+  // The report's noise term is 3 sigma of one sample; the run's is 3 sqrt(noise part).
+  std::snprintf(line, sizeof(line), "is %.1f times too small",
+                std::sqrt(noise_variance_part[0] / variance[0]));
+  EXPECT_NE(result.stdout_text.find(line), std::string::npos) << "expected: " << line;
 
   const std::string path = testing::ReadText(out.File("path.csv"));
   EXPECT_EQ(path.rfind("t_s,x_m,y_m,raw_x_m,raw_y_m,cov_xx", 0), 0u);
