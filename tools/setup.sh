@@ -13,7 +13,7 @@ ACCELCAL_PACKAGES=(
 # The sanitizer suite and the fuzzers (./tools/test.sh --sanitize, tools/fuzz.sh) build with
 # clang and its runtimes (libFuzzer, ASan, UBSan, LSan) into build-sanitize/.
 ACCELCAL_SANITIZE_PACKAGES=(clang libclang-rt-14-dev)
-ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha|OutsideTheCatalogue/HonestVerdictTest\..*|CorrelatedNoise\.ReportedSigmasMatchTheMonteCarloSpread|HeavyTails\.TheRobustFitsSigmasMatchTheMonteCarloSpread|Ambiguity\..*|NullRateStudy\.CountsDoNotDependOnTheThreadCount|ScaleCubic\.DiscoveryNamesItWhenHiddenAndEstimatesItWithinThreeSigma|NullRateStudy\.FalseDiscoveryRateIsWithinAlphaOnTwoDesigns|DeadReckon\.ReportedCovarianceMatchesMonteCarlo.*|MinSamplesBinary\.AnswersTheReportsQuestionOnTheCourseData|AnalyseDesign\.AnalyticCurveAgreesWithFullSimulation|CoverageStudy\.TheBaselinesReportedCovarianceIsRightOnTheCourseScenario)$'
+ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha|OutsideTheCatalogue/HonestVerdictTest\..*|CorrelatedNoise\.ReportedSigmasMatchTheMonteCarloSpread|HeavyTails\.TheRobustFitsSigmasMatchTheMonteCarloSpread|Ambiguity\..*|NullRateStudy\.CountsDoNotDependOnTheThreadCount|ScaleCubic\.DiscoveryNamesItWhenHiddenAndEstimatesItWithinThreeSigma|NullRateStudy\.FalseDiscoveryRateIsWithinAlphaOnTwoDesigns|DeadReckon\.ReportedCovarianceMatchesMonteCarlo.*|MinSamplesBinary\.MonteCarloChecksAgreeWithTheAnalyticCurveWithinBinomialError|AnalyseDesign\.AnalyticCurveAgreesWithFullSimulation|CoverageStudy\.TheBaselinesReportedCovarianceIsRightOnTheCourseScenario)$'
 ACCELCAL_SANITIZE_CMAKE_ARGS=(
   -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DACCELCAL_FUZZ=ON
   -DACCELCAL_BUILD_BENCHMARKS=OFF
