@@ -270,10 +270,9 @@ ReportDocument Document(const Inputs& inputs, const Results& r,
                    r.linear.gravity_mps2, fit.chi2_x.chi2, fit.chi2_y.chi2, fit.chi2_x.dof,
                    CompareFits(fit, r.linear.ceres.fit).parameters));
   baseline.table.push_back({"parameter", "estimate", "1 sigma", "unit"});
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    baseline.table.push_back({kBaselineParameterNames[i], Num(fit.parameters[i], "%+.4e"),
-                              Num(std::sqrt(fit.covariance(i, i)), "%.3e"),
-                              kBaselineParameterUnits[i]});
+  for (const Parameter parameter : kBaselineParameters) {
+    baseline.table.push_back({Info(parameter).name, Num(fit.Value(parameter), "%+.4e"),
+                              Num(fit.StandardDeviation(parameter), "%.3e"), Info(parameter).unit});
   }
   doc.sections.push_back(baseline);
 

@@ -45,10 +45,11 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
                    report.conditions.initial_position_x_m, report.conditions.initial_position_y_m,
                    report.conditions.initial_velocity_x_mps,
                    report.conditions.initial_velocity_y_mps, file("conditions").c_str());
-  text += StringPrintf(
-      "  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
-      file("calibration").c_str(), report.fit.parameters[kBiasX], report.fit.parameters[kScaleX],
-      report.fit.parameters[kBiasY], report.fit.parameters[kScaleY]);
+  text +=
+      StringPrintf("  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
+                   file("calibration").c_str(), report.fit.Value(Parameter::kBiasX),
+                   report.fit.Value(Parameter::kScaleX), report.fit.Value(Parameter::kBiasY),
+                   report.fit.Value(Parameter::kScaleY));
   text += "\n  verdict: " + DecisionLine(report.decision) + "\n\n";
 
   text += "  endpoint            x (m)      y (m)   1 sigma x, y (m)\n";
@@ -133,8 +134,8 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
   }
   nlohmann::json parameters = nlohmann::json::object();
   nlohmann::json jacobian = nlohmann::json::array();
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    parameters[kBaselineParameterNames[i]] = report.fit.parameters[i];
+  for (const Parameter parameter : kBaselineParameters) {
+    parameters[Info(parameter).name] = report.fit.Value(parameter);
   }
   nlohmann::json columns = nlohmann::json::array();
   for (const Parameter parameter : t.jacobian_columns) columns.push_back(Info(parameter).name);

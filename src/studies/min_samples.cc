@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "estimation/baseline_parameters.h"
 #include "estimation/linear_ls.h"
 #include "models/tilt_table.h"
 
@@ -46,14 +47,15 @@ Eigen::Matrix4d BaselineCovarianceForDesign(const std::vector<double>& theta_rad
     const double n = static_cast<double>(axes[k]->count());
     const double centered = axes[k]->CenteredForceForce();
     const double mean = axes[k]->MeanForce();
-    const int first = 2 * k;
+    const int b = BaselineIndex(BiasOf(k));
+    const int s = BaselineIndex(ScaleOf(k));
     if (!(centered > 0.0)) {
-      covariance.block<2, 2>(first, first) = Eigen::Matrix2d::Identity() * 1e30;  // not separable
+      covariance(b, b) = covariance(s, s) = 1e30;  // not separable
       continue;
     }
-    covariance(first, first) = variances[k] * (1.0 / n + mean * mean / centered);
-    covariance(first, first + 1) = covariance(first + 1, first) = -variances[k] * mean / centered;
-    covariance(first + 1, first + 1) = variances[k] / centered;
+    covariance(b, b) = variances[k] * (1.0 / n + mean * mean / centered);
+    covariance(b, s) = covariance(s, b) = -variances[k] * mean / centered;
+    covariance(s, s) = variances[k] / centered;
   }
   return covariance;
 }
@@ -222,7 +224,9 @@ DesignCurve OptimalTwoPositionDesign(const EndpointModel& model,
           DesignAngles("positions", reference_samples, candidate.theta_a, candidate.theta_b);
       const Eigen::Matrix4d parameters = BaselineCovarianceForDesign(
           angles, model.gravity_mps2, model.noise_variance_x, model.noise_variance_y);
-      if (parameters(0, 0) > 1e20 || parameters(2, 2) > 1e20) continue;
+      if (parameters(BaselineIndex(Parameter::kBiasX), BaselineIndex(Parameter::kBiasX)) > 1e20 ||
+          parameters(BaselineIndex(Parameter::kBiasY), BaselineIndex(Parameter::kBiasY)) > 1e20)
+        continue;
       const Eigen::Matrix2d covariance =
           model.jacobian * parameters * model.jacobian.transpose() + model.noise_part;
       const Eigen::Vector2d truth_point(landmarks[truth].x_m, landmarks[truth].y_m);

@@ -33,7 +33,7 @@ namespace accelcal {
 std::vector<double> DesignAngles(const std::string& design, int samples, double theta_a = 0.0,
                                  double theta_b = 0.0);
 
-// sigma^2 (A^T A)^-1 of the baseline for these angles, 4x4 in the baseline's order.
+// sigma^2 (A^T A)^-1 of the baseline for these angles, 4x4 in kBaselineParameters' order.
 Eigen::Matrix4d BaselineCovarianceForDesign(const std::vector<double>& theta_rad,
                                             double gravity_mps2, double noise_variance_x,
                                             double noise_variance_y);
@@ -47,7 +47,7 @@ double ProbabilityOfWrongLandmark(const Eigen::Vector2d& center,
                                   int quadrature_points = 7200);
 
 struct EndpointModel {
-  Eigen::Matrix<double, 2, 4> jacobian;  // d endpoint / d (bias_x, scale_x, bias_y, scale_y)
+  Eigen::Matrix<double, 2, 4> jacobian;  // d endpoint / d kBaselineParameters
   Eigen::Matrix2d noise_part;            // the run's own noise, m^2
   Eigen::Vector2d endpoint;              // the full-data estimate, m
   double gravity_mps2 = 9.8;

@@ -119,8 +119,8 @@ nlohmann::json EstimateJson(const std::vector<std::string>& order, const Eigen::
 }
 
 nlohmann::json BaselineJson(const BaselineFit& fit) {
-  const std::vector<std::string> order(kBaselineParameterNames.begin(),
-                                       kBaselineParameterNames.end());
+  std::vector<std::string> order;
+  for (const Parameter parameter : kBaselineParameters) order.push_back(Info(parameter).name);
   nlohmann::json json = EstimateJson(order, fit.parameters, fit.covariance);
   json["chi2_x"] = fit.chi2_x.chi2;
   json["chi2_y"] = fit.chi2_y.chi2;
