@@ -1,6 +1,7 @@
 #include "reporting/linear_ls_report.h"
 
 #include "common/format.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
@@ -22,10 +23,9 @@ nlohmann::json Matrix(const Eigen::Matrix4d& matrix) {
 }
 
 nlohmann::json FitJson(const BaselineFit& fit) {
-  return {{"parameters", Named(fit.parameters)},
-          {"stddev", Named(fit.StandardDeviations())},
-          {"covariance", Matrix(fit.covariance)},
-          {"chi2", {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}}}};
+  nlohmann::json json = ParameterEstimateJson(FromBaselineFit(fit));
+  json["chi2"] = {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}};
+  return json;
 }
 
 }  // namespace
@@ -106,11 +106,8 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
 
 nlohmann::json LinearLsJson(const LinearLsReport& report) {
   const BaselineFit& fit = report.closed_form;
-  nlohmann::json order = nlohmann::json::array();
-  for (const Parameter parameter : kBaselineParameters) order.push_back(Info(parameter).name);
   nlohmann::json json = FitJson(fit);
   json["problem"] = "linear_ls";
-  json["parameter_order"] = order;
   json["correlation"] = Matrix(fit.Correlation());
   json["chi2_dof"] = {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}};
   json["chi2_p_value"] = {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}};
