@@ -8,8 +8,11 @@
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -252,6 +255,25 @@ struct Experiment : CourseData {
   nlohmann::json truth = nullptr;            // truth.json's content when simulated
   std::string source;                        // one line saying where the data came from
   RunInputs inputs;                          // what was read (empty when simulated)
+};
+
+// "[stage/stages] name ... done (seconds)" per stage on stderr, on a terminal only.
+class StageProgress {
+ public:
+  explicit StageProgress(int stages) : stages_(stages) {}
+  void Start(int stage, const char* name) {
+    start_ = std::chrono::steady_clock::now();
+    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "[%d/%d] %s ... ", stage, stages_, name);
+  }
+  void Done() {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "done (%.2f s)\n", seconds);
+  }
+
+ private:
+  int stages_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 // `outputs` are checked against the files once they are resolved, before any is read.
