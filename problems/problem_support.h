@@ -257,6 +257,34 @@ struct Experiment : CourseData {
   RunInputs inputs;                          // what was read (empty when simulated)
 };
 
+// Flag help texts list the catalogue's effects from the catalogue itself (models/effects.h),
+// so an effect registered later appears in --help without an edit here.
+//
+// "angle_offset (rad), ..., run_bias_shift_x/y (m/s^2, needs a landmark)": the effects an
+// estimator can add to the baseline, with their units.
+inline std::string EstimableEffectsText() {
+  std::string text;
+  for (const EffectInfo& effect : kEffectInfos) {
+    if (effect.role != Role::kEffect) continue;
+    text += std::string(text.empty() ? "" : ", ") + effect.name +
+            (effect.scope == Scope::kPerAxis ? "_x/y" : "") + " (" + effect.unit +
+            (effect.acts_in == ActsIn::kVehicleRun ? ", needs a landmark" : "") + ")";
+  }
+  return text;
+}
+
+// "bias_x m/s^2, scale_x 1, angle_offset rad, ...": every parameter of the catalogue by its
+// x-axis name and unit (a noise variance as a ratio to the stated one).
+inline std::string CatalogueParametersText() {
+  std::string text;
+  for (const EffectInfo& effect : kEffectInfos) {
+    text += std::string(text.empty() ? "" : ", ") + effect.name +
+            (effect.scope == Scope::kPerAxis ? "_x " : " ") +
+            (effect.role == Role::kNoiseRatio ? "ratio" : effect.unit);
+  }
+  return text;
+}
+
 // "[stage/stages] name ... done (seconds)" per stage on stderr, on a terminal only.
 class StageProgress {
  public:
