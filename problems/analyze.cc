@@ -23,18 +23,21 @@
 #include "studies/min_samples.h"
 
 DEFINE_string(data_dir, "",
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
-              "tp2-2018 scenario with --set hidden in it.");
+              // clang-format off
+              "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario with --set hidden in it.");
+// clang-format on
 DEFINE_string(set, "angle_offset=0.004",
-              "Without data: the effects hidden in the simulated data, name=value,... in the "
-              "spec's units (the report states them as the truth).");
+              // clang-format off
+              "Without data: the effects hidden in the simulated data, name=value,... in the spec's units (the report states them as the truth).");
+// clang-format on
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_string(out_dir, "report", "The report folder to create (replaced only with --overwrite).");
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 DEFINE_double(alpha, 0.01,
-              "Significance level of the landmark decision and family-wise error rate of "
-              "discovery, in (0, 0.5).");
+              // clang-format off
+              "Significance level of the landmark decision and family-wise error rate of discovery, in (0, 0.5).");
+// clang-format on
 DEFINE_double(max_error, 0.01,
               "The minimum-N criterion: the largest acceptable P(wrong landmark), 1e-6 to 0.499.");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");

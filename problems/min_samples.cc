@@ -22,15 +22,16 @@
 #include "simulation/embedded_scenarios.h"
 
 DEFINE_string(data_dir, "",
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
-              "tp2-2018 scenario.");
+              // clang-format off
+              "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+// clang-format on
 DEFINE_string(
     design, "all",
     "uniform, four, two, optimal, or all (see --help of the library: docs/min_samples.md).");
-DEFINE_double(
-    max_error, 0.01,
-    "The criterion: the largest acceptable probability of deciding a wrong landmark, 1e-6 to "
-    "0.499.");
+DEFINE_double(max_error, 0.01,
+              // clang-format off
+    "The criterion: the largest acceptable probability of deciding a wrong landmark, 1e-6 to 0.499.");
+// clang-format on
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
 DEFINE_int32(repetitions, 1000, "Monte Carlo repetitions per checked N (0: no Monte Carlo).");
 DEFINE_uint64(seed, 1, "Seed of the Monte Carlo.");

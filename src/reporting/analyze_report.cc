@@ -111,9 +111,9 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
   baseline.title = "1. Baseline: bias and scale by linear least squares";
   const BaselineFit& fit = r.linear.closed_form;
   baseline.paragraphs.push_back(
-      StringPrintf("%d tilt-test samples, stated noise variances %g and %g (m/s^2)^2, g = %g "
-                   "m/s^2. Chi-square per axis: %.1f and "
-                   "%.1f on %d degrees of freedom. The closed form and Ceres agree to %.1e.",
+      // clang-format off
+      StringPrintf("%d tilt-test samples, stated noise variances %g and %g (m/s^2)^2, g = %g m/s^2. Chi-square per axis: %.1f and %.1f on %d degrees of freedom. The closed form and Ceres agree to %.1e.",
+                   // clang-format on
                    fit.sample_count, r.linear.noise_variance_x, r.linear.noise_variance_y,
                    r.linear.gravity_mps2, fit.chi2_x.chi2, fit.chi2_y.chi2, fit.chi2_x.dof,
                    CompareFits(fit, r.linear.ceres.fit).parameters));
@@ -128,19 +128,18 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
   trajectory.title = "2. Trajectory and landmark";
   const DeadReckoningResult& tr = r.trajectory.trajectory;
   trajectory.paragraphs.push_back(
-      StringPrintf("Corrected endpoint (%.2f, %.2f) m, 1 sigma %.2f m and %.2f m; the raw outputs "
-                   "integrated end at (%.2f, %.2f) m. "
-                   "Of the endpoint variance, the run's own noise is %.0f%% in x and %.0f%% in y; "
-                   "the parameters the rest.",
+      // clang-format off
+      StringPrintf("Corrected endpoint (%.2f, %.2f) m, 1 sigma %.2f m and %.2f m; the raw outputs integrated end at (%.2f, %.2f) m. Of the endpoint variance, the run's own noise is %.0f%% in x and %.0f%% in y; the parameters the rest.",
+                   // clang-format on
                    tr.endpoint.x(), tr.endpoint.y(), std::sqrt(tr.covariance(0, 0)),
                    std::sqrt(tr.covariance(1, 1)), tr.raw_endpoint.x(), tr.raw_endpoint.y(),
                    100 * tr.noise_part(0, 0) / tr.covariance(0, 0),
                    100 * tr.noise_part(1, 1) / tr.covariance(1, 1)));
   const AxisErrorBudget& bx = r.trajectory.budget[0];
   trajectory.paragraphs.push_back(StringPrintf(
-      "The reference report's bound takes the run's noise as 3 sigma_eta = %.2f m in x; its double "
-      "integral is %.2f m "
-      "(3 sigma), %.1f times more.",
+      // clang-format off
+      "The reference report's bound takes the run's noise as 3 sigma_eta = %.2f m in x; its double integral is %.2f m (3 sigma), %.1f times more.",
+      // clang-format on
       bx.noise.report_m, bx.noise.three_sigma_m, bx.noise.three_sigma_m / bx.noise.report_m));
   trajectory.table.push_back(
       {"landmark", "x (m)", "y (m)", "Mahalanobis^2", "posterior", "p-value"});
@@ -160,8 +159,9 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
                    VerdictCode(d.verdict_code)) +
       Sentence(d.verdict) + ".");
   discovery.paragraphs.push_back(
-      StringPrintf("Noise level against the statement (von Neumann): ratio %.4f +- %.4f (x), %.4f "
-                   "+- %.4f (y). %s.",
+      // clang-format off
+      StringPrintf("Noise level against the statement (von Neumann): ratio %.4f +- %.4f (x), %.4f +- %.4f (y). %s.",
+                   // clang-format on
                    d.axes[0].noise.ratio, d.axes[0].noise.ratio_stddev, d.axes[1].noise.ratio,
                    d.axes[1].noise.ratio_stddev, Sentence(d.landmark_note).c_str()));
   {
@@ -201,8 +201,9 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
     const CrossValidation& cv = d.cross_validation;
     if (cv.folds > 0 && cv.null_stddev > 0.0 && std::isfinite(cv.z)) {
       remains += StringPrintf(
-          ". Cross-validation: held-out error %.4f against %.4f +- %.4f for a right model (z = "
-          "%+.2f), %s",
+          // clang-format off
+          ". Cross-validation: held-out error %.4f against %.4f +- %.4f for a right model (z = %+.2f), %s",
+          // clang-format on
           cv.extended, cv.null_mean, cv.null_stddev, cv.z,
           cv.z > 3.0    ? "above its null spread: the model misses something"
           : cv.z < -3.0 ? "below its null spread"
@@ -235,19 +236,18 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
   }
   discovery.figure = "discovery.png";
   discovery.figure_caption =
-      "The baseline's residual against theta with the named effects' signatures; endpoint before "
-      "and after; what the final model leaves, against theta and against the sample's place in "
-      "the test, with a running mean";
+      // clang-format off
+      "The baseline's residual against theta with the named effects' signatures; endpoint before and after; what the final model leaves, against theta and against the sample's place in the test, with a running mean";
+  // clang-format on
   doc.sections.push_back(discovery);
 
   ReportSection joint;
   joint.title = "4. The joint model with what discovery selected";
   const ParameterEstimate linear = FromBaselineFit(fit);
   joint.paragraphs.push_back(
-      StringPrintf("One Ceres problem over the tilt test and the run tied to %s; covariance from "
-                   "ceres::Covariance. "
-                   "Cross-validation over 5 contiguous theta blocks: held-out mean squared "
-                   "whitened error %.4f (baseline), %.4f (extended).",
+      // clang-format off
+      StringPrintf("One Ceres problem over the tilt test and the run tied to %s; covariance from ceres::Covariance. Cross-validation over 5 contiguous theta blocks: held-out mean squared whitened error %.4f (baseline), %.4f (extended).",
+                   // clang-format on
                    d.tied_landmark.empty() ? "no landmark" : d.tied_landmark.c_str(),
                    d.cross_validation.baseline, d.cross_validation.extended));
   joint.table.push_back({"parameter", "unit", "baseline", "joint", "shift (baseline sigma)"});
@@ -270,10 +270,9 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
   ReportSection samples;
   samples.title = "5. How many calibration samples decide the landmark";
   samples.paragraphs.push_back(
-      StringPrintf("Criterion: P(deciding a wrong landmark) <= %g, with the endpoint covariance J "
-                   "sigma^2 (A^T A)^-1 J^T (shrinks "
-                   "with N) plus the run's own noise (does not). The analytic curves are checked "
-                   "by Monte Carlo in build/bin/min_samples.",
+      // clang-format off
+      StringPrintf("Criterion: P(deciding a wrong landmark) <= %g, with the endpoint covariance J sigma^2 (A^T A)^-1 J^T (shrinks with N) plus the run's own noise (does not). The analytic curves are checked by Monte Carlo in build/bin/min_samples.",
+                   // clang-format on
                    r.max_error));
   samples.table.push_back({"design", "N_min", "N for one landmark in the 3-sigma ellipse"});
   for (const DesignCurve& design : r.min_samples.designs) {
