@@ -30,10 +30,13 @@ DEFINE_string(
     "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_string(effects, "",
-              "Effects to estimate beyond bias and scale, comma-separated: angle_offset (rad), "
-              "nonorthogonality (rad), bias_drift_x/y (m/s^2), scale_nonlinearity_x/y "
-              "(1/(m/s^2)), run_bias_shift_x/y (m/s^2, needs a landmark); 'all'; empty: none.");
+// The help text of --effects, from the catalogue (gflags keeps the pointer).
+const char* EffectsHelp() {
+  static const std::string help = "Effects to estimate beyond bias and scale, comma-separated: " +
+                                  accelcal::EstimableEffectsText() + "; 'all'; empty: none.";
+  return help.c_str();
+}
+DEFINE_string(effects, "", EffectsHelp());
 DEFINE_string(landmark, "auto",
               "NAME: tie the run's endpoint to that landmark; auto: solve once per landmark and "
               "report each hypothesis' posterior; none: leave the run out.");

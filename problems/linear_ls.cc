@@ -142,8 +142,8 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     report->simulation_seed = FLAGS_seed;
     report->scenario_name = scenario.name;
     Eigen::Vector4d truth;
-    for (int i = 0; i < kBaselineParameterCount; ++i) {
-      truth[i] = scenario.truth.parameters[FindParameter(kBaselineParameterNames[i])->parameter];
+    for (const Parameter parameter : kBaselineParameters) {
+      truth[BaselineIndex(parameter)] = scenario.truth.parameters[parameter];
     }
     report->truth = truth;
     return Status::Ok();

@@ -8,8 +8,11 @@
 
 #include <gflags/gflags.h>
 #include <glog/logging.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <iostream>
@@ -252,6 +255,53 @@ struct Experiment : CourseData {
   nlohmann::json truth = nullptr;            // truth.json's content when simulated
   std::string source;                        // one line saying where the data came from
   RunInputs inputs;                          // what was read (empty when simulated)
+};
+
+// Flag help texts list the catalogue's effects from the catalogue itself (models/effects.h),
+// so an effect registered later appears in --help without an edit here.
+//
+// "angle_offset (rad), ..., run_bias_shift_x/y (m/s^2, needs a landmark)": the effects an
+// estimator can add to the baseline, with their units.
+inline std::string EstimableEffectsText() {
+  std::string text;
+  for (const EffectInfo& effect : kEffectInfos) {
+    if (effect.role != Role::kEffect) continue;
+    text += std::string(text.empty() ? "" : ", ") + effect.name +
+            (effect.scope == Scope::kPerAxis ? "_x/y" : "") + " (" + effect.unit +
+            (effect.acts_in == ActsIn::kVehicleRun ? ", needs a landmark" : "") + ")";
+  }
+  return text;
+}
+
+// "bias_x m/s^2, scale_x 1, angle_offset rad, ...": every parameter of the catalogue by its
+// x-axis name and unit (a noise variance as a ratio to the stated one).
+inline std::string CatalogueParametersText() {
+  std::string text;
+  for (const EffectInfo& effect : kEffectInfos) {
+    text += std::string(text.empty() ? "" : ", ") + effect.name +
+            (effect.scope == Scope::kPerAxis ? "_x " : " ") +
+            (effect.role == Role::kNoiseRatio ? "ratio" : effect.unit);
+  }
+  return text;
+}
+
+// "[stage/stages] name ... done (seconds)" per stage on stderr, on a terminal only.
+class StageProgress {
+ public:
+  explicit StageProgress(int stages) : stages_(stages) {}
+  void Start(int stage, const char* name) {
+    start_ = std::chrono::steady_clock::now();
+    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "[%d/%d] %s ... ", stage, stages_, name);
+  }
+  void Done() {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "done (%.2f s)\n", seconds);
+  }
+
+ private:
+  int stages_;
+  std::chrono::steady_clock::time_point start_;
 };
 
 // `outputs` are checked against the files once they are resolved, before any is read.

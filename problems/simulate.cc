@@ -31,12 +31,16 @@ DEFINE_string(out_dir, "", "Folder to write (created; replaced only with --overw
 DEFINE_string(format, "mat",
               "mat: ensayo.mat, acel.mat, puntos.mat, datos.txt (the course layout); csv: "
               "calibration.csv, trajectory.csv, landmarks.csv, scenario.json.");
-DEFINE_string(set, "",
-              "Overrides, name=value,...: any parameter of the spec in its unit (bias_x m/s^2, "
-              "scale_x 1, angle_offset rad, nonorthogonality rad, bias_drift_x m/s^2, "
-              "scale_nonlinearity_x 1/(m/s^2), run_bias_shift_x m/s^2, noise_variance_x ratio, "
-              "...) or a setting (gravity m/s^2, noise_variance_x_stated (m/s^2)^2, "
-              "tilt_samples, run_duration s, run_dt s).");
+// The help text of --set, from the catalogue (gflags keeps the pointer).
+const char* SetHelp() {
+  static const std::string help =
+      "Overrides, name=value,...: any parameter of the spec in its unit (" +
+      accelcal::CatalogueParametersText() +
+      ", ...) or a setting (gravity m/s^2, noise_variance_x_stated (m/s^2)^2, tilt_samples, "
+      "run_duration s, run_dt s).";
+  return help.c_str();
+}
+DEFINE_string(set, "", SetHelp());
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 
 namespace accelcal {

@@ -91,10 +91,14 @@ TEST(LinearLs, MatchesALongDoubleBatchSolutionOnANarrowOffCentreDesign) {
   ASSERT_TRUE(EstimateLinearLs(test, OptionsFor(truth), &fit).ok());
   const Eigen::Vector2d x = BatchAxisSolution(test, true);
   const Eigen::Vector2d y = BatchAxisSolution(test, false);
-  EXPECT_NEAR(fit.parameters[kBiasX], x[0], 1e-10 * std::abs(x[0]) + 1e-13);
-  EXPECT_NEAR(fit.parameters[kScaleX], x[1], 1e-10 * std::abs(x[1]) + 1e-13);
-  EXPECT_NEAR(fit.parameters[kBiasY], y[0], 1e-9 * std::abs(y[0]) + 1e-12);
-  EXPECT_NEAR(fit.parameters[kScaleY], y[1], 1e-9 * std::abs(y[1]) + 1e-12);
+  EXPECT_NEAR(fit.parameters[BaselineIndex(Parameter::kBiasX)], x[0],
+              1e-10 * std::abs(x[0]) + 1e-13);
+  EXPECT_NEAR(fit.parameters[BaselineIndex(Parameter::kScaleX)], x[1],
+              1e-10 * std::abs(x[1]) + 1e-13);
+  EXPECT_NEAR(fit.parameters[BaselineIndex(Parameter::kBiasY)], y[0],
+              1e-9 * std::abs(y[0]) + 1e-12);
+  EXPECT_NEAR(fit.parameters[BaselineIndex(Parameter::kScaleY)], y[1],
+              1e-9 * std::abs(y[1]) + 1e-12);
 }
 
 TEST(CalibrationAccumulator, MergedChunksEqualOnePass) {
@@ -254,9 +258,10 @@ TEST(LinearLs, ReportedSigmaMatchesMonteCarloSpreadAndCovers95Percent) {
   for (int i = 0; i < 4; ++i) {
     const double ratio = std::sqrt(empirical(i, i) / reported(i, i));
     std::printf("%-8s empirical/reported sigma %.3f, 95%% interval coverage %.2f%%\n",
-                kBaselineParameterNames[i], ratio, 100.0 * covered[i] / trials);
-    EXPECT_NEAR(ratio, 1.0, 0.07) << kBaselineParameterNames[i];
-    EXPECT_NEAR(covered[i] / static_cast<double>(trials), 0.95, 0.02) << kBaselineParameterNames[i];
+                Info(kBaselineParameters[i]).name, ratio, 100.0 * covered[i] / trials);
+    EXPECT_NEAR(ratio, 1.0, 0.07) << Info(kBaselineParameters[i]).name;
+    EXPECT_NEAR(covered[i] / static_cast<double>(trials), 0.95, 0.02)
+        << Info(kBaselineParameters[i]).name;
   }
   // The bias/scale correlation of each axis is reproduced too (sd ~ 0.02 for K = 2000).
   const double reported_rho = reported(0, 1) / std::sqrt(reported(0, 0) * reported(1, 1));

@@ -309,8 +309,10 @@ TEST_P(EffectSignatureTest, ShowsInTheBaselineResidualAsPredicted) {
       TiltTableSpecificForce(test.theta_rad[i], 9.8, &fx, &fy);
       const double residual =
           x_axis
-              ? test.measured_x[i] - ((1 + fit.parameters[kScaleX]) * fx + fit.parameters[kBiasX])
-              : test.measured_y[i] - ((1 + fit.parameters[kScaleY]) * fy + fit.parameters[kBiasY]);
+              ? test.measured_x[i] - ((1 + fit.parameters[BaselineIndex(Parameter::kScaleX)]) * fx +
+                                      fit.parameters[BaselineIndex(Parameter::kBiasX)])
+              : test.measured_y[i] - ((1 + fit.parameters[BaselineIndex(Parameter::kScaleY)]) * fy +
+                                      fit.parameters[BaselineIndex(Parameter::kBiasY)]);
       const double shape = signature.shape(test.theta_rad[i]);
       shape_residual += shape * residual;
       shape_shape += shape * shape;
@@ -400,10 +402,11 @@ TEST(CoverageStudy, TheBaselinesReportedCovarianceIsRightOnTheCourseScenario) {
   ASSERT_EQ(result.trials, 600);
   for (int i = 0; i < kBaselineParameterCount; ++i) {
     const ParameterCoverage& row = result.parameters[i];
-    EXPECT_NEAR(row.empirical_sd / row.reported_sd, 1.0, 0.10) << kBaselineParameterNames[i];
-    EXPECT_LT(std::abs(row.bias_sigma), 4.0 / std::sqrt(600.0)) << kBaselineParameterNames[i];
-    EXPECT_NEAR(row.interval_coverage[0], 0.68, 0.05) << kBaselineParameterNames[i];
-    EXPECT_NEAR(row.interval_coverage[1], 0.95, 0.03) << kBaselineParameterNames[i];
+    EXPECT_NEAR(row.empirical_sd / row.reported_sd, 1.0, 0.10) << Info(kBaselineParameters[i]).name;
+    EXPECT_LT(std::abs(row.bias_sigma), 4.0 / std::sqrt(600.0))
+        << Info(kBaselineParameters[i]).name;
+    EXPECT_NEAR(row.interval_coverage[0], 0.68, 0.05) << Info(kBaselineParameters[i]).name;
+    EXPECT_NEAR(row.interval_coverage[1], 0.95, 0.03) << Info(kBaselineParameters[i]).name;
   }
   for (int axis = 0; axis < 2; ++axis)
     EXPECT_NEAR(result.axis_ellipse_coverage[axis][1], 0.95, 0.03);
@@ -421,13 +424,14 @@ TEST(CoverageStudy, AHiddenEffectBiasesWhatItShould) {
   // test): about d / (pi g sigma_s) = 0.1 / (pi 9.8 5.1e-4) = 6.4 sigma.
   ASSERT_TRUE(ApplyScenarioOverrides("bias_drift_x=0.1", &scenario).ok());
   CoverageResult result = RunCoverageStudy(scenario, options);
-  EXPECT_NEAR(result.parameters[kScaleX].bias_sigma, 0.1 / (M_PI * 9.8 * 5.102e-4), 0.5);
-  EXPECT_LT(result.parameters[kScaleX].interval_coverage[1], 0.2);
-  EXPECT_NEAR(result.parameters[kBiasX].bias_sigma, 0.0, 0.5);
+  EXPECT_NEAR(result.parameters[BaselineIndex(Parameter::kScaleX)].bias_sigma,
+              0.1 / (M_PI * 9.8 * 5.102e-4), 0.5);
+  EXPECT_LT(result.parameters[BaselineIndex(Parameter::kScaleX)].interval_coverage[1], 0.2);
+  EXPECT_NEAR(result.parameters[BaselineIndex(Parameter::kBiasX)].bias_sigma, 0.0, 0.5);
   // A run bias shift never touches the test but moves the endpoint by r T^2/2 / sigma.
   ASSERT_TRUE(ApplyScenarioOverrides("bias_drift_x=0,run_bias_shift_x=0.02", &scenario).ok());
   result = RunCoverageStudy(scenario, options);
-  EXPECT_NEAR(result.parameters[kBiasX].bias_sigma, 0.0, 0.5);
+  EXPECT_NEAR(result.parameters[BaselineIndex(Parameter::kBiasX)].bias_sigma, 0.0, 0.5);
   EXPECT_NEAR(result.endpoint_bias_sigma.x(), 0.02 * 59.99 * 59.99 / 2 / 0.97 / std::sqrt(234.3),
               0.5);
 }

@@ -8,15 +8,44 @@
 #include <array>
 #include <cmath>
 
+#include "models/effects.h"
+
 namespace accelcal {
 
-// Order of the baseline parameter vector and of its covariance, named as in the spec.
-enum BaselineParameter : int { kBiasX = 0, kScaleX = 1, kBiasY = 2, kScaleY = 3 };
+// The baseline's parameters, in the order of BaselineFit's vector and covariance. They are
+// the catalogue's first four, so a parameter's place in the fit is its place in the
+// catalogue; names and units come from Info(parameter).
 constexpr int kBaselineParameterCount = 4;
-constexpr std::array<const char*, kBaselineParameterCount> kBaselineParameterNames = {
-    "bias_x", "scale_x", "bias_y", "scale_y"};
-constexpr std::array<const char*, kBaselineParameterCount> kBaselineParameterUnits = {"m/s^2", "1",
-                                                                                      "m/s^2", "1"};
+inline constexpr std::array<Parameter, kBaselineParameterCount> kBaselineParameters = {
+    Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY, Parameter::kScaleY};
+
+constexpr bool BaselineParametersLeadTheCatalogue() {
+  for (int i = 0; i < kBaselineParameterCount; ++i) {
+    if (kBaselineParameters[i].index() != i) return false;
+  }
+  return true;
+}
+static_assert(BaselineParametersLeadTheCatalogue(),
+              "BaselineFit indexes its vector by catalogue index: bias_x, scale_x, bias_y and "
+              "scale_y must be the catalogue's parameters 0..3");
+
+// Where a baseline parameter sits in BaselineFit::parameters and covariance.
+constexpr int BaselineIndex(Parameter parameter) { return parameter.index(); }
+
+// The baseline parameters of one axis (0: x, 1: y).
+constexpr Parameter BiasOf(int axis) { return axis == 0 ? Parameter::kBiasX : Parameter::kBiasY; }
+constexpr Parameter ScaleOf(int axis) {
+  return axis == 0 ? Parameter::kScaleX : Parameter::kScaleY;
+}
+
+// Integer positions under the old names, kept only for code outside this change that still
+// indexes with them (estimation/linear_ls.cc, tests/course_data_test.cc,
+// tests/trajectory_test.cc, tests/consumer/consumer.cc); new code uses
+// BaselineIndex(Parameter::k...).
+constexpr int kBiasX = BaselineIndex(Parameter::kBiasX);
+constexpr int kScaleX = BaselineIndex(Parameter::kScaleX);
+constexpr int kBiasY = BaselineIndex(Parameter::kBiasY);
+constexpr int kScaleY = BaselineIndex(Parameter::kScaleY);
 
 // Goodness of fit of one axis against its stated noise variance.
 struct AxisChiSquare {
@@ -28,12 +57,17 @@ struct AxisChiSquare {
 };
 
 struct BaselineFit {
-  Eigen::Vector4d parameters = Eigen::Vector4d::Zero();  // bias_x, scale_x, bias_y, scale_y
+  Eigen::Vector4d parameters = Eigen::Vector4d::Zero();  // kBaselineParameters' order
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();  // same order
   AxisChiSquare chi2_x;
   AxisChiSquare chi2_y;
   int sample_count = 0;
 
+  double Value(Parameter parameter) const { return parameters[BaselineIndex(parameter)]; }
+  double StandardDeviation(Parameter parameter) const {
+    const int i = BaselineIndex(parameter);
+    return std::sqrt(covariance(i, i));
+  }
   Eigen::Vector4d StandardDeviations() const { return covariance.diagonal().cwiseSqrt(); }
   Eigen::Matrix4d Correlation() const;
 };

@@ -22,10 +22,10 @@ Status EstimateLinearLsWithCeres(const CalibrationTest& test, const CeresLinearL
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, options.model, &closed_form));
 
   std::array<double, kBaselineParameterCount> parameters = {0.0, 0.0, 0.0, 0.0};
-  double* bias_x = &parameters[kBiasX];
-  double* scale_x = &parameters[kScaleX];
-  double* bias_y = &parameters[kBiasY];
-  double* scale_y = &parameters[kScaleY];
+  double* bias_x = &parameters[BaselineIndex(Parameter::kBiasX)];
+  double* scale_x = &parameters[BaselineIndex(Parameter::kScaleX)];
+  double* bias_y = &parameters[BaselineIndex(Parameter::kBiasY)];
+  double* scale_y = &parameters[BaselineIndex(Parameter::kScaleY)];
 
   ceres::Problem problem;
   const double sigma_x = std::sqrt(options.model.noise_variance_x);
@@ -58,8 +58,11 @@ Status EstimateLinearLsWithCeres(const CalibrationTest& test, const CeresLinearL
   ceres::Covariance::Options covariance_options;
   covariance_options.algorithm_type = ceres::DENSE_SVD;
   ceres::Covariance covariance(covariance_options);
-  const std::array<const double*, kBaselineParameterCount> blocks = {bias_x, scale_x, bias_y,
-                                                                     scale_y};
+  // One block per baseline parameter, in BaselineFit's order.
+  std::array<const double*, kBaselineParameterCount> blocks;
+  for (const Parameter parameter : kBaselineParameters) {
+    blocks[BaselineIndex(parameter)] = &parameters[BaselineIndex(parameter)];
+  }
   std::vector<std::pair<const double*, const double*>> pairs;
   for (int a = 0; a < kBaselineParameterCount; ++a) {
     for (int b = a; b < kBaselineParameterCount; ++b) pairs.emplace_back(blocks[a], blocks[b]);

@@ -1,9 +1,21 @@
 #include "estimation/error_budget.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace accelcal {
+namespace {
+
+// d endpoint[axis] / d parameter: the trajectory's Jacobian column of `parameter`.
+double Derivative(const DeadReckoningResult& trajectory, int axis, Parameter parameter) {
+  const std::vector<Parameter>& columns = trajectory.jacobian_columns;
+  const auto column = std::find(columns.begin(), columns.end(), parameter);
+  assert(column != columns.end() && "the trajectory was not dead-reckoned with this parameter");
+  return trajectory.jacobian(axis, static_cast<int>(column - columns.begin()));
+}
+
+}  // namespace
 
 std::array<AxisErrorBudget, 2> ComputeErrorBudget(const DeadReckoningResult& trajectory,
                                                   const BaselineFit& fit, const VehicleRun& run,
@@ -13,13 +25,13 @@ std::array<AxisErrorBudget, 2> ComputeErrorBudget(const DeadReckoningResult& tra
   for (int k = 0; k < 2; ++k) {
     AxisErrorBudget& budget = budgets[k];
     budget.axis = k == 0 ? "x" : "y";
-    const int bias = k == 0 ? kBiasX : kBiasY;
-    const int scale = k == 0 ? kScaleX : kScaleY;
+    const Parameter bias = BiasOf(k);
+    const Parameter scale = ScaleOf(k);
     const std::vector<double>& measured = k == 0 ? run.measured_x : run.measured_y;
     double a_max = 0.0;
     for (double a : measured) a_max = std::max(a_max, std::abs(a));
-    const double sigma_b = std::sqrt(fit.covariance(bias, bias));
-    const double sigma_s = std::sqrt(fit.covariance(scale, scale));
+    const double sigma_b = fit.StandardDeviation(bias);
+    const double sigma_s = fit.StandardDeviation(scale);
     const double sigma_eta =
         std::sqrt(k == 0 ? conditions.noise_variance_x : conditions.noise_variance_y);
 
@@ -28,10 +40,8 @@ std::array<AxisErrorBudget, 2> ComputeErrorBudget(const DeadReckoningResult& tra
     budget.noise.report_m = 3.0 * sigma_eta;
     budget.report_bound_m = budget.bias.report_m + budget.scale.report_m + budget.noise.report_m;
 
-    // The trajectory was dead-reckoned with the baseline fit: its columns are in
-    // the baseline's order.
-    const double bias_variance = std::pow(trajectory.jacobian(k, bias) * sigma_b, 2);
-    const double scale_variance = std::pow(trajectory.jacobian(k, scale) * sigma_s, 2);
+    const double bias_variance = std::pow(Derivative(trajectory, k, bias) * sigma_b, 2);
+    const double scale_variance = std::pow(Derivative(trajectory, k, scale) * sigma_s, 2);
     const double noise_variance = trajectory.noise_part(k, k);
     const double total_variance = trajectory.covariance(k, k);
     budget.bias.three_sigma_m = 3.0 * std::sqrt(bias_variance);

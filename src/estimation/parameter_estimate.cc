@@ -18,9 +18,9 @@ double ParameterEstimate::StandardDeviation(Parameter parameter) const {
 
 ParameterEstimate FromBaselineFit(const BaselineFit& fit) {
   ParameterEstimate estimate;
-  estimate.free = {Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY, Parameter::kScaleY};
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    estimate.values[estimate.free[i]] = fit.parameters[i];
+  estimate.free.assign(kBaselineParameters.begin(), kBaselineParameters.end());
+  for (const Parameter parameter : kBaselineParameters) {
+    estimate.values[parameter] = fit.Value(parameter);
   }
   estimate.covariance = fit.covariance;
   return estimate;

@@ -36,10 +36,10 @@ std::string CoverageTable(const std::string& scenario_name, const CoverageResult
   text +=
       "  parameter        truth         mean  bias/sigma  empirical sd  reported sd  ratio      "
       "68%     95%     99%\n";
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    const ParameterCoverage& row = result.parameters[i];
+  for (const Parameter parameter : kBaselineParameters) {
+    const ParameterCoverage& row = result.parameters[BaselineIndex(parameter)];
     text += StringPrintf("  %-9s %+.4e  %+.4e  %+10.2f  %12.3e  %11.3e  %5.3f  %s\n",
-                         kBaselineParameterNames[i], row.truth, row.mean, row.bias_sigma,
+                         Info(parameter).name, row.truth, row.mean, row.bias_sigma,
                          row.empirical_sd, row.reported_sd, row.empirical_sd / row.reported_sd,
                          Percentages(row.interval_coverage).c_str());
   }
@@ -99,14 +99,14 @@ std::string EffectImpactText(const std::vector<EffectImpact>& table) {
 
 nlohmann::json CoverageJson(const CoverageResult& result) {
   nlohmann::json parameters = nlohmann::json::object();
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    const ParameterCoverage& row = result.parameters[i];
-    parameters[kBaselineParameterNames[i]] = {{"truth", row.truth},
-                                              {"mean", row.mean},
-                                              {"bias_sigma", row.bias_sigma},
-                                              {"empirical_sd", row.empirical_sd},
-                                              {"reported_sd", row.reported_sd},
-                                              {"interval_coverage", Levels(row.interval_coverage)}};
+  for (const Parameter parameter : kBaselineParameters) {
+    const ParameterCoverage& row = result.parameters[BaselineIndex(parameter)];
+    parameters[Info(parameter).name] = {{"truth", row.truth},
+                                        {"mean", row.mean},
+                                        {"bias_sigma", row.bias_sigma},
+                                        {"empirical_sd", row.empirical_sd},
+                                        {"reported_sd", row.reported_sd},
+                                        {"interval_coverage", Levels(row.interval_coverage)}};
   }
   return {
       {"trials", result.trials},

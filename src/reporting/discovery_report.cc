@@ -6,6 +6,7 @@
 
 #include "common/format.h"
 #include "estimation/parameter_estimate.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
@@ -73,36 +74,6 @@ const LandmarkScore* Tied(const LandmarkDecision& decision, const std::string& n
     if (score.landmark.name == name) return &score;
   }
   return nullptr;
-}
-
-nlohmann::json Side(const ParameterEstimate& estimate, double chi2_x, double chi2_y,
-                    double chi2_endpoint, const DeadReckoningResult& trajectory,
-                    const LandmarkDecision& decision) {
-  nlohmann::json parameters = nlohmann::json::object();
-  nlohmann::json stddev = nlohmann::json::object();
-  for (const Parameter parameter : estimate.free) {
-    parameters[Info(parameter).name] = estimate.Value(parameter);
-    stddev[Info(parameter).name] = estimate.StandardDeviation(parameter);
-  }
-  nlohmann::json landmarks = nlohmann::json::array();
-  for (const LandmarkScore& score : decision.scores) {
-    landmarks.push_back({{"name", score.landmark.name},
-                         {"x", score.landmark.x_m},
-                         {"y", score.landmark.y_m},
-                         {"mahalanobis2", score.mahalanobis2},
-                         {"posterior", score.posterior},
-                         {"p_value", score.p_value}});
-  }
-  return {{"parameters", parameters},
-          {"stddev", stddev},
-          {"chi2", {{"x", chi2_x}, {"y", chi2_y}, {"endpoint", chi2_endpoint}}},
-          {"endpoint", {{"x", trajectory.endpoint.x()}, {"y", trajectory.endpoint.y()}}},
-          {"endpoint_stddev",
-           {{"x", std::sqrt(trajectory.covariance(0, 0))},
-            {"y", std::sqrt(trajectory.covariance(1, 1))}}},
-          {"landmarks", landmarks},
-          {"reached",
-           decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)}};
 }
 
 // Per axis: what the noise analysis of the baseline's residuals found, the noise model the
@@ -482,38 +453,37 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   }
   const LandmarkScore* before = Tied(result.baseline_decision, result.tied_landmark);
   const LandmarkScore* after = Tied(result.extended_decision, result.tied_landmark);
-  return {{"problem", "discover"},
-          {"alpha", alpha},
-          {"verdict", result.verdict},
-          {"verdict_code", VerdictCode(result.verdict_code)},
-          {"effects", effects},
-          {"effects_figures",
-           "delta_chi2, p_value and delta_bic of each effect are against the final model: the "
-           "chi-square the final model gains over itself without that effect, with the same "
-           "landmark tie; the *_at_selection figures are those of the step that added it"},
-          {"history", history},
-          {"candidates", candidates},
-          {"noise", noise},
-          {"robust_fit", result.robust_fit},
-          {"checks", checks},
-          {"remaining", result.remaining},
-          {"ambiguities", ambiguities},
-          {"landmark", result.extended_decision.reached.empty()
-                           ? nlohmann::json(nullptr)
-                           : nlohmann::json(result.extended_decision.reached)},
-          {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
-                                                         : nlohmann::json(result.tied_landmark)},
-          {"landmark_note", result.landmark_note},
-          {"baseline", Side(baseline, result.baseline.chi2_x.chi2, result.baseline.chi2_y.chi2, 0.0,
-                            result.baseline_trajectory, result.baseline_decision)},
-          {"extended", Side(result.extended.estimate, result.extended.chi2_x,
-                            result.extended.chi2_y, result.extended.chi2_endpoint,
-                            result.extended_trajectory, result.extended_decision)},
-          {"gain",
-           {{"baseline_shift_sigma", shifts},
-            {"cross_validation", cross_validation},
-            {"posterior_before", before != nullptr ? before->posterior : 0.0},
-            {"posterior_after", after != nullptr ? after->posterior : 0.0}}}};
+  return {
+      {"problem", "discover"},
+      {"alpha", alpha},
+      {"verdict", result.verdict},
+      {"verdict_code", VerdictCode(result.verdict_code)},
+      {"effects", effects},
+      {"effects_figures",
+       "delta_chi2, p_value and delta_bic of each effect are against the final model: the "
+       "chi-square the final model gains over itself without that effect, with the same "
+       "landmark tie; the *_at_selection figures are those of the step that added it"},
+      {"history", history},
+      {"candidates", candidates},
+      {"noise", noise},
+      {"robust_fit", result.robust_fit},
+      {"checks", checks},
+      {"remaining", result.remaining},
+      {"ambiguities", ambiguities},
+      {"landmark", ReachedJson(result.extended_decision)},
+      {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
+                                                     : nlohmann::json(result.tied_landmark)},
+      {"landmark_note", result.landmark_note},
+      {"baseline", SolutionJson(baseline, result.baseline.chi2_x.chi2, result.baseline.chi2_y.chi2,
+                                0.0, result.baseline_trajectory, result.baseline_decision)},
+      {"extended", SolutionJson(result.extended.estimate, result.extended.chi2_x,
+                                result.extended.chi2_y, result.extended.chi2_endpoint,
+                                result.extended_trajectory, result.extended_decision)},
+      {"gain",
+       {{"baseline_shift_sigma", shifts},
+        {"cross_validation", cross_validation},
+        {"posterior_before", before != nullptr ? before->posterior : 0.0},
+        {"posterior_after", after != nullptr ? after->posterior : 0.0}}}};
 }
 
 std::string DiscoveryBinsCsv(const DiscoveryResult& result) {

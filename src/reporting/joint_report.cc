@@ -4,46 +4,10 @@
 
 #include "common/format.h"
 #include "estimation/parameter_estimate.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
-
-nlohmann::json EstimateJson(const ParameterEstimate& estimate, double chi2_x, double chi2_y,
-                            double chi2_endpoint, const DeadReckoningResult& trajectory,
-                            const LandmarkDecision& decision) {
-  nlohmann::json parameters = nlohmann::json::object();
-  nlohmann::json stddev = nlohmann::json::object();
-  nlohmann::json order = nlohmann::json::array();
-  for (const Parameter parameter : estimate.free) {
-    parameters[Info(parameter).name] = estimate.Value(parameter);
-    stddev[Info(parameter).name] = estimate.StandardDeviation(parameter);
-    order.push_back(Info(parameter).name);
-  }
-  nlohmann::json covariance = nlohmann::json::array();
-  for (int r = 0; r < estimate.covariance.rows(); ++r) {
-    nlohmann::json row = nlohmann::json::array();
-    for (int c = 0; c < estimate.covariance.cols(); ++c) row.push_back(estimate.covariance(r, c));
-    covariance.push_back(row);
-  }
-  nlohmann::json landmarks = nlohmann::json::array();
-  for (const LandmarkScore& score : decision.scores) {
-    landmarks.push_back({{"name", score.landmark.name},
-                         {"mahalanobis2", score.mahalanobis2},
-                         {"posterior", score.posterior},
-                         {"p_value", score.p_value}});
-  }
-  const Eigen::Matrix2d& c = trajectory.covariance;
-  return {{"parameters", parameters},
-          {"stddev", stddev},
-          {"parameter_order", order},
-          {"covariance", covariance},
-          {"chi2", {{"x", chi2_x}, {"y", chi2_y}, {"endpoint", chi2_endpoint}}},
-          {"endpoint", {{"x", trajectory.endpoint.x()}, {"y", trajectory.endpoint.y()}}},
-          {"endpoint_covariance", {{c(0, 0), c(0, 1)}, {c(1, 0), c(1, 1)}}},
-          {"landmarks", landmarks},
-          {"reached",
-           decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)}};
-}
 
 std::string Cell(double value, double sigma) { return StringPrintf("%+.4e +- %.2e", value, sigma); }
 
@@ -138,10 +102,10 @@ nlohmann::json JointJson(const JointReport& report) {
           {"effects", report.effects},
           {"landmark", report.joint.landmark.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json(report.joint.landmark)},
-          {"linear", EstimateJson(FromBaselineFit(report.linear), report.linear.chi2_x.chi2,
+          {"linear", SolutionJson(FromBaselineFit(report.linear), report.linear.chi2_x.chi2,
                                   report.linear.chi2_y.chi2, 0.0, report.linear_trajectory,
                                   report.linear_decision)},
-          {"joint", EstimateJson(report.joint.estimate, report.joint.chi2_x, report.joint.chi2_y,
+          {"joint", SolutionJson(report.joint.estimate, report.joint.chi2_x, report.joint.chi2_y,
                                  report.joint.chi2_endpoint, report.joint_trajectory,
                                  report.joint_decision)},
           {"hypotheses", hypotheses},

@@ -1,13 +1,16 @@
 #include "reporting/linear_ls_report.h"
 
 #include "common/format.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
 
 nlohmann::json Named(const Eigen::Vector4d& values) {
   nlohmann::json object = nlohmann::json::object();
-  for (int i = 0; i < kBaselineParameterCount; ++i) object[kBaselineParameterNames[i]] = values[i];
+  for (const Parameter parameter : kBaselineParameters) {
+    object[Info(parameter).name] = values[BaselineIndex(parameter)];
+  }
   return object;
 }
 
@@ -20,10 +23,9 @@ nlohmann::json Matrix(const Eigen::Matrix4d& matrix) {
 }
 
 nlohmann::json FitJson(const BaselineFit& fit) {
-  return {{"parameters", Named(fit.parameters)},
-          {"stddev", Named(fit.StandardDeviations())},
-          {"covariance", Matrix(fit.covariance)},
-          {"chi2", {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}}}};
+  nlohmann::json json = ParameterEstimateJson(FromBaselineFit(fit));
+  json["chi2"] = {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}};
+  return json;
 }
 
 }  // namespace
@@ -56,11 +58,11 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   text += report.truth
               ? "  parameter      estimate     1 sigma  unit        truth  (est-truth)/sigma\n"
               : "  parameter      estimate     1 sigma  unit\n";
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text += StringPrintf("  %-9s  %+.4e  %.4e  ", kBaselineParameterNames[i], fit.parameters[i],
-                         sigma[i]);
-    text += report.truth ? StringPrintf("%-5s", kBaselineParameterUnits[i])
-                         : kBaselineParameterUnits[i];
+  for (const Parameter parameter : kBaselineParameters) {
+    const int i = BaselineIndex(parameter);
+    const ParameterInfo& info = Info(parameter);
+    text += StringPrintf("  %-9s  %+.4e  %.4e  ", info.name, fit.parameters[i], sigma[i]);
+    text += report.truth ? StringPrintf("%-5s", info.unit) : info.unit;
     if (report.truth) {
       text += StringPrintf("  %+.4e  %+6.2f", (*report.truth)[i],
                            (fit.parameters[i] - (*report.truth)[i]) / sigma[i]);
@@ -70,10 +72,13 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
 
   const Eigen::Matrix4d correlation = fit.Correlation();
   text += "\n  correlation ";
-  for (const char* name : kBaselineParameterNames) text += StringPrintf(" %7s", name);
+  for (const Parameter parameter : kBaselineParameters) {
+    text += StringPrintf(" %7s", Info(parameter).name);
+  }
   text += "\n";
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    text += StringPrintf("  %-11s ", kBaselineParameterNames[i]);
+  for (const Parameter parameter : kBaselineParameters) {
+    const int i = BaselineIndex(parameter);
+    text += StringPrintf("  %-11s ", Info(parameter).name);
     for (int j = 0; j < kBaselineParameterCount; ++j)
       text += StringPrintf(" %+7.4f", correlation(i, j));
     text += "\n";
@@ -101,11 +106,8 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
 
 nlohmann::json LinearLsJson(const LinearLsReport& report) {
   const BaselineFit& fit = report.closed_form;
-  nlohmann::json order = nlohmann::json::array();
-  for (const char* name : kBaselineParameterNames) order.push_back(name);
   nlohmann::json json = FitJson(fit);
   json["problem"] = "linear_ls";
-  json["parameter_order"] = order;
   json["correlation"] = Matrix(fit.Correlation());
   json["chi2_dof"] = {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}};
   json["chi2_p_value"] = {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}};

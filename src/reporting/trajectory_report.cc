@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
@@ -45,10 +46,11 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
                    report.conditions.initial_position_x_m, report.conditions.initial_position_y_m,
                    report.conditions.initial_velocity_x_mps,
                    report.conditions.initial_velocity_y_mps, file("conditions").c_str());
-  text += StringPrintf(
-      "  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
-      file("calibration").c_str(), report.fit.parameters[kBiasX], report.fit.parameters[kScaleX],
-      report.fit.parameters[kBiasY], report.fit.parameters[kScaleY]);
+  text +=
+      StringPrintf("  calibration  %s: bias_x %+.4e, scale_x %+.4e, bias_y %+.4e, scale_y %+.4e\n",
+                   file("calibration").c_str(), report.fit.Value(Parameter::kBiasX),
+                   report.fit.Value(Parameter::kScaleX), report.fit.Value(Parameter::kBiasY),
+                   report.fit.Value(Parameter::kScaleY));
   text += "\n  verdict: " + DecisionLine(report.decision) + "\n\n";
 
   text += "  endpoint            x (m)      y (m)   1 sigma x, y (m)\n";
@@ -104,17 +106,6 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
 
 nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
   const DeadReckoningResult& t = report.trajectory;
-  nlohmann::json landmarks = nlohmann::json::array();
-  for (const LandmarkScore& score : report.decision.scores) {
-    landmarks.push_back({{"name", score.landmark.name},
-                         {"x", score.landmark.x_m},
-                         {"y", score.landmark.y_m},
-                         {"distance_m", score.distance_m},
-                         {"mahalanobis2", score.mahalanobis2},
-                         {"log_likelihood", score.log_likelihood},
-                         {"posterior", score.posterior},
-                         {"p_value", score.p_value}});
-  }
   nlohmann::json budget = nlohmann::json::array();
   for (const AxisErrorBudget& b : report.budget) {
     auto term = [](const BudgetTerm& term) {
@@ -131,11 +122,7 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
                       {"dominant", b.dominant},
                       {"report_noise_term_factor", b.noise.three_sigma_m / b.noise.report_m}});
   }
-  nlohmann::json parameters = nlohmann::json::object();
   nlohmann::json jacobian = nlohmann::json::array();
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    parameters[kBaselineParameterNames[i]] = report.fit.parameters[i];
-  }
   nlohmann::json columns = nlohmann::json::array();
   for (const Parameter parameter : t.jacobian_columns) columns.push_back(Info(parameter).name);
   for (int r = 0; r < 2; ++r) {
@@ -153,15 +140,14 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
       {"parameter_part", Matrix2(t.parameter_part)},
       {"noise_part", Matrix2(t.noise_part)},
       {"jacobian", {{"rows", {"x", "y"}}, {"columns", columns}, {"matrix", jacobian}}},
-      {"landmarks", landmarks},
-      {"reached",
-       decision.reached.empty() ? nlohmann::json(nullptr) : nlohmann::json(decision.reached)},
+      {"landmarks", LandmarkScoresJson(decision)},
+      {"reached", ReachedJson(decision)},
       {"best", decision.best >= 0 ? nlohmann::json(decision.scores[decision.best].landmark.name)
                                   : nlohmann::json(nullptr)},
       {"p_value", decision.best >= 0 ? decision.scores[decision.best].p_value : 0.0},
       {"alpha", decision.alpha},
       {"error_budget", budget},
-      {"baseline", {{"parameters", parameters}}},
+      {"baseline", ParameterEstimateJson(FromBaselineFit(report.fit))},
       {"run", {{"samples", t.sample_count}, {"dt_s", t.dt_s}, {"duration_s", t.duration_s}}},
       {"input_files", report.input_files}};
   return json;

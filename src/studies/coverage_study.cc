@@ -29,8 +29,8 @@ struct Trial {
 CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions& options) {
   const ModelParameters<double>& truth_parameters = scenario.truth.parameters;
   Eigen::Vector4d truth;
-  for (int i = 0; i < kBaselineParameterCount; ++i) {
-    truth[i] = truth_parameters[FindParameter(kBaselineParameterNames[i])->parameter];
+  for (const Parameter parameter : kBaselineParameters) {
+    truth[BaselineIndex(parameter)] = truth_parameters[parameter];
   }
   std::vector<Trial> trials(options.trials);
   MonteCarloOptions monte_carlo;
@@ -83,9 +83,12 @@ CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions&
       result.endpoint_ellipse_coverage[level] +=
           (e.dot(trial->endpoint_covariance.ldlt().solve(e)) <= radius2) / n;
       for (int axis = 0; axis < 2; ++axis) {
-        const int first = axis == 0 ? kBiasX : kBiasY;
-        const Eigen::Vector2d d = trial->estimate.segment<2>(first) - truth.segment<2>(first);
-        const Eigen::Matrix2d c = trial->covariance.block<2, 2>(first, first);
+        const int b = BaselineIndex(BiasOf(axis));
+        const int s = BaselineIndex(ScaleOf(axis));
+        const Eigen::Vector2d d(trial->estimate[b] - truth[b], trial->estimate[s] - truth[s]);
+        Eigen::Matrix2d c;
+        c << trial->covariance(b, b), trial->covariance(b, s), trial->covariance(s, b),
+            trial->covariance(s, s);
         result.axis_ellipse_coverage[axis][level] += (d.dot(c.ldlt().solve(d)) <= radius2) / n;
       }
     }

@@ -42,8 +42,8 @@ struct ParameterCoverage {
 struct CoverageResult {
   int trials = 0;
   int failed_trials = 0;  // fits refused (cannot happen with a sane scenario)
-  std::array<ParameterCoverage, kBaselineParameterCount> parameters;
-  std::array<std::array<double, 3>, 2> axis_ellipse_coverage{};  // (bias, scale) of x and y
+  std::array<ParameterCoverage, kBaselineParameterCount> parameters;  // at BaselineIndex
+  std::array<std::array<double, 3>, 2> axis_ellipse_coverage{};       // (bias, scale) of x and y
   std::array<double, 3> endpoint_ellipse_coverage{};
   Eigen::Vector2d endpoint_bias_sigma = Eigen::Vector2d::Zero();  // mean error / reported sigma
   Eigen::Vector2d endpoint_sd_ratio = Eigen::Vector2d::Zero();    // empirical / reported sigma

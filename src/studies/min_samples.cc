@@ -2,10 +2,17 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
 
+#include "estimation/baseline_parameters.h"
+#include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
 #include "models/tilt_table.h"
+#include "simulation/monte_carlo.h"
+#include "simulation/random.h"
+#include "simulation/simulator.h"
 
 namespace accelcal {
 
@@ -46,14 +53,15 @@ Eigen::Matrix4d BaselineCovarianceForDesign(const std::vector<double>& theta_rad
     const double n = static_cast<double>(axes[k]->count());
     const double centered = axes[k]->CenteredForceForce();
     const double mean = axes[k]->MeanForce();
-    const int first = 2 * k;
+    const int b = BaselineIndex(BiasOf(k));
+    const int s = BaselineIndex(ScaleOf(k));
     if (!(centered > 0.0)) {
-      covariance.block<2, 2>(first, first) = Eigen::Matrix2d::Identity() * 1e30;  // not separable
+      covariance(b, b) = covariance(s, s) = 1e30;  // not separable
       continue;
     }
-    covariance(first, first) = variances[k] * (1.0 / n + mean * mean / centered);
-    covariance(first, first + 1) = covariance(first + 1, first) = -variances[k] * mean / centered;
-    covariance(first + 1, first + 1) = variances[k] / centered;
+    covariance(b, b) = variances[k] * (1.0 / n + mean * mean / centered);
+    covariance(b, s) = covariance(s, b) = -variances[k] * mean / centered;
+    covariance(s, s) = variances[k] / centered;
   }
   return covariance;
 }
@@ -222,7 +230,9 @@ DesignCurve OptimalTwoPositionDesign(const EndpointModel& model,
           DesignAngles("positions", reference_samples, candidate.theta_a, candidate.theta_b);
       const Eigen::Matrix4d parameters = BaselineCovarianceForDesign(
           angles, model.gravity_mps2, model.noise_variance_x, model.noise_variance_y);
-      if (parameters(0, 0) > 1e20 || parameters(2, 2) > 1e20) continue;
+      if (parameters(BaselineIndex(Parameter::kBiasX), BaselineIndex(Parameter::kBiasX)) > 1e20 ||
+          parameters(BaselineIndex(Parameter::kBiasY), BaselineIndex(Parameter::kBiasY)) > 1e20)
+        continue;
       const Eigen::Matrix2d covariance =
           model.jacobian * parameters * model.jacobian.transpose() + model.noise_part;
       const Eigen::Vector2d truth_point(landmarks[truth].x_m, landmarks[truth].y_m);
@@ -236,6 +246,234 @@ DesignCurve OptimalTwoPositionDesign(const EndpointModel& model,
     }
   }
   return best;
+}
+
+}  // namespace accelcal
+
+namespace accelcal {
+
+const std::vector<std::string>& DesignNames() {
+  static const std::vector<std::string> names = {"uniform", "four", "two", "optimal"};
+  return names;
+}
+
+EndpointModel EndpointModelOf(const DeadReckoningResult& trajectory, double gravity_mps2,
+                              double noise_variance_x, double noise_variance_y) {
+  EndpointModel model;
+  model.jacobian = trajectory.jacobian;
+  model.noise_part = trajectory.noise_part;
+  model.endpoint = trajectory.endpoint;
+  model.gravity_mps2 = gravity_mps2;
+  model.noise_variance_x = noise_variance_x;
+  model.noise_variance_y = noise_variance_y;
+  return model;
+}
+
+Status BuildEndpointModel(const CalibrationTest& test, const VehicleRun& run,
+                          const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                          double gravity_mps2, EndpointModel* model, int* truth) {
+  LinearLsOptions options;
+  options.gravity_mps2 = gravity_mps2;
+  options.noise_variance_x = conditions.noise_variance_x;
+  options.noise_variance_y = conditions.noise_variance_y;
+  BaselineFit fit;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, options, &fit));
+  TrajectoryOptions trajectory_options;
+  trajectory_options.path_stride = run.size();
+  DeadReckoningResult trajectory;
+  ACCELCAL_RETURN_IF_ERROR(DeadReckon(run, conditions, fit, trajectory_options, &trajectory));
+  *model = EndpointModelOf(trajectory, gravity_mps2, conditions.noise_variance_x,
+                           conditions.noise_variance_y);
+  // Only the most probable landmark is used, which does not depend on alpha.
+  *truth = DecideLandmark(trajectory.endpoint, trajectory.covariance, landmarks, 0.01).best;
+  return Status::Ok();
+}
+
+std::vector<DesignCurve> AnalyseDesigns(const EndpointModel& model,
+                                        const std::vector<Landmark>& landmarks, int truth,
+                                        const std::vector<std::string>& names, double max_error,
+                                        int max_samples, int* uniform_n_min) {
+  *uniform_n_min = kDefaultReferenceSamples;
+  std::vector<DesignCurve> designs;
+  for (const std::string& name : names) {
+    DesignCurve design;
+    design.name = name;
+    if (name == "optimal") {
+      design = OptimalTwoPositionDesign(
+          model, landmarks, truth, *uniform_n_min > 0 ? *uniform_n_min : kDefaultReferenceSamples);
+    }
+    design = AnalyseDesign(model, landmarks, truth, design, max_error, max_samples);
+    if (name == "uniform") *uniform_n_min = design.n_min;
+    designs.push_back(design);
+  }
+  return designs;
+}
+
+namespace {
+
+// Wrong-decision rate of `trials` fits of a test made by `make_test(trial)` with the run made
+// by `make_run(trial)`; a test that cannot be fitted counts against its design.
+double MonteCarloWrongRate(const std::function<CalibrationTest(int)>& make_test,
+                           const std::function<VehicleRun(int)>& make_run,
+                           const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                           int truth, int trials, const MinSamplesOptions& options) {
+  std::vector<int> wrong(trials, 0);
+  MonteCarloOptions monte_carlo;
+  monte_carlo.trials = trials;
+  monte_carlo.threads = options.threads;
+  monte_carlo.progress = false;
+  RunTrials(monte_carlo, [&](int trial) {
+    EndpointModel model;
+    int decided = -1;
+    if (!BuildEndpointModel(make_test(trial), make_run(trial), conditions, landmarks,
+                            options.gravity_mps2, &model, &decided)
+             .ok()) {
+      wrong[trial] = 1;
+      return;
+    }
+    wrong[trial] = decided != truth;
+  });
+  return std::count(wrong.begin(), wrong.end(), 1) / static_cast<double>(trials);
+}
+
+// The N a design is checked at: a quarter of N_min (at least 10) and N_min.
+std::array<int, 2> CheckedSampleCounts(const DesignCurve& design) {
+  return {std::max(10, design.n_min / 4), design.n_min};
+}
+
+// Full simulation of test and run from the scenario, at and below N_min.
+Status FullSimulationChecks(const Scenario& scenario, const DesignCurve& design,
+                            const MinSamplesOptions& options,
+                            std::vector<MonteCarloCheck>* checks) {
+  const SimulatedData reference = SimulateScenario(scenario, options.seed, 1u << 30);
+  EndpointModel model;
+  int decided = -1;
+  ACCELCAL_RETURN_IF_ERROR(BuildEndpointModel(reference.test, reference.run, reference.conditions,
+                                              reference.landmarks, options.gravity_mps2, &model,
+                                              &decided)
+                               .WithContext("the simulated reference of the Monte Carlo check"));
+  int true_index = 0;
+  for (size_t k = 0; k < reference.landmarks.size(); ++k) {
+    if (reference.landmarks[k].name == reference.reached_landmark) true_index = static_cast<int>(k);
+  }
+  for (const int n : CheckedSampleCounts(design)) {
+    MonteCarloCheck check;
+    check.kind = MonteCarloCheck::Kind::kFullSimulation;
+    check.samples = n;
+    check.analytic = EvaluateDesign(model, reference.landmarks, true_index, design, n).p_wrong;
+    check.monte_carlo = MonteCarloWrongRate(
+        [&](int trial) {
+          TiltSchedule schedule;
+          schedule.kind = TiltSchedule::Kind::kList;
+          schedule.angles_rad = DesignAngles(design.name, n, design.theta_a, design.theta_b);
+          return SimulateTiltTest(schedule, scenario.truth, options.seed + 7, trial);
+        },
+        [&](int trial) {
+          std::vector<double> t;
+          std::vector<double> ax;
+          std::vector<double> ay;
+          TrueRunAcceleration(scenario.run, &t, &ax, &ay);
+          return SimulateVehicleRun(t, ax, ay, scenario.truth, options.seed + 7, trial);
+        },
+        reference.conditions, reference.landmarks, true_index, options.repetitions, options);
+    check.repetitions = options.repetitions;
+    check.independent = options.repetitions;
+    check.monte_carlo_sd =
+        std::sqrt(std::max(check.analytic * (1 - check.analytic), 1e-12) / check.independent);
+    checks->push_back(check);
+  }
+  return Status::Ok();
+}
+
+// The real test's own subsets: the real run's noise is one fixed realisation, so only the
+// parameters vary: the estimate is centred on the full-data endpoint with covariance
+// J Sigma_N J^T (1 - N / N_full).
+void RealTestSubsetChecks(const CalibrationTest& test, const VehicleRun& run,
+                          const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                          const MinSamplesResult& study, const DesignCurve& design,
+                          const MinSamplesOptions& options, std::vector<MonteCarloCheck>* checks) {
+  const EndpointModel& model = study.model;
+  const int full = study.full_samples;
+  for (const int n : CheckedSampleCounts(design)) {
+    const std::vector<double> angles = DesignAngles("uniform", n);
+    const Eigen::Matrix4d parameters = BaselineCovarianceForDesign(
+        angles, model.gravity_mps2, model.noise_variance_x, model.noise_variance_y);
+    const Eigen::Matrix2d spread =
+        model.jacobian * parameters * model.jacobian.transpose() * (1.0 - double(n) / full);
+    const Eigen::Matrix2d decision =
+        model.jacobian * parameters * model.jacobian.transpose() + model.noise_part;
+    const double analytic =
+        ProbabilityOfWrongLandmark(model.endpoint, spread, decision, landmarks, study.truth);
+    // Random subsets, and evenly spaced ones (every full/N-th sample from a random offset).
+    for (const bool evenly : {false, true}) {
+      MonteCarloCheck check;
+      check.kind = evenly ? MonteCarloCheck::Kind::kRealTestEvenSubsets
+                          : MonteCarloCheck::Kind::kRealTestSubsets;
+      check.samples = n;
+      check.analytic = analytic;
+      check.monte_carlo = MonteCarloWrongRate(
+          [&](int trial) {
+            RandomSource random(options.seed + (evenly ? 13 : 11), trial);
+            std::vector<int> chosen;
+            if (evenly) {
+              const double stride = static_cast<double>(full) / n;
+              const double offset = random.Uniform() * stride;
+              for (int i = 0; i < n; ++i)
+                chosen.push_back(std::min(full - 1, static_cast<int>(offset + i * stride)));
+            } else {
+              std::vector<int> order(full);
+              for (int i = 0; i < full; ++i) order[i] = i;
+              for (int i = 0; i < n; ++i)
+                std::swap(order[i], order[i + static_cast<int>(random.Uniform() * (full - i))]);
+              chosen.assign(order.begin(), order.begin() + n);
+              std::sort(chosen.begin(), chosen.end());
+            }
+            CalibrationTest subset;
+            for (const int i : chosen) {
+              subset.theta_rad.push_back(test.theta_rad[i]);
+              subset.measured_x.push_back(test.measured_x[i]);
+              subset.measured_y.push_back(test.measured_y[i]);
+            }
+            return subset;
+          },
+          [&](int) { return run; }, conditions, landmarks, study.truth, options.repetitions,
+          options);
+      check.repetitions = options.repetitions;
+      // Evenly spaced subsets of the real test are at most full/N disjoint ones: the
+      // repetitions draw from that many independent outcomes, not from `repetitions`.
+      check.independent = evenly ? std::min(options.repetitions, full / n) : options.repetitions;
+      check.monte_carlo_sd =
+          std::sqrt(std::max(analytic * (1 - analytic), 1e-12) / check.independent);
+      checks->push_back(check);
+    }
+  }
+}
+
+}  // namespace
+
+Status RunMinSamplesStudy(const CalibrationTest& test, const VehicleRun& run,
+                          const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                          const Scenario& scenario, const MinSamplesOptions& options,
+                          MinSamplesResult* result) {
+  ACCELCAL_RETURN_IF_ERROR(BuildEndpointModel(
+      test, run, conditions, landmarks, options.gravity_mps2, &result->model, &result->truth));
+  if (landmarks.size() < 2 || result->truth < 0) {
+    return Status::Error("need at least two landmarks");
+  }
+  result->full_samples = test.size();
+  result->designs = AnalyseDesigns(result->model, landmarks, result->truth, options.designs,
+                                   options.max_error, result->full_samples, &result->uniform_n_min);
+  result->checks.assign(result->designs.size(), {});
+  for (size_t d = 0; d < result->designs.size(); ++d) {
+    const DesignCurve& design = result->designs[d];
+    if (options.repetitions <= 0 || design.n_min <= 0) continue;
+    ACCELCAL_RETURN_IF_ERROR(FullSimulationChecks(scenario, design, options, &result->checks[d]));
+    if (design.name == "uniform" && options.subset_checks) {
+      RealTestSubsetChecks(test, run, conditions, landmarks, *result, design, options,
+                           &result->checks[d]);
+    }
+  }
+  return Status::Ok();
 }
 
 }  // namespace accelcal

@@ -20,10 +20,14 @@
 // P(wrong).
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/trajectory.h"
+#include "simulation/scenario.h"
 
 namespace accelcal {
 
@@ -33,7 +37,7 @@ namespace accelcal {
 std::vector<double> DesignAngles(const std::string& design, int samples, double theta_a = 0.0,
                                  double theta_b = 0.0);
 
-// sigma^2 (A^T A)^-1 of the baseline for these angles, 4x4 in the baseline's order.
+// sigma^2 (A^T A)^-1 of the baseline for these angles, 4x4 in kBaselineParameters' order.
 Eigen::Matrix4d BaselineCovarianceForDesign(const std::vector<double>& theta_rad,
                                             double gravity_mps2, double noise_variance_x,
                                             double noise_variance_y);
@@ -47,7 +51,7 @@ double ProbabilityOfWrongLandmark(const Eigen::Vector2d& center,
                                   int quadrature_points = 7200);
 
 struct EndpointModel {
-  Eigen::Matrix<double, 2, 4> jacobian;  // d endpoint / d (bias_x, scale_x, bias_y, scale_y)
+  Eigen::Matrix<double, 2, 4> jacobian;  // d endpoint / d kBaselineParameters
   Eigen::Matrix2d noise_part;            // the run's own noise, m^2
   Eigen::Vector2d endpoint;              // the full-data estimate, m
   double gravity_mps2 = 9.8;
@@ -83,6 +87,76 @@ DesignCurve AnalyseDesign(const EndpointModel& model, const std::vector<Landmark
 DesignCurve OptimalTwoPositionDesign(const EndpointModel& model,
                                      const std::vector<Landmark>& landmarks, int truth,
                                      int reference_samples);
+
+// The designs, in the order "all" analyses them.
+const std::vector<std::string>& DesignNames();
+
+// The optimal design is searched at the uniform design's N_min; when the uniform design was
+// not analysed, or no N meets the criterion for it, at this many samples.
+constexpr int kDefaultReferenceSamples = 100;
+
+// The endpoint model of a dead-reckoned run (its Jacobian, noise part and endpoint).
+EndpointModel EndpointModelOf(const DeadReckoningResult& trajectory, double gravity_mps2,
+                              double noise_variance_x, double noise_variance_y);
+
+// The endpoint model of a dataset: baseline fit with `gravity_mps2`, dead reckoning, and the
+// landmark the endpoint decides (`truth`, -1 without landmarks).
+Status BuildEndpointModel(const CalibrationTest& test, const VehicleRun& run,
+                          const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                          double gravity_mps2, EndpointModel* model, int* truth);
+
+// The designs named in `names`, in that order, each analysed up to `max_samples`. The
+// optimal one is searched at `*uniform_n_min`: kDefaultReferenceSamples, or the uniform
+// design's N_min when it came before (left there for the caller).
+std::vector<DesignCurve> AnalyseDesigns(const EndpointModel& model,
+                                        const std::vector<Landmark>& landmarks, int truth,
+                                        const std::vector<std::string>& names, double max_error,
+                                        int max_samples, int* uniform_n_min);
+
+// A Monte Carlo check of a design's analytic P(wrong) at one N.
+struct MonteCarloCheck {
+  enum class Kind {
+    kFullSimulation,      // test and run simulated from the scenario
+    kRealTestSubsets,     // random subsets of the real test, the real run
+    kRealTestEvenSubsets  // evenly spaced subsets of the real test, the real run
+  };
+  Kind kind = Kind::kFullSimulation;
+  int samples = 0;
+  double analytic = 0.0;
+  double monte_carlo = 0.0;
+  double monte_carlo_sd = 0.0;  // the analytic binomial sd of the Monte Carlo rate
+  int repetitions = 0;
+  int independent = 0;  // independent outcomes among the repetitions
+};
+
+struct MinSamplesOptions {
+  std::vector<std::string> designs = DesignNames();
+  double max_error = 0.01;
+  double gravity_mps2 = 9.8;
+  int repetitions = 1000;  // per checked N; 0: no Monte Carlo
+  uint64_t seed = 1;
+  int threads = 0;
+  // Check on subsets of the test as well (only meaningful for a measured test: a simulated
+  // one is checked by full simulation already).
+  bool subset_checks = true;
+};
+
+struct MinSamplesResult {
+  EndpointModel model;  // of the full data
+  int truth = -1;       // the landmark the full data decides
+  int full_samples = 0;
+  int uniform_n_min = kDefaultReferenceSamples;  // see AnalyseDesigns
+  std::vector<DesignCurve> designs;
+  std::vector<std::vector<MonteCarloCheck>> checks;  // per design
+};
+
+// Every design of `options` on the data, checked by Monte Carlo: full simulations of
+// `scenario` at N_min and N_min / 4 (at least 10), and for the uniform design subsets of
+// the real test. Fails when the data decide no landmark among at least two.
+Status RunMinSamplesStudy(const CalibrationTest& test, const VehicleRun& run,
+                          const RunConditions& conditions, const std::vector<Landmark>& landmarks,
+                          const Scenario& scenario, const MinSamplesOptions& options,
+                          MinSamplesResult* result);
 
 }  // namespace accelcal
 

@@ -32,9 +32,11 @@
 #include "estimation/ceres_linear_ls.h"
 #include "estimation/joint_estimator.h"
 #include "estimation/linear_ls.h"
+#include "estimation/parameter_estimate.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "models/tilt_table.h"
+#include "reporting/estimate_json.h"
 
 DEFINE_string(data_dir, "",
               "Folder with the course layout or the CSV layout (tilt test, run, landmarks, "
@@ -95,33 +97,8 @@ nlohmann::json Timing(const std::vector<double>& seconds) {
           {"repetitions", static_cast<int>(seconds.size())}};
 }
 
-nlohmann::json MatrixJson(const Eigen::MatrixXd& matrix) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (int i = 0; i < matrix.rows(); ++i) {
-    std::vector<double> row(matrix.cols());
-    for (int j = 0; j < matrix.cols(); ++j) row[j] = matrix(i, j);
-    rows.push_back(row);
-  }
-  return rows;
-}
-
-// Values, sigmas and covariance keyed by the spec's names, in `order`.
-nlohmann::json EstimateJson(const std::vector<std::string>& order, const Eigen::VectorXd& values,
-                            const Eigen::MatrixXd& covariance) {
-  nlohmann::json json;
-  json["parameter_order"] = order;
-  for (size_t i = 0; i < order.size(); ++i) {
-    json["parameters"][order[i]] = values[i];
-    json["stddev"][order[i]] = std::sqrt(covariance(i, i));
-  }
-  json["covariance"] = MatrixJson(covariance);
-  return json;
-}
-
 nlohmann::json BaselineJson(const BaselineFit& fit) {
-  const std::vector<std::string> order(kBaselineParameterNames.begin(),
-                                       kBaselineParameterNames.end());
-  nlohmann::json json = EstimateJson(order, fit.parameters, fit.covariance);
+  nlohmann::json json = ParameterEstimateJson(FromBaselineFit(fit));
   json["chi2_x"] = fit.chi2_x.chi2;
   json["chi2_y"] = fit.chi2_y.chi2;
   return json;
@@ -199,14 +176,8 @@ Status TimeProblems(const Inputs& inputs, nlohmann::json* json) {
                                  &seconds)
                                  .WithContext("joint"));
     const ParameterEstimate& estimate = result.estimate;
-    std::vector<std::string> order;
-    Eigen::VectorXd values(estimate.free.size());
-    for (size_t i = 0; i < estimate.free.size(); ++i) {
-      order.push_back(Info(estimate.free[i]).name);
-      values[i] = estimate.Value(estimate.free[i]);
-    }
     nlohmann::json& joint = (*json)["problems"]["joint"];
-    joint = EstimateJson(order, values, estimate.covariance);
+    joint = ParameterEstimateJson(estimate);
     joint["effects"] = FLAGS_effects;
     joint["landmark"] = result.landmark;
     joint["chi2_x"] = result.chi2_x;

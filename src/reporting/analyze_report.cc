@@ -1,0 +1,345 @@
+#include "reporting/analyze_report.h"
+
+#include <unistd.h>
+
+#include <cctype>
+#include <cmath>
+
+#include "common/format.h"
+#include "io/atomic_file.h"
+#include "io/json_file.h"
+#include "io/subprocess.h"
+#include "reporting/discovery_report.h"
+#include "reporting/min_samples_report.h"
+#include "reporting/report_document.h"
+
+namespace accelcal {
+namespace {
+
+std::string Num(double value, const char* format = "%.4g") { return StringPrintf(format, value); }
+
+// `value` with `format`, or "n/a" when it is not finite.
+std::string Finite(double value, const char* format) {
+  return std::isfinite(value) ? StringPrintf(format, value) : std::string("n/a");
+}
+
+// `text` with its first letter capitalised, to start a sentence.
+std::string Sentence(std::string text) {
+  if (!text.empty()) text[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(text[0])));
+  return text;
+}
+
+// A figure takes a few seconds; a plot program still running after this is stopped.
+constexpr double kPlotTimeoutS = 300.0;
+
+// Runs a plot script with an argument vector (no shell); returns "" or why the figure is
+// absent.
+std::string Plot(const FigureTools& tools, const std::string& script,
+                 const std::vector<std::string>& arguments) {
+  const std::string path = tools.tools_dir + "/" + script;
+  if (access(path.c_str(), R_OK) != 0) return "the script " + path + " is not there (--tools_dir)";
+  int exit_status = 0;
+  Status status =
+      RunProgram({tools.python, "-c", "import matplotlib, numpy"}, kPlotTimeoutS, &exit_status);
+  if (!status.ok()) return status.message() + " (--python)";
+  if (exit_status != 0) {
+    return tools.python +
+           " has no matplotlib/numpy (apt-get install python3-matplotlib python3-numpy)";
+  }
+  std::vector<std::string> argv = {tools.python, path};
+  argv.insert(argv.end(), arguments.begin(), arguments.end());
+  status = RunProgram(argv, kPlotTimeoutS, &exit_status);
+  if (!status.ok()) return status.message();
+  return exit_status == 0 ? ""
+                          : script + " failed (exit status " + std::to_string(exit_status) + ")";
+}
+
+// The verdict box's discovery part: the verdict in its four-verdict form, and whatever of
+// the remaining structure, the ambiguities and the noise findings its sentence does not
+// already say.
+std::string DiscoveryBox(const DiscoveryResult& d) {
+  std::string box = d.verdict + ".";
+  auto says = [&](const std::string& text) { return d.verdict.find(text) != std::string::npos; };
+  std::string left;
+  for (const std::string& line : d.remaining)
+    if (!says(line)) left += (left.empty() ? "" : "; ") + line;
+  if (!left.empty()) box += " What remains that no effect of the catalogue explains: " + left + ".";
+  for (const Ambiguity& ambiguity : d.ambiguities) {
+    if (ambiguity.separation.empty() || says(ambiguity.separation)) continue;
+    box += StringPrintf(" %s cannot be told apart from ", Info(ambiguity.effect).name);
+    for (size_t i = 0; i < ambiguity.alternatives.size(); ++i) {
+      box += std::string(i == 0                                   ? ""
+                         : i + 1 == ambiguity.alternatives.size() ? " or "
+                                                                  : ", ") +
+             ambiguity.alternatives[i].Name();
+    }
+    box += "; what would separate them: " + ambiguity.separation + ".";
+  }
+  std::string noise;
+  for (const NoiseFinding& finding : d.noise_findings)
+    if (!says(finding.description)) noise += (noise.empty() ? "" : "; ") + finding.description;
+  if (!noise.empty()) box += " Noise: " + noise + ".";
+  return box;
+}
+
+ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std::string>& absent) {
+  ReportDocument doc;
+  doc.title = "accelcal report";
+  const DiscoveryResult& d = r.discovery;
+  const LandmarkDecision& decision = r.trajectory.decision;
+  doc.verdict = DiscoveryBox(d) + " Landmark: " +
+                (decision.reached.empty()
+                     ? std::string("no landmark is consistent with the endpoint")
+                     : decision.reached +
+                           StringPrintf(" (p = %.3g)", decision.scores[decision.best].p_value)) +
+                ". Data: " + r.source + ".";
+  if (!r.truth.is_null()) {
+    std::string truth;
+    for (const auto& item : r.truth["parameters"].items()) {
+      const ParameterInfo* info = FindParameter(item.key());
+      if (info != nullptr && !info->baseline && item.value().get<double>() != info->neutral) {
+        truth += std::string(truth.empty() ? "" : ", ") + item.key() + " = " +
+                 Num(item.value().get<double>()) + " " + info->unit;
+      }
+    }
+    doc.verdict +=
+        " The truth hidden in it: " + (truth.empty() ? std::string("no effect") : truth) +
+        "; the run ends at " + r.truth["reached_landmark"].get<std::string>() + ".";
+  }
+
+  ReportSection baseline;
+  baseline.title = "1. Baseline: bias and scale by linear least squares";
+  const BaselineFit& fit = r.linear.closed_form;
+  baseline.paragraphs.push_back(
+      // clang-format off
+      StringPrintf("%d tilt-test samples, stated noise variances %g and %g (m/s^2)^2, g = %g m/s^2. Chi-square per axis: %.1f and %.1f on %d degrees of freedom. The closed form and Ceres agree to %.1e.",
+                   // clang-format on
+                   fit.sample_count, r.linear.noise_variance_x, r.linear.noise_variance_y,
+                   r.linear.gravity_mps2, fit.chi2_x.chi2, fit.chi2_y.chi2, fit.chi2_x.dof,
+                   CompareFits(fit, r.linear.ceres.fit).parameters));
+  baseline.table.push_back({"parameter", "estimate", "1 sigma", "unit"});
+  for (const Parameter parameter : kBaselineParameters) {
+    baseline.table.push_back({Info(parameter).name, Num(fit.Value(parameter), "%+.4e"),
+                              Num(fit.StandardDeviation(parameter), "%.3e"), Info(parameter).unit});
+  }
+  doc.sections.push_back(baseline);
+
+  ReportSection trajectory;
+  trajectory.title = "2. Trajectory and landmark";
+  const DeadReckoningResult& tr = r.trajectory.trajectory;
+  trajectory.paragraphs.push_back(
+      // clang-format off
+      StringPrintf("Corrected endpoint (%.2f, %.2f) m, 1 sigma %.2f m and %.2f m; the raw outputs integrated end at (%.2f, %.2f) m. Of the endpoint variance, the run's own noise is %.0f%% in x and %.0f%% in y; the parameters the rest.",
+                   // clang-format on
+                   tr.endpoint.x(), tr.endpoint.y(), std::sqrt(tr.covariance(0, 0)),
+                   std::sqrt(tr.covariance(1, 1)), tr.raw_endpoint.x(), tr.raw_endpoint.y(),
+                   100 * tr.noise_part(0, 0) / tr.covariance(0, 0),
+                   100 * tr.noise_part(1, 1) / tr.covariance(1, 1)));
+  const AxisErrorBudget& bx = r.trajectory.budget[0];
+  trajectory.paragraphs.push_back(StringPrintf(
+      // clang-format off
+      "The reference report's bound takes the run's noise as 3 sigma_eta = %.2f m in x; its double integral is %.2f m (3 sigma), %.1f times more.",
+      // clang-format on
+      bx.noise.report_m, bx.noise.three_sigma_m, bx.noise.three_sigma_m / bx.noise.report_m));
+  trajectory.table.push_back(
+      {"landmark", "x (m)", "y (m)", "Mahalanobis^2", "posterior", "p-value"});
+  for (const LandmarkScore& score : r.trajectory.decision.scores) {
+    trajectory.table.push_back({score.landmark.name, Num(score.landmark.x_m, "%.2f"),
+                                Num(score.landmark.y_m, "%.2f"), Num(score.mahalanobis2, "%.3f"),
+                                Num(score.posterior, "%.3g"), Num(score.p_value, "%.3g")});
+  }
+  trajectory.figure = "trajectory.png";
+  trajectory.figure_caption = "Raw and corrected paths, 1-sigma and 3-sigma ellipses, landmarks";
+  doc.sections.push_back(trajectory);
+
+  ReportSection discovery;
+  discovery.title = "3. What the baseline gets wrong: discovery";
+  discovery.paragraphs.push_back(
+      StringPrintf("Verdict: %s (of explained, missing, unexplained, cannot_tell_apart). ",
+                   VerdictCode(d.verdict_code)) +
+      Sentence(d.verdict) + ".");
+  discovery.paragraphs.push_back(
+      // clang-format off
+      StringPrintf("Noise level against the statement (von Neumann): ratio %.4f +- %.4f (x), %.4f +- %.4f (y). %s.",
+                   // clang-format on
+                   d.axes[0].noise.ratio, d.axes[0].noise.ratio_stddev, d.axes[1].noise.ratio,
+                   d.axes[1].noise.ratio_stddev, Sentence(d.landmark_note).c_str()));
+  {
+    // The noise read from local differences of the baseline's residuals, and what was named.
+    std::string noise = "Noise read from local differences:";
+    for (int k = 0; k < 2; ++k) {
+      const NoiseAnalysis& a = d.noise_analysis[k];
+      noise += StringPrintf(
+          "%s %s level ratio %s, lag-1 correlation %s, %zu outlier candidates, excess kurtosis %s",
+          k == 0 ? "" : ";", k == 0 ? "x" : "y", Finite(a.variance_ratio, "%.4f").c_str(),
+          Finite(a.correlation, "%+.3f").c_str(), a.outlier_candidates.size(),
+          Finite(a.excess_kurtosis, "%+.2f").c_str());
+    }
+    noise += ".";
+    if (d.noise_findings.empty()) {
+      noise += " No correlation, outliers or heavy tails named.";
+    } else {
+      // Their sentences are in the verdict above.
+      noise += " Named:";
+      for (const NoiseFinding& finding : d.noise_findings)
+        noise += StringPrintf(" %s on %s,", NoiseFindingName(finding.kind),
+                              finding.axis == 0 ? "x" : "y");
+      noise.back() = '.';
+    }
+    if (d.robust_fit) noise += " The final estimates are Huber's (sandwich covariance).";
+    discovery.paragraphs.push_back(noise);
+  }
+  {
+    std::string remains = "What the final model leaves: ";
+    if (d.remaining.empty()) {
+      remains += "nothing the checks can see";
+      if (!d.checks.empty()) remains += StringPrintf(" (%zu checks)", d.checks.size());
+    } else {
+      for (size_t i = 0; i < d.remaining.size(); ++i)
+        remains += (i == 0 ? "" : "; ") + d.remaining[i];
+    }
+    const CrossValidation& cv = d.cross_validation;
+    if (cv.folds > 0 && cv.null_stddev > 0.0 && std::isfinite(cv.z)) {
+      remains += StringPrintf(
+          // clang-format off
+          ". Cross-validation: held-out error %.4f against %.4f +- %.4f for a right model (z = %+.2f), %s",
+          // clang-format on
+          cv.extended, cv.null_mean, cv.null_stddev, cv.z,
+          cv.z > 3.0    ? "above its null spread: the model misses something"
+          : cv.z < -3.0 ? "below its null spread"
+                        : "within its null spread");
+    }
+    discovery.paragraphs.push_back(remains + ".");
+  }
+  for (const Ambiguity& ambiguity : d.ambiguities) {
+    std::string text =
+        StringPrintf("Cannot tell apart: %s = %s +- %s %s", Info(ambiguity.effect).name,
+                     Finite(ambiguity.effect_estimate, "%.4g").c_str(),
+                     Finite(ambiguity.effect_stddev, "%.2g").c_str(), Info(ambiguity.effect).unit);
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+      text += StringPrintf(" or %s = %s +- %s %s (delta chi2 %s)", alternative.Name().c_str(),
+                           Finite(alternative.estimate, "%.4g").c_str(),
+                           Finite(alternative.stddev, "%.2g").c_str(), alternative.Unit().c_str(),
+                           Finite(alternative.delta_chi2, "%+.2f").c_str());
+    }
+    if (!ambiguity.separation.empty())
+      text += ". What would separate them: " + ambiguity.separation;
+    discovery.paragraphs.push_back(text + ".");
+  }
+  discovery.table.push_back({"step", "candidate", "delta chi2", "p-value", "significant"});
+  for (const CandidateScore& c : d.candidates) {
+    if (c.step == 1 || c.significant) {
+      discovery.table.push_back({std::to_string(c.step), Info(c.effect).name,
+                                 Num(c.delta_chi2, "%.2f"), Num(c.p_value, "%.3g"),
+                                 c.significant ? "yes" : ""});
+    }
+  }
+  discovery.figure = "discovery.png";
+  discovery.figure_caption =
+      // clang-format off
+      "The baseline's residual against theta with the named effects' signatures; endpoint before and after; what the final model leaves, against theta and against the sample's place in the test, with a running mean";
+  // clang-format on
+  doc.sections.push_back(discovery);
+
+  ReportSection joint;
+  joint.title = "4. The joint model with what discovery selected";
+  const ParameterEstimate linear = FromBaselineFit(fit);
+  joint.paragraphs.push_back(
+      // clang-format off
+      StringPrintf("One Ceres problem over the tilt test and the run tied to %s; covariance from ceres::Covariance. Cross-validation over 5 contiguous theta blocks: held-out mean squared whitened error %.4f (baseline), %.4f (extended).",
+                   // clang-format on
+                   d.tied_landmark.empty() ? "no landmark" : d.tied_landmark.c_str(),
+                   d.cross_validation.baseline, d.cross_validation.extended));
+  joint.table.push_back({"parameter", "unit", "baseline", "joint", "shift (baseline sigma)"});
+  for (const Parameter parameter : d.extended.estimate.free) {
+    const bool in_baseline = linear.IndexOf(parameter) >= 0;
+    joint.table.push_back(
+        {Info(parameter).name, Info(parameter).unit,
+         in_baseline ? Num(linear.Value(parameter), "%+.4e") + " +- " +
+                           Num(linear.StandardDeviation(parameter), "%.2e")
+                     : "",
+         Num(d.extended.estimate.Value(parameter), "%+.4e") + " +- " +
+             Num(d.extended.estimate.StandardDeviation(parameter), "%.2e"),
+         in_baseline ? Num((d.extended.estimate.Value(parameter) - linear.Value(parameter)) /
+                               linear.StandardDeviation(parameter),
+                           "%+.2f")
+                     : ""});
+  }
+  doc.sections.push_back(joint);
+
+  ReportSection samples;
+  samples.title = "5. How many calibration samples decide the landmark";
+  samples.paragraphs.push_back(
+      // clang-format off
+      StringPrintf("Criterion: P(deciding a wrong landmark) <= %g, with the endpoint covariance J sigma^2 (A^T A)^-1 J^T (shrinks with N) plus the run's own noise (does not). The analytic curves are checked by Monte Carlo in build/bin/min_samples.",
+                   // clang-format on
+                   r.max_error));
+  samples.table.push_back({"design", "N_min", "N for one landmark in the 3-sigma ellipse"});
+  for (const DesignCurve& design : r.min_samples.designs) {
+    std::string name = design.name;
+    if (name == "optimal")
+      name += StringPrintf(" (%.0f and %.0f deg)", design.theta_a * 180 / M_PI,
+                           design.theta_b * 180 / M_PI);
+    samples.table.push_back({name, SampleCountText(design.n_min, r.min_samples.full_samples),
+                             SampleCountText(design.n_min_3sigma, r.min_samples.full_samples)});
+  }
+  samples.figure = "min_samples.png";
+  samples.figure_caption = "P(wrong landmark) against the number of tilt-test samples, per design";
+  doc.sections.push_back(samples);
+
+  if (!absent.empty()) {
+    ReportSection missing;
+    missing.title = "Figures not drawn";
+    for (const auto& [figure, why] : absent)
+      missing.paragraphs.push_back(figure + ": " + why + ".");
+    doc.sections.push_back(missing);
+  }
+  return doc;
+}
+
+}  // namespace
+
+nlohmann::json AnalyzeJson(const AnalyzeReport& r) {
+  return {{"source", r.source},
+          {"truth", r.truth},
+          {"linear_ls", LinearLsJson(r.linear)},
+          {"trajectory", TrajectoryJson(r.trajectory)},
+          {"discover", DiscoveryJson(r.discovery, r.alpha)},
+          {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
+}
+
+Status WriteAnalyzeReport(const std::string& dir, const AnalyzeReport& r, const FigureTools& tools,
+                          int* figures_drawn) {
+  const nlohmann::json results = AnalyzeJson(r);
+  ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/results.json", results));
+  ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/trajectory.json", results["trajectory"]));
+  ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/discover.json", results["discover"]));
+  ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/min_samples.json", results["min_samples"]));
+  ACCELCAL_RETURN_IF_ERROR(
+      WriteFileAtomically(dir + "/path.csv", TrajectoryPathCsv(r.trajectory.trajectory)));
+  ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/bins.csv", DiscoveryBinsCsv(r.discovery)));
+  ACCELCAL_RETURN_IF_ERROR(
+      WriteFileAtomically(dir + "/residuals.csv", DiscoveryResidualsCsv(r.discovery, r.test)));
+  std::map<std::string, std::string> absent;
+  const std::map<std::string, std::pair<std::string, std::vector<std::string>>> figures = {
+      {"trajectory.png",
+       {"plot_trajectory.py",
+        {"--json=" + dir + "/trajectory.json", "--path_csv=" + dir + "/path.csv"}}},
+      {"discovery.png",
+       {"plot_discovery.py",
+        {"--json=" + dir + "/discover.json", "--bins_csv=" + dir + "/bins.csv",
+         "--residuals_csv=" + dir + "/residuals.csv"}}},
+      {"min_samples.png", {"plot_min_samples.py", {"--json=" + dir + "/min_samples.json"}}}};
+  for (const auto& [figure, script] : figures) {
+    std::vector<std::string> arguments = script.second;
+    arguments.push_back("--out=" + dir + "/" + figure);
+    const std::string why = Plot(tools, script.first, arguments);
+    if (!why.empty()) absent[figure] = why;
+  }
+  *figures_drawn = static_cast<int>(figures.size() - absent.size());
+  const ReportDocument document = Document(r, absent);
+  ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/report.md", RenderMarkdown(document)));
+  return WriteFileAtomically(dir + "/report.html", RenderHtml(document, dir));
+}
+
+}  // namespace accelcal

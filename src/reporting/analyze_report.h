@@ -1,0 +1,52 @@
+#ifndef ACCELCAL_REPORTING_ANALYZE_REPORT_H_
+#define ACCELCAL_REPORTING_ANALYZE_REPORT_H_
+
+// analyze's report folder: report.md and a self-contained report.html (one document: the
+// verdict, then baseline, trajectory and landmark, discovery, the joint model and the
+// minimum number of samples), results.json with every stage's JSON, each stage's own JSON
+// and CSV files, and the figures drawn by the plot scripts in tools/ (a figure that cannot
+// be drawn is named in the report with the reason).
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/discovery.h"
+#include "reporting/linear_ls_report.h"
+#include "reporting/trajectory_report.h"
+#include "studies/min_samples.h"
+
+namespace accelcal {
+
+struct AnalyzeReport {
+  std::string source;              // where the data came from, one line
+  nlohmann::json truth = nullptr;  // the simulation's truth, or null for measured data
+  CalibrationTest test;            // the tilt test discovery ran on
+  std::vector<Landmark> landmarks;
+  double alpha = 0.01;
+  double max_error = 0.01;
+  LinearLsReport linear;
+  TrajectoryReport trajectory;
+  DiscoveryResult discovery;
+  MinSamplesResult min_samples;  // designs without Monte Carlo checks
+};
+
+// results.json: {"source", "truth", "linear_ls", "trajectory", "discover", "min_samples"}.
+nlohmann::json AnalyzeJson(const AnalyzeReport& report);
+
+// The plot scripts (tools/plot_*.py) and the Python that runs them.
+struct FigureTools {
+  std::string tools_dir;
+  std::string python;
+};
+
+// Writes the report folder's files into `dir`; `figures_drawn` receives how many of the
+// three figures were drawn.
+Status WriteAnalyzeReport(const std::string& dir, const AnalyzeReport& report,
+                          const FigureTools& tools, int* figures_drawn);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_REPORTING_ANALYZE_REPORT_H_
