@@ -90,45 +90,44 @@ TEST(CourseData, LoadsTheFourFilesAsIs) {
 TEST(CourseData, ReproducesTheReportsTableOne) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   const BaselineFit fit = FitCourseData(dir).fit;
-  ExpectWithinLastDigit(fit.parameters[kBiasX], 7.667e-2, 1e-5, "bias_x");
-  ExpectWithinLastDigit(fit.parameters[kScaleX], -3.014e-2, 0.5e-5, "scale_x");
-  ExpectWithinLastDigit(fit.parameters[kBiasY], -1.751e-2, 0.5e-5, "bias_y");
-  ExpectWithinLastDigit(fit.parameters[kScaleY], 1.004e-2, 0.5e-5, "scale_y");
+  ExpectWithinLastDigit(fit.Value(Parameter::kBiasX), 7.667e-2, 1e-5, "bias_x");
+  ExpectWithinLastDigit(fit.Value(Parameter::kScaleX), -3.014e-2, 0.5e-5, "scale_x");
+  ExpectWithinLastDigit(fit.Value(Parameter::kBiasY), -1.751e-2, 0.5e-5, "bias_y");
+  ExpectWithinLastDigit(fit.Value(Parameter::kScaleY), 1.004e-2, 0.5e-5, "scale_y");
   // To more digits, against numpy.linalg.lstsq on the same files (an independent
   // solver): the report's 7.667e-2 is a rounding slip for 7.6664e-2, the only one of
   // its four figures off in the last digit.
-  EXPECT_NEAR(fit.parameters[kBiasX], 7.666381814121e-02, 1e-12);
-  EXPECT_NEAR(fit.parameters[kScaleX], -3.014181300939e-02, 1e-12);
-  EXPECT_NEAR(fit.parameters[kBiasY], -1.750807246292e-02, 1e-12);
-  EXPECT_NEAR(fit.parameters[kScaleY], 1.004157204455e-02, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kBiasX), 7.666381814121e-02, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kScaleX), -3.014181300939e-02, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kBiasY), -1.750807246292e-02, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kScaleY), 1.004157204455e-02, 1e-12);
   // And against the normal equations solved here.
   const CourseFit course = FitCourseData(dir);
   const testing::PlainAxisFit x = testing::PlainBaselineFit(course.test, 0, 0.25);
   const testing::PlainAxisFit y = testing::PlainBaselineFit(course.test, 1, 0.64);
-  EXPECT_NEAR(fit.parameters[kBiasX], x.bias, 1e-12);
-  EXPECT_NEAR(fit.parameters[kScaleX], x.scale, 1e-12);
-  EXPECT_NEAR(fit.parameters[kBiasY], y.bias, 1e-12);
-  EXPECT_NEAR(fit.parameters[kScaleY], y.scale, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kBiasX), x.bias, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kScaleX), x.scale, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kBiasY), y.bias, 1e-12);
+  EXPECT_NEAR(fit.Value(Parameter::kScaleY), y.scale, 1e-12);
 }
 
 TEST(CourseData, ReproducesTheReportsCovarianceAndFindsItsTypo) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   const CourseFit course = FitCourseData(dir);
-  const Eigen::Matrix4d& covariance = course.fit.covariance;
-  ExpectWithinLastDigit(covariance(kScaleX, kScaleX), 2.603e-7, 0.5e-10, "var scale_x");
-  ExpectWithinLastDigit(covariance(kBiasY, kBiasY), 3.200e-5, 0.5e-8, "var bias_y");
-  ExpectWithinLastDigit(covariance(kScaleY, kScaleY), 6.663e-7, 0.5e-10, "var scale_y");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleX, Parameter::kScaleX), 2.603e-7, 0.5e-10, "var scale_x");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kBiasY, Parameter::kBiasY), 3.200e-5, 0.5e-8, "var bias_y");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleY, Parameter::kScaleY), 6.663e-7, 0.5e-10, "var scale_y");
   // Even the report's off-diagonal terms, which come from sum(sin theta_i) = -7e-9 and
   // sum(cos theta_i) of the sampled angles, are reproduced.
-  EXPECT_NEAR(covariance(kBiasX, kScaleX) / -8.915e-19, 1.0, 1e-3);
-  EXPECT_NEAR(covariance(kBiasY, kScaleY) / 3.265e-10, 1.0, 1e-3);
+  EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasX, Parameter::kScaleX) / -8.915e-19, 1.0, 1e-3);
+  EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasY, Parameter::kScaleY) / 3.265e-10, 1.0, 1e-3);
   // var(bias_x): for a design with sum(f) ~ 0 it is sigma_x^2 / N = 0.25 / 20001
   // = 1.24994e-5, i.e. 1.250e-5. The report prints 1.245e-5, five units off in its
   // last digit: a transcription error (its other three variances and both covariances
   // match to every printed digit).
   const double sigma2_over_n = 0.25 / 20001.0;
-  EXPECT_NEAR(covariance(kBiasX, kBiasX), sigma2_over_n, 1e-12 * sigma2_over_n);
-  EXPECT_GT(std::abs(covariance(kBiasX, kBiasX) - 1.245e-5), 4e-8);
+  EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasX, Parameter::kBiasX), sigma2_over_n, 1e-12 * sigma2_over_n);
+  EXPECT_GT(std::abs(course.fit.Covariance(Parameter::kBiasX, Parameter::kBiasX) - 1.245e-5), 4e-8);
 }
 
 TEST(CourseData, ChiSquareAgreesWithTheStatedNoise) {
@@ -205,7 +204,6 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
 
   // Independent: the spec's trapezoidal recursion as a plain loop over accelerations a_j,
   // from p0 = (0, 0) and a given v0; returns the endpoint of one axis.
-  const Eigen::Vector4d& p = course.fit.parameters;
   const double dt = 0.01;
   const int samples = run.size();
   auto endpoint_of = [&](const std::vector<double>& a, double v0) {
@@ -213,8 +211,8 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   };
   std::vector<double> corrected[2];
   std::vector<double> raw[2] = {run.measured_x, run.measured_y};
-  const int bias[2] = {kBiasX, kBiasY};
-  const int scale[2] = {kScaleX, kScaleY};
+  const Parameter bias[2] = {Parameter::kBiasX, Parameter::kBiasY};
+  const Parameter scale[2] = {Parameter::kScaleX, Parameter::kScaleY};
   const double v0[2] = {1.0, 3.0};
   const double stated_variance[2] = {0.25, 0.64};
   double expected_endpoint[2];
@@ -222,8 +220,8 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   double expected_parameter_part[2];
   double expected_noise_part[2];
   for (int axis = 0; axis < 2; ++axis) {
-    const double b = p[bias[axis]];
-    const double one_plus_s = 1 + p[scale[axis]];
+    const double b = course.fit.Value(bias[axis]);
+    const double one_plus_s = 1 + course.fit.Value(scale[axis]);
     std::vector<double> d_bias(samples);
     std::vector<double> d_scale(samples);
     for (int j = 0; j < samples; ++j) {
@@ -237,10 +235,10 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
     // linear in the a_j), Sigma the fit's (bias, scale) block of this axis.
     const Eigen::Vector2d jacobian(endpoint_of(d_bias, 0.0), endpoint_of(d_scale, 0.0));
     Eigen::Matrix2d block;
-    block << course.fit.covariance(bias[axis], bias[axis]),
-        course.fit.covariance(bias[axis], scale[axis]),
-        course.fit.covariance(scale[axis], bias[axis]),
-        course.fit.covariance(scale[axis], scale[axis]);
+    block << course.fit.Covariance(bias[axis], bias[axis]),
+        course.fit.Covariance(bias[axis], scale[axis]),
+        course.fit.Covariance(scale[axis], bias[axis]),
+        course.fit.Covariance(scale[axis], scale[axis]);
     expected_parameter_part[axis] = jacobian.dot(block * jacobian);
     // The noise part: sum_j w_j^2 sigma^2 / (1 + s)^2, w_j the endpoint's response to a
     // unit impulse at sample j (brute force, one recursion per sample).
@@ -266,9 +264,9 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   EXPECT_NEAR(result.noise_part(1, 1), expected_noise_part[1], 1e-9 * expected_noise_part[1]);
   // And the closed form sigma^2 dt T^3 / 3 / (1 + s)^2, within the discretisation's 0.1%.
   const double t3 = std::pow(59.99, 3);
-  EXPECT_NEAR(result.noise_part(0, 0) / (0.25 * dt * t3 / 3 / std::pow(1 + p[kScaleX], 2)), 1.0,
+  EXPECT_NEAR(result.noise_part(0, 0) / (0.25 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleX), 2)), 1.0,
               3e-3);
-  EXPECT_NEAR(result.noise_part(1, 1) / (0.64 * dt * t3 / 3 / std::pow(1 + p[kScaleY], 2)), 1.0,
+  EXPECT_NEAR(result.noise_part(1, 1) / (0.64 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleY), 2)), 1.0,
               3e-3);
 
   // C's distance from the independent endpoint under the independent covariance (the

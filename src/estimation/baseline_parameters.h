@@ -68,6 +68,9 @@ struct BaselineFit {
     const int i = BaselineIndex(parameter);
     return std::sqrt(covariance(i, i));
   }
+  double Covariance(Parameter a, Parameter b) const {
+    return covariance(BaselineIndex(a), BaselineIndex(b));
+  }
   Eigen::Vector4d StandardDeviations() const { return covariance.diagonal().cwiseSqrt(); }
   Eigen::Matrix4d Correlation() const;
 };

@@ -49,6 +49,13 @@ struct DeadReckoningResult {
   // d endpoint / d (the estimate's free parameters, in its order), in m per unit.
   Eigen::Matrix<double, 2, Eigen::Dynamic> jacobian;
   std::vector<Parameter> jacobian_columns;
+  // The column of `parameter` in `jacobian`, or -1 when it does not act in the run.
+  int JacobianColumn(Parameter parameter) const {
+    for (size_t i = 0; i < jacobian_columns.size(); ++i) {
+      if (jacobian_columns[i] == parameter) return static_cast<int>(i);
+    }
+    return -1;
+  }
   Eigen::Matrix2d parameter_part = Eigen::Matrix2d::Zero();  // m^2
   Eigen::Matrix2d noise_part = Eigen::Matrix2d::Zero();      // m^2
   Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();      // sum of the two, m^2

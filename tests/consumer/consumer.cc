@@ -13,6 +13,6 @@ int main() {
   options.noise_variance_y = data.conditions.noise_variance_y;
   accelcal::BaselineFit fit;
   if (!accelcal::EstimateLinearLs(data.test, options, &fit).ok()) return 1;
-  std::printf("bias_x %.5f\n", fit.parameters[accelcal::kBiasX]);
+  std::printf("bias_x %.5f\n", fit.Value(accelcal::Parameter::kBiasX));
   return 0;
 }
