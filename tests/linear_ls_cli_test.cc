@@ -8,6 +8,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "io/course_csv.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "simulation/simulator.h"
