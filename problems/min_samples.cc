@@ -26,9 +26,9 @@
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
 #include "reporting/min_samples_report.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 

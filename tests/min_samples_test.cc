@@ -13,7 +13,7 @@
 #include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "test_support.h"
