@@ -12,9 +12,9 @@
 
 #include "io/atomic_file.h"
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
 #include "reporting/coverage_report.h"
-#include "simulation/embedded_scenarios.h"
 #include "studies/coverage_study.h"
 
 DEFINE_string(scenario, "", "Scenario JSON; empty: the embedded tp2-2018 scenario.");

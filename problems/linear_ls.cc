@@ -33,9 +33,9 @@
 #include "io/course_data.h"
 #include "io/json_file.h"
 #include "io/run_conditions.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
 #include "reporting/linear_ls_report.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
 
 DEFINE_string(data_dir, "",

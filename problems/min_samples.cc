@@ -17,9 +17,9 @@
 #include <iostream>
 
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
 #include "reporting/min_samples_report.h"
-#include "simulation/embedded_scenarios.h"
 
 DEFINE_string(data_dir, "",
               // clang-format off

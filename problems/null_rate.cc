@@ -21,8 +21,8 @@
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
-#include "simulation/embedded_scenarios.h"
 #include "studies/null_rate_study.h"
 
 DEFINE_string(designs, "course,n2000,eight_positions,half_circle",

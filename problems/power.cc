@@ -13,8 +13,8 @@
 #include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
-#include "simulation/embedded_scenarios.h"
 #include "studies/power_study.h"
 
 DEFINE_string(scenario, "", "Scenario JSON; empty: the embedded tp2-2018 scenario.");

@@ -30,7 +30,7 @@
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/run_conditions.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {

@@ -19,8 +19,8 @@
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
+#include "io/scenario_json.h"
 #include "problem_support.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
 
 DEFINE_string(scenario, "",

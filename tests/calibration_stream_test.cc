@@ -21,6 +21,7 @@
 
 #include "common/format.h"
 #include "estimation/linear_ls.h"
+#include "io/course_csv.h"
 #include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/mat_file.h"

@@ -12,6 +12,7 @@
 #include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
+#include "io/course_csv.h"
 #include "io/run_conditions.h"
 #include "models/tilt_table.h"
 #include "test_support.h"

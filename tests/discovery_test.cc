@@ -16,7 +16,7 @@
 #include "estimation/trajectory.h"
 #include "io/course_data.h"
 #include "io/run_conditions.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/scenario.h"

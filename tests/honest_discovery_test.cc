@@ -14,8 +14,8 @@
 
 #include "estimation/discovery.h"
 #include "estimation/noise_analysis.h"
+#include "io/scenario_json.h"
 #include "models/noise_model.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/random.h"
 #include "simulation/scenario.h"
 

@@ -22,6 +22,7 @@
 #include "io/json_file.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
+#include "io/scenario_json.h"
 #include "simulation/scenario.h"
 #include "test_support.h"
 

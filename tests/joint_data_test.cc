@@ -14,8 +14,8 @@
 #include "estimation/joint_estimator.h"
 #include "estimation/linear_ls.h"
 #include "estimation/score_test.h"
+#include "io/scenario_json.h"
 #include "models/effect_names.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "io/course_csv.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "simulation/simulator.h"

@@ -19,7 +19,7 @@
 #include "io/course_data.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "test_support.h"

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "io/scenario_json.h"
 #include "models/effects.h"
-#include "simulation/embedded_scenarios.h"
 #include "studies/null_rate_study.h"
 
 namespace accelcal {

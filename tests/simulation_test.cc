@@ -16,6 +16,7 @@
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"
+#include "io/scenario_json.h"
 #include "models/sensor_model.h"
 #include "models/tilt_table.h"
 #include "simulation/disturbances.h"

@@ -9,6 +9,7 @@
 #include <vector>
 #include <nlohmann/json.hpp>
 
+#include "io/course_csv.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "simulation/simulator.h"

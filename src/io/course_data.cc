@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <new>
 #include <set>
@@ -14,9 +13,10 @@
 #include "common/landmark_checks.h"
 #include "io/atomic_file.h"
 #include "io/calibration_stream.h"
-#include "io/csv_reader.h"
+#include "io/course_csv.h"
+#include "io/course_mat.h"
+#include "io/datos_txt.h"
 #include "io/input_text.h"
-#include "io/mat_file.h"
 #include "io/run_conditions.h"
 #include "io/theta_agreement.h"
 
@@ -53,148 +53,6 @@ void AddNotes(const std::string& path, const std::vector<std::string>& file_note
               std::vector<std::string>* notes) {
   if (notes == nullptr) return;
   for (const std::string& note : file_notes) notes->push_back(path + ": " + note);
-}
-
-std::string Shape(const MatMatrix& matrix) {
-  return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
-}
-
-// A column vector (Nx1) or a row vector (1xN), as MATLAB users write either.
-Status ReadVector(MatFileReader* reader, const std::string& name, const std::string& meaning,
-                  std::vector<double>* values) {
-  MatMatrix matrix;
-  ACCELCAL_RETURN_IF_ERROR(reader->ReadMatrix(name, &matrix));
-  if (matrix.rows != 1 && matrix.cols != 1) {
-    return Status::Error("variable '" + name + "' is " + Shape(matrix) + "; expected Nx1 " +
-                         meaning);
-  }
-  *values = matrix.values;
-  for (size_t i = 0; i < values->size(); ++i) {
-    if (!std::isfinite((*values)[i])) {
-      return Status::Error(name + "(" + std::to_string(i + 1) + ") is " +
-                           StringPrintf("%.6g", (*values)[i]) + "; remove or repair the sample");
-    }
-  }
-  return Status::Ok();
-}
-
-// An Nx2 matrix (x then y) whose row count must equal `expected_rows`.
-// A 2xN matrix (MATLAB users often save [ax; ay]) is read as its transpose and said in
-// `notes`; it cannot be confused with Nx2 unless N is 2.
-Status ReadTwoColumns(MatFileReader* reader, const std::string& name, int expected_rows,
-                      const std::string& row_variable, std::vector<double>* x,
-                      std::vector<double>* y, std::vector<std::string>* notes) {
-  MatMatrix matrix;
-  ACCELCAL_RETURN_IF_ERROR(reader->ReadMatrix(name, &matrix));
-  if (matrix.rows == 2 && matrix.cols == expected_rows && expected_rows != 2) {
-    MatMatrix transpose{matrix.cols, 2, std::vector<double>(matrix.values.size())};
-    for (int row = 0; row < matrix.cols; ++row) {
-      transpose.values[row] = matrix(0, row);
-      transpose.values[matrix.cols + row] = matrix(1, row);
-    }
-    notes->push_back("variable '" + name + "' is " + Shape(matrix) + "; read as its transpose (" +
-                     Shape(transpose) + ", x then y)");
-    matrix = std::move(transpose);
-  }
-  if (matrix.cols != 2) {
-    return Status::Error("variable '" + name + "' is " + Shape(matrix) + "; expected " +
-                         std::to_string(expected_rows) + "x2 (x then y, m/s^2)");
-  }
-  if (matrix.rows != expected_rows) {
-    return Status::Error("variable '" + name + "' has " + std::to_string(matrix.rows) +
-                         " rows but '" + row_variable + "' has " + std::to_string(expected_rows) +
-                         "; they must match sample for sample");
-  }
-  for (int col = 0; col < 2; ++col) {
-    for (int row = 0; row < matrix.rows; ++row) {
-      if (!std::isfinite(matrix(row, col))) {
-        return Status::Error(name + "(" + std::to_string(row + 1) + "," + std::to_string(col + 1) +
-                             ") is " + StringPrintf("%.6g", matrix(row, col)) +
-                             "; remove or repair the sample");
-      }
-    }
-  }
-  x->assign(matrix.values.begin(), matrix.values.begin() + matrix.rows);
-  y->assign(matrix.values.begin() + matrix.rows, matrix.values.end());
-  return Status::Ok();
-}
-
-// A landmark's name is shown whole in tables, JSON and messages: it must be a printable
-// line of at most kMaxLandmarkNameBytes (a MAT file's names are identifiers of at most 63).
-constexpr size_t kMaxLandmarkNameBytes = 100;
-
-Status CheckLandmarkName(const std::string& name, int row) {
-  if (IsPrintableUtf8(name) && name.size() <= kMaxLandmarkNameBytes) return Status::Ok();
-  return Status::Error("landmark " + std::to_string(row) + "'s name '" + EchoInput(name) + "' (" +
-                       std::to_string(name.size()) + " bytes) is not a name: use at most " +
-                       std::to_string(kMaxLandmarkNameBytes) +
-                       " printable characters, in UTF-8 (save the file as UTF-8, not Latin-1)");
-}
-
-const std::vector<CsvColumn> kRunColumns = {{"t"}, {"ax"}, {"ay"}};
-const std::vector<CsvColumn> kLandmarkColumns = {{"name", false}, {"x"}, {"y"}};
-
-Status LoadCalibrationMat(const std::string& path, CalibrationTest* test,
-                          std::vector<std::string>* notes) {
-  MatFileReader reader;
-  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
-  ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "tita", "angles (rad)", &test->theta_rad));
-  return ReadTwoColumns(&reader, "datos", test->size(), "tita", &test->measured_x,
-                        &test->measured_y, notes);
-}
-
-Status LoadRunMat(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
-  MatFileReader reader;
-  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
-  ACCELCAL_RETURN_IF_ERROR(ReadVector(&reader, "t", "times (s)", &run->timestamp_s));
-  // The assignment calls the matrix `acel`; the course's file names it `Aerr`.
-  std::vector<std::string> names;
-  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
-  const bool has_aerr = std::find(names.begin(), names.end(), "Aerr") != names.end();
-  const bool has_acel = std::find(names.begin(), names.end(), "acel") != names.end();
-  if (has_aerr && has_acel) {
-    return Status::Error(
-        "the file holds both 'Aerr' (the course's name) and 'acel' (the assignment's) for the "
-        "run's accelerations; keep the one that is the run");
-  }
-  const std::string name = (!has_aerr && has_acel) ? "acel" : "Aerr";
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadTwoColumns(&reader, name, run->size(), "t", &run->measured_x, &run->measured_y, notes));
-  return CheckUniformTime(run->timestamp_s, "t");
-}
-
-Status LoadLandmarksMat(const std::string& path, std::vector<Landmark>* landmarks) {
-  MatFileReader reader;
-  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
-  std::vector<std::string> names;
-  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
-  for (const std::string& name : names) {
-    // Every variable of puntos.mat is a landmark, so a variable MATLAB saves without being
-    // asked (the last unnamed result `ans`, or a hidden one starting with '_') would become a
-    // landmark nobody placed. Such a file is refused rather than read with a stray landmark.
-    if (name == "ans" || name.empty() || name.front() == '_') {
-      return Status::Error(
-          "variable '" + name + "' is " +
-          (name == "ans" ? "MATLAB's last unnamed result" : "a variable MATLAB hides") +
-          ", not a landmark: save the file with the landmarks only, e.g. save "
-          "puntos.mat A B C D");
-    }
-  }
-  // All at once: one pass over the file however many landmarks it holds.
-  std::vector<std::pair<std::string, MatMatrix>> matrices;
-  ACCELCAL_RETURN_IF_ERROR(
-      reader.ReadAllMatrices(2, "every landmark must be a 1x2 [x y] in metres", &matrices));
-  for (const auto& [name, matrix] : matrices) {
-    if (matrix.values.size() != 2) {
-      return Status::Error("variable '" + name + "' is " + Shape(matrix) +
-                           "; every landmark must be a 1x2 [x y] in metres");
-    }
-    if (!std::isfinite(matrix.values[0]) || !std::isfinite(matrix.values[1])) {
-      return Status::Error("landmark '" + name + "' is not finite");
-    }
-    landmarks->push_back({name, matrix.values[0], matrix.values[1]});
-  }
-  return Status::Ok();
 }
 
 // Applies `unit` to the angles (CheckThetaSpan), then checks that they follow the outputs'
@@ -388,17 +246,12 @@ Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std:
   std::vector<std::string> file_notes;
   Status status;
   if (IsCsvPath(path)) {
-    CsvTable table;
-    status = ReadCsvFile(path, kRunColumns, &table);
-    if (status.ok()) {
-      run->timestamp_s = std::move(table.numbers[0]);
-      run->measured_x = std::move(table.numbers[1]);
-      run->measured_y = std::move(table.numbers[2]);
-      status = CheckUniformTime(run->timestamp_s, "t");
-    }
+    status = LoadRunCsv(path, run);
+    if (status.ok()) status = CheckUniformTime(run->timestamp_s, "t");
   } else {
     try {
       status = LoadRunMat(path, run, &file_notes);
+      if (status.ok()) status = CheckUniformTime(run->timestamp_s, "t");
     } catch (const std::bad_alloc&) {
       *run = VehicleRun();
       status = OutOfMemory("the run's samples");
@@ -413,15 +266,7 @@ Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) 
   landmarks->clear();
   Status status;
   if (IsCsvPath(path)) {
-    CsvTable table;
-    status = ReadCsvFile(path, kLandmarkColumns, &table);
-    for (int i = 0; status.ok() && i < table.row_count; ++i) {
-      // Names are quoted whole in the outputs and in CheckLandmarks' messages.
-      status = CheckLandmarkName(table.texts[0][i], i + 1);
-      if (status.ok()) {
-        landmarks->push_back({table.texts[0][i], table.numbers[1][i], table.numbers[2][i]});
-      }
-    }
+    status = LoadLandmarksCsv(path, landmarks);
   } else {
     status = LoadLandmarksMat(path, landmarks);
   }
@@ -446,51 +291,6 @@ Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions
   return LoadRunConditions(files.conditions, &data->conditions);
 }
 
-Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test) {
-  std::string text = "theta,ax,ay\n";
-  text.reserve(text.size() + 72 * test.theta_rad.size());
-  char line[128];
-  for (int i = 0; i < test.size(); ++i) {
-    std::snprintf(line, sizeof(line), "%.17g,%.17g,%.17g\n", test.theta_rad[i], test.measured_x[i],
-                  test.measured_y[i]);
-    text += line;
-  }
-  return WriteFileAtomically(path, text);
-}
-
-namespace {
-
-Status WriteThreeColumnCsv(const std::string& path, const char* header,
-                           const std::vector<double>& first, const std::vector<double>& second,
-                           const std::vector<double>& third) {
-  std::string text = std::string(header) + "\n";
-  text.reserve(text.size() + 72 * first.size());
-  for (size_t i = 0; i < first.size(); ++i) {
-    text += StringPrintf("%.17g,%.17g,%.17g\n", first[i], second[i], third[i]);
-  }
-  return WriteFileAtomically(path, text);
-}
-
-bool IsMatlabIdentifier(const std::string& name) {
-  if (name.empty() || name.size() > 63 || !std::isalpha(static_cast<unsigned char>(name[0])))
-    return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
-  });
-}
-
-MatMatrix Columns(const std::vector<const std::vector<double>*>& columns) {
-  MatMatrix matrix;
-  matrix.rows = static_cast<int>(columns[0]->size());
-  matrix.cols = static_cast<int>(columns.size());
-  for (const std::vector<double>* column : columns) {
-    matrix.values.insert(matrix.values.end(), column->begin(), column->end());
-  }
-  return matrix;
-}
-
-}  // namespace
-
 Status WriteDataDirectory(const std::string& dir, DataLayout layout, const CalibrationTest& test,
                           const VehicleRun& run, const std::vector<Landmark>& landmarks,
                           const RunConditions& conditions, std::vector<std::string>* written) {
@@ -501,41 +301,14 @@ Status WriteDataDirectory(const std::string& dir, DataLayout layout, const Calib
   };
   if (layout == DataLayout::kCsv) {
     ACCELCAL_RETURN_IF_ERROR(WriteCalibrationCsv(path("calibration.csv"), test));
-    ACCELCAL_RETURN_IF_ERROR(WriteThreeColumnCsv(path("trajectory.csv"), "t,ax,ay", run.timestamp_s,
-                                                 run.measured_x, run.measured_y));
-    std::string text = "name,x,y\n";
-    for (const Landmark& landmark : landmarks) {
-      text += StringPrintf("%s,%.17g,%.17g\n", landmark.name.c_str(), landmark.x_m, landmark.y_m);
-    }
-    ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(path("landmarks.csv"), text));
+    ACCELCAL_RETURN_IF_ERROR(WriteRunCsv(path("trajectory.csv"), run));
+    ACCELCAL_RETURN_IF_ERROR(WriteLandmarksCsv(path("landmarks.csv"), landmarks));
     return WriteFileAtomically(path("scenario.json"), ScenarioJson(conditions));
   }
-  ACCELCAL_RETURN_IF_ERROR(
-      WriteMatFile(path("ensayo.mat"), {{"tita", Columns({&test.theta_rad})},
-                                        {"datos", Columns({&test.measured_x, &test.measured_y})}}));
-  ACCELCAL_RETURN_IF_ERROR(WriteMatFile(
-      path("acel.mat"),
-      {{"t", Columns({&run.timestamp_s})}, {"Aerr", Columns({&run.measured_x, &run.measured_y})}}));
-  std::vector<std::pair<std::string, MatMatrix>> points;
-  for (const Landmark& landmark : landmarks) {
-    if (!IsMatlabIdentifier(landmark.name)) {
-      return Status::Error("landmark '" + landmark.name +
-                           "' cannot be a MATLAB variable name; use the CSV layout or rename it");
-    }
-    points.push_back({landmark.name, MatMatrix{1, 2, {landmark.x_m, landmark.y_m}}});
-  }
-  ACCELCAL_RETURN_IF_ERROR(WriteMatFile(path("puntos.mat"), points));
-  auto pair = [](double first, double second) {
-    return "[" + RoundTripDouble(first) + " " + RoundTripDouble(second) + "]";
-  };
-  const std::string datos =
-      "Posici\xC3\xB3n inicial = " +
-      pair(conditions.initial_position_x_m, conditions.initial_position_y_m) +
-      "\nVelocidad inicial = " +
-      pair(conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps) +
-      "\nvarianza del ruido de los aceler\xC3\xB3metros = " +
-      pair(conditions.noise_variance_x, conditions.noise_variance_y) + "\n";
-  return WriteFileAtomically(path("datos.txt"), datos);
+  ACCELCAL_RETURN_IF_ERROR(WriteCalibrationMat(path("ensayo.mat"), test));
+  ACCELCAL_RETURN_IF_ERROR(WriteRunMat(path("acel.mat"), run));
+  ACCELCAL_RETURN_IF_ERROR(WriteLandmarksMat(path("puntos.mat"), landmarks));
+  return WriteFileAtomically(path("datos.txt"), DatosTxt(conditions));
 }
 
 }  // namespace accelcal

@@ -12,6 +12,10 @@
 //                   variable, named by the variable
 //   conditions      datos.txt                            scenario.json
 //
+// This file says which files make a dataset, how they are found and loaded; each layout's
+// files are read and written by io/course_mat.h (.mat), io/course_csv.h and
+// io/calibration_stream.h (CSV), io/run_conditions.h and io/datos_txt.h (conditions).
+//
 // The file type is chosen by extension, in any case (.csv, .CSV: CSV; anything else, e.g.
 // .mat or .MAT, MAT), so single files of either kind can be named directly. Every loader
 // first checks that the path is a regular file (CheckInputFile, io/input_file.h: a folder,
@@ -112,9 +116,6 @@ std::map<std::string, std::string> FileRoles(const DataFiles& files);
 
 // Reads the four files of `files` (each with its own checks and messages).
 Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions& options = {});
-
-// Writes the CSV layout's calibration.csv (full double precision), atomically.
-Status WriteCalibrationCsv(const std::string& path, const CalibrationTest& test);
 
 // Writes the four files of a layout into the existing folder `dir`, each atomically and
 // at full double precision: ensayo.mat, acel.mat, puntos.mat (landmark names must be

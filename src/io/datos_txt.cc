@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/format.h"
 #include "io/csv_reader.h"
 #include "io/input_text.h"
 
@@ -177,6 +178,18 @@ Status ParseDatosTxt(const std::string& text, RunConditions* conditions) {
   conditions->noise_variance_y = values[2][1];
   conditions->has_gravity = false;
   return Status::Ok();
+}
+
+std::string DatosTxt(const RunConditions& conditions) {
+  auto pair = [](double first, double second) {
+    return "[" + RoundTripDouble(first) + " " + RoundTripDouble(second) + "]";
+  };
+  return "Posici\xC3\xB3n inicial = " +
+         pair(conditions.initial_position_x_m, conditions.initial_position_y_m) +
+         "\nVelocidad inicial = " +
+         pair(conditions.initial_velocity_x_mps, conditions.initial_velocity_y_mps) +
+         "\nvarianza del ruido de los aceler\xC3\xB3metros = " +
+         pair(conditions.noise_variance_x, conditions.noise_variance_y) + "\n";
 }
 
 }  // namespace accelcal

@@ -25,6 +25,10 @@ namespace accelcal {
 
 Status ParseDatosTxt(const std::string& text, RunConditions* conditions);
 
+// The datos.txt text of `conditions`, in the course's keys and spelling (UTF-8), every number
+// written so that it reads back exactly.
+std::string DatosTxt(const RunConditions& conditions);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_DATOS_TXT_H_

@@ -18,13 +18,24 @@ namespace accelcal {
 // Standard gravity used by the course (the assignment takes g = 9.8 m/s^2).
 constexpr double kCourseGravityMps2 = 9.8;
 
+// The force from the sine and cosine of the true angle, for callers that compute them in
+// batches (common/sincos.h). T may also be a vector of doubles (GCC's vector extension), as
+// in the closed-form estimator's block loop (estimation/linear_ls_accumulator.cc).
+template <typename T>
+inline void TiltTableSpecificForceFromSinCos(const T& sin_theta_true, const T& cos_theta_true,
+                                             double gravity_mps2, T* specific_force_x,
+                                             T* specific_force_y) {
+  *specific_force_x = -gravity_mps2 * sin_theta_true;
+  *specific_force_y = -gravity_mps2 * cos_theta_true;
+}
+
 template <typename T>
 void TiltTableSpecificForce(const T& theta_true_rad, double gravity_mps2, T* specific_force_x,
                             T* specific_force_y) {
   using std::cos;
   using std::sin;
-  *specific_force_x = -gravity_mps2 * sin(theta_true_rad);
-  *specific_force_y = -gravity_mps2 * cos(theta_true_rad);
+  TiltTableSpecificForceFromSinCos<T>(sin(theta_true_rad), cos(theta_true_rad), gravity_mps2,
+                                      specific_force_x, specific_force_y);
 }
 
 }  // namespace accelcal

@@ -1,6 +1,5 @@
 #include "simulation/disturbances.h"
 
-#include <algorithm>
 #include <cmath>
 
 #include "common/format.h"
@@ -77,54 +76,6 @@ double Value(const Setting& setting, const Disturbances& disturbances) {
                                    : disturbances.theta_harmonic_order;
 }
 
-Status CheckKeys(const json& object, const std::vector<std::string>& allowed,
-                 const std::string& where) {
-  if (!object.is_object()) return Status::Error(where + " must be a JSON object");
-  for (const auto& item : object.items()) {
-    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end()) {
-      std::string list;
-      for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
-      return Status::Error(where + ": unknown key \"" + item.key() + "\"; expected " + list);
-    }
-  }
-  return Status::Ok();
-}
-
-// object[key], a number (one name) or an array [x, y] (two), into the named settings.
-Status ReadInto(const json& object, const char* key, const std::string& where,
-                const std::vector<const char*>& names, Disturbances* disturbances) {
-  if (!object.contains(key)) return Status::Ok();
-  const json& item = object.at(key);
-  std::vector<double> values;
-  if (names.size() == 1 && item.is_number()) {
-    values.push_back(item.get<double>());
-  } else if (names.size() > 1 && item.is_array() && item.size() == names.size()) {
-    for (const json& element : item) {
-      if (!element.is_number()) break;
-      values.push_back(element.get<double>());
-    }
-  }
-  bool finite = values.size() == names.size();
-  for (const double value : values) finite = finite && std::isfinite(value);
-  if (!finite) {
-    return Status::Error(
-        where + "." + key +
-        (names.size() == 1 ? " must be a finite number" : " must be two finite numbers [x, y]"));
-  }
-  for (size_t i = 0; i < names.size(); ++i) {
-    ACCELCAL_RETURN_IF_ERROR(SetDisturbance(names[i], values[i], disturbances));
-  }
-  return Status::Ok();
-}
-
-Status RequireKeys(const json& object, const std::vector<const char*>& keys,
-                   const std::string& where) {
-  for (const char* key : keys) {
-    if (!object.contains(key)) return Status::Error(where + " needs \"" + key + "\"");
-  }
-  return Status::Ok();
-}
-
 // Gamma(shape, 1) for shape >= 1 (Marsaglia and Tsang, ACM TOMS 26(3), 2000): exact, and
 // built on RandomSource's normals and uniforms, so the same on any machine.
 double StandardGamma(double shape, RandomSource* random) {
@@ -150,48 +101,6 @@ bool Disturbances::any() const {
   return noise_ar1_x != 0.0 || noise_ar1_y != 0.0 || noise_student_t_dof != 0.0 ||
          outlier_fraction != 0.0 || theta_harmonic_x != 0.0 || theta_harmonic_y != 0.0 ||
          bias_step_x != 0.0 || bias_step_y != 0.0 || scale_cubic_x != 0.0 || scale_cubic_y != 0.0;
-}
-
-Status ParseDisturbances(const json& object, Disturbances* disturbances) {
-  const std::string where = "disturbances";
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckKeys(object,
-                {"noise_ar1", "noise_student_t_dof", "outlier_fraction", "outlier_sigma",
-                 "theta_harmonic", "bias_step", "scale_cubic"},
-                where));
-  Disturbances parsed = *disturbances;
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadInto(object, "noise_ar1", where, {"noise_ar1_x", "noise_ar1_y"}, &parsed));
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadInto(object, "noise_student_t_dof", where, {"noise_student_t_dof"}, &parsed));
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadInto(object, "outlier_fraction", where, {"outlier_fraction"}, &parsed));
-  ACCELCAL_RETURN_IF_ERROR(ReadInto(object, "outlier_sigma", where, {"outlier_sigma"}, &parsed));
-  if (object.contains("theta_harmonic")) {
-    const json& harmonic = object.at("theta_harmonic");
-    const std::string harmonic_where = where + ".theta_harmonic";
-    ACCELCAL_RETURN_IF_ERROR(CheckKeys(harmonic, {"order", "amplitude", "phase"}, harmonic_where));
-    ACCELCAL_RETURN_IF_ERROR(RequireKeys(harmonic, {"order", "amplitude"}, harmonic_where));
-    ACCELCAL_RETURN_IF_ERROR(
-        ReadInto(harmonic, "order", harmonic_where, {"theta_harmonic_order"}, &parsed));
-    ACCELCAL_RETURN_IF_ERROR(ReadInto(harmonic, "amplitude", harmonic_where,
-                                      {"theta_harmonic_x", "theta_harmonic_y"}, &parsed));
-    ACCELCAL_RETURN_IF_ERROR(
-        ReadInto(harmonic, "phase", harmonic_where, {"theta_harmonic_phase"}, &parsed));
-  }
-  if (object.contains("bias_step")) {
-    const json& step = object.at("bias_step");
-    const std::string step_where = where + ".bias_step";
-    ACCELCAL_RETURN_IF_ERROR(CheckKeys(step, {"at", "size"}, step_where));
-    ACCELCAL_RETURN_IF_ERROR(RequireKeys(step, {"at", "size"}, step_where));
-    ACCELCAL_RETURN_IF_ERROR(ReadInto(step, "at", step_where, {"bias_step_at"}, &parsed));
-    ACCELCAL_RETURN_IF_ERROR(
-        ReadInto(step, "size", step_where, {"bias_step_x", "bias_step_y"}, &parsed));
-  }
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadInto(object, "scale_cubic", where, {"scale_cubic_x", "scale_cubic_y"}, &parsed));
-  *disturbances = parsed;
-  return Status::Ok();
 }
 
 const std::vector<std::string>& DisturbanceNames() {

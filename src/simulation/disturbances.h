@@ -38,7 +38,7 @@
 
 namespace accelcal {
 
-// Every member neutral by default. Names are the --set names (scenario.h).
+// Every member neutral by default. Names are the --set names (io/scenario_json.h).
 struct Disturbances {
   double noise_ar1_x = 0.0;          // rho_x [1], in (-0.99, 0.99)
   double noise_ar1_y = 0.0;          // rho_y
@@ -59,12 +59,6 @@ struct Disturbances {
   // size alone does not).
   bool any() const;
 };
-
-// The "disturbances" object of a scenario (scenario.h): the keys noise_ar1 [x, y],
-// noise_student_t_dof, outlier_fraction, outlier_sigma, theta_harmonic {"order",
-// "amplitude": [x, y], "phase"}, bias_step {"at", "size": [x, y]} and scale_cubic [x, y].
-// An unknown key is an error; ranges are ValidateDisturbances's.
-Status ParseDisturbances(const nlohmann::json& object, Disturbances* disturbances);
 
 // The --set names, in the order of the struct: noise_ar1_x, ..., scale_cubic_y.
 const std::vector<std::string>& DisturbanceNames();

@@ -2,7 +2,7 @@
 #include <cstdio>
 
 #include "estimation/linear_ls.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 
 int main() {
   accelcal::Scenario scenario;

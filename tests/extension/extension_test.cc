@@ -15,10 +15,10 @@
 #include "estimation/discovery.h"
 #include "estimation/joint_estimator.h"
 #include "estimation/trajectory.h"
+#include "io/scenario_json.h"
 #include "models/sensor_model.h"
 #include "residuals/compressed_calibration_residual.h"
 #include "scale_cubic.h"
-#include "simulation/embedded_scenarios.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {

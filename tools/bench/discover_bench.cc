@@ -7,7 +7,7 @@
 #include <benchmark/benchmark.h>
 
 #include "estimation/discovery.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 
 namespace accelcal {
 namespace {

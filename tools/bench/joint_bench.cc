@@ -11,8 +11,8 @@
 
 #include "estimation/ceres_linear_ls.h"
 #include "estimation/joint_estimator.h"
+#include "io/scenario_json.h"
 #include "residuals/endpoint_residual.h"
-#include "simulation/embedded_scenarios.h"
 
 namespace accelcal {
 namespace {

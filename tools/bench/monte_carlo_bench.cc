@@ -14,7 +14,7 @@
 
 #include "common/sincos.h"
 #include "estimation/linear_ls.h"
-#include "simulation/embedded_scenarios.h"
+#include "io/scenario_json.h"
 #include "studies/coverage_study.h"
 
 namespace accelcal {
