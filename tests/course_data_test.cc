@@ -34,9 +34,7 @@ CourseFit FitCourseData(const std::string& dir) {
   EXPECT_TRUE(ResolveDataFiles(dir, &files).ok());
   EXPECT_TRUE(LoadCalibrationTest(files.calibration, &result.test).ok());
   EXPECT_TRUE(LoadRunConditions(files.conditions, &result.conditions).ok());
-  LinearLsOptions options;
-  options.noise_variance_x = result.conditions.noise_variance_x;
-  options.noise_variance_y = result.conditions.noise_variance_y;
+  LinearLsOptions options = LinearLsOptionsFor(result.conditions, kCourseGravityMps2);
   const Status status = EstimateLinearLs(result.test, options, &result.fit);
   EXPECT_TRUE(status.ok()) << status.message();
   return result;

@@ -17,6 +17,7 @@
 #include "io/course_data.h"
 #include "io/run_conditions.h"
 #include "io/scenario_json.h"
+#include "models/tilt_table.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/scenario.h"
@@ -122,9 +123,7 @@ TEST(Discover, DropsAnEffectALaterEffectExplains) {
   int shift_added_first = 0;
   for (uint64_t seed = 1; seed <= 12; ++seed) {
     SimulatedData data = SimulateScenario(scenario, seed);
-    LinearLsOptions linear;
-    linear.noise_variance_x = data.conditions.noise_variance_x;
-    linear.noise_variance_y = data.conditions.noise_variance_y;
+    LinearLsOptions linear = LinearLsOptionsFor(data.conditions, kCourseGravityMps2);
     BaselineFit fit;
     ASSERT_TRUE(EstimateLinearLs(data.test, linear, &fit).ok());
     DeadReckoningResult baseline;
@@ -248,9 +247,7 @@ TEST(Discover, OnTheCourseDataTheBaselineExplainsTheData) {
   // the run tied to C, with and without nonorthogonality. The score statistic is exact for an
   // effect linear in its parameter; nonorthogonality enters through cos and sin of an angle of
   // 1e-3 rad, so the two agree to far better than the 1% allowed.
-  JointOptions joint;
-  joint.noise_variance_x = course.conditions.noise_variance_x;
-  joint.noise_variance_y = course.conditions.noise_variance_y;
+  JointOptions joint = JointOptionsFor(course.conditions, kCourseGravityMps2);
   joint.landmark_mode = JointOptions::Landmark::kNamed;
   joint.landmark_name = "C";
   JointResult baseline;

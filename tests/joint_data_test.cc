@@ -16,15 +16,14 @@
 #include "estimation/score_test.h"
 #include "io/scenario_json.h"
 #include "models/effect_names.h"
+#include "models/tilt_table.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {
 namespace {
 
 JointOptions StatedNoise(const RunConditions& conditions) {
-  JointOptions options;
-  options.noise_variance_x = conditions.noise_variance_x;
-  options.noise_variance_y = conditions.noise_variance_y;
+  JointOptions options = JointOptionsFor(conditions, kCourseGravityMps2);
   return options;
 }
 
@@ -41,9 +40,7 @@ TEST(JointData, TheBaselineIsTheLinearFitComputedOncePerNoiseModel) {
   const JointOptions options = StatedNoise(data.conditions);
   const BaselineFit* fit = nullptr;
   ASSERT_TRUE(prepared.Baseline(options, &fit).ok());
-  LinearLsOptions linear;
-  linear.noise_variance_x = data.conditions.noise_variance_x;
-  linear.noise_variance_y = data.conditions.noise_variance_y;
+  LinearLsOptions linear = LinearLsOptionsFor(data.conditions, kCourseGravityMps2);
   BaselineFit expected;
   ASSERT_TRUE(EstimateLinearLs(data.test, linear, &expected).ok());
   EXPECT_EQ(fit->parameters, expected.parameters);

@@ -18,6 +18,7 @@
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "io/scenario_json.h"
+#include "models/tilt_table.h"
 #include "residuals/calibration_residual.h"
 #include "residuals/compressed_calibration_residual.h"
 #include "residuals/endpoint_residual.h"
@@ -254,9 +255,7 @@ TEST(EndpointResidual, JacobianMatchesCentralDifferences) {
 }
 
 LinearLsOptions LinearOptions(const RunConditions& conditions) {
-  LinearLsOptions options;
-  options.noise_variance_x = conditions.noise_variance_x;
-  options.noise_variance_y = conditions.noise_variance_y;
+  LinearLsOptions options = LinearLsOptionsFor(conditions, kCourseGravityMps2);
   return options;
 }
 
@@ -291,9 +290,7 @@ ProblemSize ProblemSizeOf(const SolverReport& report) {
 }
 
 JointOptions JointFor(const RunConditions& conditions) {
-  JointOptions options;
-  options.noise_variance_x = conditions.noise_variance_x;
-  options.noise_variance_y = conditions.noise_variance_y;
+  JointOptions options = JointOptionsFor(conditions, kCourseGravityMps2);
   return options;
 }
 

@@ -20,6 +20,7 @@
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
 #include "io/scenario_json.h"
+#include "models/tilt_table.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "test_support.h"
@@ -246,9 +247,7 @@ struct CourseModel {
 bool LoadCourseModel(const std::string& dir, CourseModel* c) {
   DataFiles files;
   if (!ResolveDataFiles(dir, &files).ok() || !LoadDataFiles(files, &c->data).ok()) return false;
-  LinearLsOptions options;
-  options.noise_variance_x = c->data.conditions.noise_variance_x;
-  options.noise_variance_y = c->data.conditions.noise_variance_y;
+  LinearLsOptions options = LinearLsOptionsFor(c->data.conditions, kCourseGravityMps2);
   TrajectoryOptions trajectory_options;
   trajectory_options.path_stride = c->data.run.size();
   if (!EstimateLinearLs(c->data.test, options, &c->fit).ok() ||
@@ -460,9 +459,7 @@ TEST(MinSamplesOnTheRealTest, EvenlySpacedSubsetsSpreadAsTheAnalyticModelSays) {
       subset.measured_x.push_back(test.measured_x[index]);
       subset.measured_y.push_back(test.measured_y[index]);
     }
-    LinearLsOptions options;
-    options.noise_variance_x = c.data.conditions.noise_variance_x;
-    options.noise_variance_y = c.data.conditions.noise_variance_y;
+    LinearLsOptions options = LinearLsOptionsFor(c.data.conditions, kCourseGravityMps2);
     BaselineFit fit;
     ASSERT_TRUE(EstimateLinearLs(subset, options, &fit).ok());
     TrajectoryOptions trajectory_options;

@@ -214,9 +214,7 @@ TEST(Simulate, WrittenCourseLayoutReadsBackLikeTheCourseFilesAndRecoversTheTruth
     ASSERT_EQ(landmarks.size(), 4u);
     EXPECT_EQ(landmarks[2].x_m, data.landmarks[2].x_m);
     EXPECT_EQ(conditions.noise_variance_y, 0.64);
-    LinearLsOptions options;
-    options.noise_variance_x = conditions.noise_variance_x;
-    options.noise_variance_y = conditions.noise_variance_y;
+    LinearLsOptions options = LinearLsOptionsFor(conditions, kCourseGravityMps2);
     BaselineFit fit;
     ASSERT_TRUE(EstimateLinearLs(test, options, &fit).ok());
     const ModelParameters<double>& truth = scenario.truth.parameters;

@@ -16,6 +16,7 @@
 #include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
 #include "models/dead_reckoning.h"
+#include "models/tilt_table.h"
 #include "simulation/random.h"
 #include "simulation/simulator.h"
 #include "test_support.h"
@@ -59,9 +60,7 @@ RunConditions CourseConditions() {
 }
 
 LinearLsOptions OptionsFor(const RunConditions& conditions) {
-  LinearLsOptions options;
-  options.noise_variance_x = conditions.noise_variance_x;
-  options.noise_variance_y = conditions.noise_variance_y;
+  LinearLsOptions options = LinearLsOptionsFor(conditions, kCourseGravityMps2);
   return options;
 }
 

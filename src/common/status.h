@@ -10,8 +10,9 @@ namespace accelcal {
 // a degenerate design). Programmer errors are CHECKs instead; input errors come back
 // as a Status whose message is one line a user can act on: where (file and line,
 // or variable), what is wrong, and what to do. Problem binaries print it on stderr
-// and exit with status 2.
-class Status {
+// and exit with status 2. [[nodiscard]]: a Status dropped on the floor is an error the
+// user never hears of (the build makes it a compile error, -Werror=unused-result).
+class [[nodiscard]] Status {
  public:
   Status() = default;  // OK.
   static Status Ok() { return Status(); }

@@ -38,15 +38,6 @@ constexpr Parameter ScaleOf(int axis) {
   return axis == 0 ? Parameter::kScaleX : Parameter::kScaleY;
 }
 
-// Integer positions under the old names, kept only for code outside this change that still
-// indexes with them (estimation/linear_ls.cc, tests/course_data_test.cc,
-// tests/trajectory_test.cc, tests/consumer/consumer.cc); new code uses
-// BaselineIndex(Parameter::k...).
-constexpr int kBiasX = BaselineIndex(Parameter::kBiasX);
-constexpr int kScaleX = BaselineIndex(Parameter::kScaleX);
-constexpr int kBiasY = BaselineIndex(Parameter::kBiasY);
-constexpr int kScaleY = BaselineIndex(Parameter::kScaleY);
-
 // Goodness of fit of one axis against its stated noise variance.
 struct AxisChiSquare {
   double chi2 = 0.0;  // sum of squared whitened residuals

@@ -111,10 +111,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   // Every fit below starts from the baseline of its noise model; each is computed once.
   const JointData data(test, run, conditions, landmarks);
   // 1. The baseline and what it leaves.
-  JointOptions stated_noise;
-  stated_noise.gravity_mps2 = options.gravity_mps2;
-  stated_noise.noise_variance_x = conditions.noise_variance_x;
-  stated_noise.noise_variance_y = conditions.noise_variance_y;
+  const JointOptions stated_noise = JointOptionsFor(conditions, options.gravity_mps2);
   const BaselineFit* baseline_fit = nullptr;
   ACCELCAL_RETURN_IF_ERROR(data.Baseline(stated_noise, &baseline_fit));
   result->baseline = *baseline_fit;

@@ -80,6 +80,16 @@ struct JointOptions {
   double implausible_landmark_sigma = 1000.0;
 };
 
+// The options of a joint solve under the run's stated noise (white, every sample) and gravity
+// `gravity_mps2`: the baseline and no landmark until the caller adds effects and a tie.
+inline JointOptions JointOptionsFor(const RunConditions& conditions, double gravity_mps2) {
+  JointOptions options;
+  options.gravity_mps2 = gravity_mps2;
+  options.noise_variance_x = conditions.noise_variance_x;
+  options.noise_variance_y = conditions.noise_variance_y;
+  return options;
+}
+
 struct LandmarkHypothesis {
   std::string name;
   double cost = 0.0;            // half the total chi-square at the optimum

@@ -16,10 +16,13 @@ namespace {
 constexpr double kMaxScaleStddev = 0.1;
 constexpr double kMaxScaleError = 0.5;
 
-// Solves one axis into the rows/columns `first` (bias) and `first + 1` (scale).
+// Solves axis `axis_index` (0: x, 1: y) into its bias's and scale's places of the fit.
 Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
                  double noise_variance, const CalibrationAccumulator& statistics,
-                 double max_variance_inflation, BaselineFit* fit, int first, AxisChiSquare* chi2) {
+                 double max_variance_inflation, BaselineFit* fit, int axis_index,
+                 AxisChiSquare* chi2) {
+  const int b = BaselineIndex(BiasOf(axis_index));
+  const int s = BaselineIndex(ScaleOf(axis_index));
   const double n = static_cast<double>(axis.count());
   const double centered_ff = axis.CenteredForceForce();
   const double mean_force = axis.MeanForce();
@@ -79,14 +82,13 @@ Status SolveAxis(const AxisRegressionAccumulator& axis, const char* axis_name,
   const double bias = axis.MeanResponse() - scale * mean_force;
   const double residual_sum_squares =
       std::max(0.0, axis.CenteredResponseResponse() - scale * axis.CenteredForceResponse());
-  fit->parameters[first] = bias;
-  fit->parameters[first + 1] = scale;
+  fit->parameters[b] = bias;
+  fit->parameters[s] = scale;
   // sigma^2 (A^T A)^-1 written with centred sums, which stay accurate when mean_f is large.
-  fit->covariance(first, first) =
-      noise_variance * (1.0 / n + mean_force * mean_force / centered_ff);
-  fit->covariance(first, first + 1) = -noise_variance * mean_force / centered_ff;
-  fit->covariance(first + 1, first) = fit->covariance(first, first + 1);
-  fit->covariance(first + 1, first + 1) = noise_variance / centered_ff;
+  fit->covariance(b, b) = noise_variance * (1.0 / n + mean_force * mean_force / centered_ff);
+  fit->covariance(b, s) = -noise_variance * mean_force / centered_ff;
+  fit->covariance(s, b) = fit->covariance(b, s);
+  fit->covariance(s, s) = noise_variance / centered_ff;
   chi2->chi2 = residual_sum_squares / noise_variance;
   chi2->dof = static_cast<int>(axis.count()) - 2;
   chi2->p_value = ChiSquareTwoSidedPValue(chi2->chi2, chi2->dof);
@@ -118,10 +120,10 @@ Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOpt
   BaselineFit result;
   result.sample_count = static_cast<int>(statistics.x().count());
   ACCELCAL_RETURN_IF_ERROR(SolveAxis(statistics.x(), "x", options.noise_variance_x, statistics,
-                                     options.max_variance_inflation, &result, kBiasX,
+                                     options.max_variance_inflation, &result, 0,
                                      &result.chi2_x));
   ACCELCAL_RETURN_IF_ERROR(SolveAxis(statistics.y(), "y", options.noise_variance_y, statistics,
-                                     options.max_variance_inflation, &result, kBiasY,
+                                     options.max_variance_inflation, &result, 1,
                                      &result.chi2_y));
   *fit = result;
   return Status::Ok();

@@ -33,6 +33,16 @@ struct LinearLsOptions {
   double max_variance_inflation = 1e6;
 };
 
+// The options of a fit under the run's stated noise variances and gravity `gravity_mps2`
+// (the one place they are copied from RunConditions).
+inline LinearLsOptions LinearLsOptionsFor(const RunConditions& conditions, double gravity_mps2) {
+  LinearLsOptions options;
+  options.gravity_mps2 = gravity_mps2;
+  options.noise_variance_x = conditions.noise_variance_x;
+  options.noise_variance_y = conditions.noise_variance_y;
+  return options;
+}
+
 // Validates the options (positive finite variances and gravity) and the design
 // (at least 3 samples; every axis's bias and scale separable), then solves.
 Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOptions& options,

@@ -107,16 +107,20 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
       matrix->values = candidate.values;
       return Status::Ok();
     }
+    // The listing only helps the message; a file that cannot list its variables still
+    // lacks this one.
     std::vector<std::string> names;
-    ListVariables(&names);
+    if (!ListVariables(&names).ok()) names.clear();
     return VariableNotFound(variable, names);
   }
   Mat_Rewind(impl_->mat);
   LastMatioMessage().clear();
   matvar_t* info = Mat_VarReadInfo(impl_->mat, variable.c_str());
   if (info == nullptr) {
+    // The listing only helps the message; a file that cannot list its variables still
+    // lacks this one.
     std::vector<std::string> names;
-    ListVariables(&names);
+    if (!ListVariables(&names).ok()) names.clear();
     return VariableNotFound(variable, names);
   }
   const std::unique_ptr<matvar_t, void (*)(matvar_t*)> info_owner(info, Mat_VarFree);

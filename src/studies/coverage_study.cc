@@ -40,10 +40,8 @@ CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions&
   monte_carlo.label = "coverage " + scenario.name;
   const MonteCarloTiming timing = RunTrials(monte_carlo, [&](int index) {
     const SimulatedData data = SimulateScenario(scenario, options.seed, index);
-    LinearLsOptions fit_options;
-    fit_options.gravity_mps2 = scenario.truth.gravity_mps2;
-    fit_options.noise_variance_x = data.conditions.noise_variance_x;
-    fit_options.noise_variance_y = data.conditions.noise_variance_y;
+    const LinearLsOptions fit_options =
+        LinearLsOptionsFor(data.conditions, scenario.truth.gravity_mps2);
     BaselineFit fit;
     Trial& trial = trials[index];
     if (!EstimateLinearLs(data.test, fit_options, &fit).ok()) return;

@@ -272,10 +272,7 @@ EndpointModel EndpointModelOf(const DeadReckoningResult& trajectory, double grav
 Status BuildEndpointModel(const CalibrationTest& test, const VehicleRun& run,
                           const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                           double gravity_mps2, EndpointModel* model, int* truth) {
-  LinearLsOptions options;
-  options.gravity_mps2 = gravity_mps2;
-  options.noise_variance_x = conditions.noise_variance_x;
-  options.noise_variance_y = conditions.noise_variance_y;
+  const LinearLsOptions options = LinearLsOptionsFor(conditions, gravity_mps2);
   BaselineFit fit;
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, options, &fit));
   TrajectoryOptions trajectory_options;

@@ -12,6 +12,7 @@
 #include "estimation/ceres_linear_ls.h"
 #include "estimation/joint_estimator.h"
 #include "io/scenario_json.h"
+#include "models/tilt_table.h"
 #include "residuals/endpoint_residual.h"
 
 namespace accelcal {
@@ -29,9 +30,7 @@ const SimulatedData& CourseSizedData() {
 void BM_JointSolveWithCovariance(benchmark::State& state, const std::string& effects,
                                  JointOptions::Landmark mode) {
   const SimulatedData& data = CourseSizedData();
-  JointOptions options;
-  options.noise_variance_x = data.conditions.noise_variance_x;
-  options.noise_variance_y = data.conditions.noise_variance_y;
+  JointOptions options = JointOptionsFor(data.conditions, kCourseGravityMps2);
   options.landmark_mode = mode;
   options.landmark_name = "C";
   if (!ParseEffects(effects, &options.effects).ok()) state.SkipWithError("bad effects");

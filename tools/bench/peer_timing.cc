@@ -128,10 +128,7 @@ bool Wanted(const std::string& problem) {
 
 Status TimeProblems(const Inputs& inputs, nlohmann::json* json) {
   const CourseData& data = inputs.data;
-  LinearLsOptions linear;
-  linear.gravity_mps2 = inputs.gravity_mps2;
-  linear.noise_variance_x = data.conditions.noise_variance_x;
-  linear.noise_variance_y = data.conditions.noise_variance_y;
+  LinearLsOptions linear = LinearLsOptionsFor(data.conditions, inputs.gravity_mps2);
 
   if (Wanted("baseline_closed_form")) {
     BaselineFit fit;
