@@ -9,14 +9,13 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "simulation/scenario.h"
 #include "studies/null_rate_study.h"
 
 namespace accelcal {
 
 struct NullRateReport {
   NullRateOptions options;  // what the study ran (designs already checked)
-  Scenario course;          // the scenario the null designs were built from
+  Scenario course;          // the scenario the null designs were built from (studies/)
   NullRateResult study;
 };
 
