@@ -138,4 +138,19 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   return json;
 }
 
+Eigen::Vector4d BaselineTruth(const ModelParameters<double>& parameters) {
+  Eigen::Vector4d truth;
+  for (const Parameter parameter : kBaselineParameters) {
+    truth[BaselineIndex(parameter)] = parameters[parameter];
+  }
+  return truth;
+}
+
+std::string CeresSkippedReason(long long samples, long long max_samples) {
+  if (samples <= max_samples) return "";
+  return "Ceres skipped: " + std::to_string(samples) +
+         " samples, more than --ceres_max_samples=" + std::to_string(max_samples) +
+         " (it would hold them all with their residuals in memory)";
+}
+
 }  // namespace accelcal
