@@ -137,4 +137,17 @@ nlohmann::json EffectImpactJson(const std::vector<EffectImpact>& table) {
   return rows;
 }
 
+std::string CoverageText(const CoverageReport& report) {
+  return CoverageTable(report.scenario_name, report.baseline) + EffectImpactText(report.effects);
+}
+
+nlohmann::json CoverageReportJson(const CoverageReport& report) {
+  nlohmann::json json = CoverageJson(report.baseline);
+  json["problem"] = "coverage";
+  json["scenario"] = report.scenario_name;
+  json["seed"] = report.seed;
+  json["effects"] = EffectImpactJson(report.effects);
+  return json;
+}
+
 }  // namespace accelcal
