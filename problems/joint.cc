@@ -30,12 +30,14 @@ DEFINE_string(
     "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
+namespace {
 // The help text of --effects, from the catalogue (gflags keeps the pointer).
 const char* EffectsHelp() {
   static const std::string help = "Effects to estimate beyond bias and scale, comma-separated: " +
                                   accelcal::EstimableEffectsText() + "; 'all'; empty: none.";
   return help.c_str();
 }
+}  // namespace
 DEFINE_string(effects, "", EffectsHelp());
 DEFINE_string(landmark, "auto",
               "NAME: tie the run's endpoint to that landmark; auto: solve once per landmark and "

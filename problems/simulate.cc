@@ -31,6 +31,7 @@ DEFINE_string(out_dir, "", "Folder to write (created; replaced only with --overw
 DEFINE_string(format, "mat",
               "mat: ensayo.mat, acel.mat, puntos.mat, datos.txt (the course layout); csv: "
               "calibration.csv, trajectory.csv, landmarks.csv, scenario.json.");
+namespace {
 // The help text of --set, from the catalogue (gflags keeps the pointer).
 const char* SetHelp() {
   static const std::string help =
@@ -40,6 +41,7 @@ const char* SetHelp() {
       "run_duration s, run_dt s).";
   return help.c_str();
 }
+}  // namespace
 DEFINE_string(set, "", SetHelp());
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 
