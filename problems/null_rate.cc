@@ -24,18 +24,12 @@
 #include "simulation/embedded_scenarios.h"
 #include "studies/null_rate_study.h"
 
-DEFINE_string(designs, "course,n2000,eight_positions,half_circle",
-              "Tilt-test designs, comma-separated: course (the tp2-2018 scenario's 20001 samples "
-              "over [0, 2 pi]), n2000 (2000 uniform over [0, 2 pi)), eight_positions (2000 at 8 "
-              "static positions), half_circle (2000 uniform over [0, pi]).");
-DEFINE_string(noise_factors, "0.25,1,4",
-              "Factors on the stated (and true) noise variances, comma-separated, in (0, 1e4].");
-DEFINE_string(alphas, "0.01,0.05",
-              "Discovery's alpha values, comma-separated, each in (0, 0.5); the same datasets "
-              "serve every alpha.");
-DEFINE_int32(datasets, 170,
-             "Null datasets per (design, noise factor); the default gives 2040 per alpha over "
-             "the 12 default cells.");
+// clang-format off
+DEFINE_string(designs, "course,n2000,eight_positions,half_circle", "Tilt-test designs, comma-separated: course (the tp2-2018 scenario's 20001 samples over [0, 2 pi]), n2000 (2000 uniform over [0, 2 pi)), eight_positions (2000 at 8 static positions), half_circle (2000 uniform over [0, pi]).");
+DEFINE_string(noise_factors, "0.25,1,4", "Factors on the stated (and true) noise variances, comma-separated, in (0, 1e4].");
+DEFINE_string(alphas, "0.01,0.05", "Discovery's alpha values, comma-separated, each in (0, 0.5); the same datasets serve every alpha.");
+DEFINE_int32(datasets, 170, "Null datasets per (design, noise factor); the default gives 2040 per alpha over the 12 default cells.");
+// clang-format on
 DEFINE_uint64(seed, 1, "Seed; dataset i of a cell uses the noise streams of (seed, cell, i).");
 DEFINE_int32(threads, 2, "Threads (0: all cores). The counts do not depend on it.");
 DEFINE_string(json, "", "Write the table as JSON to this file (atomically).");

@@ -32,9 +32,10 @@ ACCELCAL_FLAG_RANGE(threads, 0, 256);
 namespace accelcal {
 namespace {
 
+// clang-format off
 constexpr char kUsage[] =
-    "Measures how often discovery names an effect hidden at a given size (in sigmas of that "
-    "effect).\n"
+    "Measures how often discovery names an effect hidden at a given size (in sigmas of that effect).\n"
+    // clang-format on
     "Exit status: 0 on success, 2 on bad input.\n\n"
     "  power [--trials=40] [--sizes=2,3,4,6] [--json=power.json]";
 
