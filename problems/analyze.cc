@@ -74,10 +74,7 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   r->max_error = FLAGS_max_error;
   StageProgress progress(5);
   progress.Start(1, "baseline fit (closed form and Ceres)");
-  LinearLsOptions linear;
-  linear.gravity_mps2 = gravity;
-  linear.noise_variance_x = inputs.conditions.noise_variance_x;
-  linear.noise_variance_y = inputs.conditions.noise_variance_y;
+  const LinearLsOptions linear = LinearLsOptionsFor(inputs.conditions, gravity);
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, linear, &r->linear.closed_form));
   CeresLinearLsOptions ceres;
   ceres.model = linear;

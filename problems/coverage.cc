@@ -55,24 +55,19 @@ int Run(int argc, char** argv) {
   options.trials = FLAGS_trials;
   options.seed = FLAGS_seed;
   options.threads = FLAGS_threads;
-  const CoverageResult result = RunCoverageStudy(scenario, options);
-  std::vector<EffectImpact> effects;
+  CoverageReport report;
+  report.scenario_name = scenario.name;
+  report.seed = FLAGS_seed;
+  report.baseline = RunCoverageStudy(scenario, options);
   if (FLAGS_effect_trials > 0) {
     options.trials = FLAGS_effect_trials;
-    effects = RunEffectImpactTable(scenario, options);
+    report.effects = RunEffectImpactTable(scenario, options);
   }
   std::string json_text;
-  if (!FLAGS_json.empty()) {
-    nlohmann::json json = CoverageJson(result);
-    json["problem"] = "coverage";
-    json["scenario"] = scenario.name;
-    json["seed"] = FLAGS_seed;
-    json["effects"] = EffectImpactJson(effects);
-    status = JsonText(json, &json_text);
-  }
+  if (!FLAGS_json.empty()) status = JsonText(CoverageReportJson(report), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("coverage", status);
-  std::cout << CoverageTable(scenario.name, result) << EffectImpactText(effects) << std::flush;
+  std::cout << CoverageText(report) << std::flush;
   return 0;
 }
 

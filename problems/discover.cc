@@ -21,12 +21,10 @@
 #include "problem_support.h"
 #include "reporting/discovery_report.h"
 
-DEFINE_string(data_dir, "",
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
-              "tp2-2018 scenario.");
-DEFINE_string(set, "",
-              "Without data: effects hidden in the simulated scenario, name=value,... (as simulate "
-              "--set), e.g. --set=angle_offset=0.004.");
+// clang-format off
+DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+DEFINE_string(set, "", "Without data: effects hidden in the simulated scenario, name=value,... (as simulate --set), e.g. --set=angle_offset=0.004.");
+// clang-format on
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(alpha, 0.01, "Family-wise error rate of each step (Holm), in (0, 0.5).");
@@ -35,12 +33,10 @@ DEFINE_int32(bins, 36, "Bins of the residual against theta, 4 to 1000.");
 DEFINE_int32(folds, 5,
              "Cross-validation folds over contiguous theta blocks: 0 (none) or 2 to 100.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
-DEFINE_string(bins_csv, "",
-              "Write the binned residuals and the named effects' signatures as CSV (for "
-              "tools/plot_discovery.py).");
-DEFINE_string(residuals_csv, "",
-              "Write the final model's tilt-test residual per sample as CSV (at most 5000 rows, "
-              "evenly spread; for tools/plot_discovery.py --residuals_csv).");
+// clang-format off
+DEFINE_string(bins_csv, "", "Write the binned residuals and the named effects' signatures as CSV (for tools/plot_discovery.py).");
+DEFINE_string(residuals_csv, "", "Write the final model's tilt-test residual per sample as CSV (at most 5000 rows, evenly spread; for tools/plot_discovery.py --residuals_csv).");
+// clang-format on
 DEFINE_int32(num_threads, 1, "Threads Ceres may use, 1 to 256.");
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);

@@ -22,24 +22,26 @@
 #include "problem_support.h"
 #include "reporting/joint_report.h"
 
-DEFINE_string(data_dir, "",
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded "
-              "tp2-2018 scenario.");
+// clang-format off
+DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+// clang-format on
 DEFINE_string(
     set, "",
     "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
+namespace {
 // The help text of --effects, from the catalogue (gflags keeps the pointer).
 const char* EffectsHelp() {
   static const std::string help = "Effects to estimate beyond bias and scale, comma-separated: " +
                                   accelcal::EstimableEffectsText() + "; 'all'; empty: none.";
   return help.c_str();
 }
+}  // namespace
 DEFINE_string(effects, "", EffectsHelp());
-DEFINE_string(landmark, "auto",
-              "NAME: tie the run's endpoint to that landmark; auto: solve once per landmark and "
-              "report each hypothesis' posterior; none: leave the run out.");
+// clang-format off
+DEFINE_string(landmark, "auto", "NAME: tie the run's endpoint to that landmark; auto: solve once per landmark and report each hypothesis' posterior; none: leave the run out.");
+// clang-format on
 DEFINE_double(landmark_sigma, 0.0, "The landmarks' position uncertainty (m, >= 0).");
 DEFINE_string(loss, "none", "Robust loss on the tilt-test residuals: none, huber or cauchy.");
 DEFINE_double(loss_scale, 1.345, "The robust loss' scale, in units of sigma (> 0).");
@@ -48,9 +50,9 @@ DEFINE_double(alpha, 0.01,
               "Significance level of the landmark decision on each endpoint, in (0, 1).");
 DEFINE_string(json, "", "Write both solutions as JSON to this file (atomically).");
 DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
-DEFINE_int32(max_iterations, 100,
-             "Levenberg-Marquardt iterations before the solve counts as not converged, 1 to "
-             "10000.");
+// clang-format off
+DEFINE_int32(max_iterations, 100, "Levenberg-Marquardt iterations before the solve counts as not converged, 1 to 10000.");
+// clang-format on
 ACCELCAL_FLAG_RANGE(landmark_sigma, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(loss_scale, 1e-3, 1e3);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
@@ -67,8 +69,9 @@ constexpr char kUsage[] =
     "linear baseline with every parameter +- 1 sigma, the shift in sigmas, chi-square per\n"
     "residual group, and the endpoint (m) with its landmark table.\n"
     "Exit status: 0 on success, 2 on bad input or a problem that is not identifiable.\n\n"
-    "  joint --data_dir=../shared/data/tp2-2018 --effects=angle_offset,nonorthogonality "
-    "--landmark=auto";
+    // clang-format off
+    "  joint --data_dir=../shared/data/tp2-2018 --effects=angle_offset,nonorthogonality --landmark=auto";
+// clang-format on
 
 using Inputs = Experiment;
 
@@ -80,11 +83,9 @@ Status Load(Inputs* inputs) {
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {
+  *options = JointOptionsFor(inputs.conditions, ChooseGravity(inputs.conditions, FLAGS_g));
   ACCELCAL_RETURN_IF_ERROR(ParseRobustLoss(FLAGS_loss, &options->loss));
   ACCELCAL_RETURN_IF_ERROR(ParseEffects(FLAGS_effects, &options->effects).WithContext("--effects"));
-  options->gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
-  options->noise_variance_x = inputs.conditions.noise_variance_x;
-  options->noise_variance_y = inputs.conditions.noise_variance_y;
   if (FLAGS_landmark == "none") {
     options->landmark_mode = JointOptions::Landmark::kNone;
   } else if (FLAGS_landmark == "auto") {
@@ -101,10 +102,7 @@ Status Options(const Inputs& inputs, JointOptions* options) {
 }
 
 Status Solve(const Inputs& inputs, const JointOptions& options, JointReport* report) {
-  LinearLsOptions linear;
-  linear.gravity_mps2 = options.gravity_mps2;
-  linear.noise_variance_x = options.noise_variance_x;
-  linear.noise_variance_y = options.noise_variance_y;
+  const LinearLsOptions linear = LinearLsOptionsFor(inputs.conditions, options.gravity_mps2);
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, linear, &report->linear));
   TrajectoryOptions trajectory;
   trajectory.path_stride = inputs.run.size();

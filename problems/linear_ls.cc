@@ -22,13 +22,11 @@
 
 #include <gflags/gflags.h>
 
-#include <cmath>
 #include <iostream>
 #include <limits>
 #include <optional>
 
 #include "estimation/ceres_linear_ls.h"
-#include "io/atomic_file.h"
 #include "io/calibration_stream.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
@@ -38,36 +36,19 @@
 #include "reporting/linear_ls_report.h"
 #include "simulation/scenario.h"
 
-DEFINE_string(data_dir, "",
-              "Folder with the course layout (ensayo.mat, datos.txt, ...) or the CSV layout "
-              "(calibration.csv, scenario.json, ...). Empty: simulate the embedded default.");
-DEFINE_string(calibration_file, "",
-              "The tilt test as a single file, overriding --data_dir: .mat with tita (Nx1, rad) "
-              "and datos (Nx2, m/s^2), or .csv with columns theta,ax,ay.");
-DEFINE_string(conditions_file, "",
-              "Stated noise variances (and initial conditions): datos.txt or scenario.json, "
-              "overriding --data_dir.");
-DEFINE_double(g, 9.8,
-              "Gravity in m/s^2 (the course takes 9.8). Only (1 + scale) * g is observable, so "
-              "an error here moves scale_x and scale_y. A 'gravity' in scenario.json is used "
-              "unless this flag is given.");
+// clang-format off
+DEFINE_string(data_dir, "", "Folder with the course layout (ensayo.mat, datos.txt, ...) or the CSV layout (calibration.csv, scenario.json, ...). Empty: simulate the embedded default.");
+DEFINE_string(calibration_file, "", "The tilt test as a single file, overriding --data_dir: .mat with tita (Nx1, rad) and datos (Nx2, m/s^2), or .csv with columns theta,ax,ay.");
+DEFINE_string(conditions_file, "", "Stated noise variances (and initial conditions): datos.txt or scenario.json, overriding --data_dir.");
+DEFINE_double(g, 9.8, "Gravity in m/s^2 (the course takes 9.8). Only (1 + scale) * g is observable, so an error here moves scale_x and scale_y. A 'gravity' in scenario.json is used unless this flag is given.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
-DEFINE_string(scenario, "",
-              "Without data: the scenario to simulate (JSON, see data/scenarios/); empty: the "
-              "embedded tp2-2018 scenario, the course's setting with Table 1 as truth.");
-DEFINE_string(set, "",
-              "Without data: overrides of the scenario, name=value,... (as simulate --set), e.g. "
-              "--set=angle_offset=0.004 to see what an unmodelled effect does.");
+DEFINE_string(scenario, "", "Without data: the scenario to simulate (JSON, see data/scenarios/); empty: the embedded tp2-2018 scenario, the course's setting with Table 1 as truth.");
+DEFINE_string(set, "", "Without data: overrides of the scenario, name=value,... (as simulate --set), e.g. --set=angle_offset=0.004 to see what an unmodelled effect does.");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_int32(num_threads, 1,
-             "Threads (>= 1) for Ceres and for the closed form's pass over a test held in memory "
-             "(which splits only tests of at least 2^18 samples per thread).");
-DEFINE_int64(ceres_max_samples, 1000000,
-             "The Ceres cross-check runs on tests of at most this many samples; it holds every "
-             "sample and its residuals in memory (about 1 GB and 8 s at 10^6 samples). A larger "
-             "test is solved in closed form only, which streams a CSV file in bounded memory "
-             "whatever its size, and the output says that Ceres was skipped. 0: never run Ceres.");
+DEFINE_int32(num_threads, 1, "Threads (>= 1) for Ceres and for the closed form's pass over a test held in memory (which splits only tests of at least 2^18 samples per thread).");
+DEFINE_int64(ceres_max_samples, 1000000, "The Ceres cross-check runs on tests of at most this many samples; it holds every sample and its residuals in memory (about 1 GB and 8 s at 10^6 samples). A larger test is solved in closed form only, which streams a CSV file in bounded memory whatever its size, and the output says that Ceres was skipped. 0: never run Ceres.");
+// clang-format on
 
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
@@ -89,8 +70,7 @@ Status ValidateFlags() {
   if (has_data && FLAGS_data_dir.empty() &&
       (FLAGS_calibration_file.empty() || FLAGS_conditions_file.empty())) {
     return Status::Error(
-        "--calibration_file needs --conditions_file (the stated noise "
-        "variances) or --data_dir");
+        "--calibration_file needs --conditions_file (the stated noise variances) or --data_dir");
   }
   return Status::Ok();
 }
@@ -136,16 +116,10 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario));
     const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
     test->samples = data.test;
-    options->noise_variance_x = data.conditions.noise_variance_x;
-    options->noise_variance_y = data.conditions.noise_variance_y;
-    options->gravity_mps2 = ChooseGravity(data.conditions, FLAGS_g);
+    *options = LinearLsOptionsFor(data.conditions, ChooseGravity(data.conditions, FLAGS_g));
     report->simulation_seed = FLAGS_seed;
     report->scenario_name = scenario.name;
-    Eigen::Vector4d truth;
-    for (const Parameter parameter : kBaselineParameters) {
-      truth[BaselineIndex(parameter)] = scenario.truth.parameters[parameter];
-    }
-    report->truth = truth;
+    report->truth = BaselineTruth(scenario.truth.parameters);
     return Status::Ok();
   }
   DataFiles overrides;
@@ -173,22 +147,15 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     PrintInputNotes(notes);
   }
   ACCELCAL_RETURN_IF_ERROR(conditions_status);
-  options->noise_variance_x = conditions.noise_variance_x;
-  options->noise_variance_y = conditions.noise_variance_y;
+  *options = LinearLsOptionsFor(conditions, options->gravity_mps2);
   report->input_files = {{"calibration", files.calibration}, {"conditions", files.conditions}};
   return Status::Ok();
 }
 
-// Why Ceres does not run on a test of `samples` samples, or "" when it does.
-std::string CeresSkippedReason(long long samples) {
-  if (samples <= FLAGS_ceres_max_samples) return "";
-  return "Ceres skipped: " + std::to_string(samples) +
-         " samples, more than --ceres_max_samples=" + std::to_string(FLAGS_ceres_max_samples) +
-         " (it would hold them all with their residuals in memory)";
-}
-
-Status Solve(const TiltTest& test, const LinearLsOptions& options,
-             const std::string& calibration_name, LinearLsReport* report) {
+// The closed form, then the Ceres cross-check unless the test is too large to hold.
+Status Solve(const TiltTest& test, const LinearLsOptions& options, LinearLsReport* report) {
+  const std::string calibration_name =
+      report->simulation_seed ? "simulated test" : report->input_files["calibration"];
   CalibrationAccumulator statistics(options.gravity_mps2);
   if (test.streamed_statistics) {
     statistics = *test.streamed_statistics;
@@ -208,7 +175,8 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options,
   report->noise_variance_y = options.noise_variance_y;
   report->theta_min_rad = statistics.theta_min_rad();
   report->theta_max_rad = statistics.theta_max_rad();
-  report->ceres_skipped = CeresSkippedReason(report->closed_form.sample_count);
+  report->ceres_skipped =
+      CeresSkippedReason(report->closed_form.sample_count, FLAGS_ceres_max_samples);
   if (!report->ceres_skipped.empty()) return Status::Ok();
   CeresLinearLsOptions ceres_options;
   ceres_options.model = options;
@@ -218,22 +186,14 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options,
 
 int Run(int argc, char** argv) {
   if (!InitProblem("linear_ls", kUsage, "problems/linear_ls", &argc, &argv)) return kExitBadInput;
-  Status status = ValidateFlags();
-  if (!status.ok()) return ExitWithError("linear_ls", status);
-
   TiltTest test;
   LinearLsOptions options;
   LinearLsReport report;
-  status = LoadInputs(&test, &options, &report);
-  if (!status.ok()) return ExitWithError("linear_ls", status);
-
-  const std::string calibration_name =
-      report.simulation_seed ? "simulated test" : report.input_files["calibration"];
-  status = Solve(test, options, calibration_name, &report);
-  if (!status.ok()) return ExitWithError("linear_ls", status);
-
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(LinearLsJson(report), &json_text);
+  Status status = ValidateFlags();
+  if (status.ok()) status = LoadInputs(&test, &options, &report);
+  if (status.ok()) status = Solve(test, options, &report);
+  if (status.ok() && !FLAGS_json.empty()) status = JsonText(LinearLsJson(report), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("linear_ls", status);
   std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;

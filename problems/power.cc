@@ -9,12 +9,11 @@
 #include <iostream>
 #include <sstream>
 
-#include "common/format.h"
-#include "io/atomic_file.h"
 #include "io/csv_reader.h"
 #include "io/json_file.h"
 #include "io/scenario_json.h"
 #include "problem_support.h"
+#include "reporting/power_report.h"
 #include "studies/power_study.h"
 
 DEFINE_string(scenario, "", "Scenario JSON; empty: the embedded tp2-2018 scenario.");
@@ -33,16 +32,16 @@ ACCELCAL_FLAG_RANGE(threads, 0, 256);
 namespace accelcal {
 namespace {
 
+// clang-format off
 constexpr char kUsage[] =
-    "Measures how often discovery names an effect hidden at a given size (in sigmas of that "
-    "effect).\n"
+    "Measures how often discovery names an effect hidden at a given size (in sigmas of that effect).\n"
+    // clang-format on
     "Exit status: 0 on success, 2 on bad input.\n\n"
     "  power [--trials=40] [--sizes=2,3,4,6] [--json=power.json]";
 
-int Run(int argc, char** argv) {
-  if (!InitProblem("power", kUsage, "problems/power", &argc, &argv)) return kExitBadInput;
-  PowerOptions options;
-  options.sizes_sigma.clear();
+// --sizes as numbers of sigmas; when several are bad, the message names the last.
+Status SizesFromFlag(std::vector<double>* sizes) {
+  sizes->clear();
   std::istringstream stream(FLAGS_sizes);
   Status status;
   for (std::string item; std::getline(stream, item, ',');) {
@@ -50,11 +49,18 @@ int Run(int argc, char** argv) {
     if (!ParseFiniteNumber(item, &size) || !(size > 0.0) || size > 1000.0)
       status = Status::Error("--sizes: '" + item.substr(0, 40) +
                              "' is not a number of sigmas in (0, 1000]");
-    options.sizes_sigma.push_back(size);
+    sizes->push_back(size);
   }
-  if (status.ok() && options.sizes_sigma.empty()) status = Status::Error("--sizes is empty");
-  if (status.ok() && options.sizes_sigma.size() > 50)
-    status = Status::Error("--sizes lists more than 50 sizes");
+  if (status.ok() && sizes->empty()) status = Status::Error("--sizes is empty");
+  if (status.ok() && sizes->size() > 50) status = Status::Error("--sizes lists more than 50 sizes");
+  return status;
+}
+
+int Run(int argc, char** argv) {
+  if (!InitProblem("power", kUsage, "problems/power", &argc, &argv)) return kExitBadInput;
+  PowerReport report;
+  PowerOptions& options = report.options;
+  Status status = SizesFromFlag(&options.sizes_sigma);
   Scenario scenario;
   RunInputs inputs;
   if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
@@ -65,38 +71,13 @@ int Run(int argc, char** argv) {
   options.alpha = FLAGS_alpha;
   options.seed = FLAGS_seed;
   options.threads = FLAGS_threads;
-  const std::vector<PowerRow> table = RunPowerStudy(scenario, options);
-
-  std::string text = StringPrintf(
-      "accelcal power: how often discover names an effect hidden at k sigma (scenario %s, %d "
-      "datasets per cell, "
-      "alpha %g)\n\n  effect                 sigma (unit)              ",
-      scenario.name.c_str(), options.trials, options.alpha);
-  for (double size : options.sizes_sigma) text += StringPrintf("  %4.1f sigma", size);
-  text += "\n";
-  nlohmann::json rows = nlohmann::json::array();
-  for (const PowerRow& row : table) {
-    const ParameterInfo& info = Info(row.effect);
-    text += StringPrintf("  %-22s %.2e %-13s", info.name, row.sigma, info.unit);
-    for (double rate : row.detection) text += StringPrintf("  %9.0f%%", 100 * rate);
-    text += "\n";
-    rows.push_back({{"name", info.name},
-                    {"sigma", row.sigma},
-                    {"unit", info.unit},
-                    {"sizes_sigma", options.sizes_sigma},
-                    {"detection", row.detection},
-                    {"other_effects_named", row.other_effects}});
-  }
-  text += StringPrintf(
-      "  (Monte Carlo sd of a rate p from %d datasets: sqrt(p(1-p)/%d), at most %.0f%%)\n",
-      options.trials, options.trials, 50.0 / std::sqrt(options.trials));
+  report.scenario_name = scenario.name;
+  report.rows = RunPowerStudy(scenario, options);
   std::string json_text;
-  if (!FLAGS_json.empty()) {
-    status = JsonText(nlohmann::json({{"problem", "power"}, {"rows", rows}}), &json_text);
-  }
+  if (!FLAGS_json.empty()) status = JsonText(PowerJson(report), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("power", status);
-  std::cout << text << std::flush;
+  std::cout << PowerText(report) << std::flush;
   return 0;
 }
 

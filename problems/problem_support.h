@@ -69,8 +69,9 @@ inline int GuardedMain(const char* program, int (*run)(int, char**), int argc, c
   try {
     return run(argc, argv);
   } catch (const std::bad_alloc&) {
-    return ExitWithError(program, Status::Error("not enough memory for this input; free memory, "
-                                                "raise the limit (ulimit -v) or use less data"));
+    // clang-format off
+    return ExitWithError(program, Status::Error("not enough memory for this input; free memory, raise the limit (ulimit -v) or use less data"));
+    // clang-format on
   } catch (const std::exception& exception) {
     return ExitWithError(program, Status::Error(std::string("internal error (") + exception.what() +
                                                 "); please report it with the command line"));
@@ -197,10 +198,10 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
 
 // --theta_unit, defined in each binary that reads a tilt test (so that its --help lists it)
 // with one help text.
-#define ACCELCAL_DEFINE_THETA_UNIT_FLAG()                                                 \
-  DEFINE_string(theta_unit, "auto",                                                       \
-                "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span " \
-                "over two turns is refused as likely degrees).")
+// clang-format off
+#define ACCELCAL_DEFINE_THETA_UNIT_FLAG() \
+  DEFINE_string(theta_unit, "auto", "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span over two turns is refused as likely degrees).")
+// clang-format on
 
 // The load options the binary's --theta_unit asks for.
 inline Status LoadOptionsFromFlags(const std::string& theta_unit, LoadOptions* options) {

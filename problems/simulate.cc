@@ -23,23 +23,24 @@
 #include "problem_support.h"
 #include "simulation/scenario.h"
 
-DEFINE_string(scenario, "",
-              "Scenario JSON (see data/scenarios/tp2-2018.json). Empty: the embedded tp2-2018 "
-              "scenario, the course's setting.");
+// clang-format off
+DEFINE_string(scenario, "", "Scenario JSON (see data/scenarios/tp2-2018.json). Empty: the embedded tp2-2018 scenario, the course's setting.");
 DEFINE_uint64(seed, 1, "Seed of the noise; the same seed gives the same files on any machine.");
 DEFINE_string(out_dir, "", "Folder to write (created; replaced only with --overwrite).");
-DEFINE_string(format, "mat",
-              "mat: ensayo.mat, acel.mat, puntos.mat, datos.txt (the course layout); csv: "
-              "calibration.csv, trajectory.csv, landmarks.csv, scenario.json.");
+DEFINE_string(format, "mat", "mat: ensayo.mat, acel.mat, puntos.mat, datos.txt (the course layout); csv: calibration.csv, trajectory.csv, landmarks.csv, scenario.json.");
+// clang-format on
+namespace {
 // The help text of --set, from the catalogue (gflags keeps the pointer).
 const char* SetHelp() {
+  // clang-format off
   static const std::string help =
       "Overrides, name=value,...: any parameter of the spec in its unit (" +
       accelcal::CatalogueParametersText() +
-      ", ...) or a setting (gravity m/s^2, noise_variance_x_stated (m/s^2)^2, tilt_samples, "
-      "run_duration s, run_dt s).";
+      ", ...) or a setting (gravity m/s^2, noise_variance_x_stated (m/s^2)^2, tilt_samples, run_duration s, run_dt s).";
+  // clang-format on
   return help.c_str();
 }
+}  // namespace
 DEFINE_string(set, "", SetHelp());
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 
@@ -51,8 +52,9 @@ constexpr char kUsage[] =
     "spec's catalogue, and writes them in the course layout or the CSV layout with truth.json.\n"
     "Angles in rad, times in s, accelerations in m/s^2, positions in m.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
-    "  simulate --out_dir=sim [--scenario=FILE] [--seed=S] [--format=mat|csv] "
-    "[--set=name=value,...]";
+    // clang-format off
+    "  simulate --out_dir=sim [--scenario=FILE] [--seed=S] [--format=mat|csv] [--set=name=value,...]";
+// clang-format on
 
 Status ValidateFlags() {
   if (FLAGS_out_dir.empty()) return Status::Error("--out_dir is required");

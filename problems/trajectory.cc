@@ -30,24 +30,16 @@
 #include "problem_support.h"
 #include "reporting/trajectory_report.h"
 
-DEFINE_string(data_dir, "",
-              "Folder with the course layout (ensayo.mat, acel.mat, puntos.mat, datos.txt) or "
-              "the CSV layout (calibration.csv, trajectory.csv, landmarks.csv, scenario.json).");
+// clang-format off
+DEFINE_string(data_dir, "", "Folder with the course layout (ensayo.mat, acel.mat, puntos.mat, datos.txt) or the CSV layout (calibration.csv, trajectory.csv, landmarks.csv, scenario.json).");
 DEFINE_string(calibration_file, "", "Tilt test file (.mat or .csv), overriding --data_dir.");
-DEFINE_string(run_file, "",
-              "Vehicle run file, overriding --data_dir: .mat with t (Mx1, s) and Aerr (Mx2, "
-              "m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced.");
-DEFINE_string(landmarks_file, "",
-              "Landmarks file, overriding --data_dir: .mat with one 1x2 [x y] (m) per "
-              "variable, or .csv with columns name,x,y.");
-DEFINE_string(conditions_file, "",
-              "Initial position (m), initial velocity (m/s) and stated noise variances "
-              "((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
+DEFINE_string(run_file, "", "Vehicle run file, overriding --data_dir: .mat with t (Mx1, s) and Aerr (Mx2, m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced.");
+DEFINE_string(landmarks_file, "", "Landmarks file, overriding --data_dir: .mat with one 1x2 [x y] (m) per variable, or .csv with columns name,x,y.");
+DEFINE_string(conditions_file, "", "Initial position (m), initial velocity (m/s) and stated noise variances ((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test, 1 to 100.");
-DEFINE_double(alpha, 0.01,
-              "Significance level in (0, 1): the most probable landmark is reported as reached "
-              "only if its chi-square(2) p-value is at least alpha.");
+DEFINE_double(alpha, 0.01, "Significance level in (0, 1): the most probable landmark is reported as reached only if its chi-square(2) p-value is at least alpha.");
+// clang-format on
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(path_csv, "",
               "Write the corrected and raw path with its covariance (m, m^2) as CSV to this file.");
@@ -71,9 +63,10 @@ constexpr char kUsage[] =
 Status ValidateFlags() {
   if (FLAGS_data_dir.empty() && (FLAGS_calibration_file.empty() || FLAGS_run_file.empty() ||
                                  FLAGS_landmarks_file.empty() || FLAGS_conditions_file.empty())) {
+    // clang-format off
     return Status::Error(
-        "give --data_dir, or all of --calibration_file, --run_file, "
-        "--landmarks_file and --conditions_file");
+        "give --data_dir, or all of --calibration_file, --run_file, --landmarks_file and --conditions_file");
+    // clang-format on
   }
   return Status::Ok();
 }
@@ -96,10 +89,8 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
 }
 
 Status Solve(const Inputs& inputs, TrajectoryReport* report) {
-  LinearLsOptions options;
-  options.gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
-  options.noise_variance_x = inputs.conditions.noise_variance_x;
-  options.noise_variance_y = inputs.conditions.noise_variance_y;
+  const LinearLsOptions options =
+      LinearLsOptionsFor(inputs.conditions, ChooseGravity(inputs.conditions, FLAGS_g));
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, options, &report->fit)
                                .WithContext(report->input_files["calibration"]));
   TrajectoryOptions trajectory_options;

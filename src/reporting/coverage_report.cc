@@ -29,13 +29,13 @@ double MinimumCoverage95(const CoverageResult& result) {
 }  // namespace
 
 std::string CoverageTable(const std::string& scenario_name, const CoverageResult& result) {
+  // clang-format off
   std::string text = StringPrintf(
-      "accelcal coverage: is the baseline's reported uncertainty right? scenario %s, %d trials "
-      "(%d threads, %.1f s)\n\n",
+      "accelcal coverage: is the baseline's reported uncertainty right? scenario %s, %d trials (%d threads, %.1f s)\n\n",
       scenario_name.c_str(), result.trials, result.threads, result.seconds);
   text +=
-      "  parameter        truth         mean  bias/sigma  empirical sd  reported sd  ratio      "
-      "68%     95%     99%\n";
+      "  parameter        truth         mean  bias/sigma  empirical sd  reported sd  ratio      68%     95%     99%\n";
+  // clang-format on
   for (const Parameter parameter : kBaselineParameters) {
     const ParameterCoverage& row = result.parameters[BaselineIndex(parameter)];
     text += StringPrintf("  %-9s %+.4e  %+.4e  %+10.2f  %12.3e  %11.3e  %5.3f  %s\n",
@@ -52,16 +52,16 @@ std::string CoverageTable(const std::string& scenario_name, const CoverageResult
   text += StringPrintf(
       "  endpoint ellipse (parameters + run noise)                                         %s\n",
       Percentages(result.endpoint_ellipse_coverage).c_str());
+  // clang-format off
   text += StringPrintf(
-      "\n  endpoint: mean error %+.2f sigma (x), %+.2f sigma (y); empirical/reported sd %.3f (x), "
-      "%.3f (y)\n",
+      "\n  endpoint: mean error %+.2f sigma (x), %+.2f sigma (y); empirical/reported sd %.3f (x), %.3f (y)\n",
       result.endpoint_bias_sigma.x(), result.endpoint_bias_sigma.y(), result.endpoint_sd_ratio.x(),
       result.endpoint_sd_ratio.y());
   text += StringPrintf("  chi2/dof: %.4f (x), %.4f (y)\n", result.mean_chi2_per_dof.x(),
                        result.mean_chi2_per_dof.y());
   text += StringPrintf(
-      "  Monte Carlo error of a coverage from %d trials: +-%.1f%% at 95%%, +-%.1f%% at 68%% (1 "
-      "sd)\n",
+      "  Monte Carlo error of a coverage from %d trials: +-%.1f%% at 95%%, +-%.1f%% at 68%% (1 sd)\n",
+      // clang-format on
       result.trials, 100 * std::sqrt(0.95 * 0.05 / result.trials),
       100 * std::sqrt(0.68 * 0.32 / result.trials));
   if (result.failed_trials > 0)
@@ -71,24 +71,21 @@ std::string CoverageTable(const std::string& scenario_name, const CoverageResult
 
 std::string EffectImpactText(const std::vector<EffectImpact>& table) {
   if (table.empty()) return "";
+  // clang-format off
   std::string text = StringPrintf(
-      "\n  one effect hidden in the data, left out of the model (%d trials each): bias of each "
-      "estimate in\n"
-      "  reported sigmas, chi2/dof, and the 95%% coverage that remains (the lowest of the four "
-      "parameters'\n"
-      "  intervals, and the endpoint ellipse). Every row uses the same noise (common random "
-      "numbers),\n"
+      "\n  one effect hidden in the data, left out of the model (%d trials each): bias of each estimate in\n"
+      "  reported sigmas, chi2/dof, and the 95%% coverage that remains (the lowest of the four parameters'\n"
+      "  intervals, and the endpoint ellipse). Every row uses the same noise (common random numbers),\n"
       "  so the rows differ only by their effect.\n\n",
       table.front().result.trials);
   text +=
-      "  effect                  size  unit        bias_x scale_x  bias_y scale_y  end x  end y  "
-      "chi2/dof x      y  95% params  95% endpoint\n";
+      "  effect                  size  unit        bias_x scale_x  bias_y scale_y  end x  end y  chi2/dof x      y  95% params  95% endpoint\n";
   for (const EffectImpact& row : table) {
     const ParameterInfo& info = Info(row.effect);
     const CoverageResult& r = row.result;
     text += StringPrintf(
-        "  %-20s %7.3g  %-10s %+7.1f %+7.1f %+7.1f %+7.1f %+6.1f %+6.1f  %10.3f %6.3f  %9.1f%%  "
-        "%11.1f%%\n",
+        "  %-20s %7.3g  %-10s %+7.1f %+7.1f %+7.1f %+7.1f %+6.1f %+6.1f  %10.3f %6.3f  %9.1f%%  %11.1f%%\n",
+        // clang-format on
         info.name, row.size, info.unit, r.parameters[0].bias_sigma, r.parameters[1].bias_sigma,
         r.parameters[2].bias_sigma, r.parameters[3].bias_sigma, r.endpoint_bias_sigma.x(),
         r.endpoint_bias_sigma.y(), r.mean_chi2_per_dof.x(), r.mean_chi2_per_dof.y(),
@@ -135,6 +132,19 @@ nlohmann::json EffectImpactJson(const std::vector<EffectImpact>& table) {
     rows.push_back(entry);
   }
   return rows;
+}
+
+std::string CoverageText(const CoverageReport& report) {
+  return CoverageTable(report.scenario_name, report.baseline) + EffectImpactText(report.effects);
+}
+
+nlohmann::json CoverageReportJson(const CoverageReport& report) {
+  nlohmann::json json = CoverageJson(report.baseline);
+  json["problem"] = "coverage";
+  json["scenario"] = report.scenario_name;
+  json["seed"] = report.seed;
+  json["effects"] = EffectImpactJson(report.effects);
+  return json;
 }
 
 }  // namespace accelcal

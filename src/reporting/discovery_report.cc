@@ -80,11 +80,11 @@ const LandmarkScore* Tied(const LandmarkDecision& decision, const std::string& n
 // final fit used, and what was named.
 std::string NoiseBlock(const DiscoveryResult& result) {
   if (result.noise_analysis[0].samples == 0 && result.noise_analysis[1].samples == 0) return "";
+  // clang-format off
   std::string text =
-      "\n  noise (the baseline's residuals, read from local differences; p two-sided, kurtosis "
-      "one-sided)\n"
-      "  axis  level ratio             p   lag-1 correlation       "
-      " p   outliers (largest, p)       excess kurtosis (p)\n";
+      "\n  noise (the baseline's residuals, read from local differences; p two-sided, kurtosis one-sided)\n"
+      "  axis  level ratio             p   lag-1 correlation        p   outliers (largest, p)       excess kurtosis (p)\n";
+  // clang-format on
   for (int k = 0; k < 2; ++k) {
     const NoiseAnalysis& a = result.noise_analysis[k];
     const std::string level =
@@ -138,9 +138,10 @@ std::string NoiseBlock(const DiscoveryResult& result) {
 // What the final model leaves: the flagged checks' sentences, then the strongest checks.
 std::string RemainsBlock(const DiscoveryResult& result) {
   if (result.checks.empty() && result.remaining.empty()) return "";
+  // clang-format off
   std::string text =
-      "\n  what remains (checks of the final model's residuals, Holm within their "
-      "share of alpha)\n";
+      "\n  what remains (checks of the final model's residuals, Holm within their share of alpha)\n";
+  // clang-format on
   if (result.remaining.empty()) {
     text += "  nothing the checks can see\n";
   } else {
@@ -190,9 +191,10 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
 
 std::string CrossValidationLine(const CrossValidation& cv) {
   if (cv.folds <= 0) return "";
+  // clang-format off
   std::string text = StringPrintf(
-      "  cross-validation (%d contiguous theta blocks): held-out mean squared whitened error "
-      "%s baseline, %s extended\n",
+      "  cross-validation (%d contiguous theta blocks): held-out mean squared whitened error %s baseline, %s extended\n",
+      // clang-format on
       cv.folds, Figure("%.4f", cv.baseline).c_str(), Figure("%.4f", cv.extended).c_str());
   const std::string comment = CrossValidationComment(cv);
   if (!comment.empty()) {
@@ -248,9 +250,10 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
           (result.landmark_note.empty() ? std::string("no landmarks") : result.landmark_note) +
           "\n";
 
+  // clang-format off
   text += StringPrintf(
-      "\n  candidates (score test, 1 dof each; Holm at alpha/2 = %g among those left at each step, "
-      "the other\n"
+      "\n  candidates (score test, 1 dof each; Holm at alpha/2 = %g among those left at each step, the other\n"
+      // clang-format on
       "  alpha/2 going to the noise tests and the checks of what remains)\n",
       alpha / 2);
   text += "  step  effect                  delta chi2        p-value  significant\n";
@@ -263,9 +266,10 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
   for (const SelectionEvent& event : result.history)
     dropped |= event.kind != SelectionEvent::Kind::kAdded;
   if (dropped) {
+    // clang-format off
     text +=
-        "\n  how the model grew (backward elimination drops what a later effect explains, or what "
-        "the\n  remaining structure explains)\n";
+        "\n  how the model grew (backward elimination drops what a later effect explains, or what the\n  remaining structure explains)\n";
+    // clang-format on
     for (const SelectionEvent& event : result.history) {
       text += StringPrintf("  %-8s %-22s delta chi2 %8s  p %9s  (run tied to %s)%s\n",
                            EventName(event.kind), Info(event.effect).name,
@@ -278,20 +282,21 @@ std::string DiscoveryText(const DiscoveryResult& result, double alpha) {
     }
   }
   if (!result.effects.empty()) {
+    // clang-format off
     text +=
-        "\n  effects (final model; delta chi2, p and BIC against the final model without the "
-        "effect)\n"
-        "                                  estimate       1 sigma  unit        delta chi2   "
-        "p-value   delta BIC\n";
+        "\n  effects (final model; delta chi2, p and BIC against the final model without the effect)\n"
+        "                                  estimate       1 sigma  unit        delta chi2   p-value   delta BIC\n";
+    // clang-format on
     for (const DiscoveredEffect& e : result.effects) {
       text += StringPrintf("  %-28s %12s  %12s  %-10s %10s %9s  %10s\n", Info(e.effect).name,
                            Figure("%+.4e", e.estimate).c_str(), Figure("%.3e", e.stddev).c_str(),
                            Info(e.effect).unit, Figure("%.1f", e.delta_chi2).c_str(),
                            Figure("%.2g", e.p_value).c_str(), Figure("%.1f", e.bic_change).c_str());
     }
+    // clang-format off
     text +=
-        "\n  gain: the baseline parameters in the extended model, shifted by (in the baseline's "
-        "sigma)\n  ";
+        "\n  gain: the baseline parameters in the extended model, shifted by (in the baseline's sigma)\n  ";
+    // clang-format on
     const ParameterEstimate baseline = FromBaselineFit(result.baseline);
     for (const Parameter parameter : baseline.free) {
       text += StringPrintf(
@@ -454,15 +459,15 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   const LandmarkScore* before = Tied(result.baseline_decision, result.tied_landmark);
   const LandmarkScore* after = Tied(result.extended_decision, result.tied_landmark);
   return {
+      // clang-format off
       {"problem", "discover"},
       {"alpha", alpha},
       {"verdict", result.verdict},
       {"verdict_code", VerdictCode(result.verdict_code)},
       {"effects", effects},
       {"effects_figures",
-       "delta_chi2, p_value and delta_bic of each effect are against the final model: the "
-       "chi-square the final model gains over itself without that effect, with the same "
-       "landmark tie; the *_at_selection figures are those of the step that added it"},
+       "delta_chi2, p_value and delta_bic of each effect are against the final model: the chi-square the final model gains over itself without that effect, with the same landmark tie; the *_at_selection figures are those of the step that added it"},
+      // clang-format on
       {"history", history},
       {"candidates", candidates},
       {"noise", noise},

@@ -21,9 +21,10 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
       report.effects.empty() ? "none" : report.effects.c_str(),
       report.joint.landmark.empty() ? "not tied to a landmark"
                                     : ("tied to " + report.joint.landmark).c_str());
+  // clang-format off
   text +=
-      "  parameter              unit        linear (bias, scale only)       joint                  "
-      "   shift\n";
+      "  parameter              unit        linear (bias, scale only)       joint                     shift\n";
+  // clang-format on
   for (const Parameter parameter : joint.free) {
     const ParameterInfo& info = Info(parameter);
     const int linear_index = linear.IndexOf(parameter);
@@ -75,9 +76,10 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
       text += StringPrintf("  %-40s %10.2f %15.2f %11.3g\n", hypothesis.name.c_str(),
                            hypothesis.cost, hypothesis.chi2_endpoint, hypothesis.posterior);
     }
+    // clang-format off
     text +=
-        "  (when the run is tied to a landmark, the joint endpoint is pulled toward it: choose "
-        "the\n"
+        "  (when the run is tied to a landmark, the joint endpoint is pulled toward it: choose the\n"
+        // clang-format on
         "   landmark by the hypotheses' posteriors, not by the joint endpoint's table)\n";
   }
   text += "\n  " + report.joint.solver.brief_report + "\n";

@@ -36,9 +36,10 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
   std::string text =
       "accelcal linear_ls: bias and scale factor from the tilt-table test (linear least squares)\n";
   if (report.simulation_seed) {
+    // clang-format off
     text += StringPrintf(
-        "  data         simulated in-process: scenario %s, seed %llu, %d samples, theta %.3f to "
-        "%.3f rad\n",
+        "  data         simulated in-process: scenario %s, seed %llu, %d samples, theta %.3f to %.3f rad\n",
+        // clang-format on
         report.scenario_name.c_str(), static_cast<unsigned long long>(*report.simulation_seed),
         fit.sample_count, report.theta_min_rad, report.theta_max_rad);
     text += "               (no --data_dir given; try --data_dir=../shared/data/tp2-2018)\n";
@@ -95,9 +96,10 @@ std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report)
     return text + "\n  closed form only; " + report.ceres_skipped + "\n";
   }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
+  // clang-format off
   text += StringPrintf(
-      "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e "
-      "(relative to sqrt(C_ii C_jj))\n",
+      "\n  closed form vs Ceres: parameters agree to %.1e (relative), covariance to %.1e (relative to sqrt(C_ii C_jj))\n",
+      // clang-format on
       difference.parameters, difference.covariance);
   text += "  " + report.ceres.solver.brief_report + "\n";
   if (full_solver_report) text += report.ceres.solver.full_report + "\n";
@@ -136,6 +138,21 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
       {"max_relative_difference",
        {{"parameters", difference.parameters}, {"covariance", difference.covariance}}}};
   return json;
+}
+
+Eigen::Vector4d BaselineTruth(const ModelParameters<double>& parameters) {
+  Eigen::Vector4d truth;
+  for (const Parameter parameter : kBaselineParameters) {
+    truth[BaselineIndex(parameter)] = parameters[parameter];
+  }
+  return truth;
+}
+
+std::string CeresSkippedReason(long long samples, long long max_samples) {
+  if (samples <= max_samples) return "";
+  return "Ceres skipped: " + std::to_string(samples) +
+         " samples, more than --ceres_max_samples=" + std::to_string(max_samples) +
+         " (it would hold them all with their residuals in memory)";
 }
 
 }  // namespace accelcal

@@ -13,6 +13,7 @@
 
 #include "estimation/baseline_parameters.h"
 #include "estimation/ceres_linear_ls.h"
+#include "models/effects.h"
 
 namespace accelcal {
 
@@ -36,6 +37,14 @@ struct LinearLsReport {
 
 std::string LinearLsTable(const LinearLsReport& report, bool full_solver_report);
 nlohmann::json LinearLsJson(const LinearLsReport& report);
+
+// The baseline's four parameters out of a full set (a simulation's truth), in BaselineIndex
+// order, to stand beside the estimates.
+Eigen::Vector4d BaselineTruth(const ModelParameters<double>& parameters);
+
+// Why the Ceres cross-check does not run on a test of `samples` samples when it runs on at
+// most `max_samples` (linear_ls' --ceres_max_samples), or "" when it does run.
+std::string CeresSkippedReason(long long samples, long long max_samples);
 
 }  // namespace accelcal
 

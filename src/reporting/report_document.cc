@@ -80,15 +80,12 @@ std::string RenderMarkdown(const ReportDocument& document) {
 }
 
 std::string RenderHtml(const ReportDocument& document, const std::string& folder) {
+  // clang-format off
   std::string html =
       "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
       Escape(document.title) +
-      "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em "
-      "auto;line-height:1.45}"
-      "table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px "
-      "8px;text-align:right}"
-      "th{background:#eee}.verdict{background:#eef6ee;border-left:5px solid #4a4;padding:.6em 1em}"
-      "img{max-width:100%}.missing{color:#a33}</style></head><body>\n<h1>" +
+      "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;line-height:1.45}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}th{background:#eee}.verdict{background:#eef6ee;border-left:5px solid #4a4;padding:.6em 1em}img{max-width:100%}.missing{color:#a33}</style></head><body>\n<h1>" +
+      // clang-format on
       Escape(document.title) + "</h1>\n<p class=\"verdict\"><b>Verdict.</b> " +
       Escape(document.verdict) + "</p>\n";
   for (const ReportSection& section : document.sections) {

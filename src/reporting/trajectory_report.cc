@@ -18,14 +18,14 @@ std::string DecisionLine(const LandmarkDecision& decision) {
   if (decision.best < 0) return "no landmarks to decide among";
   const LandmarkScore& best = decision.scores[decision.best];
   if (decision.consistent) {
+    // clang-format off
     return StringPrintf(
-        "the vehicle reached %s (posterior %.4f under equal priors; its Mahalanobis "
-        "distance %.2f has p-value %.3g)",
+        "the vehicle reached %s (posterior %.4f under equal priors; its Mahalanobis distance %.2f has p-value %.3g)",
         best.landmark.name.c_str(), best.posterior, std::sqrt(best.mahalanobis2), best.p_value);
   }
   return StringPrintf(
-      "no landmark is consistent with the endpoint: the closest, %s, is at Mahalanobis "
-      "distance %.2f (p-value %.3g < alpha %.3g)",
+      "no landmark is consistent with the endpoint: the closest, %s, is at Mahalanobis distance %.2f (p-value %.3g < alpha %.3g)",
+      // clang-format on
       best.landmark.name.c_str(), std::sqrt(best.mahalanobis2), best.p_value, decision.alpha);
 }
 
@@ -91,10 +91,10 @@ std::string TrajectoryTable(const TrajectoryReport& report) {
     const BudgetTerm& dominant = std::string(b.dominant) == "bias"    ? b.bias
                                  : std::string(b.dominant) == "scale" ? b.scale
                                                                       : b.noise;
+    // clang-format off
     text += StringPrintf(
-        "  %s: the %s term dominates (%.0f%% of the endpoint variance). The report's noise "
-        "term, 3 sigma_eta = %.2f m, is %.1f times too %s: the correct one is %.2f m, because "
-        "the run's noise is integrated twice over %.0f s and grows as sigma sqrt(dt T^3/3).\n",
+        "  %s: the %s term dominates (%.0f%% of the endpoint variance). The report's noise term, 3 sigma_eta = %.2f m, is %.1f times too %s: the correct one is %.2f m, because the run's noise is integrated twice over %.0f s and grows as sigma sqrt(dt T^3/3).\n",
+        // clang-format on
         b.axis, b.dominant, 100.0 * dominant.variance_share, b.noise.report_m,
         b.noise.three_sigma_m >= b.noise.report_m ? b.noise.three_sigma_m / b.noise.report_m
                                                   : b.noise.report_m / b.noise.three_sigma_m,
@@ -154,9 +154,10 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
 }
 
 std::string TrajectoryPathCsv(const DeadReckoningResult& trajectory) {
+  // clang-format off
   std::string text =
-      "t_s,x_m,y_m,raw_x_m,raw_y_m,cov_xx,cov_xy,cov_yy,parameter_cov_xx,parameter_cov_xy,"
-      "parameter_cov_yy,noise_cov_xx,noise_cov_yy\n";
+      "t_s,x_m,y_m,raw_x_m,raw_y_m,cov_xx,cov_xy,cov_yy,parameter_cov_xx,parameter_cov_xy,parameter_cov_yy,noise_cov_xx,noise_cov_yy\n";
+  // clang-format on
   for (const PathPoint& p : trajectory.path) {
     const Eigen::Matrix2d total = p.parameter_covariance + p.noise_covariance;
     text += StringPrintf(

@@ -7,6 +7,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstdlib>
+
 #include <memory>
 
 #include "estimation/ceres_linear_ls.h"
@@ -21,7 +23,7 @@ namespace {
 const SimulatedData& CourseSizedData() {
   static const SimulatedData data = [] {
     Scenario scenario;
-    LoadDefaultScenario(&scenario);
+    if (!LoadDefaultScenario(&scenario).ok()) std::abort();  // the compiled-in scenario
     return SimulateScenario(scenario, 1);
   }();
   return data;
