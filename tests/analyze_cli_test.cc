@@ -10,10 +10,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "test_support.h"
 
@@ -143,18 +142,24 @@ TEST(AnalyzeBinary, AMissingPlotterIsSaidInTheReportNotAFailure) {
 // moment, then sends `signal_name` to its parent, analyze. Its first call (`-c "import
 // matplotlib, numpy"`) only succeeds.
 std::string WriteInterruptingPlotter(const ScratchDir& scratch, const std::string& signal_name) {
-  const std::string path = scratch.Write(
-      "interrupting_python",
-      "#!/bin/sh\n"
-      "case \"$1\" in -c) exit 0 ;; esac\n"
-      "for argument in \"$@\"; do\n"
-      "  case \"$argument\" in --json=*) json=\"${argument#--json=}\" ;; esac\n"
-      "done\n"
-      "staging=$(dirname \"$json\")\n"
-      "ls -A \"$staging\" > '" + scratch.File("listing") + "'\n"
-      "echo \"$staging\" > '" + scratch.File("staging") + "'\n"
-      "kill -" + signal_name + " $PPID\n"
-      "exit 0\n");
+  const std::string path =
+      scratch.Write("interrupting_python",
+                    "#!/bin/sh\n"
+                    "case \"$1\" in -c) exit 0 ;; esac\n"
+                    "for argument in \"$@\"; do\n"
+                    "  case \"$argument\" in --json=*) json=\"${argument#--json=}\" ;; esac\n"
+                    "done\n"
+                    "staging=$(dirname \"$json\")\n"
+                    "ls -A \"$staging\" > '" +
+                        scratch.File("listing") +
+                        "'\n"
+                        "echo \"$staging\" > '" +
+                        scratch.File("staging") +
+                        "'\n"
+                        "kill -" +
+                        signal_name +
+                        " $PPID\n"
+                        "exit 0\n");
   chmod(path.c_str(), 0755);
   return path;
 }

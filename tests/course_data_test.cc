@@ -113,9 +113,12 @@ TEST(CourseData, ReproducesTheReportsTableOne) {
 TEST(CourseData, ReproducesTheReportsCovarianceAndFindsItsTypo) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   const CourseFit course = FitCourseData(dir);
-  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleX, Parameter::kScaleX), 2.603e-7, 0.5e-10, "var scale_x");
-  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kBiasY, Parameter::kBiasY), 3.200e-5, 0.5e-8, "var bias_y");
-  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleY, Parameter::kScaleY), 6.663e-7, 0.5e-10, "var scale_y");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleX, Parameter::kScaleX), 2.603e-7,
+                        0.5e-10, "var scale_x");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kBiasY, Parameter::kBiasY), 3.200e-5,
+                        0.5e-8, "var bias_y");
+  ExpectWithinLastDigit(course.fit.Covariance(Parameter::kScaleY, Parameter::kScaleY), 6.663e-7,
+                        0.5e-10, "var scale_y");
   // Even the report's off-diagonal terms, which come from sum(sin theta_i) = -7e-9 and
   // sum(cos theta_i) of the sampled angles, are reproduced.
   EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasX, Parameter::kScaleX) / -8.915e-19, 1.0, 1e-3);
@@ -125,7 +128,8 @@ TEST(CourseData, ReproducesTheReportsCovarianceAndFindsItsTypo) {
   // last digit: a transcription error (its other three variances and both covariances
   // match to every printed digit).
   const double sigma2_over_n = 0.25 / 20001.0;
-  EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasX, Parameter::kBiasX), sigma2_over_n, 1e-12 * sigma2_over_n);
+  EXPECT_NEAR(course.fit.Covariance(Parameter::kBiasX, Parameter::kBiasX), sigma2_over_n,
+              1e-12 * sigma2_over_n);
   EXPECT_GT(std::abs(course.fit.Covariance(Parameter::kBiasX, Parameter::kBiasX) - 1.245e-5), 4e-8);
 }
 
@@ -225,7 +229,7 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
     std::vector<double> d_scale(samples);
     for (int j = 0; j < samples; ++j) {
       corrected[axis].push_back((raw[axis][j] - b) / one_plus_s);
-      d_bias[j] = -1.0 / one_plus_s;  // d a_j / d b
+      d_bias[j] = -1.0 / one_plus_s;                                 // d a_j / d b
       d_scale[j] = -(raw[axis][j] - b) / (one_plus_s * one_plus_s);  // d a_j / d s
     }
     expected_endpoint[axis] = endpoint_of(corrected[axis], v0[axis]);
@@ -263,10 +267,12 @@ TEST(CourseData, TheVehicleReachedCAndTheNoiseDominatesTheUncertainty) {
   EXPECT_NEAR(result.noise_part(1, 1), expected_noise_part[1], 1e-9 * expected_noise_part[1]);
   // And the closed form sigma^2 dt T^3 / 3 / (1 + s)^2, within the discretisation's 0.1%.
   const double t3 = std::pow(59.99, 3);
-  EXPECT_NEAR(result.noise_part(0, 0) / (0.25 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleX), 2)), 1.0,
-              3e-3);
-  EXPECT_NEAR(result.noise_part(1, 1) / (0.64 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleY), 2)), 1.0,
-              3e-3);
+  EXPECT_NEAR(result.noise_part(0, 0) /
+                  (0.25 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleX), 2)),
+              1.0, 3e-3);
+  EXPECT_NEAR(result.noise_part(1, 1) /
+                  (0.64 * dt * t3 / 3 / std::pow(1 + course.fit.Value(Parameter::kScaleY), 2)),
+              1.0, 3e-3);
 
   // C's distance from the independent endpoint under the independent covariance (the
   // cross terms are zero to 1e-3 m^2: the x endpoint depends on x's parameters only, and the

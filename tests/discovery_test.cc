@@ -251,17 +251,16 @@ TEST(Discover, OnTheCourseDataTheBaselineExplainsTheData) {
   joint.landmark_mode = JointOptions::Landmark::kNamed;
   joint.landmark_name = "C";
   JointResult baseline;
-  ASSERT_TRUE(SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint,
-                         &baseline)
-                  .ok());
+  ASSERT_TRUE(
+      SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint, &baseline)
+          .ok());
   ASSERT_TRUE(ParseEffects("nonorthogonality", &joint.effects).ok());
   JointResult extended;
-  ASSERT_TRUE(SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint,
-                         &extended)
-                  .ok());
-  const double likelihood_ratio =
-      (baseline.chi2_x + baseline.chi2_y + baseline.chi2_endpoint) -
-      (extended.chi2_x + extended.chi2_y + extended.chi2_endpoint);
+  ASSERT_TRUE(
+      SolveJoint(course.test, course.run, course.conditions, course.landmarks, joint, &extended)
+          .ok());
+  const double likelihood_ratio = (baseline.chi2_x + baseline.chi2_y + baseline.chi2_endpoint) -
+                                  (extended.chi2_x + extended.chi2_y + extended.chi2_endpoint);
   EXPECT_NEAR(strongest, likelihood_ratio, 0.01 * likelihood_ratio);
   EXPECT_FALSE(result.axes[0].noise_flagged);
   EXPECT_FALSE(result.axes[1].noise_flagged);

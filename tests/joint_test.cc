@@ -259,34 +259,14 @@ LinearLsOptions LinearOptions(const RunConditions& conditions) {
   return options;
 }
 
-// The size of the problem a solve handed Ceres, read from its FullReport ("Residual blocks"
-// and "Residuals", the Original column): SolverReport has no field of its own for it.
+// The size of the problem a solve handed Ceres (SolverReport, from Ceres' summary).
 struct ProblemSize {
   int residual_blocks = -1;
   int residuals = -1;
 };
 
 ProblemSize ProblemSizeOf(const SolverReport& report) {
-  ProblemSize size;
-  std::istringstream lines(report.full_report);
-  std::string line;
-  while (std::getline(lines, line)) {
-    std::istringstream words(line);
-    std::string first;
-    std::string second;
-    words >> first;
-    if (first != "Residual" && first != "Residuals") continue;
-    if (first == "Residual") {
-      words >> second;
-      if (second != "blocks") continue;
-      words >> size.residual_blocks;
-    } else {
-      words >> size.residuals;
-    }
-  }
-  EXPECT_GE(size.residual_blocks, 0) << "no residual block count in:\n" << report.full_report;
-  EXPECT_GE(size.residuals, 0) << "no residual count in:\n" << report.full_report;
-  return size;
+  return {report.residual_blocks, report.residuals};
 }
 
 JointOptions JointFor(const RunConditions& conditions) {
@@ -436,8 +416,8 @@ TEST(SolveJoint, TheCompressedProblemDoesNotGrowWithTheTest) {
     ASSERT_TRUE(ApplyScenarioOverrides(samples, &scenario).ok());
     const SimulatedData data = SimulateScenario(scenario, 12);
     JointOptions options = JointFor(data.conditions);
-    ASSERT_TRUE(ParseEffects("angle_offset,bias_drift_x,scale_nonlinearity_y", &options.effects)
-                    .ok());
+    ASSERT_TRUE(
+        ParseEffects("angle_offset,bias_drift_x,scale_nonlinearity_y", &options.effects).ok());
     JointResult compressed;
     ASSERT_TRUE(
         SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &compressed)

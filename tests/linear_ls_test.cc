@@ -35,24 +35,11 @@ Eigen::Vector4d TruthVector(const SimulationTruth& truth) {
                          p[Parameter::kScaleY]);
 }
 
-// Independent reference: the normal equations of one axis solved in long double.
+// Independent reference: the normal equations of one axis solved in long double
+// (test_support.h).
 Eigen::Vector2d BatchAxisSolution(const CalibrationTest& test, bool x_axis) {
-  long double n = 0, sf = 0, sff = 0, sy = 0, sfy = 0;
-  for (int i = 0; i < test.size(); ++i) {
-    double fx;
-    double fy;
-    TiltTableSpecificForce(test.theta_rad[i], 9.8, &fx, &fy);
-    const long double f = x_axis ? fx : fy;
-    const long double y = (x_axis ? test.measured_x[i] : test.measured_y[i]) - f;
-    n += 1;
-    sf += f;
-    sff += f * f;
-    sy += y;
-    sfy += f * y;
-  }
-  const long double determinant = n * sff - sf * sf;
-  return Eigen::Vector2d(static_cast<double>((sff * sy - sf * sfy) / determinant),
-                         static_cast<double>((n * sfy - sf * sy) / determinant));
+  const testing::PlainAxisFit fit = testing::PlainBaselineFit(test, x_axis ? 0 : 1, 1.0);
+  return Eigen::Vector2d(fit.bias, fit.scale);
 }
 
 TEST(LinearLs, ClosedFormAndCeresAgreeToOneInABillion) {

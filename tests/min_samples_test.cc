@@ -12,13 +12,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <string>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "estimation/landmark_decision.h"
-#include "io/course_data.h"
 #include "estimation/linear_ls.h"
 #include "estimation/trajectory.h"
+#include "io/course_data.h"
 #include "io/scenario_json.h"
 #include "models/tilt_table.h"
 #include "simulation/monte_carlo.h"
@@ -319,8 +319,8 @@ TEST(MinSamplesBinary, AnswersTheReportsQuestionOnTheCourseData) {
   ASSERT_TRUE(LoadCourseModel(dir, &c));
   testing::ScratchDir out;
   const testing::CommandResult result = testing::RunBinary(
-      "min_samples", "--data_dir='" + dir + "' --design=all --repetitions=0 --json='" +
-                         out.File("m.json") + "'");
+      "min_samples",
+      "--data_dir='" + dir + "' --design=all --repetitions=0 --json='" + out.File("m.json") + "'");
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   // The report's own per-axis gaps: the smallest coordinate difference between C and another
   // landmark, per axis.
@@ -335,10 +335,12 @@ TEST(MinSamplesBinary, AnswersTheReportsQuestionOnTheCourseData) {
     }
   }
   char expected[160];
-  std::snprintf(expected, sizeof(expected), "d_min,x = %.2f m\n  (C-%s) and d_min,y = %.2f m (C-%s)",
-                gap[0], nearest[0].c_str(), gap[1], nearest[1].c_str());
+  std::snprintf(expected, sizeof(expected),
+                "d_min,x = %.2f m\n  (C-%s) and d_min,y = %.2f m (C-%s)", gap[0],
+                nearest[0].c_str(), gap[1], nearest[1].c_str());
   EXPECT_NE(result.stdout_text.find(expected), std::string::npos)
-      << "expected: " << expected << "\n" << result.stdout_text;
+      << "expected: " << expected << "\n"
+      << result.stdout_text;
 
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("m.json")));
   EXPECT_EQ(json["truth"], "C");
@@ -353,8 +355,7 @@ TEST(MinSamplesBinary, AnswersTheReportsQuestionOnTheCourseData) {
   // 4 sd the false-failure rate is 6e-5 per bound.
   const int draws = 1000000;
   const double sd = std::sqrt(0.01 * 0.99 / draws);
-  EXPECT_LE(SampledWrongRate(c, UniformSweepEndpointCovariance(c, n_min), draws, 31),
-            0.01 + 4 * sd)
+  EXPECT_LE(SampledWrongRate(c, UniformSweepEndpointCovariance(c, n_min), draws, 31), 0.01 + 4 * sd)
       << "N_min = " << n_min;
   EXPECT_GT(SampledWrongRate(c, UniformSweepEndpointCovariance(c, n_min * 9 / 10), draws, 32),
             0.01 + 4 * sd)
@@ -386,9 +387,10 @@ TEST(MinSamplesBinary, AnswersTheReportsQuestionOnTheCourseData) {
 // N_min / 4 (P about 0.11 and 0.04: far from 0, so the comparison has power: the binomial sd
 // is 0.008 at 0.11, so a 30% error in P is 4 sd) and at N_min (P 0.0099: 15 expected, a
 // factor 2 is 4 sd). Each of the four checks fails falsely with probability 1e-4. (The old
-// tolerance, 4 sd + 0.01 at 200 runs, passed with the run's noise dropped from the model.) Evenly spaced subsets of the real test are left out here: there are only full/N of
-// them (18 at N_min / 4), so their rate cannot test a P of 0.04 (0 of 18 happens with
-// probability 0.48); the next test checks them by their spread instead.
+// tolerance, 4 sd + 0.01 at 200 runs, passed with the run's noise dropped from the model.) Evenly
+// spaced subsets of the real test are left out here: there are only full/N of them (18 at N_min /
+// 4), so their rate cannot test a P of 0.04 (0 of 18 happens with probability 0.48); the next test
+// checks them by their spread instead.
 TEST(MinSamplesBinary, MonteCarloChecksAgreeWithTheAnalyticCurveWithinBinomialError) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   testing::ScratchDir out;
@@ -406,7 +408,8 @@ TEST(MinSamplesBinary, MonteCarloChecksAgreeWithTheAnalyticCurveWithinBinomialEr
     if (kind == "real_test_even_subsets") continue;
     ASSERT_EQ(check["repetitions"].get<int>(), repetitions);
     const double analytic = check["analytic"].get<double>();
-    const int count = static_cast<int>(std::lround(check["monte_carlo"].get<double>() * repetitions));
+    const int count =
+        static_cast<int>(std::lround(check["monte_carlo"].get<double>() * repetitions));
     const double p_value = BinomialTwoSidedPValue(count, repetitions, analytic);
     std::printf("%s N = %d: analytic %.4f, Monte Carlo %d/%d, binomial p %.3g\n", kind.c_str(),
                 check["n"].get<int>(), analytic, count, repetitions, p_value);
@@ -437,11 +440,11 @@ TEST(MinSamplesOnTheRealTest, EvenlySpacedSubsetsSpreadAsTheAnalyticModelSays) {
   const int n = 1111;
   const int subsets = full / n;
   ASSERT_EQ(subsets, 18);
-  const Eigen::Matrix4d design = BaselineCovarianceForDesign(
-      DesignAngles("uniform", n), 9.8, c.data.conditions.noise_variance_x,
-      c.data.conditions.noise_variance_y);
-  const Eigen::Matrix2d spread = c.trajectory.jacobian * design *
-                                 c.trajectory.jacobian.transpose() * (1.0 - double(n) / full);
+  const Eigen::Matrix4d design = BaselineCovarianceForDesign(DesignAngles("uniform", n), 9.8,
+                                                             c.data.conditions.noise_variance_x,
+                                                             c.data.conditions.noise_variance_y);
+  const Eigen::Matrix2d spread =
+      c.trajectory.jacobian * design * c.trajectory.jacobian.transpose() * (1.0 - double(n) / full);
   const Eigen::Matrix2d decision =
       c.trajectory.jacobian * design * c.trajectory.jacobian.transpose() + c.trajectory.noise_part;
   const double analytic = ProbabilityOfWrongLandmark(c.trajectory.endpoint, spread, decision,
@@ -469,8 +472,9 @@ TEST(MinSamplesOnTheRealTest, EvenlySpacedSubsetsSpreadAsTheAnalyticModelSays) {
         DeadReckon(c.data.run, c.data.conditions, fit, trajectory_options, &trajectory).ok());
     const Eigen::Vector2d d = trajectory.endpoint - c.trajectory.endpoint;
     statistic += d.dot(metric * d);
-    wrong += DecideLandmark(trajectory.endpoint, trajectory.covariance, c.data.landmarks, 0.01)
-                 .best != c.truth;
+    wrong +=
+        DecideLandmark(trajectory.endpoint, trajectory.covariance, c.data.landmarks, 0.01).best !=
+        c.truth;
   }
   const double chi2_34 = statistic * (subsets - 1) / subsets;
   const double p_value = BinomialTwoSidedPValue(wrong, subsets, analytic);

@@ -27,9 +27,9 @@ constexpr double kG = 9.8;
 // one tilt-test sample, written out term by term. `p` holds the spec's symbols by name.
 struct SpecParameters {
   double bias_x = 0.0, scale_x = 0.0, bias_y = 0.0, scale_y = 0.0;
-  double angle_offset = 0.0;      // delta
-  double nonorthogonality = 0.0;  // eps
-  double bias_drift_x = 0.0, bias_drift_y = 0.0;  // d_k
+  double angle_offset = 0.0;                                      // delta
+  double nonorthogonality = 0.0;                                  // eps
+  double bias_drift_x = 0.0, bias_drift_y = 0.0;                  // d_k
   double scale_nonlinearity_x = 0.0, scale_nonlinearity_y = 0.0;  // k2_k
 };
 
@@ -181,8 +181,8 @@ TEST(CalibrationResidual, IsTheSpecsModelWithCentralDifferenceJacobian) {
     const auto& blocks = CalibrationResidual::Blocks(axis);
     for (const double theta : {0.2, 1.3, 2.9, 4.1, 5.8}) {
       for (const double u : {-0.5, -0.1, 0.35}) {
-        SCOPED_TRACE(::testing::Message() << (axis == SensingAxis::kX ? "x" : "y") << " theta "
-                                          << theta << " u " << u);
+        SCOPED_TRACE(::testing::Message()
+                     << (axis == SensingAxis::kX ? "x" : "y") << " theta " << theta << " u " << u);
         const double measured = 0.9 - 0.7 * std::cos(theta + 0.4);  // anything
         const std::unique_ptr<ceres::CostFunction> cost(
             CalibrationResidual::Create(theta, measured, axis, u, kG, sigma));
@@ -224,11 +224,9 @@ TEST(CalibrationResidual, WhitenedFormDifferencesTheSpecsErrorsOfTwoSamples) {
     double residual = 0.0;
     ASSERT_TRUE(cost->Evaluate(pointers.data(), &residual, nullptr));
     const double e_current =
-        current.measured_mps2 -
-        SpecOutput(current.theta_rad, current.drift_coordinate, axis, spec);
-    const double e_previous =
-        previous.measured_mps2 -
-        SpecOutput(previous.theta_rad, previous.drift_coordinate, axis, spec);
+        current.measured_mps2 - SpecOutput(current.theta_rad, current.drift_coordinate, axis, spec);
+    const double e_previous = previous.measured_mps2 -
+                              SpecOutput(previous.theta_rad, previous.drift_coordinate, axis, spec);
     EXPECT_NEAR(residual, 2.5 * e_current - 1.5 * e_previous, 1e-12);
   }
 }

@@ -447,17 +447,7 @@ Status CourseScenarioWith(const std::string& disturbances, Scenario* scenario) {
 // Each axis's measured output minus the catalogue model's noiseless prediction.
 void TiltTestResiduals(const CalibrationTest& test, const SimulationTruth& truth,
                        std::vector<double>* residual_x, std::vector<double>* residual_y) {
-  const int n = test.size();
-  residual_x->resize(n);
-  residual_y->resize(n);
-  for (int i = 0; i < n; ++i) {
-    double predicted_x;
-    double predicted_y;
-    PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), truth.gravity_mps2,
-                              truth.parameters, &predicted_x, &predicted_y);
-    (*residual_x)[i] = test.measured_x[i] - predicted_x;
-    (*residual_y)[i] = test.measured_y[i] - predicted_y;
-  }
+  CalibrationResiduals(test, truth.parameters, truth.gravity_mps2, residual_x, residual_y);
 }
 
 void RunResiduals(const VehicleRun& run, const std::vector<double>& acceleration_x,

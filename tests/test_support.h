@@ -151,7 +151,6 @@ inline int CountLines(const std::string& text) {
   return lines;
 }
 
-
 // Independent of the library's estimators, for tests that check a printed or written figure
 // against a computation of their own: per axis, the 2x2 normal equations of the baseline,
 // m - f = b + s f (f = -g sin theta for x, -g cos theta for y), accumulated in long double

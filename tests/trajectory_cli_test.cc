@@ -6,8 +6,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "io/course_csv.h"
 #include "io/course_data.h"

@@ -110,9 +110,11 @@ TEST(DeadReckon, JacobianIsTheAnalyticDerivative) {
     sum_wm_y += weights[j] * (run.measured_y[j] + 0.02);
   }
   EXPECT_NEAR(result.jacobian(0, result.JacobianColumn(Parameter::kBiasX)), -sum_w / 0.97, 1e-9);
-  EXPECT_NEAR(result.jacobian(0, result.JacobianColumn(Parameter::kScaleX)), -sum_wm_x / (0.97 * 0.97), 1e-7);
+  EXPECT_NEAR(result.jacobian(0, result.JacobianColumn(Parameter::kScaleX)),
+              -sum_wm_x / (0.97 * 0.97), 1e-7);
   EXPECT_NEAR(result.jacobian(1, result.JacobianColumn(Parameter::kBiasY)), -sum_w / 1.01, 1e-9);
-  EXPECT_NEAR(result.jacobian(1, result.JacobianColumn(Parameter::kScaleY)), -sum_wm_y / (1.01 * 1.01), 1e-7);
+  EXPECT_NEAR(result.jacobian(1, result.JacobianColumn(Parameter::kScaleY)),
+              -sum_wm_y / (1.01 * 1.01), 1e-7);
   EXPECT_EQ(result.jacobian(0, result.JacobianColumn(Parameter::kBiasY)), 0.0);
   EXPECT_EQ(result.jacobian(1, result.JacobianColumn(Parameter::kScaleX)), 0.0);
   EXPECT_NEAR(result.endpoint.x(),

@@ -18,6 +18,8 @@ Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
   report->brief_report = summary.BriefReport();
   report->full_report = summary.FullReport();
   report->iterations = static_cast<int>(summary.iterations.size());
+  report->residual_blocks = summary.num_residual_blocks;
+  report->residuals = summary.num_residuals;
   report->converged = summary.termination_type == ceres::CONVERGENCE;
   if (report->converged) return Status::Ok();
   if (summary.termination_type == ceres::NO_CONVERGENCE) {

@@ -120,11 +120,9 @@ Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOpt
   BaselineFit result;
   result.sample_count = static_cast<int>(statistics.x().count());
   ACCELCAL_RETURN_IF_ERROR(SolveAxis(statistics.x(), "x", options.noise_variance_x, statistics,
-                                     options.max_variance_inflation, &result, 0,
-                                     &result.chi2_x));
+                                     options.max_variance_inflation, &result, 0, &result.chi2_x));
   ACCELCAL_RETURN_IF_ERROR(SolveAxis(statistics.y(), "y", options.noise_variance_y, statistics,
-                                     options.max_variance_inflation, &result, 1,
-                                     &result.chi2_y));
+                                     options.max_variance_inflation, &result, 1, &result.chi2_y));
   *fit = result;
   return Status::Ok();
 }

@@ -10,6 +10,9 @@ namespace accelcal {
 struct SolverReport {
   bool converged = false;
   int iterations = 0;
+  // The size of the problem as it was handed to Ceres (before any preprocessing).
+  int residual_blocks = 0;
+  int residuals = 0;
   std::string brief_report;  // ceres::Solver::Summary::BriefReport()
   std::string full_report;   // ceres::Solver::Summary::FullReport()
 };

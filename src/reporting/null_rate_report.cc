@@ -162,9 +162,8 @@ void Header(const NullRateReport& report, std::string* text, nlohmann::json* jso
   nlohmann::json designs = nlohmann::json::array();
   for (const std::string& name : options.designs) {
     // The course's schedule is whatever the scenario says; the others are fixed.
-    const std::string tilt =
-        NullRateDesignDescription(name) +
-        (name == "course" ? ", " + DescribeTilt(course.tilt) : std::string());
+    const std::string tilt = NullRateDesignDescription(name) +
+                             (name == "course" ? ", " + DescribeTilt(course.tilt) : std::string());
     *text += StringPrintf("  %-8s %s: %s\n", name == options.designs.front() ? "designs" : "",
                           name.c_str(), tilt.c_str());
     designs.push_back({{"name", name}, {"tilt", tilt}});

@@ -101,23 +101,6 @@ TEST(ScaleCubic, TheRunsInverseAndItsDerivativeAreExact) {
   }
 }
 
-// The size of the problem a solve handed Ceres, read from its FullReport ("Residual blocks"
-// and "Residuals", the Original column): SolverReport has no field of its own for it.
-int ResidualBlocksOf(const SolverReport& report) {
-  std::istringstream lines(report.full_report);
-  std::string line;
-  while (std::getline(lines, line)) {
-    std::istringstream words(line);
-    std::string first;
-    std::string second;
-    int count = -1;
-    if (words >> first >> second >> count && first == "Residual" && second == "blocks")
-      return count;
-  }
-  ADD_FAILURE() << "no residual block count in:\n" << report.full_report;
-  return -1;
-}
-
 // sin^3 is not in the compressed tilt residual's basis: it says so, and the joint solve,
 // asked for the compressed residuals, uses the per-sample ones instead: one residual block
 // per sample and axis, the per-sample solve's estimates exactly, and the hidden k3 recovered.
@@ -139,10 +122,10 @@ TEST(ScaleCubic, TheCompressedResidualDeclinesAndTheSolveFallsBack) {
   ASSERT_TRUE(ParseEffects("scale_cubic_y", &options.effects).ok());
   options.compress_calibration = true;
   JointResult asked_compressed;
-  const Status solved = SolveJoint(data.test, data.run, data.conditions, data.landmarks, options,
-                                   &asked_compressed);
+  const Status solved =
+      SolveJoint(data.test, data.run, data.conditions, data.landmarks, options, &asked_compressed);
   ASSERT_TRUE(solved.ok()) << solved.message();
-  EXPECT_EQ(ResidualBlocksOf(asked_compressed.solver), 2 * data.test.size());
+  EXPECT_EQ(asked_compressed.solver.residual_blocks, 2 * data.test.size());
   options.compress_calibration = false;
   JointResult per_sample;
   ASSERT_TRUE(

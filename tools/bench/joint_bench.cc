@@ -8,7 +8,6 @@
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
-
 #include <memory>
 
 #include "estimation/ceres_linear_ls.h"
