@@ -61,6 +61,9 @@ constexpr char kUsage[] =
 Status Load(Experiment* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  if (!FLAGS_data_dir.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags("--data_dir", {"set", "seed"}));
+  }
   return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
                         {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs);
 }

@@ -78,6 +78,9 @@ using Inputs = Experiment;
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
+  if (!FLAGS_data_dir.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags("--data_dir", {"set", "seed"}));
+  }
   return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, {{"--json", FLAGS_json}},
                         inputs);
 }

@@ -122,6 +122,8 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     report->truth = BaselineTruth(scenario.truth.parameters);
     return Status::Ok();
   }
+  ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags(
+      FLAGS_data_dir.empty() ? "--calibration_file" : "--data_dir", {"scenario", "set", "seed"}));
   DataFiles overrides;
   overrides.calibration = FLAGS_calibration_file;
   overrides.conditions = FLAGS_conditions_file;

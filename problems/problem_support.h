@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <initializer_list>
 #include <iostream>
 #include <map>
 #include <new>
@@ -306,6 +307,23 @@ class StageProgress {
 };
 
 // `outputs` are checked against the files once they are resolved, before any is read.
+// The flags that choose or shape a simulation (e.g. --set, --seed, --scenario) mean nothing
+// when the data come from files (`data_flag`, e.g. --data_dir, was given): one of them given
+// with it is refused with one line rather than silently ignored, so a user never believes a
+// measured result reflects an effect they asked to hide.
+inline Status RefuseSimulationFlags(const char* data_flag,
+                                    std::initializer_list<const char*> simulation_flags) {
+  for (const char* name : simulation_flags) {
+    gflags::CommandLineFlagInfo info;
+    if (gflags::GetCommandLineFlagInfo(name, &info) && !info.is_default) {
+      return Status::Error(std::string("--") + name + "=" + info.current_value +
+                           " applies only to simulated data, but " + data_flag +
+                           " names measured data; drop one of the two");
+    }
+  }
+  return Status::Ok();
+}
+
 inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
                              uint64_t seed, const LoadOptions& options,
                              const std::vector<OutputPath>& outputs, Experiment* experiment) {
