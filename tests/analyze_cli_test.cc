@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -132,6 +133,81 @@ TEST(AnalyzeBinary, AMissingPlotterIsSaidInTheReportNotAFailure) {
   const std::string markdown = testing::ReadText(report + "/report.md");
   EXPECT_NE(markdown.find("## Figures not drawn"), std::string::npos);
   EXPECT_NE(markdown.find("trajectory.png: cannot start /nonexistent/python3"), std::string::npos)
+      << markdown;
+}
+
+// The cells of the Markdown table that follows `heading` in `markdown`, header row first.
+std::vector<std::vector<std::string>> MarkdownTable(const std::string& markdown,
+                                                    const std::string& heading) {
+  std::vector<std::vector<std::string>> rows;
+  size_t at = markdown.find(heading);
+  if (at == std::string::npos) return rows;
+  at = markdown.find("\n|", at);
+  while (at != std::string::npos && at + 1 < markdown.size() && markdown[at + 1] == '|') {
+    const size_t end = markdown.find('\n', at + 1);
+    const std::string line = markdown.substr(at + 1, end - at - 1);
+    std::vector<std::string> cells;
+    for (size_t from = 1, bar; (bar = line.find('|', from)) != std::string::npos; from = bar + 1) {
+      std::string cell = line.substr(from, bar - from);
+      cell.erase(0, cell.find_first_not_of(' '));
+      cell.erase(cell.find_last_not_of(' ') + 1);
+      cells.push_back(cell);
+    }
+    if (cells.empty() || cells[0] != "---") rows.push_back(cells);
+    at = end;
+  }
+  return rows;
+}
+
+// Issue 18: the discovery table marked nonorthogonality significant at step 1 beside a
+// verdict naming only angle_offset, because the step-2 rows were filtered out. Every row
+// the table marks significant or added must be accounted for: added and in the final
+// effects (or said dropped), or said to be scored again at a later step that the table shows.
+TEST(AnalyzeBinary, TheDiscoveryTableAgreesWithTheVerdict) {
+  ScratchDir out;
+  const std::string report = out.File("report");
+  const CommandResult result =
+      RunBinary("analyze", "--out_dir='" + report + "' --python=/nonexistent/python3");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const nlohmann::json results = nlohmann::json::parse(testing::ReadText(report + "/results.json"));
+  std::set<std::string> effects;
+  for (const auto& effect : results["discover"]["effects"]) effects.insert(effect["name"]);
+  const std::string markdown = testing::ReadText(report + "/report.md");
+  const auto table = MarkdownTable(markdown, "## 3. What the baseline gets wrong");
+  ASSERT_GE(table.size(), 2u) << markdown;
+  const std::vector<std::string> header = {"step", "candidate", "delta chi2",
+                                           "p-value", "significant", "outcome"};
+  ASSERT_EQ(table[0], header);
+  // (step, candidate) of every row, and every step's rows as many as the JSON's.
+  std::set<std::pair<int, std::string>> shown;
+  for (size_t r = 1; r < table.size(); ++r) shown.insert({std::stoi(table[r][0]), table[r][1]});
+  EXPECT_EQ(shown.size(), results["discover"]["candidates"].size());
+  int significant_rows = 0;
+  for (size_t r = 1; r < table.size(); ++r) {
+    const std::vector<std::string>& row = table[r];
+    SCOPED_TRACE(row[0] + " " + row[1]);
+    const std::string& outcome = row[5];
+    if (outcome.rfind("added", 0) == 0) {
+      EXPECT_TRUE(effects.count(row[1]) == 1 || outcome.find("dropped") != std::string::npos)
+          << outcome;
+      if (effects.count(row[1]) == 1) {
+        EXPECT_NE(markdown.find("**Verdict.**"), std::string::npos);
+        EXPECT_NE(markdown.substr(0, markdown.find("\n## ")).find(row[1]), std::string::npos)
+            << "an effect of the final model the verdict does not name";
+      }
+    }
+    if (row[4] != "yes") continue;
+    ++significant_rows;
+    if (outcome.rfind("added", 0) == 0) continue;
+    const std::string again = "scored again at step ";
+    const size_t at = outcome.find(again);
+    ASSERT_NE(at, std::string::npos) << "significant, neither added nor re-scored: " << outcome;
+    const int later = std::stoi(outcome.substr(at + again.size()));
+    EXPECT_GT(later, std::stoi(row[0]));
+    EXPECT_EQ(shown.count({later, row[1]}), 1u) << "the table does not show step " << later;
+  }
+  EXPECT_GE(significant_rows, 2);  // angle_offset and nonorthogonality at step 1
+  EXPECT_NE(markdown.find("How the model grew: step 1 added angle_offset"), std::string::npos)
       << markdown;
 }
 

@@ -4,6 +4,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <map>
 
 #include "common/format.h"
 #include "io/atomic_file.h"
@@ -80,6 +81,110 @@ std::string DiscoveryBox(const DiscoveryResult& d) {
     if (!says(finding.description)) noise += (noise.empty() ? "" : "; ") + finding.description;
   if (!noise.empty()) box += " Noise: " + noise + ".";
   return box;
+}
+
+// The step that added each effect forward selection added: the last step it was scored at
+// (an added effect leaves the candidates, and one dropped later is not offered again).
+std::map<std::string, int> StepsAdded(const DiscoveryResult& d) {
+  std::map<std::string, int> last_scored;
+  for (const CandidateScore& c : d.candidates) last_scored[Info(c.effect).name] = c.step;
+  std::map<std::string, int> added;
+  for (const SelectionEvent& event : d.history) {
+    const auto scored = last_scored.find(Info(event.effect).name);
+    if (event.kind == SelectionEvent::Kind::kAdded && scored != last_scored.end())
+      added[scored->first] = scored->second;
+  }
+  return added;
+}
+
+// Why an effect left the model, in words.
+std::string DropReason(SelectionEvent::Kind kind) {
+  return kind == SelectionEvent::Kind::kDroppedForShape
+             ? "explained by the remaining structure"
+             : "not needed once the effects added after it were in";
+}
+
+// What became of each row of d.candidates: added (and dropped later, and why), or, for a
+// significant one not added, which effect its step added instead and the step that scored it
+// again.
+std::vector<std::string> CandidateOutcomes(const DiscoveryResult& d) {
+  const std::map<std::string, int> added = StepsAdded(d);
+  std::map<std::string, std::string> dropped;
+  for (const SelectionEvent& event : d.history)
+    if (event.kind != SelectionEvent::Kind::kAdded)
+      dropped[Info(event.effect).name] = DropReason(event.kind);
+  std::map<int, std::string> added_at;
+  for (const auto& [name, step] : added) added_at[step] = name;
+  std::vector<std::string> outcomes;
+  for (const CandidateScore& c : d.candidates) {
+    const std::string name = Info(c.effect).name;
+    const auto step = added.find(name);
+    if (step != added.end() && step->second == c.step) {
+      const auto gone = dropped.find(name);
+      outcomes.push_back(gone == dropped.end() ? "added"
+                                               : "added; dropped later: " + gone->second);
+      continue;
+    }
+    if (!c.significant) {
+      // One significant at an earlier step is explained by what was added since.
+      bool was_significant = false;
+      for (const CandidateScore& earlier : d.candidates)
+        was_significant |= earlier.step < c.step && earlier.effect == c.effect && earlier.significant;
+      std::string since;
+      for (const auto& [step, effect] : added_at)
+        if (step < c.step) since += (since.empty() ? "" : ", ") + effect;
+      outcomes.push_back(was_significant && !since.empty()
+                             ? "no longer significant with " + since + " in the model"
+                             : "");
+      continue;
+    }
+    // The first later step that scored it again, if any.
+    int again = 0;
+    for (const CandidateScore& later : d.candidates) {
+      if (later.step > c.step && later.effect == c.effect) {
+        again = later.step;
+        break;
+      }
+    }
+    const auto instead = added_at.find(c.step);
+    std::string outcome = instead == added_at.end()
+                              ? std::string("not added (not separable from the model)")
+                              : instead->second + " added instead (larger delta chi2)";
+    outcome += again > 0 ? StringPrintf("; scored again at step %d", again)
+                         : std::string("; not scored again");
+    outcomes.push_back(outcome);
+  }
+  return outcomes;
+}
+
+// How the model grew, in order: each addition with its step, each drop with its reason.
+std::string ModelGrowth(const DiscoveryResult& d) {
+  if (d.history.empty()) return "How the model grew: no step added an effect.";
+  const std::map<std::string, int> added = StepsAdded(d);
+  std::string text = "How the model grew: ";
+  for (size_t i = 0; i < d.history.size(); ++i) {
+    const SelectionEvent& event = d.history[i];
+    const std::string name = Info(event.effect).name;
+    text += i == 0 ? "" : "; ";
+    if (event.kind == SelectionEvent::Kind::kAdded) {
+      const auto step = added.find(name);
+      text += step == added.end() ? "added " : StringPrintf("step %d added ", step->second);
+    } else {
+      text += "dropped ";
+    }
+    text += name + StringPrintf(" (delta chi2 %.2f, p = %.3g, run tied to %s)", event.delta_chi2,
+                                event.p_value,
+                                event.landmark.empty() ? "no landmark" : event.landmark.c_str());
+    if (event.kind != SelectionEvent::Kind::kAdded) text += ": " + DropReason(event.kind);
+  }
+  const int last_step = d.candidates.empty() ? 0 : d.candidates.back().step;
+  bool any_significant = false;
+  for (const CandidateScore& c : d.candidates)
+    any_significant |= c.step == last_step && c.significant;
+  if (last_step > 0 && !any_significant)
+    text += StringPrintf("; step %d found no candidate significant, which ends the search",
+                         last_step);
+  return text + ".";
 }
 
 ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std::string>& absent) {
@@ -226,13 +331,19 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
       text += ". What would separate them: " + ambiguity.separation;
     discovery.paragraphs.push_back(text + ".");
   }
-  discovery.table.push_back({"step", "candidate", "delta chi2", "p-value", "significant"});
-  for (const CandidateScore& c : d.candidates) {
-    if (c.step == 1 || c.significant) {
-      discovery.table.push_back({std::to_string(c.step), Info(c.effect).name,
-                                 Num(c.delta_chi2, "%.2f"), Num(c.p_value, "%.3g"),
-                                 c.significant ? "yes" : ""});
-    }
+  discovery.paragraphs.push_back(
+      // clang-format off
+      "Each step scores every candidate left against the model of that step (score test, Holm at alpha/2) and adds the most significant one; the next step scores the rest again against the grown model, so an effect significant at one step may be explained by the one added there. Backward elimination then drops what the grown model no longer needs.");
+  // clang-format on
+  discovery.paragraphs.push_back(ModelGrowth(d));
+  discovery.table.push_back(
+      {"step", "candidate", "delta chi2", "p-value", "significant", "outcome"});
+  const std::vector<std::string> outcomes = CandidateOutcomes(d);
+  for (size_t i = 0; i < d.candidates.size(); ++i) {
+    const CandidateScore& c = d.candidates[i];
+    discovery.table.push_back({std::to_string(c.step), Info(c.effect).name,
+                               Num(c.delta_chi2, "%.2f"), Num(c.p_value, "%.3g"),
+                               c.significant ? "yes" : "", outcomes[i]});
   }
   discovery.figure = "discovery.png";
   discovery.figure_caption =
