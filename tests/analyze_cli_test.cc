@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "reporting/report_document.h"
 #include "test_support.h"
 
 extern char** environ;
@@ -209,6 +210,40 @@ TEST(AnalyzeBinary, TheDiscoveryTableAgreesWithTheVerdict) {
   EXPECT_GE(significant_rows, 2);  // angle_offset and nonorthogonality at step 1
   EXPECT_NE(markdown.find("How the model grew: step 1 added angle_offset"), std::string::npos)
       << markdown;
+}
+
+// Issue 18: at 390 px the tables were cut off (no viewport tag, nothing scrolled).
+TEST(ReportDocument, TheHtmlFitsAPhone) {
+  ReportDocument document;
+  document.title = "a report";
+  document.verdict = "fine";
+  for (int k = 0; k < 2; ++k) {
+    ReportSection section;
+    section.title = "section";
+    section.table = {{"a", "b", "c", "d", "e", "f"}, {"1", "2", "3", "4", "5", "6"}};
+    section.figure = "absent.png";
+    document.sections.push_back(section);
+  }
+  const std::string html = RenderHtml(document, "/nonexistent");
+  const size_t head_end = html.find("</head>");
+  ASSERT_NE(head_end, std::string::npos);
+  EXPECT_NE(html.substr(0, head_end)
+                .find("<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"),
+            std::string::npos)
+      << html;
+  // Every table sits directly in a wrapper that scrolls sideways.
+  const std::string wrapper = "<div class=\"table-scroll\">\n<table>";
+  int tables = 0;
+  for (size_t at = html.find("<table"); at != std::string::npos; at = html.find("<table", at + 1)) {
+    ++tables;
+    ASSERT_GE(at, wrapper.size() - 7);
+    EXPECT_EQ(html.compare(at - (wrapper.size() - 7), wrapper.size(), wrapper), 0)
+        << html.substr(at - 40, 60);
+    EXPECT_NE(html.find("</table>\n</div>", at), std::string::npos);
+  }
+  EXPECT_EQ(tables, 2);
+  EXPECT_NE(html.find(".table-scroll{overflow-x:auto"), std::string::npos);
+  EXPECT_NE(html.find("img{max-width:100%"), std::string::npos);
 }
 
 // A stand-in for --python that interrupts the run that started it: analyze starts the

@@ -82,9 +82,9 @@ std::string RenderMarkdown(const ReportDocument& document) {
 std::string RenderHtml(const ReportDocument& document, const std::string& folder) {
   // clang-format off
   std::string html =
-      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>" +
+      "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>" +
       Escape(document.title) +
-      "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;line-height:1.45}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}th{background:#eee}.verdict{background:#eef6ee;border-left:5px solid #4a4;padding:.6em 1em}img{max-width:100%}.missing{color:#a33}</style></head><body>\n<h1>" +
+      "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 .8em;line-height:1.45}.table-scroll{overflow-x:auto;max-width:100%}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}th{background:#eee}.verdict{background:#eef6ee;border-left:5px solid #4a4;padding:.6em 1em}figure{margin:1em 0;max-width:100%}img{max-width:100%;height:auto}.missing{color:#a33}</style></head><body>\n<h1>" +
       // clang-format on
       Escape(document.title) + "</h1>\n<p class=\"verdict\"><b>Verdict.</b> " +
       Escape(document.verdict) + "</p>\n";
@@ -93,7 +93,8 @@ std::string RenderHtml(const ReportDocument& document, const std::string& folder
     for (const std::string& paragraph : section.paragraphs)
       html += "<p>" + Escape(paragraph) + "</p>\n";
     if (!section.table.empty()) {
-      html += "<table>\n";
+      // A wide table scrolls inside its wrapper instead of widening the page on a phone.
+      html += "<div class=\"table-scroll\">\n<table>\n";
       for (size_t r = 0; r < section.table.size(); ++r) {
         html += "<tr>";
         for (const std::string& cell : section.table[r]) {
@@ -101,7 +102,7 @@ std::string RenderHtml(const ReportDocument& document, const std::string& folder
         }
         html += "</tr>\n";
       }
-      html += "</table>\n";
+      html += "</table>\n</div>\n";
     }
     if (!section.figure.empty()) {
       std::string bytes;
