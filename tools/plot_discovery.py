@@ -111,7 +111,7 @@ def draw_remains(axes_, x_values, residuals, noise, against, sort):
     axes_.grid(True, alpha=0.3)
     handles, labels = axes_.get_legend_handles_labels()
     more_handles, more_labels = means.get_legend_handles_labels()
-    means.legend(handles + more_handles, labels + more_labels, loc="upper right", fontsize=8)
+    means.legend(handles + more_handles, labels + more_labels, loc="upper right")
 
 
 def main():
@@ -134,16 +134,19 @@ def main():
         return 2
 
     named = [effect["name"] for effect in result["effects"]]
-    if residuals is None:
-        figure, axes = plt.subplots(1, 3, figsize=(16, 5.2), gridspec_kw={"width_ratios": [1, 1, 1.1]})
-    else:
-        # Top row as without residuals; the bottom row's two panels each span half the width.
-        figure = plt.figure(figsize=(16, 10.4))
-        grid = figure.add_gridspec(2, 6)
-        axes = [figure.add_subplot(grid[0, 0:2]), figure.add_subplot(grid[0, 2:4]),
-                figure.add_subplot(grid[0, 4:6])]
-        remains_theta = figure.add_subplot(grid[1, 0:3])
-        remains_time = figure.add_subplot(grid[1, 3:6])
+    # The report shows the figure about 900-1000 px wide: a figure 9 in wide at 120 dpi is shown
+    # near its own size, so text at 10-11 pt stays legible (issue 18: three panels side by side
+    # at 16 in were shrunk to ~6 px text). The panels stack: the two axes side by side, the
+    # endpoint below them, then what the final model leaves, against theta and against time.
+    plt.rcParams.update({"font.size": 11, "legend.fontsize": 9, "axes.titlesize": 11})
+    rows = 2 if residuals is None else 4
+    heights = [3.8, 4.6] + ([3.6, 3.6] if residuals is not None else [])
+    figure = plt.figure(figsize=(9, sum(heights) + 1.2))
+    grid = figure.add_gridspec(rows, 2, height_ratios=heights)
+    axes = [figure.add_subplot(grid[0, 0]), figure.add_subplot(grid[0, 1]), figure.add_subplot(grid[1, :])]
+    if residuals is not None:
+        remains_theta = figure.add_subplot(grid[2, :])
+        remains_time = figure.add_subplot(grid[3, :])
         draw_remains(remains_theta, residuals["theta_rad"], residuals, result.get("noise", {}), "θ (rad)",
                      sort=True)
         remains_theta.set_title("what the final model leaves, against θ")
@@ -163,7 +166,7 @@ def main():
         axes_.set_ylabel(f"residual of a{axis_name} (m/s²)")
         axes_.set_title(f"{axis_name} axis: what the baseline leaves")
         axes_.grid(True, alpha=0.3)
-        axes_.legend(loc="best", fontsize=8)
+        axes_.legend(loc="best")
 
     axes_ = axes[2]
     for side, color in (("baseline", "tab:blue"), ("extended", "tab:red")):
@@ -180,17 +183,17 @@ def main():
     axes_.set_ylabel("y (m)")
     axes_.set_aspect("equal", adjustable="datalim")
     axes_.grid(True, alpha=0.3)
-    axes_.legend(loc="best", fontsize=8)
+    axes_.legend(loc="best")
     axes_.set_title("endpoint before and after (1σ solid, 3σ dotted)")
     title = result["verdict"]
     code = result.get("verdict_code", "")
     if code and not title.startswith(code.replace("_", " ")):
         title = f"{code}: {title}"
-    lines = textwrap.wrap(textwrap.shorten(title, width=720, placeholder=" ..."), width=180)
-    figure.suptitle("\n".join(lines), fontsize=9)
+    lines = textwrap.wrap(textwrap.shorten(title, width=480, placeholder=" ..."), width=95)
+    figure.suptitle("\n".join(lines), fontsize=11)
     # Room at the top for the verdict's lines.
-    figure.tight_layout(rect=(0, 0, 1, 1 - 0.16 * len(lines) / figure.get_figheight()))
-    figure.savefig(args.out, dpi=110)
+    figure.tight_layout(rect=(0, 0, 1, 1 - 0.2 * len(lines) / figure.get_figheight()))
+    figure.savefig(args.out, dpi=120)
     print(args.out)
     return 0
 

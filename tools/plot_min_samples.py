@@ -9,6 +9,7 @@ their error bars, the criterion and each design's N_min.
 import argparse
 import json
 import sys
+import textwrap
 
 import matplotlib
 
@@ -29,6 +30,8 @@ def main():
         return 2
     figure, axes = plt.subplots(figsize=(9, 6))
     styles = ["-", "--", "-.", ":"]
+    markers = {"full_simulation": "o", "real_test_subsets": "s", "real_test_even_subsets": "s"}
+    drawn = set()  # the kinds of marker on the figure, which the title explains
     for index, design in enumerate(result["designs"]):
         n = [point["n"] for point in design["curve"]]
         p = [max(point["p_wrong"], 1e-7) for point in design["curve"]]
@@ -37,20 +40,39 @@ def main():
             # Each check beside its own analytic value (x): subsets of the real test keep the
             # run's one noise realisation fixed, so their analytic value is not the curve's.
             axes.plot(check["n"], max(check["analytic"], 1e-7), "x", color=line.get_color(), markersize=9)
+            drawn.add("x")
+            marker = markers.get(check["kind"], "o")
             if check["monte_carlo"] > 0:
-                axes.errorbar(check["n"], check["monte_carlo"], yerr=check["monte_carlo_sd"], fmt="o" if
-                              check["kind"] == "full_simulation" else "s", color=line.get_color(), capsize=3)
+                axes.errorbar(check["n"], check["monte_carlo"], yerr=check["monte_carlo_sd"], fmt=marker,
+                              color=line.get_color(), capsize=3)
+                drawn.add(marker)
+            elif check.get("repetitions", 0) > 0:
+                # No trial wrong: a log axis has no 0, so the point is drawn at 1/repetitions
+                # as an upper bound.
+                axes.plot(check["n"], 1.0 / check["repetitions"], "v", color=line.get_color(), markersize=8)
+                drawn.add("v")
         if design["n_min"] > 0:
             axes.axvline(design["n_min"], color=line.get_color(), alpha=0.3)
     axes.axhline(result["max_error"], color="tab:red", linewidth=1, label=f'criterion P(wrong) = {result["max_error"]}')
     axes.set_xlabel("tilt-test samples N")
     axes.set_ylabel(f'P(deciding a wrong landmark; truth {result["truth"]})')
-    axes.set_title("How many samples decide the landmark (circles: full simulation, squares: subsets of the real\n"
-                   "test, x: the analytic value each Monte Carlo point checks)", fontsize=9)
+    # The title names only the markers drawn (issue 18: it promised Monte Carlo points that a
+    # run without --repetitions does not have).
+    meanings = [("o", "circles: full simulation"), ("s", "squares: subsets of the real test"),
+                ("v", "triangles: no trial wrong, at 1/repetitions"),
+                ("x", "x: the analytic value each Monte Carlo point checks")]
+    legend = [text for marker, text in meanings if marker in drawn]
+    title = "How many samples decide the landmark"
+    if legend:
+        title += " (" + "; ".join(legend) + ")"
+    else:
+        title += " (analytic curves only: no Monte Carlo check in this run; min_samples --repetitions adds them)"
+    axes.set_title("\n".join(textwrap.wrap(title, width=95)), fontsize=10)
     axes.grid(True, which="both", alpha=0.3)
-    axes.legend(loc="best", fontsize=8)
+    axes.legend(loc="best", fontsize=9)
     figure.tight_layout()
-    figure.savefig(args.out, dpi=110)
+    # The title in the PNG's metadata too, so a test can read what the figure promises.
+    figure.savefig(args.out, dpi=110, metadata={"Title": title})
     print(args.out)
     return 0
 
