@@ -168,9 +168,14 @@ Status ParseAngleUnit(const std::string& text, AngleUnit* unit) {
 
 Status ResolveDataFiles(const std::string& data_dir, DataFiles* files) {
   if (!IsDirectory(data_dir)) {
-    return Status::Error(data_dir +
-                         ": no such directory; --data_dir must name a folder "
-                         "holding ensayo.mat (course layout) or calibration.csv");
+    // Say what is there instead: a file given as --data_dir is the common slip.
+    struct stat info;
+    const std::string what = stat(data_dir.c_str(), &info) != 0 ? ": no such directory"
+                             : S_ISREG(info.st_mode)            ? ": is a file, not a folder"
+                                                                : ": is not a folder";
+    return Status::Error(data_dir + what +
+                         "; --data_dir must name a folder holding ensayo.mat (course layout) "
+                         "or calibration.csv");
   }
   const std::string dir = data_dir.back() == '/' ? data_dir : data_dir + "/";
   if (IsRegularFile(dir + "ensayo.mat") && IsRegularFile(dir + "calibration.csv")) {
