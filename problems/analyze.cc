@@ -130,19 +130,16 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = Load(&inputs);
   AnalyzeReport report;
   if (status.ok()) status = Analyse(inputs, ChooseGravity(inputs.conditions, FLAGS_g), &report);
-  int figures_drawn = 0;
+  FigureOutcome figures;
   if (status.ok()) {
     status = WriteDirectoryAtomically(FLAGS_out_dir, FLAGS_overwrite, [&](const std::string& dir) {
-      return WriteAnalyzeReport(dir, report, {FLAGS_tools_dir, FLAGS_python}, &figures_drawn);
+      return WriteAnalyzeReport(dir, report, {FLAGS_tools_dir, FLAGS_python}, &figures);
     });
   }
   if (!status.ok()) return ExitWithError("analyze", status);
   std::cout << "accelcal analyze: " << report.discovery.verdict << "\n  report: " << FLAGS_out_dir
-            << "/report.html (and report.md, results.json"
-            << (figures_drawn == 3   ? ", figures)"
-                : figures_drawn == 0 ? "; no figures were drawn: the report says why)"
-                                     : "; some figures were not drawn: the report says why)")
-            << "\n";
+            << "/report.html (and report.md, results.json)\n  figures: "
+            << FigureOutcomeLine(figures) << "\n";
   return 0;
 }
 

@@ -135,6 +135,23 @@ TEST(AnalyzeBinary, AMissingPlotterIsSaidInTheReportNotAFailure) {
   EXPECT_NE(markdown.find("## Figures not drawn"), std::string::npos);
   EXPECT_NE(markdown.find("trajectory.png: cannot start /nonexistent/python3"), std::string::npos)
       << markdown;
+  // Issue 18: the console said "(and ... figures)" while the report said none were drawn; it
+  // says what happened and why, as the report does.
+  EXPECT_EQ(result.stdout_text.find("figures)"), std::string::npos) << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("\n  figures: none drawn: cannot start /nonexistent/python3"),
+            std::string::npos)
+      << result.stdout_text;
+}
+
+TEST(AnalyzeBinary, TheConsoleNamesTheFiguresDrawn) {
+  if (!MatplotlibAvailable()) GTEST_SKIP() << "no python3-matplotlib: figures are not drawn";
+  ScratchDir out;
+  const CommandResult result = RunBinary("analyze", "--out_dir='" + out.File("report") + "'");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find(
+                "\n  figures: all drawn (trajectory.png, discovery.png, min_samples.png)"),
+            std::string::npos)
+      << result.stdout_text;
 }
 
 // The cells of the Markdown table that follows `heading` in `markdown`, header row first.

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <map>
@@ -419,8 +420,30 @@ nlohmann::json AnalyzeJson(const AnalyzeReport& r) {
           {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
 }
 
+std::string FigureOutcomeLine(const FigureOutcome& figures) {
+  auto list = [](const std::vector<std::string>& names) {
+    std::string text;
+    for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
+    return text;
+  };
+  if (figures.absent.empty()) return "all drawn (" + list(figures.drawn) + ")";
+  std::vector<std::string> absent;
+  std::vector<std::string> reasons;
+  for (const auto& [figure, why] : figures.absent) {
+    absent.push_back(figure);
+    if (std::find(reasons.begin(), reasons.end(), why) == reasons.end()) reasons.push_back(why);
+  }
+  std::string line = figures.drawn.empty() ? std::string("none drawn: ")
+                                           : list(figures.drawn) + " drawn; " + list(absent) +
+                                                 " not drawn: ";
+  if (reasons.size() == 1) return line + reasons[0];
+  for (size_t i = 0; i < absent.size(); ++i)
+    line += (i == 0 ? "" : "; ") + absent[i] + ": " + figures.absent.at(absent[i]);
+  return line;
+}
+
 Status WriteAnalyzeReport(const std::string& dir, const AnalyzeReport& r, const FigureTools& tools,
-                          int* figures_drawn) {
+                          FigureOutcome* outcome) {
   const nlohmann::json results = AnalyzeJson(r);
   ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/results.json", results));
   ACCELCAL_RETURN_IF_ERROR(WriteJsonAtomically(dir + "/trajectory.json", results["trajectory"]));
@@ -447,7 +470,11 @@ Status WriteAnalyzeReport(const std::string& dir, const AnalyzeReport& r, const 
     const std::string why = Plot(tools, script.first, arguments);
     if (!why.empty()) absent[figure] = why;
   }
-  *figures_drawn = static_cast<int>(figures.size() - absent.size());
+  outcome->absent = absent;
+  outcome->drawn.clear();
+  // In the report's order, not the map's.
+  for (const char* figure : {"trajectory.png", "discovery.png", "min_samples.png"})
+    if (figures.count(figure) == 1 && absent.count(figure) == 0) outcome->drawn.push_back(figure);
   const ReportDocument document = Document(r, absent);
   ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(dir + "/report.md", RenderMarkdown(document)));
   return WriteFileAtomically(dir + "/report.html", RenderHtml(document, dir));

@@ -8,6 +8,7 @@
 // be drawn is named in the report with the reason).
 
 #include <nlohmann/json.hpp>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -42,10 +43,19 @@ struct FigureTools {
   std::string python;
 };
 
-// Writes the report folder's files into `dir`; `figures_drawn` receives how many of the
-// three figures were drawn.
+// Which figures the plot scripts drew, and why each absent one is absent.
+struct FigureOutcome {
+  std::vector<std::string> drawn;
+  std::map<std::string, std::string> absent;  // figure -> why
+};
+
+// One line for the console: the figures drawn, or those not drawn and why (a reason shared by
+// every absent figure is said once).
+std::string FigureOutcomeLine(const FigureOutcome& figures);
+
+// Writes the report folder's files into `dir`; `figures` receives which figures were drawn.
 Status WriteAnalyzeReport(const std::string& dir, const AnalyzeReport& report,
-                          const FigureTools& tools, int* figures_drawn);
+                          const FigureTools& tools, FigureOutcome* figures);
 
 }  // namespace accelcal
 
