@@ -25,8 +25,9 @@ DEFINE_string(data_dir, "",
               // clang-format off
               "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
 // clang-format on
-DEFINE_string(design, "all",
-              // clang-format off
+DEFINE_string(
+    design, "all",
+    // clang-format off
               "The tilt-test design whose N samples are judged: uniform (N samples evenly over one turn, 0 to 360 deg, like the course's sweep), four (N/4 static samples at each of 0, 90, 180 and 270 deg), two (N/2 at each of 45 and 225 deg), optimal (N/2 at each of the two positions, on a 5 deg grid, that give the smallest P(wrong landmark) at the uniform design's N_min, or at 100 samples when uniform is not run), or all. docs/min_samples.md explains the question, the criterion and the Monte Carlo check.");
 // clang-format on
 DEFINE_double(max_error, 0.01,

@@ -193,7 +193,7 @@ TEST(AnalyzeBinary, TheDiscoveryTableAgreesWithTheVerdict) {
   const std::string markdown = testing::ReadText(report + "/report.md");
   const auto table = MarkdownTable(markdown, "## 3. What the baseline gets wrong");
   ASSERT_GE(table.size(), 2u) << markdown;
-  const std::vector<std::string> header = {"step", "candidate", "delta chi2",
+  const std::vector<std::string> header = {"step",    "candidate",   "delta chi2",
                                            "p-value", "significant", "outcome"};
   ASSERT_EQ(table[0], header);
   // (step, candidate) of every row, and every step's rows as many as the JSON's.

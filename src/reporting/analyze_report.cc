@@ -122,15 +122,15 @@ std::vector<std::string> CandidateOutcomes(const DiscoveryResult& d) {
     const auto step = added.find(name);
     if (step != added.end() && step->second == c.step) {
       const auto gone = dropped.find(name);
-      outcomes.push_back(gone == dropped.end() ? "added"
-                                               : "added; dropped later: " + gone->second);
+      outcomes.push_back(gone == dropped.end() ? "added" : "added; dropped later: " + gone->second);
       continue;
     }
     if (!c.significant) {
       // One significant at an earlier step is explained by what was added since.
       bool was_significant = false;
       for (const CandidateScore& earlier : d.candidates)
-        was_significant |= earlier.step < c.step && earlier.effect == c.effect && earlier.significant;
+        was_significant |=
+            earlier.step < c.step && earlier.effect == c.effect && earlier.significant;
       std::string since;
       for (const auto& [step, effect] : added_at)
         if (step < c.step) since += (since.empty() ? "" : ", ") + effect;
@@ -183,8 +183,8 @@ std::string ModelGrowth(const DiscoveryResult& d) {
   for (const CandidateScore& c : d.candidates)
     any_significant |= c.step == last_step && c.significant;
   if (last_step > 0 && !any_significant)
-    text += StringPrintf("; step %d found no candidate significant, which ends the search",
-                         last_step);
+    text +=
+        StringPrintf("; step %d found no candidate significant, which ends the search", last_step);
   return text + ".";
 }
 
@@ -433,9 +433,9 @@ std::string FigureOutcomeLine(const FigureOutcome& figures) {
     absent.push_back(figure);
     if (std::find(reasons.begin(), reasons.end(), why) == reasons.end()) reasons.push_back(why);
   }
-  std::string line = figures.drawn.empty() ? std::string("none drawn: ")
-                                           : list(figures.drawn) + " drawn; " + list(absent) +
-                                                 " not drawn: ";
+  std::string line = figures.drawn.empty()
+                         ? std::string("none drawn: ")
+                         : list(figures.drawn) + " drawn; " + list(absent) + " not drawn: ";
   if (reasons.size() == 1) return line + reasons[0];
   for (size_t i = 0; i < absent.size(); ++i)
     line += (i == 0 ? "" : "; ") + absent[i] + ": " + figures.absent.at(absent[i]);

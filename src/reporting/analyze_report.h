@@ -7,8 +7,8 @@
 // and CSV files, and the figures drawn by the plot scripts in tools/ (a figure that cannot
 // be drawn is named in the report with the reason).
 
-#include <nlohmann/json.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
