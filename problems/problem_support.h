@@ -209,8 +209,7 @@ inline const char* DefaultToolsDir(const char* source_tools_dir) {
     if (length > 0) {
       const std::string path(executable, static_cast<size_t>(length));
       const std::string bin_dir = path.substr(0, path.rfind('/'));
-      const std::string installed =
-          bin_dir.substr(0, bin_dir.rfind('/')) + "/share/accelcal/tools";
+      const std::string installed = bin_dir.substr(0, bin_dir.rfind('/')) + "/share/accelcal/tools";
       if (access((installed + "/plot_discovery.py").c_str(), R_OK) == 0) return installed;
     }
     return std::string(source_tools_dir);

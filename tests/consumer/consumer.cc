@@ -1,4 +1,5 @@
-// Links the installed library, its headers included by the accelcal/ prefix: simulate the course's setting, fit the baseline, print bias_x.
+// Links the installed library, its headers included by the accelcal/ prefix: simulate the
+// course's setting, fit the baseline, print bias_x.
 #include <cstdio>
 
 #include "accelcal/estimation/linear_ls.h"
