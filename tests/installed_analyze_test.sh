@@ -48,6 +48,13 @@ if ! "$prefix/bin/analyze" --help | grep -qF "default: \"$prefix/share/accelcal/
 fi
 
 cp -r "$data" "$scratch/data"
+# A sanitized build (./tools/test.sh --sanitize) reads LeakSanitizer's suppressions from the
+# source tree, which the run below hides: a copy is read instead.
+lsan_supp=$(sed -n 's/.*suppressions=\([^:]*\).*/\1/p' <<<"${LSAN_OPTIONS:-}")
+if [ -n "$lsan_supp" ] && [ -f "$lsan_supp" ]; then
+  cp "$lsan_supp" "$scratch/lsan.supp"
+  export LSAN_OPTIONS=${LSAN_OPTIONS//$lsan_supp/$scratch/lsan.supp}
+fi
 mkdir "$scratch/work" "$scratch/empty"
 run_analyze=(env -u ACCELCAL_TOOLS_DIR "$prefix/bin/analyze" --data_dir="$scratch/data"
   --out_dir="$scratch/report" --python="$python")
