@@ -41,7 +41,10 @@ DEFINE_double(alpha, 0.01,
 DEFINE_double(max_error, 0.01,
               "The minimum-N criterion: the largest acceptable P(wrong landmark), 1e-6 to 0.499.");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
-DEFINE_string(tools_dir, ACCELCAL_TOOLS_DIR, "Folder of the plot scripts (tools/plot_*.py).");
+DEFINE_string(tools_dir, accelcal::DefaultToolsDir(ACCELCAL_TOOLS_DIR),
+              // clang-format off
+              "Folder of the plot scripts (plot_*.py). Default: PREFIX/share/accelcal/tools for an installed analyze (PREFIX/bin/analyze), else the source tree's tools/.");
+// clang-format on
 DEFINE_string(python, "/usr/bin/python3", "Python with matplotlib, for the figures.");
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);

@@ -197,6 +197,26 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
   return true;
 }
 
+// The default of analyze's --tools_dir, the folder of the plot scripts: for an installed
+// binary (PREFIX/bin/analyze, found through /proc/self/exe, so a moved prefix still works)
+// PREFIX/share/accelcal/tools when it holds the scripts; otherwise `source_tools_dir`, the
+// source tree's tools/ that the build compiled in. The first call decides; the pointer stays
+// valid for the life of the program, as a flag's default must.
+inline const char* DefaultToolsDir(const char* source_tools_dir) {
+  static const std::string tools_dir = [source_tools_dir] {
+    char executable[4096];
+    const ssize_t length = readlink("/proc/self/exe", executable, sizeof(executable) - 1);
+    if (length > 0) {
+      const std::string path(executable, static_cast<size_t>(length));
+      const std::string bin_dir = path.substr(0, path.rfind('/'));
+      const std::string installed = bin_dir.substr(0, bin_dir.rfind('/')) + "/share/accelcal/tools";
+      if (access((installed + "/plot_discovery.py").c_str(), R_OK) == 0) return installed;
+    }
+    return std::string(source_tools_dir);
+  }();
+  return tools_dir.c_str();
+}
+
 // --theta_unit, defined in each binary that reads a tilt test (so that its --help lists it)
 // with one help text.
 // clang-format off

@@ -7,5 +7,6 @@ set -euo pipefail
 ACCELCAL_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 source "$ACCELCAL_ROOT/tools/setup.sh"
 accelcal_install_packages
-accelcal_build "$ACCELCAL_ROOT/build"
+# Only analyze and what it links: the tests, benchmarks and fuzz replays are tools/test.sh's.
+accelcal_build "$ACCELCAL_ROOT/build" --target analyze
 exec "$ACCELCAL_ROOT/build/bin/analyze" --out_dir="$ACCELCAL_ROOT/report" --overwrite "$@"

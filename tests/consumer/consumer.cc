@@ -1,8 +1,9 @@
-// Links the installed library: simulate the course's setting, fit the baseline, print bias_x.
+// Links the installed library, its headers included by the accelcal/ prefix: simulate the
+// course's setting, fit the baseline, print bias_x.
 #include <cstdio>
 
-#include "estimation/linear_ls.h"
-#include "io/scenario_json.h"
+#include "accelcal/estimation/linear_ls.h"
+#include "accelcal/io/scenario_json.h"
 
 int main() {
   accelcal::Scenario scenario;
