@@ -73,6 +73,7 @@ Status Load(Experiment* inputs) {
 
 Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   r->source = inputs.source;
+  r->data_source = inputs.data_source;
   r->truth = inputs.truth;
   r->test = inputs.test;
   r->landmarks = inputs.landmarks;
@@ -140,6 +141,7 @@ int Run(int argc, char** argv) {
     });
   }
   if (!status.ok()) return ExitWithError("analyze", status);
+  std::cout << DataLine(inputs.data_source) << "\n";
   std::cout << "accelcal analyze: " << report.discovery.verdict << "\n  report: " << FLAGS_out_dir
             << "/report.html (and report.md, results.json)\n  figures: "
             << FigureOutcomeLine(figures) << "\n";

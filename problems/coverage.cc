@@ -45,10 +45,11 @@ int Run(int argc, char** argv) {
     status = Status::Error("--effect_trials must be 0 or at least 10");
   }
   Scenario scenario;
-  RunInputs inputs;
-  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
-  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, inputs);
-  if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
+  DataSource source;
+  if (status.ok()) {
+    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
+                                    {{"--json", FLAGS_json}}, &scenario, &source);
+  }
   if (!status.ok()) return ExitWithError("coverage", status);
 
   CoverageOptions options;
@@ -64,10 +65,10 @@ int Run(int argc, char** argv) {
     report.effects = RunEffectImpactTable(scenario, options);
   }
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(CoverageReportJson(report), &json_text);
+  if (!FLAGS_json.empty()) status = JsonText(WithProvenance(CoverageReportJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("coverage", status);
-  std::cout << CoverageText(report) << std::flush;
+  std::cout << WithDataLine(source, CoverageText(report)) << std::flush;
   return 0;
 }
 

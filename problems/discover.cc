@@ -92,7 +92,8 @@ int Run(int argc, char** argv) {
         Discover(inputs.test, inputs.run, inputs.conditions, inputs.landmarks, options, &result);
   if (!status.ok()) return ExitWithError("discover", status);
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(DiscoveryJson(result, FLAGS_alpha), &json_text);
+  if (!FLAGS_json.empty()) status = JsonText(
+        WithProvenance(DiscoveryJson(result, FLAGS_alpha), inputs.data_source), &json_text);
   if (status.ok()) {
     status = WriteOutputFiles(
         {{FLAGS_json, json_text},
@@ -101,7 +102,7 @@ int Run(int argc, char** argv) {
           FLAGS_residuals_csv.empty() ? "" : DiscoveryResidualsCsv(result, inputs.test)}});
   }
   if (!status.ok()) return ExitWithError("discover", status);
-  std::cout << DiscoveryText(result, FLAGS_alpha) << std::flush;
+  std::cout << WithDataLine(inputs.data_source, DiscoveryText(result, FLAGS_alpha)) << std::flush;
   return 0;
 }
 

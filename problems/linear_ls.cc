@@ -106,7 +106,8 @@ Status StreamCalibration(const std::string& path, AngleUnit theta_unit, double g
 }
 
 // Load (or simulate) the tilt test and the options it is solved with.
-Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* report) {
+Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* report,
+                  DataSource* source) {
   options->gravity_mps2 = FLAGS_g;
   if (FLAGS_data_dir.empty() && FLAGS_calibration_file.empty()) {
     RunInputs scenario_inputs;
@@ -115,6 +116,7 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario));
     const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
+    ACCELCAL_RETURN_IF_ERROR(DescribeSimulation(scenario, FLAGS_scenario, FLAGS_seed, source));
     test->samples = data.test;
     *options = LinearLsOptionsFor(data.conditions, ChooseGravity(data.conditions, FLAGS_g));
     report->simulation_seed = FLAGS_seed;
@@ -151,7 +153,7 @@ Status LoadInputs(TiltTest* test, LinearLsOptions* options, LinearLsReport* repo
   ACCELCAL_RETURN_IF_ERROR(conditions_status);
   *options = LinearLsOptionsFor(conditions, options->gravity_mps2);
   report->input_files = {{"calibration", files.calibration}, {"conditions", files.conditions}};
-  return Status::Ok();
+  return DescribeMeasuredData(FLAGS_data_dir, report->input_files, source);
 }
 
 // The closed form, then the Ceres cross-check unless the test is too large to hold.
@@ -191,14 +193,15 @@ int Run(int argc, char** argv) {
   TiltTest test;
   LinearLsOptions options;
   LinearLsReport report;
+  DataSource source;
   std::string json_text;
   Status status = ValidateFlags();
-  if (status.ok()) status = LoadInputs(&test, &options, &report);
+  if (status.ok()) status = LoadInputs(&test, &options, &report, &source);
   if (status.ok()) status = Solve(test, options, &report);
-  if (status.ok() && !FLAGS_json.empty()) status = JsonText(LinearLsJson(report), &json_text);
+  if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(LinearLsJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("linear_ls", status);
-  std::cout << LinearLsTable(report, FLAGS_v >= 1) << std::flush;
+  std::cout << WithDataLine(source, LinearLsTable(report, FLAGS_v >= 1)) << std::flush;
   return 0;
 }
 

@@ -114,13 +114,16 @@ int Run(int argc, char** argv) {
   NullRateReport report;
   std::string json_text;
   Status status = OptionsFromFlags(&report.options);
-  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs());
-  if (status.ok()) status = LoadDefaultScenario(&report.course);
+  DataSource source;
+  if (status.ok()) {
+    status = LoadSimulationScenario("", "", FLAGS_seed, {{"--json", FLAGS_json}}, &report.course,
+                                    &source);
+  }
   if (status.ok()) status = RunNullRateStudy(report.course, report.options, &report.study);
-  if (status.ok() && !FLAGS_json.empty()) status = JsonText(NullRateJson(report), &json_text);
+  if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(NullRateJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("null_rate", status);
-  std::cout << NullRateText(report) << std::flush;
+  std::cout << WithDataLine(source, NullRateText(report)) << std::flush;
   return 0;
 }
 

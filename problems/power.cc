@@ -62,10 +62,11 @@ int Run(int argc, char** argv) {
   PowerOptions& options = report.options;
   Status status = SizesFromFlag(&options.sizes_sigma);
   Scenario scenario;
-  RunInputs inputs;
-  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
-  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, inputs);
-  if (status.ok()) status = LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, &scenario);
+  DataSource source;
+  if (status.ok()) {
+    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
+                                    {{"--json", FLAGS_json}}, &scenario, &source);
+  }
   if (!status.ok()) return ExitWithError("power", status);
   options.trials = FLAGS_trials;
   options.alpha = FLAGS_alpha;
@@ -74,10 +75,10 @@ int Run(int argc, char** argv) {
   report.scenario_name = scenario.name;
   report.rows = RunPowerStudy(scenario, options);
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(PowerJson(report), &json_text);
+  if (!FLAGS_json.empty()) status = JsonText(WithProvenance(PowerJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("power", status);
-  std::cout << PowerText(report) << std::flush;
+  std::cout << WithDataLine(source, PowerText(report)) << std::flush;
   return 0;
 }
 

@@ -30,6 +30,7 @@
 #include "io/course_data.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
+#include "io/provenance.h"
 #include "io/run_conditions.h"
 #include "io/scenario_json.h"
 #include "simulation/scenario.h"
@@ -172,6 +173,7 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
                         int* argc, char*** argv) {
   // First, before any thread starts: an interruption removes our temporary files.
   InstallInterruptCleanup();
+  RecordCommandLine(*argc, *argv);
   gflags::SetUsageMessage(usage);
   for (int i = 1; i < *argc; ++i) {
     const char* argument = (*argv)[i];
@@ -276,6 +278,7 @@ struct Experiment : CourseData {
   std::map<std::string, std::string> files;  // role -> path; empty when simulated
   nlohmann::json truth = nullptr;            // truth.json's content when simulated
   std::string source;                        // one line saying where the data came from
+  DataSource data_source;                    // the same, with checksums (io/provenance.h)
   RunInputs inputs;                          // what was read (empty when simulated)
 };
 
@@ -344,6 +347,31 @@ inline Status RefuseSimulationFlags(const char* data_flag,
   return Status::Ok();
 }
 
+// The provenance every binary gives (io/provenance.h): the "data: ..." line first on stdout,
+// and source, input_files, command_line and accelcal_version in its JSON.
+inline nlohmann::json WithProvenance(nlohmann::json json, const DataSource& source) {
+  AddProvenanceJson(source, &json);
+  return json;
+}
+
+inline std::string WithDataLine(const DataSource& source, const std::string& text) {
+  return DataLine(source) + "\n" + text;
+}
+
+// The scenario a simulation or study runs (--scenario FILE, else the embedded one, with
+// --set's `assignments`), after `outputs` are checked against the scenario file; `source`
+// says so with `seed`.
+inline Status LoadSimulationScenario(const std::string& scenario_file,
+                                     const std::string& assignments, uint64_t seed,
+                                     const std::vector<OutputPath>& outputs, Scenario* scenario,
+                                     DataSource* source) {
+  RunInputs inputs;
+  if (!scenario_file.empty()) inputs.files.push_back(scenario_file);
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, inputs));
+  ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault(scenario_file, assignments, scenario));
+  return DescribeSimulation(*scenario, scenario_file, seed, source);
+}
+
 inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
                              uint64_t seed, const LoadOptions& options,
                              const std::vector<OutputPath>& outputs, Experiment* experiment) {
@@ -352,6 +380,7 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault("", assignments, &scenario));
     SimulatedData data = SimulateScenario(scenario, seed);
+    ACCELCAL_RETURN_IF_ERROR(DescribeSimulation(scenario, "", seed, &experiment->data_source));
     experiment->truth = TruthJson(scenario, data, seed);
     experiment->source =
         "simulated from the embedded scenario " + scenario.name + " (seed " + std::to_string(seed) +
@@ -370,6 +399,8 @@ inline Status LoadExperiment(const std::string& data_dir, const std::string& ass
   PrintInputNotes(experiment->notes);
   experiment->source = "measured data in " + data_dir;
   experiment->files = FileRoles(files);
+  ACCELCAL_RETURN_IF_ERROR(
+      DescribeMeasuredData(data_dir, experiment->files, &experiment->data_source));
   return Status::Ok();
 }
 

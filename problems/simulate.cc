@@ -64,21 +64,20 @@ Status ValidateFlags() {
   return Status::Ok();
 }
 
-Status Load(Scenario* scenario) {
-  RunInputs inputs;
-  if (!FLAGS_scenario.empty()) inputs.files.push_back(FLAGS_scenario);
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckOutputPaths({{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs));
-  return LoadScenarioOrDefault(FLAGS_scenario, FLAGS_set, scenario);
+Status Load(Scenario* scenario, DataSource* source) {
+  return LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
+                                {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}},
+                                scenario, source);
 }
 
-Status Write(const Scenario& scenario, const SimulatedData& data,
+Status Write(const Scenario& scenario, const SimulatedData& data, const DataSource& source,
              std::vector<std::string>* written) {
   const DataLayout layout = FLAGS_format == "csv" ? DataLayout::kCsv : DataLayout::kCourseMat;
   return WriteDirectoryAtomically(FLAGS_out_dir, FLAGS_overwrite, [&](const std::string& dir) {
     ACCELCAL_RETURN_IF_ERROR(WriteDataDirectory(dir, layout, data.test, data.run, data.landmarks,
                                                 data.conditions, written));
-    return WriteJsonAtomically(dir + "/truth.json", TruthJson(scenario, data, FLAGS_seed));
+    return WriteJsonAtomically(dir + "/truth.json",
+                               WithProvenance(TruthJson(scenario, data, FLAGS_seed), source));
   });
 }
 
@@ -104,13 +103,14 @@ int Run(int argc, char** argv) {
   if (!InitProblem("simulate", kUsage, "problems/simulate", &argc, &argv)) return kExitBadInput;
   Status status = ValidateFlags();
   Scenario scenario;
-  if (status.ok()) status = Load(&scenario);
+  DataSource source;
+  if (status.ok()) status = Load(&scenario, &source);
   if (!status.ok()) return ExitWithError("simulate", status);
   const SimulatedData data = SimulateScenario(scenario, FLAGS_seed);
   std::vector<std::string> written;
-  status = Write(scenario, data, &written);
+  status = Write(scenario, data, source, &written);
   if (!status.ok()) return ExitWithError("simulate", status);
-  std::cout << Summary(scenario, data) << std::flush;
+  std::cout << WithDataLine(source, Summary(scenario, data)) << std::flush;
   return 0;
 }
 

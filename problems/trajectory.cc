@@ -73,7 +73,7 @@ Status ValidateFlags() {
 
 using Inputs = CourseData;
 
-Status Load(Inputs* inputs, TrajectoryReport* report) {
+Status Load(Inputs* inputs, TrajectoryReport* report, DataSource* source) {
   const DataFiles overrides{DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file,
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
@@ -85,7 +85,7 @@ Status Load(Inputs* inputs, TrajectoryReport* report) {
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs, load_options));
   PrintInputNotes(inputs->notes);
   report->input_files = FileRoles(files);
-  return Status::Ok();
+  return DescribeMeasuredData(FLAGS_data_dir, report->input_files, source);
 }
 
 Status Solve(const Inputs& inputs, TrajectoryReport* report) {
@@ -106,9 +106,9 @@ Status Solve(const Inputs& inputs, TrajectoryReport* report) {
   return Status::Ok();
 }
 
-Status Write(const TrajectoryReport& report) {
+Status Write(const TrajectoryReport& report, const DataSource& source) {
   std::string json_text;
-  if (!FLAGS_json.empty()) ACCELCAL_RETURN_IF_ERROR(JsonText(TrajectoryJson(report), &json_text));
+  if (!FLAGS_json.empty()) ACCELCAL_RETURN_IF_ERROR(JsonText(WithProvenance(TrajectoryJson(report), source), &json_text));
   return WriteOutputFiles(
       {{FLAGS_json, json_text},
        {FLAGS_path_csv, FLAGS_path_csv.empty() ? "" : TrajectoryPathCsv(report.trajectory)}});
@@ -119,11 +119,12 @@ int Run(int argc, char** argv) {
   Status status = ValidateFlags();
   Inputs inputs;
   TrajectoryReport report;
-  if (status.ok()) status = Load(&inputs, &report);
+  DataSource source;
+  if (status.ok()) status = Load(&inputs, &report, &source);
   if (status.ok()) status = Solve(inputs, &report);
-  if (status.ok()) status = Write(report);
+  if (status.ok()) status = Write(report, source);
   if (!status.ok()) return ExitWithError("trajectory", status);
-  std::cout << TrajectoryTable(report) << std::flush;
+  std::cout << WithDataLine(source, TrajectoryTable(report)) << std::flush;
   return 0;
 }
 

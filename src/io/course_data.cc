@@ -246,25 +246,50 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
   return status.WithContext(path);
 }
 
-Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
+namespace {
+
+// Time strictly increasing, as any log's must be; uniform spacing is a further need of the
+// integration only.
+Status CheckIncreasingTime(const std::vector<double>& timestamp_s, const std::string& name) {
+  if (timestamp_s.empty()) return Status::Error("the log has no samples");
+  for (size_t j = 1; j < timestamp_s.size(); ++j) {
+    if (!(timestamp_s[j] > timestamp_s[j - 1])) {
+      return Status::Error(name + " does not increase at row " + std::to_string(j + 1) + " (" +
+                           RoundTripDouble(timestamp_s[j - 1]) + " then " +
+                           RoundTripDouble(timestamp_s[j]) + " s)");
+    }
+  }
+  return Status::Ok();
+}
+
+Status LoadTimedLog(const std::string& path, bool uniform_time, VehicleRun* run,
+                    std::vector<std::string>* notes) {
   *run = VehicleRun();
   std::vector<std::string> file_notes;
   Status status;
-  if (IsCsvPath(path)) {
-    status = LoadRunCsv(path, run);
-    if (status.ok()) status = CheckUniformTime(run->timestamp_s, "t");
-  } else {
-    try {
-      status = LoadRunMat(path, run, &file_notes);
-      if (status.ok()) status = CheckUniformTime(run->timestamp_s, "t");
-    } catch (const std::bad_alloc&) {
-      *run = VehicleRun();
-      status = OutOfMemory("the run's samples");
-    }
+  try {
+    status = IsCsvPath(path) ? LoadRunCsv(path, run) : LoadRunMat(path, run, &file_notes);
+  } catch (const std::bad_alloc&) {
+    *run = VehicleRun();
+    status = OutOfMemory("the log's samples");
+  }
+  if (status.ok()) {
+    status = uniform_time ? CheckUniformTime(run->timestamp_s, "t")
+                          : CheckIncreasingTime(run->timestamp_s, "t");
   }
   if (!status.ok()) *run = VehicleRun();
   AddNotes(path, file_notes, notes);
   return status.WithContext(path);
+}
+
+}  // namespace
+
+Status LoadVehicleRun(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
+  return LoadTimedLog(path, /*uniform_time=*/true, run, notes);
+}
+
+Status LoadMeasuredLog(const std::string& path, VehicleRun* run, std::vector<std::string>* notes) {
+  return LoadTimedLog(path, /*uniform_time=*/false, run, notes);
 }
 
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks) {

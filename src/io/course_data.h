@@ -99,6 +99,10 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
                            std::vector<std::string>* notes = nullptr);
 Status LoadVehicleRun(const std::string& path, VehicleRun* run,
                       std::vector<std::string>* notes = nullptr);
+// A log of measured accelerations in the run's layout (t,ax,ay CSV or t and Aerr in .mat)
+// to be corrected, not integrated: time must increase strictly, not uniformly.
+Status LoadMeasuredLog(const std::string& path, VehicleRun* run,
+                       std::vector<std::string>* notes = nullptr);
 // At least one landmark, unique names, no two at one place (common/landmark_checks.h).
 Status LoadLandmarks(const std::string& path, std::vector<Landmark>* landmarks);
 

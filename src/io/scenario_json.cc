@@ -507,4 +507,29 @@ Status LoadScenarioOrDefault(const std::string& path, const std::string& assignm
   return ApplyScenarioOverrides(assignments, scenario).WithContext("--set");
 }
 
+Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file,
+                          uint64_t seed, DataSource* source) {
+  DataSource described;
+  described.simulated = true;
+  described.scenario = scenario.name;
+  described.seed = seed;
+  if (!scenario_file.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(HashInputFile(scenario_file, &described.files["scenario"]));
+  }
+  for (const ParameterInfo& info : ParameterCatalogue()) {
+    const double value = scenario.truth.parameters[info.parameter];
+    if (!info.baseline && value != info.neutral) described.hidden.emplace_back(info.name, value);
+  }
+  const nlohmann::json disturbances = DisturbancesJson(scenario.truth.disturbances);
+  const nlohmann::json defaults = DisturbancesJson(Disturbances());
+  for (const std::string& name : DisturbanceNames()) {
+    if (scenario.truth.disturbances.any() && disturbances.contains(name) &&
+        disturbances[name].is_number() && disturbances[name] != defaults[name]) {
+      described.hidden.emplace_back(name, disturbances[name].get<double>());
+    }
+  }
+  *source = std::move(described);
+  return Status::Ok();
+}
+
 }  // namespace accelcal

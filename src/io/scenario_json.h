@@ -37,6 +37,7 @@
 #include <string>
 
 #include "common/status.h"
+#include "io/provenance.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {
@@ -61,6 +62,13 @@ Status LoadDefaultScenario(Scenario* scenario);
 // (name=value,..., as ApplyScenarioOverrides) applied: what every --scenario/--set means.
 Status LoadScenarioOrDefault(const std::string& path, const std::string& assignments,
                              Scenario* scenario);
+
+// The source of data simulated from `scenario` (read from `scenario_file`, hashed, or the
+// embedded one when empty) with `seed`: what it hides beyond the baseline is every catalogue
+// parameter away from its neutral value except bias and scale, and every disturbance away
+// from its default.
+Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file,
+                          uint64_t seed, DataSource* source);
 
 }  // namespace accelcal
 

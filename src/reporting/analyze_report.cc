@@ -412,12 +412,13 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
 }  // namespace
 
 nlohmann::json AnalyzeJson(const AnalyzeReport& r) {
-  return {{"source", r.source},
-          {"truth", r.truth},
-          {"linear_ls", LinearLsJson(r.linear)},
-          {"trajectory", TrajectoryJson(r.trajectory)},
-          {"discover", DiscoveryJson(r.discovery, r.alpha)},
-          {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
+  nlohmann::json json = {{"truth", r.truth},
+                         {"linear_ls", LinearLsJson(r.linear)},
+                         {"trajectory", TrajectoryJson(r.trajectory)},
+                         {"discover", DiscoveryJson(r.discovery, r.alpha)},
+                         {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
+  AddProvenanceJson(r.data_source, &json);
+  return json;
 }
 
 std::string FigureOutcomeLine(const FigureOutcome& figures) {

@@ -15,6 +15,7 @@
 #include "common/measurements.h"
 #include "common/status.h"
 #include "estimation/discovery.h"
+#include "io/provenance.h"
 #include "reporting/linear_ls_report.h"
 #include "reporting/trajectory_report.h"
 #include "studies/min_samples.h"
@@ -23,6 +24,7 @@ namespace accelcal {
 
 struct AnalyzeReport {
   std::string source;              // where the data came from, one line
+  DataSource data_source;          // the same with checksums (io/provenance.h)
   nlohmann::json truth = nullptr;  // the simulation's truth, or null for measured data
   CalibrationTest test;            // the tilt test discovery ran on
   std::vector<Landmark> landmarks;
@@ -34,7 +36,8 @@ struct AnalyzeReport {
   MinSamplesResult min_samples;  // designs without Monte Carlo checks
 };
 
-// results.json: {"source", "truth", "linear_ls", "trajectory", "discover", "min_samples"}.
+// results.json: {"truth", "linear_ls", "trajectory", "discover", "min_samples"} and the
+// provenance keys (source, input_files, command_line, accelcal_version; io/provenance.h).
 nlohmann::json AnalyzeJson(const AnalyzeReport& report);
 
 // The plot scripts (tools/plot_*.py) and the Python that runs them.

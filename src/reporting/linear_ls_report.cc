@@ -117,7 +117,6 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   json["gravity_mps2"] = report.gravity_mps2;
   json["noise_variance"] = {{"x", report.noise_variance_x}, {"y", report.noise_variance_y}};
   json["theta_range_rad"] = {report.theta_min_rad, report.theta_max_rad};
-  json["input_files"] = report.input_files;
   if (report.simulation_seed) {
     json["simulation"] = {{"scenario", report.scenario_name},
                           {"seed", *report.simulation_seed},

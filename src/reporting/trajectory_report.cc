@@ -148,8 +148,7 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
       {"alpha", decision.alpha},
       {"error_budget", budget},
       {"baseline", ParameterEstimateJson(FromBaselineFit(report.fit))},
-      {"run", {{"samples", t.sample_count}, {"dt_s", t.dt_s}, {"duration_s", t.duration_s}}},
-      {"input_files", report.input_files}};
+      {"run", {{"samples", t.sample_count}, {"dt_s", t.dt_s}, {"duration_s", t.duration_s}}}};
   return json;
 }
 

@@ -1,0 +1,147 @@
+#include "io/provenance.h"
+
+#include <cctype>
+#include <fstream>
+#include <vector>
+
+#include "common/format.h"
+#include "common/sha256.h"
+#include "io/input_file.h"
+
+#ifndef ACCELCAL_VERSION
+#error "ACCELCAL_VERSION must be defined by the build (src/CMakeLists.txt)"
+#endif
+
+namespace accelcal {
+namespace {
+
+std::string& RecordedCommandLine() {
+  static std::string command_line;
+  return command_line;
+}
+
+// An argument as a POSIX shell would need it to read it back as one word.
+std::string ShellWord(const std::string& argument) {
+  if (argument.empty()) return "''";
+  bool plain = true;
+  for (const char c : argument) {
+    const bool safe = std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ||
+                      c == '=' || c == '.' || c == '/' || c == ',' || c == ':' || c == '+' ||
+                      c == '@' || c == '%';
+    plain = plain && safe;
+  }
+  if (plain) return argument;
+  std::string quoted = "'";
+  for (const char c : argument) {
+    quoted += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  }
+  return quoted + "'";
+}
+
+}  // namespace
+
+const char* AccelcalVersion() { return ACCELCAL_VERSION; }
+
+Status HashInputFile(const std::string& path, InputFile* file) {
+  // Any size: the file is read in pieces, never whole.
+  constexpr uint64_t kNoCap = ~uint64_t{0};
+  uint64_t size = 0;
+  ACCELCAL_RETURN_IF_ERROR(CheckInputFile(path, kNoCap, "an input file", &size).WithContext(path));
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Status::Error(path + ": cannot be opened to compute its checksum");
+  Sha256 hash;
+  std::vector<char> buffer(1 << 16);
+  uint64_t total = 0;
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const std::streamsize got = in.gcount();
+    if (got <= 0) break;
+    hash.Update(buffer.data(), static_cast<size_t>(got));
+    total += static_cast<uint64_t>(got);
+  }
+  if (in.bad()) return Status::Error(path + ": read error while computing its checksum");
+  file->path = path;
+  file->bytes = total;
+  file->sha256 = hash.HexDigest();
+  return Status::Ok();
+}
+
+Status DescribeMeasuredData(const std::string& data_dir,
+                            const std::map<std::string, std::string>& files, DataSource* source) {
+  DataSource described;
+  described.data_dir = data_dir;
+  for (const auto& [role, path] : files) {
+    if (path.empty()) continue;
+    ACCELCAL_RETURN_IF_ERROR(HashInputFile(path, &described.files[role]));
+  }
+  *source = std::move(described);
+  return Status::Ok();
+}
+
+std::string DataLine(const DataSource& source) {
+  if (source.simulated) {
+    std::string line = "data: simulated, scenario " + source.scenario;
+    const auto scenario_file = source.files.find("scenario");
+    if (scenario_file != source.files.end()) line += " (" + scenario_file->second.path + ")";
+    line += ", seed " + std::to_string(source.seed);
+    if (source.hidden.empty()) return line + ", nothing hidden beyond the baseline";
+    for (size_t i = 0; i < source.hidden.size(); ++i) {
+      line += (i == 0 ? ", hidden " : ", ") + source.hidden[i].first + "=" +
+              RoundTripDouble(source.hidden[i].second);
+    }
+    return line;
+  }
+  const size_t count = source.files.size();
+  const std::string files = std::to_string(count) + (count == 1 ? " file" : " files");
+  if (!source.data_dir.empty()) return "data: " + source.data_dir + " (" + files + ")";
+  std::string line = "data: ";
+  bool first = true;
+  for (const auto& [role, file] : source.files) {
+    line += (first ? "" : ", ") + file.path;
+    first = false;
+  }
+  return line;
+}
+
+nlohmann::json InputFilesJson(const std::map<std::string, InputFile>& files) {
+  nlohmann::json json = nlohmann::json::object();
+  for (const auto& [role, file] : files) {
+    json[role] = {{"path", file.path}, {"bytes", file.bytes}, {"sha256", file.sha256}};
+  }
+  return json;
+}
+
+void AddProvenanceJson(const DataSource& source, nlohmann::json* json) {
+  nlohmann::json described;
+  if (source.simulated) {
+    nlohmann::json hidden = nlohmann::json::object();
+    for (const auto& [name, value] : source.hidden) hidden[name] = value;
+    described = {{"kind", "simulated"},
+                 {"scenario", source.scenario},
+                 {"seed", source.seed},
+                 {"hidden", hidden}};
+  } else {
+    described = {{"kind", "measured"},
+                 {"data_dir", source.data_dir.empty() ? nlohmann::json(nullptr)
+                                                      : nlohmann::json(source.data_dir)}};
+  }
+  (*json)["source"] = described;
+  (*json)["input_files"] = InputFilesJson(source.files);
+  (*json)["command_line"] = CommandLine();
+  (*json)["accelcal_version"] = AccelcalVersion();
+}
+
+void RecordCommandLine(int argc, char** argv) {
+  std::string line;
+  for (int i = 0; i < argc; ++i) {
+    std::string argument = argv[i];
+    // The program by its name, not by the path it was started with.
+    if (i == 0) argument = argument.substr(argument.rfind('/') + 1);
+    line += (i == 0 ? "" : " ") + ShellWord(argument);
+  }
+  RecordedCommandLine() = line;
+}
+
+const std::string& CommandLine() { return RecordedCommandLine(); }
+
+}  // namespace accelcal

@@ -1,0 +1,121 @@
+// Every binary says where its data came from, first on stdout ("data: ...") and in its JSON
+// (source, input_files with SHA-256, command_line, accelcal_version), with and without
+// --data_dir, so a simulated result can never pass as a measured one (issue 18).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+using testing::CommandResult;
+using testing::RunBinary;
+using testing::ScratchDir;
+
+struct Case {
+  const char* binary;
+  const char* flags;      // besides --data_dir and the output
+  const char* output;     // "json": --json=FILE; otherwise the JSON file inside --out_dir
+};
+
+// Small settings: the provenance does not depend on the work done.
+const Case kCases[] = {
+    {"linear_ls", "", "json"},
+    {"trajectory", "", "json"},
+    {"joint", "", "json"},
+    {"discover", "--folds=0", "json"},
+    {"min_samples", "--repetitions=0 --design=uniform", "json"},
+    {"analyze", "--python=/nonexistent", "results.json"},
+    {"simulate", "", "truth.json"},
+    {"coverage", "--trials=10", "json"},
+    {"power", "--trials=10 --sizes=3", "json"},
+    {"null_rate", "--datasets=10 --designs=course --noise_factors=1 --alphas=0.01", "json"},
+};
+
+bool ReadsMeasuredData(const std::string& binary) {
+  return binary != "simulate" && binary != "coverage" && binary != "power" &&
+         binary != "null_rate";
+}
+bool Simulates(const std::string& binary) { return binary != "trajectory"; }
+
+nlohmann::json RunAndReadJson(const Case& c, const std::string& data_flag, std::string* stdout_text) {
+  ScratchDir scratch;
+  const std::string output = std::string(c.output) == "json"
+                                 ? "--json='" + scratch.File("out.json") + "'"
+                                 : "--out_dir='" + scratch.File("out") + "'";
+  const CommandResult result =
+      RunBinary(c.binary, data_flag + " " + c.flags + " " + output);
+  EXPECT_EQ(result.exit_status, 0) << c.binary << ": " << result.stderr_text;
+  *stdout_text = result.stdout_text;
+  const std::string json_path = std::string(c.output) == "json"
+                                    ? scratch.File("out.json")
+                                    : scratch.File("out") + "/" + c.output;
+  return nlohmann::json::parse(testing::ReadText(json_path), nullptr, false);
+}
+
+void ExpectCommandLine(const nlohmann::json& json, const std::string& binary) {
+  ASSERT_TRUE(json.contains("command_line"));
+  EXPECT_EQ(json["command_line"].get<std::string>().rfind(binary + " ", 0), 0u)
+      << json["command_line"];
+  EXPECT_TRUE(json["accelcal_version"].is_string());
+}
+
+TEST(Provenance, EveryBinaryOnMeasuredDataNamesTheFolderAndTheFilesChecksums) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  for (const Case& c : kCases) {
+    if (!ReadsMeasuredData(c.binary)) continue;
+    SCOPED_TRACE(c.binary);
+    std::string stdout_text;
+    const nlohmann::json json = RunAndReadJson(c, "--data_dir='" + dir + "'", &stdout_text);
+    ASSERT_FALSE(json.is_discarded());
+    EXPECT_EQ(stdout_text.substr(0, stdout_text.find('\n')), "data: " + dir + " (4 files)");
+    EXPECT_EQ(json["source"]["kind"], "measured");
+    EXPECT_EQ(json["source"]["data_dir"], dir);
+    ASSERT_EQ(json["input_files"].size(), 4u) << json["input_files"];
+    for (const auto& [role, file] : json["input_files"].items()) {
+      const std::string path = file["path"];
+      const CommandResult sha256sum = testing::RunCommand("sha256sum '" + path + "'");
+      EXPECT_EQ(file["sha256"], sha256sum.stdout_text.substr(0, 64)) << role;
+    }
+    ExpectCommandLine(json, c.binary);
+  }
+}
+
+TEST(Provenance, EveryBinaryOnSimulatedDataSaysSoWithScenarioSeedAndWhatIsHidden) {
+  for (const Case& c : kCases) {
+    if (!Simulates(c.binary)) continue;
+    SCOPED_TRACE(c.binary);
+    std::string stdout_text;
+    const nlohmann::json json = RunAndReadJson(c, "--seed=3", &stdout_text);
+    ASSERT_FALSE(json.is_discarded());
+    EXPECT_EQ(stdout_text.substr(0, stdout_text.find('\n')),
+              "data: simulated, scenario tp2-2018, seed 3, nothing hidden beyond the baseline");
+    EXPECT_EQ(json["source"]["kind"], "simulated");
+    EXPECT_EQ(json["source"]["scenario"], "tp2-2018");
+    EXPECT_EQ(json["source"]["seed"], 3);
+    EXPECT_TRUE(json["input_files"].empty()) << json["input_files"];
+    ExpectCommandLine(json, c.binary);
+  }
+}
+
+TEST(Provenance, AHiddenEffectIsNamedFirst) {
+  for (const char* binary : {"linear_ls", "joint", "discover", "simulate", "coverage"}) {
+    SCOPED_TRACE(binary);
+    for (const Case& c : kCases) {
+      if (std::string(c.binary) != binary) continue;
+      std::string stdout_text;
+      const nlohmann::json json =
+          RunAndReadJson(c, "--set=angle_offset=0.004", &stdout_text);
+      EXPECT_EQ(stdout_text.substr(0, stdout_text.find('\n')),
+                "data: simulated, scenario tp2-2018, seed 1, hidden angle_offset=0.004");
+      EXPECT_EQ(json["source"]["hidden"]["angle_offset"], 0.004);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace accelcal

@@ -1,0 +1,89 @@
+// SHA-256 against FIPS 180-4's examples and sha256sum, and the provenance every output
+// carries (io/provenance.h).
+
+#include "io/provenance.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "common/sha256.h"
+#include "io/scenario_json.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+TEST(Sha256, MatchesTheStandardsExamples) {
+  // FIPS 180-4 examples (NIST CSRC, "SHA256.pdf") and the empty message.
+  EXPECT_EQ(Sha256Hex(""), "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
+  EXPECT_EQ(Sha256Hex("abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+  EXPECT_EQ(Sha256Hex("abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq"),
+            "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1");
+}
+
+TEST(Sha256, AMessageGivenInPiecesOfAnySizeHasTheSameDigest) {
+  // One million 'a' (FIPS 180-2, appendix B.3), in pieces that straddle the 64-byte blocks.
+  const std::string million(1000000, 'a');
+  const std::string expected = "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0";
+  EXPECT_EQ(Sha256Hex(million), expected);
+  for (const size_t piece : {1u, 7u, 55u, 56u, 63u, 64u, 65u, 1000u}) {
+    Sha256 hash;
+    for (size_t at = 0; at < million.size(); at += piece) {
+      hash.Update(million.data() + at, std::min(piece, million.size() - at));
+    }
+    EXPECT_EQ(hash.HexDigest(), expected) << "pieces of " << piece;
+  }
+}
+
+TEST(HashInputFile, AgreesWithSha256sumAndRefusesWhatIsNotAFile) {
+  testing::ScratchDir scratch;
+  std::string contents;
+  for (int i = 0; i < 100000; ++i) contents += static_cast<char>(i * 7 % 256);
+  const std::string path = scratch.Write("bytes.bin", contents);
+  InputFile file;
+  ASSERT_TRUE(HashInputFile(path, &file).ok());
+  EXPECT_EQ(file.bytes, contents.size());
+  const testing::CommandResult sha256sum = testing::RunCommand("sha256sum '" + path + "'");
+  ASSERT_EQ(sha256sum.exit_status, 0);
+  EXPECT_EQ(file.sha256, sha256sum.stdout_text.substr(0, 64));
+  EXPECT_FALSE(HashInputFile(scratch.path(), &file).ok());
+  EXPECT_FALSE(HashInputFile(scratch.File("absent"), &file).ok());
+}
+
+TEST(DataLine, SaysMeasuredOrSimulatedAndWhatIsHidden) {
+  DataSource measured;
+  measured.data_dir = "../shared/data/tp2-2018";
+  measured.files["calibration"].path = "../shared/data/tp2-2018/ensayo.mat";
+  measured.files["conditions"].path = "../shared/data/tp2-2018/datos.txt";
+  EXPECT_EQ(DataLine(measured), "data: ../shared/data/tp2-2018 (2 files)");
+
+  Scenario scenario;
+  ASSERT_TRUE(LoadScenarioOrDefault("", "angle_offset=0.004", &scenario).ok());
+  DataSource simulated;
+  ASSERT_TRUE(DescribeSimulation(scenario, "", 7, &simulated).ok());
+  EXPECT_EQ(DataLine(simulated), "data: simulated, scenario tp2-2018, seed 7, hidden angle_offset=0.004");
+  ASSERT_TRUE(LoadScenarioOrDefault("", "", &scenario).ok());
+  ASSERT_TRUE(DescribeSimulation(scenario, "", 1, &simulated).ok());
+  EXPECT_EQ(DataLine(simulated), "data: simulated, scenario tp2-2018, seed 1, nothing hidden beyond the baseline");
+  // A disturbance outside the catalogue is hidden too.
+  ASSERT_TRUE(LoadScenarioOrDefault("", "noise_ar1_x=0.5", &scenario).ok());
+  ASSERT_TRUE(DescribeSimulation(scenario, "", 1, &simulated).ok());
+  EXPECT_NE(DataLine(simulated).find("hidden noise_ar1_x=0.5"), std::string::npos)
+      << DataLine(simulated);
+}
+
+TEST(CommandLine, IsRecordedSoAShellReadsItBack) {
+  std::string arguments[] = {"/usr/local/bin/linear_ls", "--data_dir=my data", "--set=a=1,b=2",
+                             "--json=it's.json"};
+  char* argv[] = {arguments[0].data(), arguments[1].data(), arguments[2].data(),
+                  arguments[3].data()};
+  RecordCommandLine(4, argv);
+  EXPECT_EQ(CommandLine(), "linear_ls '--data_dir=my data' --set=a=1,b=2 '--json=it'\\''s.json'");
+  const testing::CommandResult echoed =
+      testing::RunCommand("printf '%s|' " + CommandLine().substr(CommandLine().find(' ') + 1));
+  EXPECT_EQ(echoed.stdout_text, "--data_dir=my data|--set=a=1,b=2|--json=it's.json|");
+}
+
+}  // namespace
+}  // namespace accelcal
