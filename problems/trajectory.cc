@@ -27,12 +27,14 @@
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
+#include "io/calibration_file.h"
 #include "problem_support.h"
 #include "reporting/trajectory_report.h"
 
 // clang-format off
 DEFINE_string(data_dir, "", "Folder with the course layout (ensayo.mat, acel.mat, puntos.mat, datos.txt) or the CSV layout (calibration.csv, trajectory.csv, landmarks.csv, scenario.json).");
 DEFINE_string(calibration_file, "", "Tilt test file (.mat or .csv), overriding --data_dir.");
+DEFINE_string(calibration, "", "A calibration file (calibrate --calibration_out, docs/calibration.md) in place of the tilt test: its bias, scale and covariance correct the run; the folder's tilt test is not read.");
 DEFINE_string(run_file, "", "Vehicle run file, overriding --data_dir: .mat with t (Mx1, s) and Aerr (Mx2, m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced.");
 DEFINE_string(landmarks_file, "", "Landmarks file, overriding --data_dir: .mat with one 1x2 [x y] (m) per variable, or .csv with columns name,x,y.");
 DEFINE_string(conditions_file, "", "Initial position (m), initial velocity (m/s) and stated noise variances ((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
@@ -61,11 +63,16 @@ constexpr char kUsage[] =
     "  trajectory --data_dir=../shared/data/tp2-2018 [--json=t.json] [--path_csv=path.csv]";
 
 Status ValidateFlags() {
-  if (FLAGS_data_dir.empty() && (FLAGS_calibration_file.empty() || FLAGS_run_file.empty() ||
+  if (!FLAGS_calibration.empty() && !FLAGS_calibration_file.empty()) {
+    return Status::Error(
+        "--calibration and --calibration_file both give the calibration; drop one of the two");
+  }
+  const bool has_calibration = !FLAGS_calibration.empty() || !FLAGS_calibration_file.empty();
+  if (FLAGS_data_dir.empty() && (!has_calibration || FLAGS_run_file.empty() ||
                                  FLAGS_landmarks_file.empty() || FLAGS_conditions_file.empty())) {
     // clang-format off
     return Status::Error(
-        "give --data_dir, or all of --calibration_file, --run_file, --landmarks_file and --conditions_file");
+        "give --data_dir, or all of --calibration_file (or --calibration), --run_file, --landmarks_file and --conditions_file");
     // clang-format on
   }
   return Status::Ok();
@@ -78,6 +85,7 @@ Status Load(Inputs* inputs, TrajectoryReport* report, DataSource* source) {
                             FLAGS_landmarks_file, FLAGS_conditions_file};
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
+  if (!FLAGS_calibration.empty()) files.calibration.clear();
   ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(
       {{"--json", FLAGS_json}, {"--path_csv", FLAGS_path_csv}}, InputsOf(FLAGS_data_dir, files)));
   LoadOptions load_options;
@@ -85,14 +93,33 @@ Status Load(Inputs* inputs, TrajectoryReport* report, DataSource* source) {
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, inputs, load_options));
   PrintInputNotes(inputs->notes);
   report->input_files = FileRoles(files);
+  if (!FLAGS_calibration.empty()) report->input_files["calibration"] = FLAGS_calibration;
   return DescribeMeasuredData(FLAGS_data_dir, report->input_files, source);
 }
 
+// The baseline from a calibration file: its parameters, covariance and fit.
+Status ReadCalibration(BaselineFit* fit) {
+  CalibrationRecord record;
+  ACCELCAL_RETURN_IF_ERROR(ReadCalibrationFile(FLAGS_calibration, &record));
+  if (record.geometry != "two_axis") {
+    return Status::Error(FLAGS_calibration + ": trajectory needs a two-axis (x, y) calibration; " +
+                         "this one's geometry is " + record.geometry);
+  }
+  fit->parameters = record.values;
+  fit->covariance = record.covariance;
+  fit->sample_count = record.fit.value("samples", 0);
+  return Status::Ok();
+}
+
 Status Solve(const Inputs& inputs, TrajectoryReport* report) {
-  const LinearLsOptions options =
-      LinearLsOptionsFor(inputs.conditions, ChooseGravity(inputs.conditions, FLAGS_g));
-  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, options, &report->fit)
-                               .WithContext(report->input_files["calibration"]));
+  if (!FLAGS_calibration.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(ReadCalibration(&report->fit));
+  } else {
+    const LinearLsOptions options =
+        LinearLsOptionsFor(inputs.conditions, ChooseGravity(inputs.conditions, FLAGS_g));
+    ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, options, &report->fit)
+                                 .WithContext(report->input_files["calibration"]));
+  }
   TrajectoryOptions trajectory_options;
   trajectory_options.path_stride = FLAGS_path_stride;
   ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->fit,

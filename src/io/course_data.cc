@@ -314,8 +314,10 @@ std::map<std::string, std::string> FileRoles(const DataFiles& files) {
 
 Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions& options) {
   data->notes.clear();
-  ACCELCAL_RETURN_IF_ERROR(
-      LoadCalibrationTest(files.calibration, &data->test, options, &data->notes));
+  if (!files.calibration.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(
+        LoadCalibrationTest(files.calibration, &data->test, options, &data->notes));
+  }
   ACCELCAL_RETURN_IF_ERROR(LoadVehicleRun(files.run, &data->run, &data->notes));
   ACCELCAL_RETURN_IF_ERROR(LoadLandmarks(files.landmarks, &data->landmarks));
   return LoadRunConditions(files.conditions, &data->conditions);

@@ -118,7 +118,8 @@ struct CourseData {
 // The files by role ("calibration", "run", "landmarks", "conditions"), as outputs name them.
 std::map<std::string, std::string> FileRoles(const DataFiles& files);
 
-// Reads the four files of `files` (each with its own checks and messages).
+// Reads the four files of `files` (each with its own checks and messages); without a
+// calibration path (a calibration file stands in for the tilt test) the test stays empty.
 Status LoadDataFiles(const DataFiles& files, CourseData* data, const LoadOptions& options = {});
 
 // Writes the four files of a layout into the existing folder `dir`, each atomically and
