@@ -162,7 +162,7 @@ TEST(CalibrateAndApply, RefuseWhatTheyCannotTrustAndWriteNothing) {
       {"apply", "--calibration='" + dir + "/datos.txt' --in='" + dir + "/acel.mat' --out='" + out + "'",
        "not valid JSON"},
       {"apply", "--calibration='" + cal + "' --in='" + backwards + "' --out='" + out + "'",
-       "t does not increase at row 3"},
+       "t is not strictly increasing: t(3) = 0.005 s after 0.01 s"},
       {"apply", "--calibration='" + cal + "' --in='" + dir + "/acel.mat'", "--out must name"},
       {"apply", "--calibration='" + cal + "' --in='" + dir + "/acel.mat' --out='" + cal + "'",
        "--out"},

@@ -77,10 +77,11 @@ bool IsCsvPath(const std::string& path) { return HasExtension(path, ".csv"); }
 // Time must increase strictly and uniformly (the integration uses one dt). The step
 // every sample is held to is the median step, so that one glitch is reported where it
 // is rather than shifting the reference for all the others.
-Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
+Status CheckLogTime(const std::vector<double>& timestamp_s, const std::string& name,
+                    double* median_step_s) {
   if (timestamp_s.size() < 2) {
-    return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
-                         " sample(s); at least 2 are needed to integrate");
+    return Status::Error("the log has " + std::to_string(timestamp_s.size()) +
+                         " sample(s); at least 2 are needed to know its time step");
   }
   std::vector<double> steps(timestamp_s.size() - 1);
   for (size_t j = 1; j < timestamp_s.size(); ++j) {
@@ -103,6 +104,19 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
         name.c_str(), dt, kMinRunStepS, kMaxRunStepS, name.c_str(),
         dt > kMaxRunStepS ? "milliseconds (or another unit)" : "minutes or hours"));
   }
+  *median_step_s = dt;
+  return Status::Ok();
+}
+
+Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name) {
+  if (timestamp_s.size() < 2) {
+    return Status::Error("the run has " + std::to_string(timestamp_s.size()) +
+                         " sample(s); at least 2 are needed to integrate");
+  }
+  double dt = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(CheckLogTime(timestamp_s, name, &dt));
+  std::vector<double> steps(timestamp_s.size() - 1);
+  for (size_t j = 1; j < timestamp_s.size(); ++j) steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
   // Each timestamp is the double nearest its true value, within half an ulp of it, so a
   // step of an exact clock is off by up to an ulp of |t|; 4 ulp leave room for a clock
   // accumulated in doubles. Time increases, so the largest |t| is at one end.
@@ -248,20 +262,6 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
 
 namespace {
 
-// Time strictly increasing, as any log's must be; uniform spacing is a further need of the
-// integration only.
-Status CheckIncreasingTime(const std::vector<double>& timestamp_s, const std::string& name) {
-  if (timestamp_s.empty()) return Status::Error("the log has no samples");
-  for (size_t j = 1; j < timestamp_s.size(); ++j) {
-    if (!(timestamp_s[j] > timestamp_s[j - 1])) {
-      return Status::Error(name + " does not increase at row " + std::to_string(j + 1) + " (" +
-                           RoundTripDouble(timestamp_s[j - 1]) + " then " +
-                           RoundTripDouble(timestamp_s[j]) + " s)");
-    }
-  }
-  return Status::Ok();
-}
-
 Status LoadTimedLog(const std::string& path, bool uniform_time, VehicleRun* run,
                     std::vector<std::string>* notes) {
   *run = VehicleRun();
@@ -274,8 +274,9 @@ Status LoadTimedLog(const std::string& path, bool uniform_time, VehicleRun* run,
     status = OutOfMemory("the log's samples");
   }
   if (status.ok()) {
+    double dt = 0.0;
     status = uniform_time ? CheckUniformTime(run->timestamp_s, "t")
-                          : CheckIncreasingTime(run->timestamp_s, "t");
+                          : CheckLogTime(run->timestamp_s, "t", &dt);
   }
   if (!status.ok()) *run = VehicleRun();
   AddNotes(path, file_notes, notes);

@@ -90,6 +90,11 @@ constexpr double kMaxRunStepS = 1.0;
 // to resolve the step (4 ulp >= dt / 2) are refused. The integration takes
 // dt = (t_last - t_first) / (N - 1), accurate to an ulp of t over N - 1.
 Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::string& name);
+// What any log's time must be, uniform or not: at least 2 samples, strictly increasing, its
+// median step (`median_step_s`) within [kMinRunStepS, kMaxRunStepS] (a time in milliseconds
+// is refused as such). CheckUniformTime applies it first.
+Status CheckLogTime(const std::vector<double>& timestamp_s, const std::string& name,
+                    double* median_step_s);
 
 // Each loader refuses what it cannot read correctly. What it reads correctly but a person
 // should hear about (a 2xN matrix read as its transpose) goes to `notes`, one line each
@@ -100,7 +105,7 @@ Status LoadCalibrationTest(const std::string& path, CalibrationTest* test,
 Status LoadVehicleRun(const std::string& path, VehicleRun* run,
                       std::vector<std::string>* notes = nullptr);
 // A log of measured accelerations in the run's layout (t,ax,ay CSV or t and Aerr in .mat)
-// to be corrected, not integrated: time must increase strictly, not uniformly.
+// to be corrected, not integrated: its time must pass CheckLogTime, not be uniform.
 Status LoadMeasuredLog(const std::string& path, VehicleRun* run,
                        std::vector<std::string>* notes = nullptr);
 // At least one landmark, unique names, no two at one place (common/landmark_checks.h).
