@@ -46,6 +46,7 @@ DEFINE_string(tools_dir, accelcal::DefaultToolsDir(ACCELCAL_TOOLS_DIR),
               "Folder of the plot scripts (plot_*.py). Default: PREFIX/share/accelcal/tools for an installed analyze (PREFIX/bin/analyze), else the source tree's tools/.");
 // clang-format on
 DEFINE_string(python, "/usr/bin/python3", "Python with matplotlib, for the figures.");
+ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
@@ -57,7 +58,8 @@ namespace {
 constexpr char kUsage[] =
     "Runs every stage on measured (or simulated) data and writes a report folder: report.md,\n"
     "report.html (figures embedded), results.json and the figures as PNG. Units: m, s, m/s^2, rad.\n"
-    "Exit status: 0 on success, 2 on bad input; an interrupted run leaves no partial report.\n\n"
+    "Exit status: 0 on success, 2 on bad input; an interrupted run leaves no partial report.\n"
+    "--progress names each of the five steps on stderr as it starts and ends.\n\n"
     "  analyze --data_dir=../shared/data/tp2-2018 --out_dir=report [--overwrite]";
 // clang-format on
 
@@ -71,7 +73,11 @@ Status Load(Experiment* inputs) {
                         {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs);
 }
 
-Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
+// The steps --progress names; the fifth, the report and its figures, is Run's.
+constexpr int kSteps = 5;
+
+Status Analyse(const Experiment& inputs, double gravity, ProgressPrinter* progress,
+               AnalyzeReport* r) {
   r->source = inputs.source;
   r->data_source = inputs.data_source;
   r->truth = inputs.truth;
@@ -79,8 +85,7 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   r->landmarks = inputs.landmarks;
   r->alpha = FLAGS_alpha;
   r->max_error = FLAGS_max_error;
-  StageProgress progress(5);
-  progress.Start(1, "baseline fit (closed form and Ceres)");
+  progress->StartStep(1, kSteps, "baseline fit (closed form and Ceres)");
   const LinearLsOptions linear = LinearLsOptionsFor(inputs.conditions, gravity);
   ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(inputs.test, linear, &r->linear.closed_form));
   CeresLinearLsOptions ceres;
@@ -90,9 +95,9 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   r->linear.noise_variance_x = linear.noise_variance_x;
   r->linear.noise_variance_y = linear.noise_variance_y;
   r->linear.input_files = inputs.files;
-  progress.Done();
+  progress->EndStep();
 
-  progress.Start(2, "trajectory and landmark decision");
+  progress->StartStep(2, kSteps, "trajectory and landmark decision");
   TrajectoryReport& t = r->trajectory;
   t.fit = r->linear.closed_form;
   t.conditions = inputs.conditions;
@@ -102,17 +107,17 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   t.decision =
       DecideLandmark(t.trajectory.endpoint, t.trajectory.covariance, inputs.landmarks, FLAGS_alpha);
   t.budget = ComputeErrorBudget(t.trajectory, t.fit, inputs.run, inputs.conditions);
-  progress.Done();
+  progress->EndStep();
 
-  progress.Start(3, "discovery and the joint model with what it selected");
+  progress->StartStep(3, kSteps, "discovery and the joint model with what it selected");
   DiscoveryOptions discovery;
   discovery.alpha = FLAGS_alpha;
   discovery.gravity_mps2 = gravity;
   ACCELCAL_RETURN_IF_ERROR(Discover(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
                                     discovery, &r->discovery));
-  progress.Done();
+  progress->EndStep();
 
-  progress.Start(4, "how many calibration samples");
+  progress->StartStep(4, kSteps, "min_samples: how many calibration samples");
   MinSamplesResult& samples = r->min_samples;
   samples.model =
       EndpointModelOf(t.trajectory, gravity, linear.noise_variance_x, linear.noise_variance_y);
@@ -122,7 +127,7 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
     samples.designs = AnalyseDesigns(samples.model, inputs.landmarks, samples.truth, DesignNames(),
                                      FLAGS_max_error, samples.full_samples, &samples.uniform_n_min);
   }
-  progress.Done();
+  progress->EndStep();
   return Status::Ok();
 }
 
@@ -130,17 +135,27 @@ int Run(int argc, char** argv) {
   if (!InitProblem("analyze", kUsage, "problems/analyze", &argc, &argv)) return kExitBadInput;
   Status status;
   if (FLAGS_out_dir.empty()) status = Status::Error("--out_dir must name a folder");
+  ProgressStyle progress_style;
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
   Experiment inputs;
   if (status.ok()) status = Load(&inputs);
+  ProgressPrinter progress("analyze", "steps", progress_style, &std::cerr);
   AnalyzeReport report;
-  if (status.ok()) status = Analyse(inputs, ChooseGravity(inputs.conditions, FLAGS_g), &report);
+  if (status.ok()) {
+    status = Analyse(inputs, ChooseGravity(inputs.conditions, FLAGS_g), &progress, &report);
+  }
   FigureOutcome figures;
   if (status.ok()) {
+    progress.StartStep(5, kSteps, "report and figures");
     status = WriteDirectoryAtomically(FLAGS_out_dir, FLAGS_overwrite, [&](const std::string& dir) {
       return WriteAnalyzeReport(dir, report, {FLAGS_tools_dir, FLAGS_python}, &figures);
     });
+    if (status.ok()) progress.EndStep();
   }
-  if (!status.ok()) return ExitWithError("analyze", status);
+  if (!status.ok()) {
+    progress.Close();  // a step that failed left its line open on a terminal
+    return ExitWithError("analyze", status);
+  }
   std::cout << DataLine(inputs.data_source) << "\n";
   std::cout << "accelcal analyze: " << report.discovery.verdict << "\n  report: " << FLAGS_out_dir
             << "/report.html (and report.md, results.json)\n  figures: "

@@ -24,6 +24,7 @@ DEFINE_int32(effect_trials, 200, "Trials per row of the hidden-effect table (0: 
 DEFINE_uint64(seed, 1, "Seed; trial i uses the noise streams of (seed, i).");
 DEFINE_int32(threads, 0, "Threads (0: all cores). The results do not depend on it.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
+ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(trials, 10, 10000000);
 ACCELCAL_FLAG_RANGE(effect_trials, 0, 10000000);
 ACCELCAL_FLAG_RANGE(threads, 0, 256);
@@ -36,7 +37,8 @@ constexpr char kUsage[] =
     "what each effect of the catalogue does when it is in the data but not in the model.\n"
     "Biases are in reported standard deviations; coverages in percent.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
-    "  coverage [--scenario=FILE] [--trials=1000] [--effect_trials=200] [--json=coverage.json]";
+    "  coverage [--scenario=FILE] [--trials=1000] [--effect_trials=200] [--json=coverage.json]\n"
+    "           [--progress=auto|always|never]";
 
 int Run(int argc, char** argv) {
   if (!InitProblem("coverage", kUsage, "problems/coverage", &argc, &argv)) return kExitBadInput;
@@ -44,6 +46,8 @@ int Run(int argc, char** argv) {
   if (FLAGS_effect_trials != 0 && FLAGS_effect_trials < 10) {
     status = Status::Error("--effect_trials must be 0 or at least 10");
   }
+  ProgressStyle progress_style;
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
   Scenario scenario;
   DataSource source;
   if (status.ok()) {
@@ -59,9 +63,14 @@ int Run(int argc, char** argv) {
   CoverageReport report;
   report.scenario_name = scenario.name;
   report.seed = FLAGS_seed;
+  // One count and one time left over the baseline study and the table together.
+  const int64_t table_trials = static_cast<int64_t>(EffectImpactRows()) * FLAGS_effect_trials;
+  ProgressPrinter progress("coverage", "trials", progress_style, &std::cerr);
+  options.progress = ProgressPart(progress.Callback(), 0, FLAGS_trials + table_trials);
   report.baseline = RunCoverageStudy(scenario, options);
   if (FLAGS_effect_trials > 0) {
     options.trials = FLAGS_effect_trials;
+    options.progress = ProgressPart(progress.Callback(), FLAGS_trials, FLAGS_trials + table_trials);
     report.effects = RunEffectImpactTable(scenario, options);
   }
   std::string json_text;

@@ -41,6 +41,7 @@ ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_int32(threads, 0, "Threads for the Monte Carlo (0: all cores).");
 DEFINE_string(json, "",
               "Write the designs, their curves and N_min as JSON to this file (atomically).");
+ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_RANGE(repetitions, 0, 1000000);
@@ -54,8 +55,9 @@ constexpr char kUsage[] =
     "Finds the fewest tilt-test samples N that still decide the landmark, per test design, from the\n"
     "endpoint covariance as a function of N (parameters) plus the run's own noise (fixed), and checks\n"
     "the analytic error probability by Monte Carlo. Positions in m, angles in rad.\n"
+    "The Monte Carlo takes a minute or more; --progress shows how far it has got.\n"
     "Exit status: 0 on success, 2 on bad input.\n\n"
-    "  min_samples --data_dir=../shared/data/tp2-2018 [--design=all] [--max_error=0.01]";
+    "  min_samples --data_dir=../shared/data/tp2-2018 [--design=all] [--max_error=0.01] [--progress=always]";
 // clang-format on
 
 struct Inputs : Experiment {
@@ -82,7 +84,8 @@ Status DesignsFromFlag(std::vector<std::string>* designs) {
   return Status::Ok();
 }
 
-MinSamplesOptions OptionsFromFlags(const Inputs& inputs, std::vector<std::string> designs) {
+MinSamplesOptions OptionsFromFlags(const Inputs& inputs, std::vector<std::string> designs,
+                                   ProgressFn progress) {
   MinSamplesOptions options;
   options.designs = std::move(designs);
   options.max_error = FLAGS_max_error;
@@ -91,6 +94,7 @@ MinSamplesOptions OptionsFromFlags(const Inputs& inputs, std::vector<std::string
   options.seed = FLAGS_seed;
   options.threads = FLAGS_threads;
   options.subset_checks = !FLAGS_data_dir.empty();  // a simulated test has the full simulation
+  options.progress = std::move(progress);
   return options;
 }
 
@@ -101,11 +105,15 @@ int Run(int argc, char** argv) {
   Inputs inputs;
   MinSamplesReport report;
   std::string json_text;
+  ProgressStyle progress_style;
   Status status = DesignsFromFlag(&designs);
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
   if (status.ok()) status = Load(&inputs);
+  ProgressPrinter progress("min_samples", "Monte Carlo trials", progress_style, &std::cerr);
   if (status.ok()) {
-    status = RunMinSamplesStudy(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
-                                inputs.scenario, OptionsFromFlags(inputs, designs), &report.study);
+    status = RunMinSamplesStudy(
+        inputs.test, inputs.run, inputs.conditions, inputs.landmarks, inputs.scenario,
+        OptionsFromFlags(inputs, designs, progress.Callback()), &report.study);
   }
   report.landmarks = inputs.landmarks;
   report.max_error = FLAGS_max_error;

@@ -33,6 +33,7 @@ DEFINE_int32(datasets, 170, "Null datasets per (design, noise factor); the defau
 DEFINE_uint64(seed, 1, "Seed; dataset i of a cell uses the noise streams of (seed, cell, i).");
 DEFINE_int32(threads, 2, "Threads (0: all cores). The counts do not depend on it.");
 DEFINE_string(json, "", "Write the table as JSON to this file (atomically).");
+ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(datasets, 10, 10000000);
 ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
@@ -45,7 +46,7 @@ constexpr char kUsage[] =
     "noise level and alpha, and pooled per alpha against alpha + 2 Monte Carlo sd.\n"
     "Exit status: 0 on success (also when the rate is above the bound), 2 on bad input.\n\n"
     "  null_rate [--designs=course,n2000] [--noise_factors=0.25,1,4] [--alphas=0.01,0.05]\n"
-    "            [--datasets=170] [--threads=2] [--json=null_rate.json]";
+    "            [--datasets=170] [--threads=2] [--json=null_rate.json] [--progress=always]";
 
 // A comma-separated list of numbers, each accepted by `valid` (whose range `range` names).
 Status ParseNumbers(const char* flag, const std::string& text, bool (*valid)(double),
@@ -113,12 +114,16 @@ int Run(int argc, char** argv) {
   if (!InitProblem("null_rate", kUsage, "problems/null_rate", &argc, &argv)) return kExitBadInput;
   NullRateReport report;
   std::string json_text;
+  ProgressStyle progress_style;
   Status status = OptionsFromFlags(&report.options);
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
   DataSource source;
   if (status.ok()) {
     status = LoadSimulationScenario("", "", FLAGS_seed, {{"--json", FLAGS_json}}, &report.course,
                                     &source);
   }
+  ProgressPrinter progress("null_rate", "datasets", progress_style, &std::cerr);
+  report.options.progress = progress.Callback();
   if (status.ok()) status = RunNullRateStudy(report.course, report.options, &report.study);
   if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(NullRateJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});

@@ -10,7 +10,6 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -33,6 +32,7 @@
 #include "io/provenance.h"
 #include "io/run_conditions.h"
 #include "io/scenario_json.h"
+#include "reporting/progress_printer.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {
@@ -310,24 +310,17 @@ inline std::string CatalogueParametersText() {
   return text;
 }
 
-// "[stage/stages] name ... done (seconds)" per stage on stderr, on a terminal only.
-class StageProgress {
- public:
-  explicit StageProgress(int stages) : stages_(stages) {}
-  void Start(int stage, const char* name) {
-    start_ = std::chrono::steady_clock::now();
-    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "[%d/%d] %s ... ", stage, stages_, name);
-  }
-  void Done() {
-    const double seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    if (isatty(STDERR_FILENO)) std::fprintf(stderr, "done (%.2f s)\n", seconds);
-  }
+// --progress, defined in each binary that runs for more than a few seconds (so that its
+// --help lists it) with one help text.
+// clang-format off
+#define ACCELCAL_DEFINE_PROGRESS_FLAG() \
+  DEFINE_string(progress, "auto", "Progress lines with the time left, on stderr: auto (only when stderr is a terminal), always, or never. stdout and the output files are the same whatever it says.")
+// clang-format on
 
- private:
-  int stages_;
-  std::chrono::steady_clock::time_point start_;
-};
+// The style --progress asks for on this process's stderr.
+inline Status ProgressStyleFromFlag(const std::string& mode, ProgressStyle* style) {
+  return ProgressStyleFor(mode, isatty(STDERR_FILENO) != 0, style);
+}
 
 // `outputs` are checked against the files once they are resolved, before any is read.
 // The flags that choose or shape a simulation (e.g. --set, --seed, --scenario) mean nothing

@@ -2,10 +2,8 @@
 // results agree with the individual binaries, and which is never left half-written.
 
 #include <dirent.h>
-#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,8 +15,6 @@
 
 #include "reporting/report_document.h"
 #include "test_support.h"
-
-extern char** environ;
 
 namespace accelcal {
 namespace {
@@ -294,23 +290,7 @@ std::string WriteInterruptingPlotter(const ScratchDir& scratch, const std::strin
 
 // Runs analyze with `arguments` (no shell) and returns its wait status.
 int RunAnalyzeDirectly(const std::vector<std::string>& arguments) {
-  std::vector<std::string> argv_strings = {testing::BinaryPath("analyze")};
-  argv_strings.insert(argv_strings.end(), arguments.begin(), arguments.end());
-  std::vector<char*> argv;
-  for (std::string& argument : argv_strings) argv.push_back(argument.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t pid = -1;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  EXPECT_EQ(spawned, 0) << argv[0];
-  if (spawned != 0) return -1;
-  int status = 0;
-  EXPECT_EQ(waitpid(pid, &status, 0), pid);
-  return status;
+  return testing::SpawnBinary("analyze", arguments, "/dev/null", "/dev/null");
 }
 
 // The folder's entries beside `path` whose names start with path's name + ".tmp.".

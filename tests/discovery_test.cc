@@ -195,7 +195,6 @@ TEST(Discover, FalseDiscoveryRateOnNullDataIsAtMostAlpha) {
   std::vector<int> reported(trials, 0);
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = trials;
-  monte_carlo.progress = false;
   RunTrials(monte_carlo, [&](int trial) {
     const SimulatedData data = SimulateScenario(scenario, 31337, trial);
     DiscoveryOptions options;

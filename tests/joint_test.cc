@@ -557,7 +557,6 @@ TEST_P(JointEffectRecoveryTest, RecoversTheEffectWithAnHonestSigma) {
   std::vector<int> failed(trials, 0);
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = trials;
-  monte_carlo.progress = false;
   RunTrials(monte_carlo, [&](int trial) {
     const SimulatedData data = SimulateScenario(scenario, 200, trial);
     JointResult result;

@@ -191,7 +191,6 @@ TEST(AnalyseDesign, AnalyticCurveAgreesWithFullSimulation) {
   std::vector<int> wrong(trials, 0);
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = trials;
-  monte_carlo.progress = false;
   RunTrials(monte_carlo, [&](int trial) {
     const CalibrationTest test = SimulateTiltTest(schedule, c.scenario.truth, 99, trial);
     const VehicleRun run = SimulateVehicleRun(t, ax, ay, c.scenario.truth, 99, trial);

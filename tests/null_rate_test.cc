@@ -27,7 +27,6 @@ TEST(NullRateStudy, FalseDiscoveryRateIsWithinAlphaOnTwoDesigns) {
   options.alphas = {0.05};
   options.datasets = 200;
   options.threads = 0;
-  options.progress = false;
   NullRateResult result;
   const Status status = RunNullRateStudy(Course(), options, &result);
   ASSERT_TRUE(status.ok()) << status.message();
@@ -52,7 +51,6 @@ TEST(NullRateStudy, CountsDoNotDependOnTheThreadCount) {
   options.noise_factors = {4.0};
   options.alphas = {0.01, 0.45};
   options.datasets = 8;
-  options.progress = false;
   NullRateResult one;
   NullRateResult two;
   options.threads = 1;

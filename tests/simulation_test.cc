@@ -356,6 +356,7 @@ TEST(EffectSignature, RunBiasShiftLeavesTheTestAloneAndNoiseRatioScalesChiSquare
   for (int j = 0; j < 3; ++j) EXPECT_NEAR(shifted.measured_x[j] - plain.measured_x[j], 0.5, 1e-12);
 }
 
+// Nor on whether the trials are counted for a progress line.
 TEST(MonteCarlo, ResultsDoNotDependOnTheThreadCount) {
   Scenario scenario;
   ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
@@ -363,13 +364,15 @@ TEST(MonteCarlo, ResultsDoNotDependOnTheThreadCount) {
   CoverageOptions options;
   options.trials = 60;
   options.seed = 4;
-  options.progress = false;
   options.threads = 1;
   const CoverageResult one = RunCoverageStudy(scenario, options);
   options.threads = 2;
   const CoverageResult two = RunCoverageStudy(scenario, options);
   options.threads = 5;
+  int64_t counted = 0;
+  options.progress = [&](int64_t done, int64_t) { counted = done; };
   const CoverageResult five = RunCoverageStudy(scenario, options);
+  EXPECT_EQ(counted, 60);
   EXPECT_EQ(two.threads, 2);
   for (int i = 0; i < kBaselineParameterCount; ++i) {
     EXPECT_EQ(one.parameters[i].mean, two.parameters[i].mean);
@@ -382,7 +385,6 @@ TEST(MonteCarlo, ResultsDoNotDependOnTheThreadCount) {
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = 1000;
   monte_carlo.threads = 2;
-  monte_carlo.progress = false;
   RunTrials(monte_carlo, [&](int trial) { ++calls[trial]; });
   EXPECT_EQ(std::count(calls.begin(), calls.end(), 1), 1000);
 }
@@ -396,7 +398,6 @@ TEST(CoverageStudy, TheBaselinesReportedCovarianceIsRightOnTheCourseScenario) {
   CoverageOptions options;
   options.trials = 600;
   options.seed = 12;
-  options.progress = false;
   const CoverageResult result = RunCoverageStudy(scenario, options);
   ASSERT_EQ(result.trials, 600);
   for (int i = 0; i < kBaselineParameterCount; ++i) {
@@ -418,7 +419,6 @@ TEST(CoverageStudy, AHiddenEffectBiasesWhatItShould) {
   ASSERT_TRUE(LoadDefaultScenario(&scenario).ok());
   CoverageOptions options;
   options.trials = 100;
-  options.progress = false;
   // bias_drift_x leaks into scale_x through the sin(theta) projection (see the signature
   // test): about d / (pi g sigma_s) = 0.1 / (pi 9.8 5.1e-4) = 6.4 sigma.
   ASSERT_TRUE(ApplyScenarioOverrides("bias_drift_x=0.1", &scenario).ok());

@@ -5,7 +5,9 @@
 // where the course data and the binaries are, scratch directories, and running a binary
 // to check its exit status, stdout and stderr.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -129,6 +131,42 @@ inline CommandResult RunCommand(const std::string& command) {
 // Runs build/bin/<binary> with `arguments` (already shell-quoted where needed).
 inline CommandResult RunBinary(const std::string& binary, const std::string& arguments) {
   return RunCommand("'" + BinaryPath(binary) + "' " + arguments);
+}
+
+// Runs build/bin/<binary> with `arguments` as its argument vector (no shell, so nothing
+// needs quoting), its stdout and stderr into the files named. Returns its wait status, -1
+// when it could not start.
+inline int SpawnBinary(const std::string& binary, const std::vector<std::string>& arguments,
+                       const std::string& stdout_path, const std::string& stderr_path) {
+  std::vector<std::string> strings = {BinaryPath(binary)};
+  strings.insert(strings.end(), arguments.begin(), arguments.end());
+  std::vector<char*> argv;
+  for (std::string& argument : strings) argv.push_back(argument.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  const int flags = O_WRONLY | O_CREAT | O_TRUNC;
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_path.c_str(), flags, 0600);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_path.c_str(), flags, 0600);
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  EXPECT_EQ(spawned, 0) << argv[0];
+  int status = 0;
+  if (spawned != 0 || waitpid(pid, &status, 0) != pid) return -1;
+  return status;
+}
+
+// SpawnBinary with stdout and stderr captured (into files: never a terminal).
+inline CommandResult RunBinaryArgs(const std::string& binary,
+                                   const std::vector<std::string>& arguments) {
+  ScratchDir capture;
+  const int status = SpawnBinary(binary, arguments, capture.File("stdout"), capture.File("stderr"));
+  CommandResult result;
+  result.exit_status = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.stdout_text = ReadText(capture.File("stdout"));
+  result.stderr_text = ReadText(capture.File("stderr"));
+  return result;
 }
 
 inline int CountLines(const std::string& text);

@@ -3,19 +3,19 @@
 
 // Runs K independent trials on all cores. Each trial is a function of its index alone
 // (it seeds its simulation from (seed, trial)) and writes only its own result slot, so
-// the results do not depend on the number of threads or on scheduling. A progress line
-// (count, rate, ETA) goes to stderr while it runs, only when stderr is a terminal.
+// the results do not depend on the number of threads or on scheduling. Nothing is
+// printed: each finished trial advances `progress`, which the caller shows or not.
 
 #include <functional>
-#include <string>
+
+#include "common/progress.h"
 
 namespace accelcal {
 
 struct MonteCarloOptions {
   int trials = 1000;
-  int threads = 0;  // 0: std::thread::hardware_concurrency()
-  std::string label = "trials";
-  bool progress = true;  // still only on a terminal
+  int threads = 0;                      // 0: std::thread::hardware_concurrency()
+  ProgressCounter* progress = nullptr;  // advanced once per finished trial; may be shared
 };
 
 struct MonteCarloTiming {

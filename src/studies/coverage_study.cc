@@ -33,11 +33,11 @@ CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions&
     truth[BaselineIndex(parameter)] = truth_parameters[parameter];
   }
   std::vector<Trial> trials(options.trials);
+  ProgressCounter progress(options.progress, options.trials);
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = options.trials;
   monte_carlo.threads = options.threads;
-  monte_carlo.progress = options.progress;
-  monte_carlo.label = "coverage " + scenario.name;
+  monte_carlo.progress = &progress;
   const MonteCarloTiming timing = RunTrials(monte_carlo, [&](int index) {
     const SimulatedData data = SimulateScenario(scenario, options.seed, index);
     const LinearLsOptions fit_options =
@@ -121,9 +121,16 @@ CoverageResult RunCoverageStudy(const Scenario& scenario, const CoverageOptions&
   return result;
 }
 
+int EffectImpactRows() {
+  int rows = 0;
+  for (const ParameterInfo& info : ParameterCatalogue()) rows += info.baseline ? 0 : 1;
+  return rows;
+}
+
 std::vector<EffectImpact> RunEffectImpactTable(const Scenario& scenario,
                                                const CoverageOptions& options) {
   std::vector<EffectImpact> table;
+  const int64_t total = static_cast<int64_t>(EffectImpactRows()) * options.trials;
   for (const ParameterInfo& info : ParameterCatalogue()) {
     if (info.baseline) continue;
     Scenario hidden = scenario;
@@ -131,7 +138,10 @@ std::vector<EffectImpact> RunEffectImpactTable(const Scenario& scenario,
     EffectImpact row;
     row.effect = info.parameter;
     row.size = info.example_size;
-    row.result = RunCoverageStudy(hidden, options);
+    CoverageOptions row_options = options;
+    row_options.progress =
+        ProgressPart(options.progress, static_cast<int64_t>(table.size()) * options.trials, total);
+    row.result = RunCoverageStudy(hidden, row_options);
     table.push_back(row);
   }
   return table;

@@ -15,6 +15,7 @@
 #include <array>
 #include <vector>
 
+#include "common/progress.h"
 #include "estimation/baseline_parameters.h"
 #include "models/effects.h"
 #include "simulation/scenario.h"
@@ -24,8 +25,8 @@ namespace accelcal {
 struct CoverageOptions {
   int trials = 1000;
   uint64_t seed = 1;
-  int threads = 0;       // 0: all cores
-  bool progress = true;  // a progress line on a terminal
+  int threads = 0;      // 0: all cores
+  ProgressFn progress;  // per finished trial, of `trials` (of the table's, in the table)
 };
 
 constexpr std::array<double, 3> kCoverageLevels = {0.68, 0.95, 0.99};
@@ -60,7 +61,8 @@ struct EffectImpact {
   CoverageResult result;
 };
 
-// One row per non-baseline effect, each hidden at its example size.
+// One row per non-baseline effect, each hidden at its example size, each of options.trials.
+int EffectImpactRows();
 std::vector<EffectImpact> RunEffectImpactTable(const Scenario& scenario,
                                                const CoverageOptions& options);
 

@@ -313,12 +313,13 @@ namespace {
 double MonteCarloWrongRate(const std::function<CalibrationTest(int)>& make_test,
                            const std::function<VehicleRun(int)>& make_run,
                            const RunConditions& conditions, const std::vector<Landmark>& landmarks,
-                           int truth, int trials, const MinSamplesOptions& options) {
+                           int truth, int trials, const MinSamplesOptions& options,
+                           ProgressCounter* progress) {
   std::vector<int> wrong(trials, 0);
   MonteCarloOptions monte_carlo;
   monte_carlo.trials = trials;
   monte_carlo.threads = options.threads;
-  monte_carlo.progress = false;
+  monte_carlo.progress = progress;
   RunTrials(monte_carlo, [&](int trial) {
     EndpointModel model;
     int decided = -1;
@@ -334,13 +335,14 @@ double MonteCarloWrongRate(const std::function<CalibrationTest(int)>& make_test,
 }
 
 // The N a design is checked at: a quarter of N_min (at least 10) and N_min.
-std::array<int, 2> CheckedSampleCounts(const DesignCurve& design) {
+constexpr int kCheckedSampleCounts = 2;
+std::array<int, kCheckedSampleCounts> CheckedSampleCounts(const DesignCurve& design) {
   return {std::max(10, design.n_min / 4), design.n_min};
 }
 
 // Full simulation of test and run from the scenario, at and below N_min.
 Status FullSimulationChecks(const Scenario& scenario, const DesignCurve& design,
-                            const MinSamplesOptions& options,
+                            const MinSamplesOptions& options, ProgressCounter* progress,
                             std::vector<MonteCarloCheck>* checks) {
   const SimulatedData reference = SimulateScenario(scenario, options.seed, 1u << 30);
   EndpointModel model;
@@ -372,7 +374,8 @@ Status FullSimulationChecks(const Scenario& scenario, const DesignCurve& design,
           TrueRunAcceleration(scenario.run, &t, &ax, &ay);
           return SimulateVehicleRun(t, ax, ay, scenario.truth, options.seed + 7, trial);
         },
-        reference.conditions, reference.landmarks, true_index, options.repetitions, options);
+        reference.conditions, reference.landmarks, true_index, options.repetitions, options,
+        progress);
     check.repetitions = options.repetitions;
     check.independent = options.repetitions;
     check.monte_carlo_sd =
@@ -388,7 +391,8 @@ Status FullSimulationChecks(const Scenario& scenario, const DesignCurve& design,
 void RealTestSubsetChecks(const CalibrationTest& test, const VehicleRun& run,
                           const RunConditions& conditions, const std::vector<Landmark>& landmarks,
                           const MinSamplesResult& study, const DesignCurve& design,
-                          const MinSamplesOptions& options, std::vector<MonteCarloCheck>* checks) {
+                          const MinSamplesOptions& options, ProgressCounter* progress,
+                          std::vector<MonteCarloCheck>* checks) {
   const EndpointModel& model = study.model;
   const int full = study.full_samples;
   for (const int n : CheckedSampleCounts(design)) {
@@ -434,7 +438,7 @@ void RealTestSubsetChecks(const CalibrationTest& test, const VehicleRun& run,
             return subset;
           },
           [&](int) { return run; }, conditions, landmarks, study.truth, options.repetitions,
-          options);
+          options, progress);
       check.repetitions = options.repetitions;
       // Evenly spaced subsets of the real test are at most full/N disjoint ones: the
       // repetitions draw from that many independent outcomes, not from `repetitions`.
@@ -444,6 +448,26 @@ void RealTestSubsetChecks(const CalibrationTest& test, const VehicleRun& run,
       checks->push_back(check);
     }
   }
+}
+
+// Which checks a design gets: none without repetitions or without an N_min; the uniform
+// design also the real test's subsets, random and evenly spaced, when asked for.
+bool IsChecked(const DesignCurve& design, const MinSamplesOptions& options) {
+  return options.repetitions > 0 && design.n_min > 0;
+}
+bool ChecksSubsets(const DesignCurve& design, const MinSamplesOptions& options) {
+  return IsChecked(design, options) && design.name == "uniform" && options.subset_checks;
+}
+
+// The Monte Carlo trials of every check, for the progress: each kind of check runs
+// options.repetitions at each of CheckedSampleCounts.
+int64_t CheckTrials(const std::vector<DesignCurve>& designs, const MinSamplesOptions& options) {
+  int64_t kinds = 0;
+  for (const DesignCurve& design : designs) {
+    kinds += IsChecked(design, options) ? 1 : 0;      // full simulation
+    kinds += ChecksSubsets(design, options) ? 2 : 0;  // random and evenly spaced subsets
+  }
+  return kinds * kCheckedSampleCounts * options.repetitions;
 }
 
 }  // namespace
@@ -461,12 +485,14 @@ Status RunMinSamplesStudy(const CalibrationTest& test, const VehicleRun& run,
   result->designs = AnalyseDesigns(result->model, landmarks, result->truth, options.designs,
                                    options.max_error, result->full_samples, &result->uniform_n_min);
   result->checks.assign(result->designs.size(), {});
+  ProgressCounter progress(options.progress, CheckTrials(result->designs, options));
   for (size_t d = 0; d < result->designs.size(); ++d) {
     const DesignCurve& design = result->designs[d];
-    if (options.repetitions <= 0 || design.n_min <= 0) continue;
-    ACCELCAL_RETURN_IF_ERROR(FullSimulationChecks(scenario, design, options, &result->checks[d]));
-    if (design.name == "uniform" && options.subset_checks) {
-      RealTestSubsetChecks(test, run, conditions, landmarks, *result, design, options,
+    if (!IsChecked(design, options)) continue;
+    ACCELCAL_RETURN_IF_ERROR(
+        FullSimulationChecks(scenario, design, options, &progress, &result->checks[d]));
+    if (ChecksSubsets(design, options)) {
+      RealTestSubsetChecks(test, run, conditions, landmarks, *result, design, options, &progress,
                            &result->checks[d]);
     }
   }

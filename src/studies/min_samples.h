@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/measurements.h"
+#include "common/progress.h"
 #include "common/status.h"
 #include "estimation/trajectory.h"
 #include "simulation/scenario.h"
@@ -139,6 +140,9 @@ struct MinSamplesOptions {
   // Check on subsets of the test as well (only meaningful for a measured test: a simulated
   // one is checked by full simulation already).
   bool subset_checks = true;
+  // Per finished Monte Carlo trial of the checks (the curves are analytic and quick), of
+  // every check's together, known once the designs' N_min are.
+  ProgressFn progress;
 };
 
 struct MinSamplesResult {

@@ -197,6 +197,8 @@ Status RunNullRateStudy(const Scenario& course, const NullRateOptions& options,
   int threads = 1;
   const int alpha_count = static_cast<int>(options.alphas.size());
   size_t next_scenario = 0;
+  ProgressCounter progress(options.progress,
+                           static_cast<int64_t>(scenarios.size()) * options.datasets);
   for (const std::string& design : options.designs) {
     for (const double factor : options.noise_factors) {
       const Scenario& scenario = scenarios[next_scenario++];
@@ -205,8 +207,7 @@ Status RunNullRateStudy(const Scenario& course, const NullRateOptions& options,
       MonteCarloOptions monte_carlo;
       monte_carlo.trials = options.datasets;
       monte_carlo.threads = options.threads;
-      monte_carlo.progress = options.progress;
-      monte_carlo.label = "null_rate " + design + " x" + RoundTripDouble(factor);
+      monte_carlo.progress = &progress;
       const MonteCarloTiming timing = RunTrials(monte_carlo, [&](int dataset) {
         const SimulatedData data =
             SimulateScenario(scenario, options.seed, DatasetStream(design, factor, dataset));

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "common/progress.h"
 #include "common/status.h"
 #include "simulation/scenario.h"
 
@@ -51,8 +52,8 @@ struct NullRateOptions {
   // tell a rate of 1% from 1.5% (the bound at alpha = 0.01 is 1.44%).
   int datasets = 170;
   uint64_t seed = 1;
-  int threads = 2;  // 0: all cores; the counts do not depend on it
-  bool progress = true;
+  int threads = 2;      // 0: all cores; the counts do not depend on it
+  ProgressFn progress;  // per finished dataset, of designs x noise factors x datasets
 };
 
 // Discovery on the datasets of one (design, noise factor) at one alpha.

@@ -32,8 +32,15 @@ double EffectSigma(const Scenario& scenario, Parameter effect, uint64_t seed) {
 
 }  // namespace
 
+int64_t PowerStudyTrials(const PowerOptions& options) {
+  int64_t effects = 0;
+  for (const ParameterInfo& info : ParameterCatalogue()) effects += info.baseline ? 0 : 1;
+  return effects * static_cast<int64_t>(options.sizes_sigma.size()) * options.trials;
+}
+
 std::vector<PowerRow> RunPowerStudy(const Scenario& base, const PowerOptions& options) {
   std::vector<PowerRow> table;
+  ProgressCounter progress(options.progress, PowerStudyTrials(options));
   for (const ParameterInfo& info : ParameterCatalogue()) {
     if (info.baseline) continue;
     Scenario scenario = base;
@@ -53,8 +60,7 @@ std::vector<PowerRow> RunPowerStudy(const Scenario& base, const PowerOptions& op
       MonteCarloOptions monte_carlo;
       monte_carlo.trials = options.trials;
       monte_carlo.threads = options.threads;
-      monte_carlo.progress = options.progress;
-      monte_carlo.label = std::string("power ") + info.name;
+      monte_carlo.progress = &progress;
       RunTrials(monte_carlo, [&](int trial) {
         const SimulatedData data = SimulateScenario(hidden, options.seed, trial);
         DiscoveryOptions discovery;

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "common/progress.h"
 #include "models/effects.h"
 #include "simulation/scenario.h"
 
@@ -19,7 +20,7 @@ struct PowerOptions {
   uint64_t seed = 1;
   double alpha = 0.01;
   int threads = 0;
-  bool progress = true;
+  ProgressFn progress;  // the trials of every cell together, PowerStudyTrials(options) of them
 };
 
 struct PowerRow {
@@ -28,6 +29,9 @@ struct PowerRow {
   std::vector<double> detection;      // per size: fraction of trials that named the effect
   std::vector<double> other_effects;  // per size: fraction that named some other effect too
 };
+
+// Every effect of the catalogue outside the baseline, times every size, times options.trials.
+int64_t PowerStudyTrials(const PowerOptions& options);
 
 // Run bias shifts are studied with the true endpoint among decoys 400 m away (see
 // discovery_test: with the course's landmarks a large shift lands on another landmark).

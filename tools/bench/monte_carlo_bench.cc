@@ -29,7 +29,6 @@ void BM_BaselineCoverageTrials(benchmark::State& state) {
   CoverageOptions options;
   options.trials = 200;
   options.threads = static_cast<int>(state.range(0));
-  options.progress = false;
   for (auto _ : state) {
     const CoverageResult result = RunCoverageStudy(scenario, options);
     benchmark::DoNotOptimize(result.parameters[0].mean);
