@@ -18,9 +18,9 @@ using testing::ScratchDir;
 
 struct Case {
   const char* binary;
-  const char* flags;      // besides --data_dir and the output
-  const char* output;     // "json": --json=FILE; otherwise the JSON file inside --out_dir
-  size_t files_read;      // from a course-layout folder
+  const char* flags;   // besides --data_dir and the output
+  const char* output;  // "json": --json=FILE; otherwise the JSON file inside --out_dir
+  size_t files_read;   // from a course-layout folder
 };
 
 // Small settings: the provenance does not depend on the work done.
@@ -38,20 +38,20 @@ const Case kCases[] = {
 };
 
 bool ReadsMeasuredData(const std::string& binary) {
-  return binary != "simulate" && binary != "coverage" && binary != "power" &&
-         binary != "null_rate";
+  return binary != "simulate" && binary != "coverage" && binary != "power" && binary != "null_rate";
 }
 bool Simulates(const std::string& binary) { return binary != "trajectory"; }
 
-nlohmann::json RunAndReadJson(const Case& c, const std::string& data_flag, std::string* stdout_text) {
+nlohmann::json RunAndReadJson(const Case& c, const std::string& data_flag, std::string* stdout_text,
+                              std::string* report_md = nullptr) {
   ScratchDir scratch;
   const std::string output = std::string(c.output) == "json"
                                  ? "--json='" + scratch.File("out.json") + "'"
                                  : "--out_dir='" + scratch.File("out") + "'";
-  const CommandResult result =
-      RunBinary(c.binary, data_flag + " " + c.flags + " " + output);
+  const CommandResult result = RunBinary(c.binary, data_flag + " " + c.flags + " " + output);
   EXPECT_EQ(result.exit_status, 0) << c.binary << ": " << result.stderr_text;
   *stdout_text = result.stdout_text;
+  if (report_md != nullptr) *report_md = testing::ReadText(scratch.File("out") + "/report.md");
   const std::string json_path = std::string(c.output) == "json"
                                     ? scratch.File("out.json")
                                     : scratch.File("out") + "/" + c.output;
@@ -70,8 +70,10 @@ TEST(Provenance, EveryBinaryOnMeasuredDataNamesTheFolderAndTheFilesChecksums) {
   for (const Case& c : kCases) {
     if (!ReadsMeasuredData(c.binary)) continue;
     SCOPED_TRACE(c.binary);
-    std::string stdout_text;
-    const nlohmann::json json = RunAndReadJson(c, "--data_dir='" + dir + "'", &stdout_text);
+    std::string stdout_text, report_md;
+    const bool report = std::string(c.output) == "results.json";
+    const nlohmann::json json =
+        RunAndReadJson(c, "--data_dir='" + dir + "'", &stdout_text, report ? &report_md : nullptr);
     ASSERT_FALSE(json.is_discarded());
     EXPECT_EQ(stdout_text.substr(0, stdout_text.find('\n')),
               "data: " + dir + " (" + std::to_string(c.files_read) + " files)");
@@ -82,6 +84,11 @@ TEST(Provenance, EveryBinaryOnMeasuredDataNamesTheFolderAndTheFilesChecksums) {
       const std::string path = file["path"];
       const CommandResult sha256sum = testing::RunCommand("sha256sum '" + path + "'");
       EXPECT_EQ(file["sha256"], sha256sum.stdout_text.substr(0, 64)) << role;
+      // analyze's report says it too, in its provenance section.
+      if (report) {
+        EXPECT_NE(report_md.find("| " + role + " | " + path + " | "), std::string::npos);
+        EXPECT_NE(report_md.find(sha256sum.stdout_text.substr(0, 64)), std::string::npos);
+      }
     }
     ExpectCommandLine(json, c.binary);
   }
@@ -112,8 +119,7 @@ TEST(Provenance, AHiddenEffectIsNamedFirst) {
     for (const Case& c : kCases) {
       if (std::string(c.binary) != binary) continue;
       std::string stdout_text;
-      const nlohmann::json json =
-          RunAndReadJson(c, "--set=angle_offset=0.004", &stdout_text);
+      const nlohmann::json json = RunAndReadJson(c, "--set=angle_offset=0.004", &stdout_text);
       EXPECT_EQ(stdout_text.substr(0, stdout_text.find('\n')),
                 "data: simulated, scenario tp2-2018, seed 1, hidden angle_offset=0.004");
       EXPECT_EQ(json["source"]["hidden"]["angle_offset"], 0.004);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <ctime>
 #include <map>
 
 #include "common/format.h"
@@ -13,10 +14,35 @@
 #include "io/subprocess.h"
 #include "reporting/discovery_report.h"
 #include "reporting/min_samples_report.h"
+#include "reporting/reference_report.h"
 #include "reporting/report_document.h"
 
 namespace accelcal {
 namespace {
+
+// Where the report's data came from, and how to make it again.
+ReportSection ProvenanceSection(const DataSource& source) {
+  ReportSection section;
+  section.title = "7. Provenance";
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S UTC", &utc);
+  section.paragraphs.push_back(DataLine(source) + ".");
+  section.paragraphs.push_back(std::string("Written by accelcal ") + AccelcalVersion() + " on " +
+                               date + " with: " + CommandLine());
+  if (!source.files.empty()) {
+    section.table.push_back({"role", "file", "bytes", "SHA-256"});
+    for (const auto& [role, file] : source.files) {
+      section.table.push_back({role, file.path, std::to_string(file.bytes), file.sha256});
+    }
+  } else {
+    section.paragraphs.push_back(
+        "No file was read: the scenario and the seed above reproduce these data exactly.");
+  }
+  return section;
+}
 
 std::string Num(double value, const char* format = "%.4g") { return StringPrintf(format, value); }
 
@@ -188,6 +214,132 @@ std::string ModelGrowth(const DiscoveryResult& d) {
   return text + ".";
 }
 
+// The effects hidden in simulated data with their values ("angle_offset = 0.004 rad"), or "".
+std::string HiddenEffects(const nlohmann::json& truth) {
+  std::string text;
+  for (const auto& item : truth["parameters"].items()) {
+    const ParameterInfo* info = FindParameter(item.key());
+    if (info != nullptr && !info->baseline && item.value().get<double>() != info->neutral) {
+      text += std::string(text.empty() ? "" : ", ") + item.key() + " = " +
+              Num(item.value().get<double>()) + " " + info->unit;
+    }
+  }
+  return text;
+}
+
+// The landmark decision in plain words: the landmark reached and how far (in sigma of the
+// endpoint covariance) it and the nearest other one are.
+std::string LandmarkSummary(const LandmarkDecision& decision) {
+  if (decision.scores.empty() || decision.best < 0)
+    return "No landmarks were given, so none is decided.";
+  const LandmarkScore& best = decision.scores[decision.best];
+  const LandmarkScore* runner_up = nullptr;
+  for (const LandmarkScore& score : decision.scores) {
+    if (&score != &best && (runner_up == nullptr || score.mahalanobis2 < runner_up->mahalanobis2))
+      runner_up = &score;
+  }
+  std::string text =
+      decision.reached.empty()
+          ? StringPrintf(
+                // clang-format off
+                "No landmark is consistent with the endpoint: the nearest, %s, is %.2f sigma away (p = %.3g, below alpha = %g)",
+                // clang-format on
+                best.landmark.name.c_str(), std::sqrt(best.mahalanobis2), best.p_value,
+                decision.alpha)
+          : StringPrintf("The vehicle reached %s: the endpoint is %.2f sigma from it (p = %.3g)",
+                         decision.reached.c_str(), std::sqrt(best.mahalanobis2), best.p_value);
+  if (runner_up != nullptr) {
+    const double sigmas = std::sqrt(runner_up->mahalanobis2);
+    text += std::floor(sigmas) >= 1.0
+                ? StringPrintf(
+                      "; every other landmark is more than %.0f sigma away (the nearest, %s, %.2f "
+                      "sigma)",
+                      std::floor(sigmas), runner_up->landmark.name.c_str(), sigmas)
+                : StringPrintf("; the next nearest, %s, is %.2f sigma away",
+                               runner_up->landmark.name.c_str(), sigmas);
+  }
+  return text + ".";
+}
+
+// The baseline fit against the stated noise, and discovery's verdict, in one line.
+std::string BaselineSummary(const AnalyzeReport& r) {
+  const BaselineFit& fit = r.linear.closed_form;
+  const AxisChiSquare* axes[2] = {&fit.chi2_x, &fit.chi2_y};
+  std::string failing;
+  for (int k = 0; k < 2; ++k)
+    if (axes[k]->p_value < r.alpha)
+      failing += std::string(failing.empty() ? "" : " and ") + "xy"[k];
+  return StringPrintf(
+      // clang-format off
+             "The baseline fit (bias and scale per axis): the stated noise %s (chi2/dof %.4f in x, p = %.3g; %.4f in y, p = %.3g). %s: %s.",
+      // clang-format on
+      failing.empty() ? "explains the size of its residuals"
+                      : ("does not explain the size of its residuals on " + failing).c_str(),
+      fit.chi2_x.chi2 / fit.chi2_x.dof, fit.chi2_x.p_value, fit.chi2_y.chi2 / fit.chi2_y.dof,
+      fit.chi2_y.p_value,
+      failing.empty() && r.discovery.verdict_code != Verdict::kExplained
+          ? "Yet discovery, which looks beyond their size, finds"
+          : "Discovery",
+      r.discovery.verdict.c_str());
+}
+
+// Why the joint column differs from the linear one: the run tied to a landmark (the endpoint
+// residual pulls on what the endpoint depends on), then the effects discovery added; each
+// shift in sigma of the linear estimate.
+std::string JointShift(const AnalyzeReport& r, const ParameterEstimate& linear) {
+  const DiscoveryResult& d = r.discovery;
+  auto shifts = [&](const ParameterEstimate& from, const ParameterEstimate& to, bool* any) {
+    std::string moved;
+    std::string still;
+    for (const Parameter parameter : kBaselineParameters) {
+      if (from.IndexOf(parameter) < 0 || to.IndexOf(parameter) < 0) continue;
+      const double sigmas =
+          (to.Value(parameter) - from.Value(parameter)) / linear.StandardDeviation(parameter);
+      std::string& list = std::abs(sigmas) >= 0.05 ? moved : still;
+      list += std::string(list.empty() ? "" : ", ") + Info(parameter).name +
+              (std::abs(sigmas) >= 0.05 ? StringPrintf(" %+.2f sigma", sigmas) : "");
+    }
+    *any = !moved.empty();
+    return (moved.empty() ? std::string("no baseline parameter moves by 0.05 sigma or more")
+                          : "it moves " + moved) +
+           (still.empty() || moved.empty() ? "" : "; " + still + " by less than 0.05 sigma");
+  };
+  std::string text;
+  bool any = false;
+  if (d.tied_landmark.empty()) {
+    text =
+        "Why the joint column moves: the run is tied to no landmark, so only the effects "
+        "discovery added can move the baseline parameters";
+  } else {
+    text = StringPrintf(
+        // clang-format off
+        "Why the joint column moves: the joint problem ties the run's endpoint to %s, the landmark decided, so the endpoint's residual (chi2 %.2f on 2) pulls on the parameters the endpoint depends on. Tied to %s with no effect added, ",
+        // clang-format on
+        d.tied_landmark.c_str(), d.baseline_joint.chi2_endpoint, d.tied_landmark.c_str());
+    text += shifts(linear, d.baseline_joint.estimate, &any) +
+            " (in sigma of the baseline's linear estimate)";
+    const AxisErrorBudget& bx = r.trajectory.budget[0];
+    const AxisErrorBudget& by = r.trajectory.budget[1];
+    text += StringPrintf(
+        // clang-format off
+        ". Each moves in proportion to how much the endpoint depends on it: 3 sigma of the biases moves the endpoint %.2f m (x) and %.2f m (y), 3 sigma of the scales %.2f m and %.2f m",
+        // clang-format on
+        bx.bias.three_sigma_m, by.bias.three_sigma_m, bx.scale.three_sigma_m,
+        by.scale.three_sigma_m);
+  }
+  if (!d.effects.empty()) {
+    std::string names;
+    for (const DiscoveredEffect& effect : d.effects)
+      names += std::string(names.empty() ? "" : ", ") + Info(effect.effect).name;
+    const ParameterEstimate& from = d.tied_landmark.empty() ? linear : d.baseline_joint.estimate;
+    text += ". With the effects discovery added (" + names + "), " +
+            shifts(from, d.extended.estimate, &any);
+  } else {
+    text += ". Discovery added no effect, so this is the whole shift";
+  }
+  return text + ".";
+}
+
 ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std::string>& absent) {
   ReportDocument doc;
   doc.title = "accelcal report";
@@ -199,19 +351,23 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
                      : decision.reached +
                            StringPrintf(" (p = %.3g)", decision.scores[decision.best].p_value)) +
                 ". Data: " + r.source + ".";
+  const std::string hidden = r.truth.is_null() ? "" : HiddenEffects(r.truth);
   if (!r.truth.is_null()) {
-    std::string truth;
-    for (const auto& item : r.truth["parameters"].items()) {
-      const ParameterInfo* info = FindParameter(item.key());
-      if (info != nullptr && !info->baseline && item.value().get<double>() != info->neutral) {
-        truth += std::string(truth.empty() ? "" : ", ") + item.key() + " = " +
-                 Num(item.value().get<double>()) + " " + info->unit;
-      }
-    }
     doc.verdict +=
-        " The truth hidden in it: " + (truth.empty() ? std::string("no effect") : truth) +
+        " The truth hidden in it: " + (hidden.empty() ? std::string("no effect") : hidden) +
         "; the run ends at " + r.truth["reached_landmark"].get<std::string>() + ".";
   }
+  const ReferenceComparison reference = CompareWithReferenceReport(r);
+  doc.summary.push_back(LandmarkSummary(decision));
+  doc.summary.push_back(BaselineSummary(r));
+  if (!r.truth.is_null()) {
+    doc.summary.push_back("These data are simulated: " +
+                          (hidden.empty() ? std::string("no effect is hidden in them")
+                                          : "the truth hidden in them is " + hidden) +
+                          ", and the run ends at " +
+                          r.truth["reached_landmark"].get<std::string>() + ".");
+  }
+  if (!reference.summary.empty()) doc.summary.push_back(reference.summary);
 
   ReportSection baseline;
   baseline.title = "1. Baseline: bias and scale by linear least squares";
@@ -362,6 +518,7 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
                    // clang-format on
                    d.tied_landmark.empty() ? "no landmark" : d.tied_landmark.c_str(),
                    d.cross_validation.baseline, d.cross_validation.extended));
+  joint.paragraphs.push_back(JointShift(r, linear));
   joint.table.push_back({"parameter", "unit", "baseline", "joint", "shift (baseline sigma)"});
   for (const Parameter parameter : d.extended.estimate.free) {
     const bool in_baseline = linear.IndexOf(parameter) >= 0;
@@ -399,6 +556,17 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
   samples.figure_caption = "P(wrong landmark) against the number of tilt-test samples, per design";
   doc.sections.push_back(samples);
 
+  ReportSection comparison;
+  comparison.title = "6. The reference report and this analysis";
+  comparison.paragraphs.push_back(reference.recognition);
+  if (!reference.rows.empty()) {
+    comparison.table.push_back({"figure", "reference report", "this analysis", "verdict"});
+    for (const ReferenceRow& row : reference.rows)
+      comparison.table.push_back({row.figure, row.reference, row.accelcal, row.verdict});
+  }
+  doc.sections.push_back(comparison);
+  doc.sections.push_back(ProvenanceSection(r.data_source));
+
   if (!absent.empty()) {
     ReportSection missing;
     missing.title = "Figures not drawn";
@@ -412,11 +580,12 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
 }  // namespace
 
 nlohmann::json AnalyzeJson(const AnalyzeReport& r) {
-  nlohmann::json json = {{"truth", r.truth},
-                         {"linear_ls", LinearLsJson(r.linear)},
-                         {"trajectory", TrajectoryJson(r.trajectory)},
-                         {"discover", DiscoveryJson(r.discovery, r.alpha)},
-                         {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
+  nlohmann::json json = {
+      {"truth", r.truth},
+      {"linear_ls", LinearLsJson(r.linear)},
+      {"trajectory", TrajectoryJson(r.trajectory)},
+      {"discover", DiscoveryJson(r.discovery, r.alpha)},
+      {"min_samples", MinSamplesJson({r.min_samples, r.landmarks, r.max_error})}};
   AddProvenanceJson(r.data_source, &json);
   return json;
 }

@@ -1,8 +1,9 @@
 #ifndef ACCELCAL_REPORTING_REPORT_DOCUMENT_H_
 #define ACCELCAL_REPORTING_REPORT_DOCUMENT_H_
 
-// A report as a list of sections (paragraphs, one table, one figure), rendered to Markdown
-// and to a self-contained HTML page with the figures embedded, so the two never differ.
+// A report as a short summary, a verdict and a list of sections (paragraphs, one table, one
+// figure), rendered to Markdown and to a self-contained HTML page with the figures embedded,
+// so the two never differ.
 
 #include <string>
 #include <vector>
@@ -19,6 +20,7 @@ struct ReportSection {
 
 struct ReportDocument {
   std::string title;
+  std::vector<std::string> summary;  // plain-words lines, shown first ("In short")
   std::string verdict;
   std::vector<ReportSection> sections;
 };
