@@ -70,8 +70,9 @@ std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameter
     csv += "# " + role + ": " + file.path + " (sha256 " + file.sha256 + ")\n";
   }
   csv += "# command: " + CommandLine() + "\n";
-  csv += "# sigma: the calibration's uncertainty of each value, shared by all samples (not the "
-         "sensor noise)\n";
+  csv +=
+      "# sigma: the calibration's uncertainty of each value, shared by all samples (not the "
+      "sensor noise)\n";
   csv += "t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy\n";
   for (int j = 0; j < log.size(); ++j) {
     const CorrectedSample sample =
@@ -113,8 +114,8 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = LoadMeasuredLog(FLAGS_in, &log, &notes);
   DataSource source;
   if (status.ok()) {
-    status = DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}},
-                                  &source);
+    status =
+        DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source);
   }
   std::string csv;
   if (status.ok()) csv = CorrectedCsv(log, parameters, covariance, source);

@@ -48,7 +48,8 @@ constexpr char kUsage[] =
     "Angles in radians (--theta_unit=deg for degrees).\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  calibrate --data_dir=../shared/data/tp2-2018 --calibration_out=cal.json\n"
-    "  calibrate --calibration_file=tilt.csv [--noise_variance=0.25,0.64] --calibration_out=cal.json";
+    "  calibrate --calibration_file=tilt.csv [--noise_variance=0.25,0.64] "
+    "--calibration_out=cal.json";
 
 constexpr char kEstimatedNoise[] = "estimated from the residuals";
 
@@ -153,16 +154,16 @@ std::string Verdict(const BaselineFit& fit, const NoiseStatement& noise, double 
   for (int axis = 0; axis < 2; ++axis) {
     const AxisChiSquare& chi2 = *axes[axis];
     if (chi2.p_value >= alpha) continue;
-    verdict += StringPrintf("%saxis %c: chi2/dof = %.3f (p = %.2g), residuals %s than the stated noise",
-                            verdict.empty() ? "" : "; ", axis == 0 ? 'x' : 'y',
-                            chi2.chi2 / chi2.dof, chi2.p_value,
-                            chi2.chi2 > chi2.dof ? "larger" : "smaller");
+    verdict +=
+        StringPrintf("%saxis %c: chi2/dof = %.3f (p = %.2g), residuals %s than the stated noise",
+                     verdict.empty() ? "" : "; ", axis == 0 ? 'x' : 'y', chi2.chi2 / chi2.dof,
+                     chi2.p_value, chi2.chi2 > chi2.dof ? "larger" : "smaller");
   }
   if (verdict.empty()) {
-    return StringPrintf("the stated noise explains the residuals (chi2/dof x %.4f, y %.4f; "
-                        "two-sided p >= %g)",
-                        fit.chi2_x.chi2 / fit.chi2_x.dof, fit.chi2_y.chi2 / fit.chi2_y.dof,
-                        alpha);
+    return StringPrintf(
+        "the stated noise explains the residuals (chi2/dof x %.4f, y %.4f; "
+        "two-sided p >= %g)",
+        fit.chi2_x.chi2 / fit.chi2_x.dof, fit.chi2_y.chi2 / fit.chi2_y.dof, alpha);
   }
   return verdict + ": the baseline or the stated variance is wrong; run discover on this test";
 }
@@ -204,8 +205,8 @@ std::string Table(const CalibrationRecord& record, const std::string& out) {
   text += StringPrintf("\n  g %.6g m/s^2; noise variance x %.6g, y %.6g (m/s^2)^2, %s%s\n",
                        record.gravity_mps2, record.noise_variance[0], record.noise_variance[1],
                        from == kEstimatedNoise ? "" : "from ", from.c_str());
-  text += "  samples " + record.fit["samples"].dump() + "; verdict: " +
-          record.fit["verdict"].get<std::string>() + "\n";
+  text += "  samples " + record.fit["samples"].dump() +
+          "; verdict: " + record.fit["verdict"].get<std::string>() + "\n";
   text += "  calibration file: " + out + " (apply --calibration=" + out + " --in=LOG --out=CSV)\n";
   return text;
 }

@@ -51,8 +51,8 @@ int Run(int argc, char** argv) {
   Scenario scenario;
   DataSource source;
   if (status.ok()) {
-    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
-                                    {{"--json", FLAGS_json}}, &scenario, &source);
+    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed, {{"--json", FLAGS_json}},
+                                    &scenario, &source);
   }
   if (!status.ok()) return ExitWithError("coverage", status);
 
@@ -74,7 +74,8 @@ int Run(int argc, char** argv) {
     report.effects = RunEffectImpactTable(scenario, options);
   }
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(WithProvenance(CoverageReportJson(report), source), &json_text);
+  if (!FLAGS_json.empty())
+    status = JsonText(WithProvenance(CoverageReportJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("coverage", status);
   std::cout << WithDataLine(source, CoverageText(report)) << std::flush;

@@ -92,8 +92,9 @@ int Run(int argc, char** argv) {
         Discover(inputs.test, inputs.run, inputs.conditions, inputs.landmarks, options, &result);
   if (!status.ok()) return ExitWithError("discover", status);
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(
-        WithProvenance(DiscoveryJson(result, FLAGS_alpha), inputs.data_source), &json_text);
+  if (!FLAGS_json.empty())
+    status = JsonText(WithProvenance(DiscoveryJson(result, FLAGS_alpha), inputs.data_source),
+                      &json_text);
   if (status.ok()) {
     status = WriteOutputFiles(
         {{FLAGS_json, json_text},

@@ -135,7 +135,8 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = Solve(inputs, options, &report);
   if (!status.ok()) return ExitWithError("joint", status);
   std::string json_text;
-  if (!FLAGS_json.empty()) status = JsonText(WithProvenance(JointJson(report), inputs.data_source), &json_text);
+  if (!FLAGS_json.empty())
+    status = JsonText(WithProvenance(JointJson(report), inputs.data_source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("joint", status);
   std::cout << WithDataLine(inputs.data_source, JointTable(report, FLAGS_v >= 1)) << std::flush;

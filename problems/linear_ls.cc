@@ -198,7 +198,8 @@ int Run(int argc, char** argv) {
   Status status = ValidateFlags();
   if (status.ok()) status = LoadInputs(&test, &options, &report, &source);
   if (status.ok()) status = Solve(test, options, &report);
-  if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(LinearLsJson(report), source), &json_text);
+  if (status.ok() && !FLAGS_json.empty())
+    status = JsonText(WithProvenance(LinearLsJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("linear_ls", status);
   std::cout << WithDataLine(source, LinearLsTable(report, FLAGS_v >= 1)) << std::flush;

@@ -117,7 +117,8 @@ int Run(int argc, char** argv) {
   }
   report.landmarks = inputs.landmarks;
   report.max_error = FLAGS_max_error;
-  if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(MinSamplesJson(report), inputs.data_source), &json_text);
+  if (status.ok() && !FLAGS_json.empty())
+    status = JsonText(WithProvenance(MinSamplesJson(report), inputs.data_source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("min_samples", status);
   std::cout << WithDataLine(inputs.data_source, MinSamplesText(report)) << std::flush;

@@ -125,7 +125,8 @@ int Run(int argc, char** argv) {
   ProgressPrinter progress("null_rate", "datasets", progress_style, &std::cerr);
   report.options.progress = progress.Callback();
   if (status.ok()) status = RunNullRateStudy(report.course, report.options, &report.study);
-  if (status.ok() && !FLAGS_json.empty()) status = JsonText(WithProvenance(NullRateJson(report), source), &json_text);
+  if (status.ok() && !FLAGS_json.empty())
+    status = JsonText(WithProvenance(NullRateJson(report), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("null_rate", status);
   std::cout << WithDataLine(source, NullRateText(report)) << std::flush;

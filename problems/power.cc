@@ -68,8 +68,8 @@ int Run(int argc, char** argv) {
   Scenario scenario;
   DataSource source;
   if (status.ok()) {
-    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
-                                    {{"--json", FLAGS_json}}, &scenario, &source);
+    status = LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed, {{"--json", FLAGS_json}},
+                                    &scenario, &source);
   }
   if (!status.ok()) return ExitWithError("power", status);
   options.trials = FLAGS_trials;

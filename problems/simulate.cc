@@ -66,8 +66,8 @@ Status ValidateFlags() {
 
 Status Load(Scenario* scenario, DataSource* source) {
   return LoadSimulationScenario(FLAGS_scenario, FLAGS_set, FLAGS_seed,
-                                {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}},
-                                scenario, source);
+                                {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, scenario,
+                                source);
 }
 
 Status Write(const Scenario& scenario, const SimulatedData& data, const DataSource& source,

@@ -25,9 +25,9 @@
 #include "estimation/landmark_decision.h"
 #include "estimation/linear_ls.h"
 #include "io/atomic_file.h"
+#include "io/calibration_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"
-#include "io/calibration_file.h"
 #include "problem_support.h"
 #include "reporting/trajectory_report.h"
 
@@ -135,7 +135,8 @@ Status Solve(const Inputs& inputs, TrajectoryReport* report) {
 
 Status Write(const TrajectoryReport& report, const DataSource& source) {
   std::string json_text;
-  if (!FLAGS_json.empty()) ACCELCAL_RETURN_IF_ERROR(JsonText(WithProvenance(TrajectoryJson(report), source), &json_text));
+  if (!FLAGS_json.empty())
+    ACCELCAL_RETURN_IF_ERROR(JsonText(WithProvenance(TrajectoryJson(report), source), &json_text));
   return WriteOutputFiles(
       {{FLAGS_json, json_text},
        {FLAGS_path_csv, FLAGS_path_csv.empty() ? "" : TrajectoryPathCsv(report.trajectory)}});

@@ -122,12 +122,37 @@ TEST(ApplyBinary, CorrectsEverySampleOfTheCourseRun) {
     ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &t, &ax, &ay), 3) << line;
     const nlohmann::json& p = calibration["parameters"];
     EXPECT_EQ(t, run.timestamp_s[row - 1]);
-    EXPECT_NEAR(ax, (run.measured_x[row - 1] - p["bias_x"].get<double>()) /
-                        (1 + p["scale_x"].get<double>()), 1e-13);
-    EXPECT_NEAR(ay, (run.measured_y[row - 1] - p["bias_y"].get<double>()) /
-                        (1 + p["scale_y"].get<double>()), 1e-13);
+    EXPECT_NEAR(
+        ax,
+        (run.measured_x[row - 1] - p["bias_x"].get<double>()) / (1 + p["scale_x"].get<double>()),
+        1e-13);
+    EXPECT_NEAR(
+        ay,
+        (run.measured_y[row - 1] - p["bias_y"].get<double>()) / (1 + p["scale_y"].get<double>()),
+        1e-13);
   }
   EXPECT_EQ(row, run.size());
+}
+
+// A log to correct need not be uniformly sampled (a dropped sample is common); only a run to
+// integrate must be.
+TEST(ApplyBinary, CorrectsALogWithADroppedSample) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  ScratchDir scratch;
+  const std::string cal = scratch.File("cal.json");
+  ASSERT_EQ(RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'")
+                .exit_status,
+            0);
+  const std::string log =
+      scratch.Write("log.csv", "t,ax,ay\n0,1,2\n0.01,1,2\n0.03,1,2\n0.04,1,2\n");
+  const CommandResult result = RunBinary("apply", "--calibration='" + cal + "' --in='" + log +
+                                                      "' --out='" + scratch.File("o.csv") + "'");
+  EXPECT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(testing::ReadText(scratch.File("o.csv")).find("\n0.03,"), std::string::npos);
+  const CommandResult trajectory =
+      RunBinary("trajectory", "--data_dir='" + dir + "' --run_file='" + log + "'");
+  EXPECT_NE(trajectory.stderr_text.find("not uniformly spaced"), std::string::npos)
+      << trajectory.stderr_text;
 }
 
 // Each refusal: exit status 2, one line naming the problem, nothing written.
@@ -141,7 +166,8 @@ TEST(CalibrateAndApply, RefuseWhatTheyCannotTrustAndWriteNothing) {
   nlohmann::json wrong_unit = ReadJson(cal);
   wrong_unit["units"]["bias_x"] = "mg";
   const std::string mg = scratch.Write("mg.json", wrong_unit.dump());
-  const std::string backwards = scratch.Write("backwards.csv", "t,ax,ay\n0,1,2\n0.01,1,2\n0.005,1,2\n");
+  const std::string backwards =
+      scratch.Write("backwards.csv", "t,ax,ay\n0,1,2\n0.01,1,2\n0.005,1,2\n");
   const std::string out = scratch.File("out");
   struct Case {
     const char* binary;
@@ -151,15 +177,18 @@ TEST(CalibrateAndApply, RefuseWhatTheyCannotTrustAndWriteNothing) {
   const Case cases[] = {
       {"calibrate", "--calibration_out='" + out + "'", "give the tilt test"},
       {"calibrate", "--data_dir='" + dir + "'", "--calibration_out must name"},
-      {"calibrate", "--data_dir='" + dir + "' --noise_variance=0.25 --calibration_out='" + out + "'",
+      {"calibrate",
+       "--data_dir='" + dir + "' --noise_variance=0.25 --calibration_out='" + out + "'",
        "--noise_variance must be two numbers"},
-      {"calibrate", "--data_dir='" + dir + "' --noise_variance=0.25,-1 --calibration_out='" + out + "'",
+      {"calibrate",
+       "--data_dir='" + dir + "' --noise_variance=0.25,-1 --calibration_out='" + out + "'",
        "--noise_variance"},
       {"calibrate", "--data_dir='" + dir + "' --calibration_out='" + dir + "/datos.txt'",
        "datos.txt"},
       {"apply", "--calibration='" + mg + "' --in='" + dir + "/acel.mat' --out='" + out + "'",
        "units/bias_x must be \"m/s^2\""},
-      {"apply", "--calibration='" + dir + "/datos.txt' --in='" + dir + "/acel.mat' --out='" + out + "'",
+      {"apply",
+       "--calibration='" + dir + "/datos.txt' --in='" + dir + "/acel.mat' --out='" + out + "'",
        "not valid JSON"},
       {"apply", "--calibration='" + cal + "' --in='" + backwards + "' --out='" + out + "'",
        "t is not strictly increasing: t(3) = 0.005 s after 0.01 s"},

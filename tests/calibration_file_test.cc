@@ -3,6 +3,8 @@
 // (estimation/calibration_correction.h): the inverse of the model, with a sigma that matches
 // the spread of corrections made with calibrations from independent tilt tests.
 
+#include "io/calibration_file.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 
 #include "estimation/calibration_correction.h"
 #include "estimation/linear_ls.h"
-#include "io/calibration_file.h"
 #include "models/effects.h"
 #include "simulation/simulator.h"
 #include "test_support.h"
@@ -64,7 +65,8 @@ TEST(CalibrationFile, RefusesWhatDoesNotSayWhatItClaims) {
       {"/model/geometry", "four_axis", "unknown sensor geometry 'four_axis'"},
       {"/units/bias_x", "mg", "units/bias_x must be \"m/s^2\""},
       {"/parameters/scale_y", "0.01", "parameters/scale_y must be a number"},
-      {"/parameter_order/0", "scale_x", "parameter_order must be [bias_x, scale_x, bias_y, scale_y]"},
+      {"/parameter_order/0", "scale_x",
+       "parameter_order must be [bias_x, scale_x, bias_y, scale_y]"},
       {"/covariance/0/1", 5e-7, "covariance is not symmetric (scale_x, bias_x)"},
       {"/covariance/1/1", -1.0, "the variance of scale_x is not positive"},
       {"/covariance/0/1", nullptr, "covariance[0][1] is not a finite number"},

@@ -62,10 +62,12 @@ TEST(DataLine, SaysMeasuredOrSimulatedAndWhatIsHidden) {
   ASSERT_TRUE(LoadScenarioOrDefault("", "angle_offset=0.004", &scenario).ok());
   DataSource simulated;
   ASSERT_TRUE(DescribeSimulation(scenario, "", 7, &simulated).ok());
-  EXPECT_EQ(DataLine(simulated), "data: simulated, scenario tp2-2018, seed 7, hidden angle_offset=0.004");
+  EXPECT_EQ(DataLine(simulated),
+            "data: simulated, scenario tp2-2018, seed 7, hidden angle_offset=0.004");
   ASSERT_TRUE(LoadScenarioOrDefault("", "", &scenario).ok());
   ASSERT_TRUE(DescribeSimulation(scenario, "", 1, &simulated).ok());
-  EXPECT_EQ(DataLine(simulated), "data: simulated, scenario tp2-2018, seed 1, nothing hidden beyond the baseline");
+  EXPECT_EQ(DataLine(simulated),
+            "data: simulated, scenario tp2-2018, seed 1, nothing hidden beyond the baseline");
   // A disturbance outside the catalogue is hidden too.
   ASSERT_TRUE(LoadScenarioOrDefault("", "noise_ar1_x=0.5", &scenario).ok());
   ASSERT_TRUE(DescribeSimulation(scenario, "", 1, &simulated).ok());

@@ -78,7 +78,8 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
                        CalibrationRecord* record) {
   if (!json.contains("parameter_order") || json["parameter_order"] != geometry.parameters) {
     std::string expected;
-    for (const std::string& name : geometry.parameters) expected += (expected.empty() ? "" : ", ") + name;
+    for (const std::string& name : geometry.parameters)
+      expected += (expected.empty() ? "" : ", ") + name;
     return Status::Error("parameter_order must be [" + expected + "] for geometry " +
                          record->geometry);
   }
@@ -87,9 +88,8 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
   record->values.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const std::string& name = geometry.parameters[i];
-    ACCELCAL_RETURN_IF_ERROR(
-        ReadNumber(json.value("parameters", nlohmann::json()), name, "parameters", -1e6, 1e6,
-                   &record->values[i]));
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(json.value("parameters", nlohmann::json()), name,
+                                        "parameters", -1e6, 1e6, &record->values[i]));
     const nlohmann::json units = json.value("units", nlohmann::json());
     if (!units.is_object() || !units.contains(name) || units[name] != geometry.units[i]) {
       return Status::Error("units/" + name + " must be \"" + geometry.units[i] + "\", the unit " +
@@ -238,8 +238,8 @@ Status ParseCalibration(const std::string& text, const std::string& path,
 
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record) {
   std::string text;
-  ACCELCAL_RETURN_IF_ERROR(ReadInputText(path, kMaxConditionsFileBytes, "a calibration file", &text)
-                               .WithContext(path));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInputText(path, kMaxConditionsFileBytes, "a calibration file", &text).WithContext(path));
   return ParseCalibration(text, path, record);
 }
 

@@ -116,7 +116,8 @@ Status CheckUniformTime(const std::vector<double>& timestamp_s, const std::strin
   double dt = 0.0;
   ACCELCAL_RETURN_IF_ERROR(CheckLogTime(timestamp_s, name, &dt));
   std::vector<double> steps(timestamp_s.size() - 1);
-  for (size_t j = 1; j < timestamp_s.size(); ++j) steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
+  for (size_t j = 1; j < timestamp_s.size(); ++j)
+    steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
   // Each timestamp is the double nearest its true value, within half an ulp of it, so a
   // step of an exact clock is off by up to an ulp of |t|; 4 ulp leave room for a clock
   // accumulated in doubles. Time increases, so the largest |t| is at one end.

@@ -507,8 +507,8 @@ Status LoadScenarioOrDefault(const std::string& path, const std::string& assignm
   return ApplyScenarioOverrides(assignments, scenario).WithContext("--set");
 }
 
-Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file,
-                          uint64_t seed, DataSource* source) {
+Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file, uint64_t seed,
+                          DataSource* source) {
   DataSource described;
   described.simulated = true;
   described.scenario = scenario.name;

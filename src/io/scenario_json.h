@@ -67,8 +67,8 @@ Status LoadScenarioOrDefault(const std::string& path, const std::string& assignm
 // embedded one when empty) with `seed`: what it hides beyond the baseline is every catalogue
 // parameter away from its neutral value except bias and scale, and every disturbance away
 // from its default.
-Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file,
-                          uint64_t seed, DataSource* source);
+Status DescribeSimulation(const Scenario& scenario, const std::string& scenario_file, uint64_t seed,
+                          DataSource* source);
 
 }  // namespace accelcal
 

@@ -423,6 +423,42 @@ def probe_findings_issue_15():
                "varianza del ruido de los acelerómetros = [0.25 0.64]\r")
 
 
+def calibration_files():
+    """Calibration files (docs/calibration.md) as a user might damage or mistake them."""
+    import json
+
+    def cal(**changes):
+        document = {
+            "format": "accelcal-calibration", "format_version": 1,
+            "model": {"geometry": "two_axis", "axes": ["x", "y"], "effects": ["bias", "scale"]},
+            "gravity_mps2": 9.8,
+            "parameter_order": ["bias_x", "scale_x", "bias_y", "scale_y"],
+            "parameters": {"bias_x": 0.0767, "scale_x": -0.0301, "bias_y": -0.0175,
+                           "scale_y": 0.01},
+            "units": {"bias_x": "m/s^2", "scale_x": "1", "bias_y": "m/s^2", "scale_y": "1"},
+            "covariance": [[1.25e-5, 0, 0, 0], [0, 2.6e-7, 0, 0], [0, 0, 3.2e-5, 3.3e-10],
+                           [0, 0, 3.3e-10, 6.7e-7]],
+            "noise_variance": {"x": 0.25, "y": 0.64, "unit": "(m/s^2)^2", "from": "datos.txt"},
+        }
+        for key, value in changes.items():
+            document[key] = value
+        return json.dumps(document, indent=1) + "\n"
+
+    write_text("calibration_file_good.json", cal())
+    write_text("calibration_file_mg.json",
+               cal(units={"bias_x": "mg", "scale_x": "1", "bias_y": "mg", "scale_y": "1"},
+                   parameters={"bias_x": 7.82, "scale_x": -0.0301, "bias_y": -1.78,
+                               "scale_y": 0.01}))
+    write_text("calibration_file_not_psd.json",
+               cal(covariance=[[1.25e-5, 1e-5, 0, 0], [1e-5, 2.6e-7, 0, 0], [0, 0, 3.2e-5, 0],
+                               [0, 0, 0, 6.7e-7]]))
+    write_text("calibration_file_v2.json", cal(format_version=2))
+    write_text("calibration_file_truncated.json", cal()[:300])
+    # A linear_ls result (it has "parameters" too) given where a calibration belongs.
+    write_text("calibration_file_linear_ls.json",
+               json.dumps({"problem": "linear_ls", "parameters": {"bias_x": 0.0767}}) + "\n")
+
+
 def main():
     theta, datos = tilt_test()
 
@@ -560,6 +596,7 @@ def main():
 
     mat_integrity()
     fuzz_seeds()
+    calibration_files()
     readers_issue_15()
     conditions_and_landmarks_issue_15()
     probe_findings_issue_15()
