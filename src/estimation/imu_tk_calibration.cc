@@ -35,9 +35,9 @@ ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& s
   entry.solved = true;
   entry.cost = summary.final_cost;
   entry.initial_cost = summary.initial_cost;
-  entry.iterations = static_cast<int>(summary.iterations.size()) - 1;
-  entry.termination = ceres::TerminationTypeToString(summary.termination_type) +
-                      std::string(": ") + summary.message;
+  entry.iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
+  entry.termination = ceres::TerminationTypeToString(summary.termination_type) + std::string(": ") +
+                      summary.message;
   if (brief_report != nullptr) *brief_report = summary.BriefReport();
   return entry;
 }

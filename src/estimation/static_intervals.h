@@ -28,8 +28,8 @@ struct StaticInterval {
   int end = 0;    // last sample, inclusive
   double start_s = 0.0;
   double end_s = 0.0;
-  double duration_s = 0.0;              // end_s - start_s
-  std::array<double, 3> mean{};         // per axis, in the log's unit
+  double duration_s = 0.0;               // end_s - start_s
+  std::array<double, 3> mean{};          // per axis, in the log's unit
   std::array<double, 3> noise_stddev{};  // per axis, sample standard deviation (N - 1)
   int sample_count() const { return end - start + 1; }
 };

@@ -69,7 +69,8 @@ void TriadSpecificForce(const T* parameters, const double* raw, T* specific_forc
   const T ux = parameters[kTriadScaleX] * (T(raw[0]) - parameters[kTriadBiasX]);
   const T uy = parameters[kTriadScaleY] * (T(raw[1]) - parameters[kTriadBiasY]);
   const T uz = parameters[kTriadScaleZ] * (T(raw[2]) - parameters[kTriadBiasZ]);
-  specific_force[0] = ux - parameters[kTriadMisalignmentYz] * uy + parameters[kTriadMisalignmentZy] * uz;
+  specific_force[0] =
+      ux - parameters[kTriadMisalignmentYz] * uy + parameters[kTriadMisalignmentZy] * uz;
   specific_force[1] = uy - parameters[kTriadMisalignmentZx] * uz;
   specific_force[2] = uz;
 }
