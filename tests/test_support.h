@@ -75,6 +75,23 @@ inline std::string CourseDataDir() {
                     "../shared/data/tp2-2018";                                      \
   }
 
+// imu_tk's Xsens example (issue 20): $ACCELCAL_IMU_TK_DATA, else ../shared/data/imu_tk-xsens
+// beside the repository. Empty when absent (tests then skip, saying so).
+inline std::string ImuTkDataDir() {
+  const char* from_environment = std::getenv("ACCELCAL_IMU_TK_DATA");
+  const std::string dir = from_environment != nullptr && *from_environment != '\0'
+                              ? from_environment
+                              : ACCELCAL_DEFAULT_IMU_TK_DATA;
+  return PathExists(dir + "/xsens_acc.mat") ? dir : "";
+}
+
+#define ACCELCAL_REQUIRE_IMU_TK_DATA(dir)                                           \
+  const std::string dir = ::accelcal::testing::ImuTkDataDir();                      \
+  if (dir.empty()) {                                                                \
+    GTEST_SKIP() << "imu_tk data not found: set ACCELCAL_IMU_TK_DATA or put it in " \
+                    "../shared/data/imu_tk-xsens";                                  \
+  }
+
 inline std::string BinaryPath(const std::string& name) {
   return std::string(ACCELCAL_BIN_DIR) + "/" + name;
 }
