@@ -58,14 +58,19 @@ inline bool PathExists(const std::string& path) {
   return stat(path.c_str(), &info) == 0;
 }
 
-// The course data: $ACCELCAL_COURSE_DATA, else ../shared/data/tp2-2018 beside the
-// repository. Empty when absent (tests then skip, saying so).
+// A data folder: $`variable`, else `default_dir`; empty unless it holds `marker` (tests then
+// skip, saying so).
+inline std::string DataDirFrom(const char* variable, const std::string& default_dir,
+                               const std::string& marker) {
+  const char* from_environment = std::getenv(variable);
+  const std::string dir =
+      from_environment != nullptr && *from_environment != '\0' ? from_environment : default_dir;
+  return PathExists(dir + "/" + marker) ? dir : "";
+}
+
+// The course data: $ACCELCAL_COURSE_DATA, else ../shared/data/tp2-2018 beside the repository.
 inline std::string CourseDataDir() {
-  const char* from_environment = std::getenv("ACCELCAL_COURSE_DATA");
-  const std::string dir = from_environment != nullptr && *from_environment != '\0'
-                              ? from_environment
-                              : ACCELCAL_DEFAULT_COURSE_DATA;
-  return PathExists(dir + "/ensayo.mat") ? dir : "";
+  return DataDirFrom("ACCELCAL_COURSE_DATA", ACCELCAL_DEFAULT_COURSE_DATA, "ensayo.mat");
 }
 
 #define ACCELCAL_REQUIRE_COURSE_DATA(dir)                                           \
@@ -73,6 +78,18 @@ inline std::string CourseDataDir() {
   if (dir.empty()) {                                                                \
     GTEST_SKIP() << "course data not found: set ACCELCAL_COURSE_DATA or put it in " \
                     "../shared/data/tp2-2018";                                      \
+  }
+
+// imu_tk's Xsens example (issue 20): $ACCELCAL_IMU_TK_DATA, else ../shared/data/imu_tk-xsens.
+inline std::string ImuTkDataDir() {
+  return DataDirFrom("ACCELCAL_IMU_TK_DATA", ACCELCAL_DEFAULT_IMU_TK_DATA, "xsens_acc.mat");
+}
+
+#define ACCELCAL_REQUIRE_IMU_TK_DATA(dir)                                           \
+  const std::string dir = ::accelcal::testing::ImuTkDataDir();                      \
+  if (dir.empty()) {                                                                \
+    GTEST_SKIP() << "imu_tk data not found: set ACCELCAL_IMU_TK_DATA or put it in " \
+                    "../shared/data/imu_tk-xsens";                                  \
   }
 
 inline std::string BinaryPath(const std::string& name) {

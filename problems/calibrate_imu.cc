@@ -1,0 +1,127 @@
+// calibrate_imu: a three-axis accelerometer (triad) calibrated from a multi-position log, with
+// no tilt table: the sensor is held still by hand in a dozen or more orientations.
+//
+// Mode imu_tk reproduces imu_tk's accelerometer calibration (Tedaldi, Pretto, Menegatti,
+// ICRA 2014) rule for rule: static intervals where the windowed variance norm is below k times
+// that of an initial rest, for k = 2..10; for each k the 9 parameters of
+//   a = T K (u - b)     (docs/triad.md: 3 non-orthogonality angles, 3 gains, 3 biases)
+// that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
+// least 100; the k with the lowest final cost is kept (estimation/imu_tk_calibration.h).
+// Mode ml (the maximum-likelihood problem with covariance, issue 20) is not written yet.
+//
+// Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
+// *.csv with the header t_s,acc_x,acc_y,acc_z (io/imu_log.h), in the sensor's own unit.
+// Outputs: the sweep, the chosen k, the parameters and the static intervals on stdout; JSON
+// with --json.
+//
+//   build/bin/calibrate_imu --log=../shared/data/imu_tk-xsens/xsens_acc.mat --g=9.81744 \
+//       --mode=imu_tk --init_rest_s=50 --initial_bias=32768 --json=imu_tk.json
+
+#include <gflags/gflags.h>
+
+#include <iostream>
+
+#include "estimation/imu_tk_calibration.h"
+#include "io/imu_log.h"
+#include "io/json_file.h"
+#include "io/output_paths.h"
+#include "io/provenance.h"
+#include "problem_support.h"
+#include "reporting/calibrate_imu_report.h"
+
+// clang-format off
+DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
+DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml (maximum likelihood with covariance) is not implemented yet.");
+DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744).");
+DEFINE_double(init_rest_s, 30.0, "Duration in s of the initial rest the thresholds are scaled from (imu_tk's default 30; its Xsens example uses 50).");
+DEFINE_double(initial_bias, 0.0, "Initial guess of the three biases, in the log's unit (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 and the angles at 0, as in imu_tk.");
+DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
+DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
+DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
+DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
+// clang-format on
+
+ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_OPEN_RANGE(init_rest_s, 0.0, 1e6);
+ACCELCAL_FLAG_RANGE(initial_bias, -1e9, 1e9);
+ACCELCAL_FLAG_RANGE(window, 11, 100001);
+ACCELCAL_FLAG_RANGE(interval_samples, 2, 1000000);
+ACCELCAL_FLAG_RANGE(min_intervals, 3, 100000);
+
+namespace accelcal {
+namespace {
+
+constexpr char kUsage[] =
+    "Calibrates a three-axis accelerometer from a multi-position log (no tilt table).\n"
+    "Mode imu_tk reproduces imu_tk: a = T K (u - b) (angles in rad, K in (m/s^2)/count, b in\n"
+    "counts), cost 1/2 sum (g - |a|)^2 in (m/s^2)^2, thresholds k = 2..10.\n"
+    "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
+    "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk --init_rest_s=50 \\\n"
+    "      --initial_bias=32768 [--json=out.json]";
+
+Status ValidateFlags() {
+  if (FLAGS_log.empty())
+    return Status::Error("--log is required: the accelerometer log to calibrate");
+  if (FLAGS_mode == "ml") {
+    return Status::Error("--mode=ml is not yet implemented; use --mode=imu_tk");
+  }
+  if (FLAGS_mode != "imu_tk") {
+    return Status::Error("--mode='" + FLAGS_mode + "' is not a mode; use --mode=imu_tk");
+  }
+  if (FLAGS_window % 2 == 0) {
+    return Status::Error("--window=" + std::to_string(FLAGS_window) +
+                         " is even; the window is centred on its sample, give an odd number");
+  }
+  return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{{FLAGS_log}, {}});
+}
+
+Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
+  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_log, log));
+  ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", {{"log", FLAGS_log}}, source));
+  report->log_path = FLAGS_log;
+  report->log_layout = ImuLogLayoutName(ImuLogLayoutOf(FLAGS_log));
+  report->log_sha256 = source->files.at("log").sha256;
+  report->sample_count = log->size();
+  report->first_t_s = log->timestamp_s.front();
+  report->last_t_s = log->timestamp_s.back();
+  return Status::Ok();
+}
+
+Status Solve(const TriadLog& log, CalibrateImuReport* report) {
+  ImuTkOptions& options = report->options;
+  options.gravity_mps2 = FLAGS_g;
+  options.init_rest_s = FLAGS_init_rest_s;
+  options.initial =
+      TriadParametersWithBias(FLAGS_initial_bias, FLAGS_initial_bias, FLAGS_initial_bias);
+  options.window_samples = FLAGS_window;
+  options.interval_samples = FLAGS_interval_samples;
+  options.min_intervals = FLAGS_min_intervals;
+  ACCELCAL_RETURN_IF_ERROR(CalibrateImuTk(log, options, &report->result).WithContext(FLAGS_log));
+  report->rest_end_s = log.timestamp_s[report->result.rest_end];
+  return Status::Ok();
+}
+
+int Run(int argc, char** argv) {
+  if (!InitProblem("calibrate_imu", kUsage, "problems/calibrate_imu", &argc, &argv))
+    return kExitBadInput;
+  TriadLog log;
+  CalibrateImuReport report;
+  DataSource source;
+  std::string json_text;
+  Status status = ValidateFlags();
+  if (status.ok()) status = Load(&log, &report, &source);
+  if (status.ok()) status = Solve(log, &report);
+  if (status.ok() && !FLAGS_json.empty())
+    status = JsonText(WithProvenance(CalibrateImuJson(report), source), &json_text);
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("calibrate_imu", status);
+  std::cout << WithDataLine(source, CalibrateImuTable(report, FLAGS_v >= 1)) << std::flush;
+  return 0;
+}
+
+}  // namespace
+}  // namespace accelcal
+
+int main(int argc, char** argv) {
+  return accelcal::GuardedMain("calibrate_imu", accelcal::Run, argc, argv);
+}

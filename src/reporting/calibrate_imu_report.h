@@ -1,0 +1,38 @@
+#ifndef ACCELCAL_REPORTING_CALIBRATE_IMU_REPORT_H_
+#define ACCELCAL_REPORTING_CALIBRATE_IMU_REPORT_H_
+
+// What calibrate_imu prints and writes in imu_tk mode: the threshold sweep, the chosen k, the
+// parameters with their units (beside imu_tk's printed values and the datasheet's when the
+// log is imu_tk's own Xsens example, recognised by its SHA-256), the static intervals. The
+// text and the JSON come from the same numbers. Formatting only.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "common/triad_log.h"
+#include "estimation/imu_tk_calibration.h"
+
+namespace accelcal {
+
+struct CalibrateImuReport {
+  std::string log_path;
+  std::string log_layout;  // ImuLogLayoutName
+  std::string log_sha256;  // to recognise imu_tk's example log
+  size_t sample_count = 0;
+  double first_t_s = 0.0;
+  double last_t_s = 0.0;
+  double rest_end_s = 0.0;
+  ImuTkOptions options;
+  ImuTkResult result;
+};
+
+// The SHA-256 of imu_tk's bin/test_data/xsens_acc.mat (../shared/data/imu_tk-xsens/SOURCE.txt).
+constexpr char kImuTkXsensAccSha256[] =
+    "335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510";
+
+std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report);
+nlohmann::json CalibrateImuJson(const CalibrateImuReport& report);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_REPORTING_CALIBRATE_IMU_REPORT_H_
