@@ -18,6 +18,15 @@ using testing::CommandResult;
 using testing::RunBinary;
 using testing::ScratchDir;
 
+// calibrate on the course data into `scratch`: the calibration file, or "" if it failed.
+std::string CalibrateCourseData(const std::string& dir, const ScratchDir& scratch) {
+  const std::string cal = scratch.File("cal.json");
+  const CommandResult result =
+      RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'");
+  EXPECT_EQ(result.exit_status, 0) << result.stderr_text;
+  return result.exit_status == 0 ? cal : "";
+}
+
 nlohmann::json ReadJson(const std::string& path) {
   return nlohmann::json::parse(testing::ReadText(path), nullptr, false);
 }
@@ -76,10 +85,8 @@ TEST(CalibrateBinary, WithoutStatedNoiseEstimatesItFromTheResidualsAndSaysSo) {
 TEST(TrajectoryBinary, ACalibrationFileGivesWhatTheTiltTestItCameFromGives) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   ScratchDir scratch;
-  const std::string cal = scratch.File("cal.json");
-  ASSERT_EQ(RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'")
-                .exit_status,
-            0);
+  const std::string cal = CalibrateCourseData(dir, scratch);
+  ASSERT_FALSE(cal.empty());
   const CommandResult from_test =
       RunBinary("trajectory", "--data_dir='" + dir + "' --json='" + scratch.File("a.json") + "'");
   const CommandResult from_file =
@@ -98,10 +105,8 @@ TEST(TrajectoryBinary, ACalibrationFileGivesWhatTheTiltTestItCameFromGives) {
 TEST(ApplyBinary, CorrectsEverySampleOfTheCourseRun) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   ScratchDir scratch;
-  const std::string cal = scratch.File("cal.json");
-  ASSERT_EQ(RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'")
-                .exit_status,
-            0);
+  const std::string cal = CalibrateCourseData(dir, scratch);
+  ASSERT_FALSE(cal.empty());
   const std::string out = scratch.File("corrected.csv");
   const CommandResult result = RunBinary(
       "apply", "--calibration='" + cal + "' --in='" + dir + "/acel.mat' --out='" + out + "'");
@@ -139,10 +144,8 @@ TEST(ApplyBinary, CorrectsEverySampleOfTheCourseRun) {
 TEST(ApplyBinary, CorrectsALogWithADroppedSample) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   ScratchDir scratch;
-  const std::string cal = scratch.File("cal.json");
-  ASSERT_EQ(RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'")
-                .exit_status,
-            0);
+  const std::string cal = CalibrateCourseData(dir, scratch);
+  ASSERT_FALSE(cal.empty());
   const std::string log =
       scratch.Write("log.csv", "t,ax,ay\n0,1,2\n0.01,1,2\n0.03,1,2\n0.04,1,2\n");
   const CommandResult result = RunBinary("apply", "--calibration='" + cal + "' --in='" + log +
@@ -159,10 +162,8 @@ TEST(ApplyBinary, CorrectsALogWithADroppedSample) {
 TEST(CalibrateAndApply, RefuseWhatTheyCannotTrustAndWriteNothing) {
   ACCELCAL_REQUIRE_COURSE_DATA(dir);
   ScratchDir scratch;
-  const std::string cal = scratch.File("cal.json");
-  ASSERT_EQ(RunBinary("calibrate", "--data_dir='" + dir + "' --calibration_out='" + cal + "'")
-                .exit_status,
-            0);
+  const std::string cal = CalibrateCourseData(dir, scratch);
+  ASSERT_FALSE(cal.empty());
   nlohmann::json wrong_unit = ReadJson(cal);
   wrong_unit["units"]["bias_x"] = "mg";
   const std::string mg = scratch.Write("mg.json", wrong_unit.dump());
