@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "estimation/calibration_correction.h"
@@ -138,6 +139,9 @@ TEST(CorrectBaseline, SigmaMatchesTheSpreadOverIndependentCalibrations) {
     const Eigen::Vector2d spread =
         ((sum2 - kTrials * mean.cwiseAbs2()) / (kTrials - 1)).cwiseSqrt();
     for (int axis = 0; axis < 2; ++axis) {
+      std::printf("output (%g, %g), axis %d: reported sigma %.4g, spread %.4g, ratio %.3f\n",
+                  output[0], output[1], axis, reported[axis], spread[axis],
+                  reported[axis] / spread[axis]);
       EXPECT_NEAR(reported[axis] / spread[axis], 1.0, 0.1) << "axis " << axis;
     }
   }
