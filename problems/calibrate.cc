@@ -14,6 +14,7 @@
 #include <gflags/gflags.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 
@@ -65,7 +66,8 @@ struct NoiseStatement {
 Status ParseNoiseVarianceFlag(NoiseStatement* noise) {
   std::istringstream stream(FLAGS_noise_variance);
   std::string x, y, extra;
-  if (!std::getline(stream, x, ',') || !std::getline(stream, y, ',') ||
+  if (std::count(FLAGS_noise_variance.begin(), FLAGS_noise_variance.end(), ',') != 1 ||
+      !std::getline(stream, x, ',') || !std::getline(stream, y, ',') ||
       std::getline(stream, extra, ',')) {
     return Status::Error("--noise_variance must be two numbers VX,VY in (m/s^2)^2, got '" +
                          FLAGS_noise_variance + "'");
