@@ -25,6 +25,7 @@
 #include "io/provenance.h"
 #include "io/run_conditions.h"
 #include "problem_support.h"
+#include "reporting/calibration_report.h"
 
 // clang-format off
 DEFINE_string(data_dir, "", "Folder holding the tilt test: ensayo.mat (course layout) or calibration.csv; its datos.txt or scenario.json, when present, states the noise variances.");
@@ -51,8 +52,6 @@ constexpr char kUsage[] =
     "  calibrate --data_dir=../shared/data/tp2-2018 --calibration_out=cal.json\n"
     "  calibrate --calibration_file=tilt.csv [--noise_variance=0.25,0.64] "
     "--calibration_out=cal.json";
-
-constexpr char kEstimatedNoise[] = "estimated from the residuals";
 
 // What the fit assumes about the noise, and where it came from.
 struct NoiseStatement {
@@ -127,90 +126,18 @@ Status LoadNoise(const DataFiles& files, NoiseStatement* noise) {
   return Status::Ok();
 }
 
-// The fit under the stated variances, or under variances estimated from the residuals of a
-// unit-variance fit (whose chi-square is then the residual sum of squares).
+// The fit under the stated variances, or under variances estimated from its residuals.
 Status Fit(const CalibrationTest& test, double gravity, NoiseStatement* noise, BaselineFit* fit) {
   LinearLsOptions options;
   options.gravity_mps2 = gravity;
-  if (noise->from.empty()) {
-    options.noise_variance_x = options.noise_variance_y = 1.0;
-    ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, options, fit));
-    noise->variance_x = fit->chi2_x.chi2 / fit->chi2_x.dof;
-    noise->variance_y = fit->chi2_y.chi2 / fit->chi2_y.dof;
-    noise->from = kEstimatedNoise;
-  }
   options.noise_variance_x = noise->variance_x;
   options.noise_variance_y = noise->variance_y;
-  return EstimateLinearLs(test, options, fit);
-}
-
-// One sentence on whether the noise model explains the residuals.
-std::string Verdict(const BaselineFit& fit, const NoiseStatement& noise, double alpha) {
-  if (noise.from == kEstimatedNoise) {
-    return "noise variances estimated from the residuals: the covariance assumes white noise, "
-           "and nothing is left to check them against; state them (--noise_variance) to test "
-           "the fit";
-  }
-  std::string verdict;
-  const AxisChiSquare* axes[2] = {&fit.chi2_x, &fit.chi2_y};
-  for (int axis = 0; axis < 2; ++axis) {
-    const AxisChiSquare& chi2 = *axes[axis];
-    if (chi2.p_value >= alpha) continue;
-    verdict +=
-        StringPrintf("%saxis %c: chi2/dof = %.3f (p = %.2g), residuals %s than the stated noise",
-                     verdict.empty() ? "" : "; ", axis == 0 ? 'x' : 'y', chi2.chi2 / chi2.dof,
-                     chi2.p_value, chi2.chi2 > chi2.dof ? "larger" : "smaller");
-  }
-  if (verdict.empty()) {
-    return StringPrintf(
-        "the stated noise explains the residuals (chi2/dof x %.4f, y %.4f; "
-        "two-sided p >= %g)",
-        fit.chi2_x.chi2 / fit.chi2_x.dof, fit.chi2_y.chi2 / fit.chi2_y.dof, alpha);
-  }
-  return verdict + ": the baseline or the stated variance is wrong; run discover on this test";
-}
-
-CalibrationRecord Record(const BaselineFit& fit, double gravity, const NoiseStatement& noise,
-                         const DataSource& source) {
-  CalibrationRecord record;
-  GeometryInfo geometry;
-  (void)GeometryOf(record.geometry, &geometry);
-  record.parameter_order = geometry.parameters;
-  record.values = fit.parameters;
-  record.covariance = fit.covariance;
-  record.gravity_mps2 = gravity;
-  record.noise_variance = {noise.variance_x, noise.variance_y};
-  record.noise_variance_from = noise.from;
-  constexpr double kAlpha = 0.01;
-  record.fit = {{"samples", fit.sample_count},
-                {"chi2", {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}}},
-                {"degrees_of_freedom", {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}}},
-                {"chi2_p_value", {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}}},
-                {"alpha", kAlpha},
-                {"verdict", Verdict(fit, noise, kAlpha)}};
-  record.source = source;
-  return record;
-}
-
-std::string Table(const CalibrationRecord& record, const std::string& out) {
-  GeometryInfo geometry;
-  (void)GeometryOf(record.geometry, &geometry);
-  std::string text =
-      "accelcal calibrate: bias and scale per axis from the tilt test alone\n\n"
-      "  parameter   unit         value          sigma\n";
-  for (int i = 0; i < record.values.size(); ++i) {
-    text += StringPrintf("  %-10s  %-8s %+14.6e  %12.4e\n", record.parameter_order[i].c_str(),
-                         geometry.units[i].c_str(), record.values[i],
-                         std::sqrt(record.covariance(i, i)));
-  }
-  const std::string& from = record.noise_variance_from;
-  text += StringPrintf("\n  g %.6g m/s^2; noise variance x %.6g, y %.6g (m/s^2)^2, %s%s\n",
-                       record.gravity_mps2, record.noise_variance[0], record.noise_variance[1],
-                       from == kEstimatedNoise ? "" : "from ", from.c_str());
-  text += "  samples " + record.fit["samples"].dump() +
-          "; verdict: " + record.fit["verdict"].get<std::string>() + "\n";
-  text += "  calibration file: " + out + " (apply --calibration=" + out + " --in=LOG --out=CSV)\n";
-  return text;
+  if (!noise->from.empty()) return EstimateLinearLs(test, options, fit);
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLsWithNoiseFromResiduals(test, &options, fit));
+  noise->variance_x = options.noise_variance_x;
+  noise->variance_y = options.noise_variance_y;
+  noise->from = kNoiseEstimatedFromResiduals;
+  return Status::Ok();
 }
 
 int Run(int argc, char** argv) {
@@ -236,13 +163,14 @@ int Run(int argc, char** argv) {
   CalibrationRecord record;
   std::string json_text;
   if (status.ok()) {
-    record = Record(fit, gravity, noise, source);
+    record = TwoAxisCalibrationRecord(fit, gravity, noise.variance_x, noise.variance_y, noise.from,
+                                      source);
     status = JsonText(CalibrationJson(record), &json_text);
   }
   if (status.ok()) status = WriteOutputFiles({{FLAGS_calibration_out, json_text}});
   if (!status.ok()) return ExitWithError("calibrate", status);
   PrintInputNotes(notes);
-  std::cout << WithDataLine(source, Table(record, FLAGS_calibration_out)) << std::flush;
+  std::cout << WithDataLine(source, CalibrationTable(record, FLAGS_calibration_out)) << std::flush;
   return 0;
 }
 

@@ -134,4 +134,13 @@ Status EstimateLinearLs(const CalibrationTest& test, const LinearLsOptions& opti
   return SolveLinearLs(statistics, options, fit);
 }
 
+Status EstimateLinearLsWithNoiseFromResiduals(const CalibrationTest& test, LinearLsOptions* options,
+                                              BaselineFit* fit) {
+  options->noise_variance_x = options->noise_variance_y = 1.0;
+  ACCELCAL_RETURN_IF_ERROR(EstimateLinearLs(test, *options, fit));
+  options->noise_variance_x = fit->chi2_x.chi2 / fit->chi2_x.dof;
+  options->noise_variance_y = fit->chi2_y.chi2 / fit->chi2_y.dof;
+  return EstimateLinearLs(test, *options, fit);
+}
+
 }  // namespace accelcal

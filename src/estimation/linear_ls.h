@@ -52,6 +52,13 @@ Status SolveLinearLs(const CalibrationAccumulator& statistics, const LinearLsOpt
 Status EstimateLinearLs(const CalibrationTest& test, const LinearLsOptions& options,
                         BaselineFit* fit);
 
+// The fit when no noise variance is stated: each axis's variance estimated from its residuals,
+// s_k^2 = RSS_k / (N - 2) (a unit-variance fit's chi-square is its RSS), then the fit under
+// them. `options`' variances are ignored and set to the estimates. The covariance is then
+// right for white noise, but the chi-square is N - 2 by construction and checks nothing.
+Status EstimateLinearLsWithNoiseFromResiduals(const CalibrationTest& test, LinearLsOptions* options,
+                                              BaselineFit* fit);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_ESTIMATION_LINEAR_LS_H_
