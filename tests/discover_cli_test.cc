@@ -34,7 +34,7 @@ TEST(DiscoverBinary, PrintsTheVerdictFirstOnTheCourseData) {
       << result.stdout_text;
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("d.json")));
   EXPECT_TRUE(json["effects"].empty());
-  EXPECT_EQ(json["landmark"], "C");
+  EXPECT_EQ(json["reached"], "C");
   EXPECT_EQ(json["candidates"].size(), 8u);
   EXPECT_TRUE(json["baseline"]["parameters"].contains("bias_x"));
   EXPECT_TRUE(json["extended"].contains("endpoint"));
