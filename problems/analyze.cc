@@ -101,9 +101,8 @@ Status Analyse(const Experiment& inputs, double gravity, AnalyzeReport* r) {
   t.input_files = inputs.files;
   ACCELCAL_RETURN_IF_ERROR(
       DeadReckon(inputs.run, inputs.conditions, t.fit, TrajectoryOptions(), &t.trajectory));
-  t.decision =
-      DecideLandmark(t.trajectory.endpoint, t.trajectory.covariance, inputs.landmarks,
-                     FLAGS_landmark_alpha);
+  t.decision = DecideLandmark(t.trajectory.endpoint, t.trajectory.covariance, inputs.landmarks,
+                              FLAGS_landmark_alpha);
   t.budget = ComputeErrorBudget(t.trajectory, t.fit, inputs.run, inputs.conditions);
   progress.Done();
 

@@ -66,8 +66,8 @@ Status Load(Inputs* inputs) {
   ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&inputs->scenario));
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(ACCELCAL_DATA_FLAGS(), "", FLAGS_seed, {}, options, {{"--json", FLAGS_json}},
-                        inputs);
+  return LoadExperiment(ACCELCAL_DATA_FLAGS(), "", FLAGS_seed, {}, options,
+                        {{"--json", FLAGS_json}}, inputs);
 }
 
 Status DesignsFromFlag(std::vector<std::string>* designs) {
@@ -91,7 +91,8 @@ MinSamplesOptions OptionsFromFlags(const Inputs& inputs, std::vector<std::string
   options.repetitions = FLAGS_repetitions;
   options.seed = FLAGS_seed;
   options.threads = FLAGS_threads;
-  options.subset_checks = !ACCELCAL_DATA_FLAGS().MeasuredDataFlag().empty();  // a simulated test has the full simulation
+  // A simulated test has the full simulation.
+  options.subset_checks = !ACCELCAL_DATA_FLAGS().MeasuredDataFlag().empty();
   return options;
 }
 

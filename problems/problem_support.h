@@ -135,7 +135,7 @@ inline bool RegisterRenamedFlag(const char* old_name, const char* new_name) {
   return true;
 }
 
-#define ACCELCAL_RENAMED_FLAG(old_name, new_name)                         \
+#define ACCELCAL_RENAMED_FLAG(old_name, new_name)                       \
   static const bool accelcal_renamed_flag_##old_name [[maybe_unused]] = \
       ::accelcal::RegisterRenamedFlag(#old_name, #new_name)
 
@@ -297,12 +297,12 @@ struct DataFlags {
   }
 };
 
-#define ACCELCAL_DATA_FLAGS()                                                            \
-  ::accelcal::DataFlags {                                                                \
-    FLAGS_data_dir, ::accelcal::DataFiles {                                              \
-      ::accelcal::DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file,       \
-          FLAGS_landmarks_file, FLAGS_conditions_file                                    \
-    }                                                                                    \
+#define ACCELCAL_DATA_FLAGS()                                                     \
+  ::accelcal::DataFlags {                                                         \
+    FLAGS_data_dir, ::accelcal::DataFiles {                                       \
+      ::accelcal::DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file, \
+          FLAGS_landmarks_file, FLAGS_conditions_file                             \
+    }                                                                             \
   }
 
 // The load options the binary's --theta_unit asks for.
@@ -478,9 +478,10 @@ inline Status LoadExperiment(const DataFlags& data, const std::string& assignmen
   if (data.data_dir.empty()) {
     for (const auto& [role, path] : FileRoles(data.overrides)) {
       if (path.empty()) {
-        return Status::Error("without --data_dir, give all of --calibration_file, --run_file, "
-                             "--landmarks_file and --conditions_file (--" +
-                             role + "_file is missing)");
+        return Status::Error(
+            "without --data_dir, give all of --calibration_file, --run_file, "
+            "--landmarks_file and --conditions_file (--" +
+            role + "_file is missing)");
       }
     }
   }
@@ -490,9 +491,9 @@ inline Status LoadExperiment(const DataFlags& data, const std::string& assignmen
   ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, experiment->inputs));
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment, options));
   PrintInputNotes(experiment->notes);
-  experiment->source = "measured data in " + (data.data_dir.empty()
-                                                    ? files.calibration + " and the files with it"
-                                                    : data.data_dir);
+  experiment->source =
+      "measured data in " +
+      (data.data_dir.empty() ? files.calibration + " and the files with it" : data.data_dir);
   experiment->files = FileRoles(files);
   ACCELCAL_RETURN_IF_ERROR(
       DescribeMeasuredData(data.data_dir, experiment->files, &experiment->data_source));

@@ -131,7 +131,7 @@ nlohmann::json JointJson(const JointReport& report) {
           {"effects", EffectNames(report)},
           {"dof", {{"linear_per_axis", report.linear.chi2_x.dof}, {"joint", JointDof(report)}}},
           {"tied_landmark", report.joint.landmark.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(report.joint.landmark)},
+                                                          : nlohmann::json(report.joint.landmark)},
           {"linear", SolutionJson(FromBaselineFit(report.linear), report.linear.chi2_x.chi2,
                                   report.linear.chi2_y.chi2, std::nullopt, report.linear_trajectory,
                                   report.linear_decision)},
