@@ -27,9 +27,10 @@ TEST(DiscoverBinary, PrintsTheVerdictFirstOnTheCourseData) {
                                 "' --bins_csv='" + out.File("bins.csv") + "' --residuals_csv='" +
                                 out.File("residuals.csv") + "'");
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
-  EXPECT_EQ(result.stdout_text.find(
-                "accelcal discover: does the baseline explain the data?\n\n  verdict: the baseline "
-                "explains the data"),
+  // The data line first (io/provenance.h), then the verdict.
+  EXPECT_EQ(result.stdout_text.find("data: " + dir + " (4 files)\n"
+                                    "accelcal discover: does the baseline explain the data?\n\n"
+                                    "  verdict: the baseline explains the data"),
             0u)
       << result.stdout_text;
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("d.json")));

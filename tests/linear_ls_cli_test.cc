@@ -78,8 +78,8 @@ TEST(LinearLsBinary, ReproducesTableOneOnTheCourseDataAndWritesJson) {
   EXPECT_NEAR(json["chi2"]["x"].get<double>(), 19847.931, 1e-3);
   EXPECT_NEAR(json["chi2"]["y"].get<double>(), 19964.104, 1e-3);
   EXPECT_EQ(json["n_samples"].get<int>(), 20001);
-  EXPECT_EQ(json["input_files"]["calibration"].get<std::string>(), dir + "/ensayo.mat");
-  EXPECT_EQ(json["input_files"]["conditions"].get<std::string>(), dir + "/datos.txt");
+  EXPECT_EQ(json["input_files"]["calibration"]["path"].get<std::string>(), dir + "/ensayo.mat");
+  EXPECT_EQ(json["input_files"]["conditions"]["path"].get<std::string>(), dir + "/datos.txt");
   EXPECT_LT(json["solvers"]["max_relative_difference"]["parameters"].get<double>(), 1e-9);
   EXPECT_LT(json["solvers"]["max_relative_difference"]["covariance"].get<double>(), 1e-9);
 
