@@ -28,7 +28,8 @@ TEST(DiscoverBinary, PrintsTheVerdictFirstOnTheCourseData) {
                                 out.File("residuals.csv") + "'");
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   // The data line first (io/provenance.h), then the verdict.
-  EXPECT_EQ(result.stdout_text.find("data: " + dir + " (4 files)\n"
+  EXPECT_EQ(result.stdout_text.find("data: " + dir +
+                                    " (4 files)\n"
                                     "accelcal discover: does the baseline explain the data?\n\n"
                                     "  verdict: the baseline explains the data"),
             0u)
