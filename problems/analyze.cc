@@ -24,8 +24,9 @@
 
 DEFINE_string(data_dir, "",
               // clang-format off
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario with --set hidden in it.");
+              "Folder with the course layout or the CSV layout. Empty (and no --*_file): simulate the embedded tp2-2018 scenario with --set hidden in it.");
 // clang-format on
+ACCELCAL_DEFINE_DATA_FILE_FLAGS();
 DEFINE_string(set, "angle_offset=0.004",
               // clang-format off
               "Without data: the effects hidden in the simulated data, name=value,... in the spec's units (the report states them as the truth).");
@@ -36,8 +37,11 @@ DEFINE_string(out_dir, "report", "The report folder to create (replaced only wit
 DEFINE_bool(overwrite, false, "Replace --out_dir if it exists and is not empty.");
 DEFINE_double(alpha, 0.01,
               // clang-format off
-              "Significance level of the landmark decision and family-wise error rate of discovery, in (0, 0.5).");
+              "Family-wise error rate of discovery's steps (Holm), in (0, 0.5).");
 // clang-format on
+DEFINE_double(landmark_alpha, 0.01,
+              "Significance level of the landmark decision, in (0, 1): the most probable landmark "
+              "counts as reached only if its chi-square(2) p-value is at least this.");
 DEFINE_double(max_error, 0.01,
               "The minimum-N criterion: the largest acceptable P(wrong landmark), 1e-6 to 0.499.");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
@@ -48,6 +52,7 @@ DEFINE_string(tools_dir, accelcal::DefaultToolsDir(ACCELCAL_TOOLS_DIR),
 DEFINE_string(python, "/usr/bin/python3", "Python with matplotlib, for the figures.");
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
+ACCELCAL_FLAG_OPEN_RANGE(landmark_alpha, 0.0, 1.0);
 ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 
@@ -66,10 +71,7 @@ constexpr char kUsage[] =
 Status Load(Experiment* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  if (!FLAGS_data_dir.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags("--data_dir", {"set", "seed"}));
-  }
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
+  return LoadExperiment(ACCELCAL_DATA_FLAGS(), FLAGS_set, FLAGS_seed, {"set", "seed"}, options,
                         {{"--out_dir", FLAGS_out_dir, OutputPath::Kind::kFolder}}, inputs);
 }
 
@@ -104,8 +106,8 @@ Status Analyse(const Experiment& inputs, double gravity, ProgressPrinter* progre
   t.input_files = inputs.files;
   ACCELCAL_RETURN_IF_ERROR(
       DeadReckon(inputs.run, inputs.conditions, t.fit, TrajectoryOptions(), &t.trajectory));
-  t.decision =
-      DecideLandmark(t.trajectory.endpoint, t.trajectory.covariance, inputs.landmarks, FLAGS_alpha);
+  t.decision = DecideLandmark(t.trajectory.endpoint, t.trajectory.covariance, inputs.landmarks,
+                              FLAGS_landmark_alpha);
   t.budget = ComputeErrorBudget(t.trajectory, t.fit, inputs.run, inputs.conditions);
   progress->EndStep();
 

@@ -22,12 +22,11 @@ DEFINE_string(set, "", "Overrides of the scenario, name=value,... (as simulate -
 DEFINE_int32(trials, 1000, "Monte Carlo trials of the baseline study (>= 10).");
 DEFINE_int32(effect_trials, 200, "Trials per row of the hidden-effect table (0: no table).");
 DEFINE_uint64(seed, 1, "Seed; trial i uses the noise streams of (seed, i).");
-DEFINE_int32(threads, 0, "Threads (0: all cores). The results do not depend on it.");
+ACCELCAL_DEFINE_THREADS_FLAG(0);
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(trials, 10, 10000000);
 ACCELCAL_FLAG_RANGE(effect_trials, 0, 10000000);
-ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {

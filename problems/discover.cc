@@ -22,7 +22,8 @@
 #include "reporting/discovery_report.h"
 
 // clang-format off
-DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty (and no --*_file): simulate the embedded tp2-2018 scenario.");
+ACCELCAL_DEFINE_DATA_FILE_FLAGS();
 DEFINE_string(set, "", "Without data: effects hidden in the simulated scenario, name=value,... (as simulate --set), e.g. --set=angle_offset=0.004.");
 // clang-format on
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulation.");
@@ -37,12 +38,11 @@ DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(bins_csv, "", "Write the binned residuals and the named effects' signatures as CSV (for tools/plot_discovery.py).");
 DEFINE_string(residuals_csv, "", "Write the final model's tilt-test residual per sample as CSV (at most 5000 rows, evenly spread; for tools/plot_discovery.py --residuals_csv).");
 // clang-format on
-DEFINE_int32(num_threads, 1, "Threads Ceres may use, 1 to 256.");
+ACCELCAL_DEFINE_THREADS_FLAG(1);
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_RANGE(bins, 4, 1000);
 ACCELCAL_FLAG_RANGE(folds, 0, 100);
-ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
 
 namespace accelcal {
 namespace {
@@ -64,10 +64,7 @@ using Inputs = Experiment;
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  if (!FLAGS_data_dir.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags("--data_dir", {"set", "seed"}));
-  }
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options,
+  return LoadExperiment(ACCELCAL_DATA_FLAGS(), FLAGS_set, FLAGS_seed, {"set", "seed"}, options,
                         {{"--json", FLAGS_json},
                          {"--bins_csv", FLAGS_bins_csv},
                          {"--residuals_csv", FLAGS_residuals_csv}},
@@ -85,7 +82,7 @@ int Run(int argc, char** argv) {
   options.gravity_mps2 = ChooseGravity(inputs.conditions, FLAGS_g);
   options.theta_bins = FLAGS_bins;
   options.cross_validation_folds = FLAGS_folds;
-  options.num_threads = FLAGS_num_threads;
+  options.num_threads = ThreadCount(FLAGS_threads);
   DiscoveryResult result;
   if (status.ok())
     status =

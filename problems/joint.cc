@@ -23,8 +23,9 @@
 #include "reporting/joint_report.h"
 
 // clang-format off
-DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+DEFINE_string(data_dir, "", "Folder with the course layout or the CSV layout. Empty (and no --*_file): simulate the embedded tp2-2018 scenario.");
 // clang-format on
+ACCELCAL_DEFINE_DATA_FILE_FLAGS();
 DEFINE_string(
     set, "",
     "Without data: overrides of the simulated scenario, name=value,... (as simulate --set).");
@@ -46,18 +47,20 @@ DEFINE_double(landmark_sigma, 0.0, "The landmarks' position uncertainty (m, >= 0
 DEFINE_string(loss, "none", "Robust loss on the tilt-test residuals: none, huber or cauchy.");
 DEFINE_double(loss_scale, 1.345, "The robust loss' scale, in units of sigma (> 0).");
 DEFINE_double(g, 9.8, "Gravity in m/s^2.");
-DEFINE_double(alpha, 0.01,
-              "Significance level of the landmark decision on each endpoint, in (0, 1).");
+DEFINE_double(landmark_alpha, 0.01,
+              "Significance level of the landmark decision on each endpoint, in (0, 1): the most "
+              "probable landmark counts as reached only if its chi-square(2) p-value is at least "
+              "this.");
+ACCELCAL_RENAMED_FLAG(alpha, landmark_alpha);
 DEFINE_string(json, "", "Write both solutions as JSON to this file (atomically).");
-DEFINE_int32(num_threads, 1, "Threads Ceres may use (>= 1).");
+ACCELCAL_DEFINE_THREADS_FLAG(1);
 // clang-format off
 DEFINE_int32(max_iterations, 100, "Levenberg-Marquardt iterations before the solve counts as not converged, 1 to 10000.");
 // clang-format on
 ACCELCAL_FLAG_RANGE(landmark_sigma, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(loss_scale, 1e-3, 1e3);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
-ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 1.0);
-ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
+ACCELCAL_FLAG_OPEN_RANGE(landmark_alpha, 0.0, 1.0);
 ACCELCAL_FLAG_RANGE(max_iterations, 1, 10000);
 
 namespace accelcal {
@@ -78,11 +81,8 @@ using Inputs = Experiment;
 Status Load(Inputs* inputs) {
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  if (!FLAGS_data_dir.empty()) {
-    ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags("--data_dir", {"set", "seed"}));
-  }
-  return LoadExperiment(FLAGS_data_dir, FLAGS_set, FLAGS_seed, options, {{"--json", FLAGS_json}},
-                        inputs);
+  return LoadExperiment(ACCELCAL_DATA_FLAGS(), FLAGS_set, FLAGS_seed, {"set", "seed"}, options,
+                        {{"--json", FLAGS_json}}, inputs);
 }
 
 Status Options(const Inputs& inputs, JointOptions* options) {
@@ -99,7 +99,7 @@ Status Options(const Inputs& inputs, JointOptions* options) {
   }
   options->landmark_sigma_m = FLAGS_landmark_sigma;
   options->loss_scale = FLAGS_loss_scale;
-  options->num_threads = FLAGS_num_threads;
+  options->num_threads = ThreadCount(FLAGS_threads);
   options->max_iterations = FLAGS_max_iterations;
   return Status::Ok();
 }
@@ -113,15 +113,14 @@ Status Solve(const Inputs& inputs, const JointOptions& options, JointReport* rep
                                       &report->linear_trajectory));
   report->linear_decision =
       DecideLandmark(report->linear_trajectory.endpoint, report->linear_trajectory.covariance,
-                     inputs.landmarks, FLAGS_alpha);
+                     inputs.landmarks, FLAGS_landmark_alpha);
   ACCELCAL_RETURN_IF_ERROR(SolveJoint(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
                                       options, &report->joint));
   ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->joint.estimate,
                                       trajectory, &report->joint_trajectory));
   report->joint_decision =
       DecideLandmark(report->joint_trajectory.endpoint, report->joint_trajectory.covariance,
-                     inputs.landmarks, FLAGS_alpha);
-  report->effects = FLAGS_effects;
+                     inputs.landmarks, FLAGS_landmark_alpha);
   return Status::Ok();
 }
 

@@ -38,20 +38,21 @@
 
 // clang-format off
 DEFINE_string(data_dir, "", "Folder with the course layout (ensayo.mat, datos.txt, ...) or the CSV layout (calibration.csv, scenario.json, ...). Empty: simulate the embedded default.");
-DEFINE_string(calibration_file, "", "The tilt test as a single file, overriding --data_dir: .mat with tita (Nx1, rad) and datos (Nx2, m/s^2), or .csv with columns theta,ax,ay.");
-DEFINE_string(conditions_file, "", "Stated noise variances (and initial conditions): datos.txt or scenario.json, overriding --data_dir.");
+ACCELCAL_DEFINE_CALIBRATION_FILE_FLAG();
+ACCELCAL_DEFINE_CONDITIONS_FILE_FLAG();
 DEFINE_double(g, 9.8, "Gravity in m/s^2 (the course takes 9.8). Only (1 + scale) * g is observable, so an error here moves scale_x and scale_y. A 'gravity' in scenario.json is used unless this flag is given.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(scenario, "", "Without data: the scenario to simulate (JSON, see data/scenarios/); empty: the embedded tp2-2018 scenario, the course's setting with Table 1 as truth.");
 DEFINE_string(set, "", "Without data: overrides of the scenario, name=value,... (as simulate --set), e.g. --set=angle_offset=0.004 to see what an unmodelled effect does.");
 DEFINE_uint64(seed, 1, "Without data: the seed of the simulated test.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_int32(num_threads, 1, "Threads (>= 1) for Ceres and for the closed form's pass over a test held in memory (which splits only tests of at least 2^18 samples per thread).");
+// Threads serve Ceres and the closed form's pass over a test held in memory (which splits only
+// tests of at least 2^18 samples per thread).
+ACCELCAL_DEFINE_THREADS_FLAG(1);
 DEFINE_int64(ceres_max_samples, 1000000, "The Ceres cross-check runs on tests of at most this many samples; it holds every sample and its residuals in memory (about 1 GB and 8 s at 10^6 samples). A larger test is solved in closed form only, which streams a CSV file in bounded memory whatever its size, and the output says that Ceres was skipped. 0: never run Ceres.");
 // clang-format on
 
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
-ACCELCAL_FLAG_RANGE(num_threads, 1, 256);
 ACCELCAL_FLAG_RANGE(ceres_max_samples, 0, 1e12);
 
 namespace accelcal {
@@ -164,7 +165,7 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options, LinearLsRepor
   if (test.streamed_statistics) {
     statistics = *test.streamed_statistics;
   } else {
-    statistics.AddTest(test.samples, FLAGS_num_threads);
+    statistics.AddTest(test.samples, ThreadCount(FLAGS_threads));
   }
   // BaselineFit counts samples in an int.
   if (statistics.x().count() > std::numeric_limits<int>::max()) {
@@ -184,7 +185,7 @@ Status Solve(const TiltTest& test, const LinearLsOptions& options, LinearLsRepor
   if (!report->ceres_skipped.empty()) return Status::Ok();
   CeresLinearLsOptions ceres_options;
   ceres_options.model = options;
-  ceres_options.num_threads = FLAGS_num_threads;
+  ceres_options.num_threads = ThreadCount(FLAGS_threads);
   return EstimateLinearLsWithCeres(test.samples, ceres_options, &report->ceres);
 }
 

@@ -23,8 +23,9 @@
 
 DEFINE_string(data_dir, "",
               // clang-format off
-              "Folder with the course layout or the CSV layout. Empty: simulate the embedded tp2-2018 scenario.");
+              "Folder with the course layout or the CSV layout. Empty (and no --*_file): simulate the embedded tp2-2018 scenario.");
 // clang-format on
+ACCELCAL_DEFINE_DATA_FILE_FLAGS();
 DEFINE_string(
     design, "all",
     // clang-format off
@@ -38,14 +39,13 @@ DEFINE_double(g, 9.8, "Gravity in m/s^2.");
 DEFINE_int32(repetitions, 1000, "Monte Carlo repetitions per checked N (0: no Monte Carlo).");
 DEFINE_uint64(seed, 1, "Seed of the Monte Carlo.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
-DEFINE_int32(threads, 0, "Threads for the Monte Carlo (0: all cores).");
+ACCELCAL_DEFINE_THREADS_FLAG(0);
 DEFINE_string(json, "",
               "Write the designs, their curves and N_min as JSON to this file (atomically).");
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(max_error, 1e-6, 0.499);
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_RANGE(repetitions, 0, 1000000);
-ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {
@@ -68,7 +68,8 @@ Status Load(Inputs* inputs) {
   ACCELCAL_RETURN_IF_ERROR(LoadDefaultScenario(&inputs->scenario));
   LoadOptions options;
   ACCELCAL_RETURN_IF_ERROR(LoadOptionsFromFlags(FLAGS_theta_unit, &options));
-  return LoadExperiment(FLAGS_data_dir, "", FLAGS_seed, options, {{"--json", FLAGS_json}}, inputs);
+  return LoadExperiment(ACCELCAL_DATA_FLAGS(), "", FLAGS_seed, {}, options,
+                        {{"--json", FLAGS_json}}, inputs);
 }
 
 Status DesignsFromFlag(std::vector<std::string>* designs) {
@@ -93,7 +94,8 @@ MinSamplesOptions OptionsFromFlags(const Inputs& inputs, std::vector<std::string
   options.repetitions = FLAGS_repetitions;
   options.seed = FLAGS_seed;
   options.threads = FLAGS_threads;
-  options.subset_checks = !FLAGS_data_dir.empty();  // a simulated test has the full simulation
+  // A simulated test has the full simulation.
+  options.subset_checks = !ACCELCAL_DATA_FLAGS().MeasuredDataFlag().empty();
   options.progress = std::move(progress);
   return options;
 }

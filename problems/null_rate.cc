@@ -31,11 +31,10 @@ DEFINE_string(alphas, "0.01,0.05", "Discovery's alpha values, comma-separated, e
 DEFINE_int32(datasets, 170, "Null datasets per (design, noise factor); the default gives 2040 per alpha over the 12 default cells.");
 // clang-format on
 DEFINE_uint64(seed, 1, "Seed; dataset i of a cell uses the noise streams of (seed, cell, i).");
-DEFINE_int32(threads, 2, "Threads (0: all cores). The counts do not depend on it.");
+ACCELCAL_DEFINE_THREADS_FLAG(2);
 DEFINE_string(json, "", "Write the table as JSON to this file (atomically).");
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(datasets, 10, 10000000);
-ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {

@@ -23,12 +23,11 @@ DEFINE_string(sizes, "2,3,4,6",
 DEFINE_int32(trials, 40, "Datasets per cell (>= 10).");
 DEFINE_double(alpha, 0.01, "Discovery's family-wise error rate, in (0, 0.5).");
 DEFINE_uint64(seed, 1, "Seed.");
-DEFINE_int32(threads, 0, "Threads (0: all cores).");
+ACCELCAL_DEFINE_THREADS_FLAG(0);
 DEFINE_string(json, "", "Write the table as JSON to this file (atomically).");
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 ACCELCAL_FLAG_RANGE(trials, 10, 10000000);
 ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 0.5);
-ACCELCAL_FLAG_RANGE(threads, 0, 256);
 
 namespace accelcal {
 namespace {

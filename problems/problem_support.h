@@ -10,6 +10,8 @@
 #include <glog/logging.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -20,6 +22,7 @@
 #include <new>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <thread>
 
 #include "common/format.h"
 #include "common/measurements.h"
@@ -120,6 +123,38 @@ bool RegisterFlagRange(const char* name, const T* flag, double low, double high,
   static const bool accelcal_flag_range_##name [[maybe_unused]] = \
       ::accelcal::RegisterFlagRange(#name, &FLAGS_##name, low, high, true)
 
+// A flag that was renamed, declared beside the new one so that the old name gets one line
+// saying so rather than "unknown flag":
+//   ACCELCAL_RENAMED_FLAG(num_threads, threads);   "--num_threads was renamed --threads"
+inline std::map<std::string, std::string>& RenamedFlags() {
+  static std::map<std::string, std::string> renamed;
+  return renamed;
+}
+
+inline bool RegisterRenamedFlag(const char* old_name, const char* new_name) {
+  RenamedFlags()[old_name] = new_name;
+  return true;
+}
+
+#define ACCELCAL_RENAMED_FLAG(old_name, new_name)                       \
+  static const bool accelcal_renamed_flag_##old_name [[maybe_unused]] = \
+      ::accelcal::RegisterRenamedFlag(#old_name, #new_name)
+
+// --threads, defined by every binary that runs threads, with one meaning and one help text;
+// `default_value` may differ between binaries. ThreadCount turns it into a count.
+// clang-format off
+#define ACCELCAL_DEFINE_THREADS_FLAG(default_value)                                                  \
+  DEFINE_int32(threads, default_value, "Threads to use, 0 to 256; 0: all cores. The results do not depend on it."); \
+  ACCELCAL_FLAG_RANGE(threads, 0, 256);                                                              \
+  ACCELCAL_RENAMED_FLAG(num_threads, threads)
+// clang-format on
+
+// The number of threads --threads asks for: itself, or all cores for 0.
+inline int ThreadCount(int threads_flag) {
+  if (threads_flag > 0) return threads_flag;
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
 // Checks every argument before gflags sees it: gflags ends the program with status 1
 // (and a multi-line message) on an unknown flag or a malformed value, and ignores
 // stray arguments. Returns the one-line message for the first bad argument, or "".
@@ -140,6 +175,10 @@ inline std::string FirstBadArgument(int argc, char** argv) {
     }
     gflags::CommandLineFlagInfo info;
     if (!gflags::GetCommandLineFlagInfo(name.c_str(), &info)) {
+      const auto renamed = RenamedFlags().find(name);
+      if (renamed != RenamedFlags().end()) {
+        return "--" + name + " was renamed --" + renamed->second;
+      }
       // --nofoo is gflags' spelling of --foo=false for booleans.
       if (name.rfind("no", 0) == 0 && gflags::GetCommandLineFlagInfo(name.c_str() + 2, &info) &&
           info.type == "bool" && equals == std::string::npos) {
@@ -225,6 +264,47 @@ inline const char* DefaultToolsDir(const char* source_tools_dir) {
 #define ACCELCAL_DEFINE_THETA_UNIT_FLAG() \
   DEFINE_string(theta_unit, "auto", "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span over two turns is refused as likely degrees).")
 // clang-format on
+
+// --calibration_file, --run_file, --landmarks_file and --conditions_file: one file of the data,
+// overriding --data_dir's (or, without --data_dir, all four together). Defined by every binary
+// that reads a data folder, with one help text each; a binary that reads only the tilt test
+// and its conditions defines those two.
+// clang-format off
+#define ACCELCAL_DEFINE_CALIBRATION_FILE_FLAG() \
+  DEFINE_string(calibration_file, "", "The tilt test as a single file, overriding --data_dir's: .mat with tita (Nx1, rad) and datos (Nx2, m/s^2), or .csv with columns theta,ax,ay.")
+#define ACCELCAL_DEFINE_CONDITIONS_FILE_FLAG() \
+  DEFINE_string(conditions_file, "", "Initial position (m), initial velocity (m/s) and stated noise variances ((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir's.")
+#define ACCELCAL_DEFINE_DATA_FILE_FLAGS()                                                                  \
+  ACCELCAL_DEFINE_CALIBRATION_FILE_FLAG();                                                                 \
+  DEFINE_string(run_file, "", "The vehicle run as a single file, overriding --data_dir's: .mat with t (Mx1, s) and Aerr (Mx2, m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced."); \
+  DEFINE_string(landmarks_file, "", "The landmarks as a single file, overriding --data_dir's: .mat with one 1x2 [x y] (m) per variable, or .csv with columns name,x,y."); \
+  ACCELCAL_DEFINE_CONDITIONS_FILE_FLAG()
+// clang-format on
+
+// The data a binary's flags name: --data_dir and the --*_file overrides
+// (ACCELCAL_DEFINE_DATA_FILE_FLAGS), as ACCELCAL_DATA_FLAGS() collects them.
+struct DataFlags {
+  std::string data_dir;
+  DataFiles overrides;
+
+  // The flag that names measured data (--data_dir, else the first --*_file given), or ""
+  // when none does and the data are simulated.
+  std::string MeasuredDataFlag() const {
+    if (!data_dir.empty()) return "--data_dir";
+    for (const auto& [role, path] : FileRoles(overrides)) {
+      if (!path.empty()) return "--" + role + "_file";
+    }
+    return "";
+  }
+};
+
+#define ACCELCAL_DATA_FLAGS()                                                     \
+  ::accelcal::DataFlags {                                                         \
+    FLAGS_data_dir, ::accelcal::DataFiles {                                       \
+      ::accelcal::DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file, \
+          FLAGS_landmarks_file, FLAGS_conditions_file                             \
+    }                                                                             \
+  }
 
 // The load options the binary's --theta_unit asks for.
 inline Status LoadOptionsFromFlags(const std::string& theta_unit, LoadOptions* options) {
@@ -365,35 +445,52 @@ inline Status LoadSimulationScenario(const std::string& scenario_file,
   return DescribeSimulation(*scenario, scenario_file, seed, source);
 }
 
-inline Status LoadExperiment(const std::string& data_dir, const std::string& assignments,
-                             uint64_t seed, const LoadOptions& options,
-                             const std::vector<OutputPath>& outputs, Experiment* experiment) {
-  if (data_dir.empty()) {
+// Measured data when `data` names any (refusing then every flag of `simulation_flags` that
+// was given, e.g. --set, --seed), else the embedded scenario simulated with `assignments`.
+inline Status LoadExperiment(const DataFlags& data, const std::string& assignments, uint64_t seed,
+                             std::initializer_list<const char*> simulation_flags,
+                             const LoadOptions& options, const std::vector<OutputPath>& outputs,
+                             Experiment* experiment) {
+  const std::string data_flag = data.MeasuredDataFlag();
+  if (data_flag.empty()) {
     ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, RunInputs()));
     Scenario scenario;
     ACCELCAL_RETURN_IF_ERROR(LoadScenarioOrDefault("", assignments, &scenario));
-    SimulatedData data = SimulateScenario(scenario, seed);
+    SimulatedData simulated = SimulateScenario(scenario, seed);
     ACCELCAL_RETURN_IF_ERROR(DescribeSimulation(scenario, "", seed, &experiment->data_source));
-    experiment->truth = TruthJson(scenario, data, seed);
+    experiment->truth = TruthJson(scenario, simulated, seed);
     experiment->source =
         "simulated from the embedded scenario " + scenario.name + " (seed " + std::to_string(seed) +
         ") with " + (assignments.empty() ? std::string("nothing") : assignments) + " hidden in it";
-    experiment->test = std::move(data.test);
-    experiment->run = std::move(data.run);
-    experiment->landmarks = std::move(data.landmarks);
-    experiment->conditions = data.conditions;
+    experiment->test = std::move(simulated.test);
+    experiment->run = std::move(simulated.run);
+    experiment->landmarks = std::move(simulated.landmarks);
+    experiment->conditions = simulated.conditions;
     return Status::Ok();
   }
+  ACCELCAL_RETURN_IF_ERROR(RefuseSimulationFlags(data_flag.c_str(), simulation_flags));
+  if (data.data_dir.empty()) {
+    for (const auto& [role, path] : FileRoles(data.overrides)) {
+      if (path.empty()) {
+        return Status::Error(
+            "without --data_dir, give all of --calibration_file, --run_file, "
+            "--landmarks_file and --conditions_file (--" +
+            role + "_file is missing)");
+      }
+    }
+  }
   DataFiles files;
-  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data_dir, &files));
-  experiment->inputs = InputsOf(data_dir, files);
+  ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(data.data_dir, data.overrides, &files));
+  experiment->inputs = InputsOf(data.data_dir, files);
   ACCELCAL_RETURN_IF_ERROR(CheckOutputPaths(outputs, experiment->inputs));
   ACCELCAL_RETURN_IF_ERROR(LoadDataFiles(files, experiment, options));
   PrintInputNotes(experiment->notes);
-  experiment->source = "measured data in " + data_dir;
+  experiment->source =
+      "measured data in " +
+      (data.data_dir.empty() ? files.calibration + " and the files with it" : data.data_dir);
   experiment->files = FileRoles(files);
   ACCELCAL_RETURN_IF_ERROR(
-      DescribeMeasuredData(data_dir, experiment->files, &experiment->data_source));
+      DescribeMeasuredData(data.data_dir, experiment->files, &experiment->data_source));
   return Status::Ok();
 }
 

@@ -6,7 +6,7 @@
 // trapezoidal rule from p0, v0, so p_end = p0 + v0 T + sum_j w_j a_j and
 //   Cov(p_end) = J Sigma_params J^T + sum_j w_j^2 sigma^2 / (1 + s)^2   (per axis).
 // Each landmark is scored by its Mahalanobis distance; the most probable one is
-// reported as reached only if its chi-square(2) p-value is at least --alpha.
+// reported as reached only if its chi-square(2) p-value is at least --landmark_alpha.
 //
 // Inputs: a data directory (course layout or CSV layout) or single files. Outputs: a
 // table on stdout, JSON (--json) and the path with its covariance as CSV (--path_csv),
@@ -33,14 +33,11 @@
 
 // clang-format off
 DEFINE_string(data_dir, "", "Folder with the course layout (ensayo.mat, acel.mat, puntos.mat, datos.txt) or the CSV layout (calibration.csv, trajectory.csv, landmarks.csv, scenario.json).");
-DEFINE_string(calibration_file, "", "Tilt test file (.mat or .csv), overriding --data_dir.");
+ACCELCAL_DEFINE_DATA_FILE_FLAGS();
 DEFINE_string(calibration, "", "A calibration file (calibrate --calibration_out, docs/calibration.md) in place of the tilt test: its bias, scale and covariance correct the run; the folder's tilt test is not read.");
-DEFINE_string(run_file, "", "Vehicle run file, overriding --data_dir: .mat with t (Mx1, s) and Aerr (Mx2, m/s^2), or .csv with columns t,ax,ay. Time must be uniformly spaced.");
-DEFINE_string(landmarks_file, "", "Landmarks file, overriding --data_dir: .mat with one 1x2 [x y] (m) per variable, or .csv with columns name,x,y.");
-DEFINE_string(conditions_file, "", "Initial position (m), initial velocity (m/s) and stated noise variances ((m/s^2)^2): datos.txt or scenario.json, overriding --data_dir.");
 ACCELCAL_DEFINE_THETA_UNIT_FLAG();
 DEFINE_double(g, 9.8, "Gravity in m/s^2 used to fit the tilt test, 1 to 100.");
-DEFINE_double(alpha, 0.01, "Significance level in (0, 1): the most probable landmark is reported as reached only if its chi-square(2) p-value is at least alpha.");
+DEFINE_double(landmark_alpha, 0.01, "Significance level of the landmark decision, in (0, 1): the most probable landmark counts as reached only if its chi-square(2) p-value is at least this.");
 // clang-format on
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(path_csv, "",
@@ -48,7 +45,8 @@ DEFINE_string(path_csv, "",
 DEFINE_int32(path_stride, 10,
              "Keep every Nth run sample in --path_csv (>= 1; the last is always kept).");
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
-ACCELCAL_FLAG_OPEN_RANGE(alpha, 0.0, 1.0);
+ACCELCAL_FLAG_OPEN_RANGE(landmark_alpha, 0.0, 1.0);
+ACCELCAL_RENAMED_FLAG(alpha, landmark_alpha);
 ACCELCAL_FLAG_RANGE(path_stride, 1, 1e9);
 
 namespace accelcal {
@@ -81,8 +79,7 @@ Status ValidateFlags() {
 using Inputs = CourseData;
 
 Status Load(Inputs* inputs, TrajectoryReport* report, DataSource* source) {
-  const DataFiles overrides{DataLayout::kCourseMat, FLAGS_calibration_file, FLAGS_run_file,
-                            FLAGS_landmarks_file, FLAGS_conditions_file};
+  const DataFiles overrides = ACCELCAL_DATA_FLAGS().overrides;
   DataFiles files;
   ACCELCAL_RETURN_IF_ERROR(ResolveDataFiles(FLAGS_data_dir, overrides, &files));
   if (!FLAGS_calibration.empty()) files.calibration.clear();
@@ -127,7 +124,7 @@ Status Solve(const Inputs& inputs, TrajectoryReport* report) {
                                .WithContext(report->input_files["run"]));
   report->conditions = inputs.conditions;
   report->decision = DecideLandmark(report->trajectory.endpoint, report->trajectory.covariance,
-                                    inputs.landmarks, FLAGS_alpha);
+                                    inputs.landmarks, FLAGS_landmark_alpha);
   report->budget =
       ComputeErrorBudget(report->trajectory, report->fit, inputs.run, inputs.conditions);
   return Status::Ok();

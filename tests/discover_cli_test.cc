@@ -27,15 +27,16 @@ TEST(DiscoverBinary, PrintsTheVerdictFirstOnTheCourseData) {
                                 "' --bins_csv='" + out.File("bins.csv") + "' --residuals_csv='" +
                                 out.File("residuals.csv") + "'");
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
-  // The data's source first, then the verdict.
+  // The data line first (io/provenance.h), then the verdict.
   EXPECT_EQ(result.stdout_text.find("data: " + dir +
-                                    " (4 files)\naccelcal discover: does the baseline explain the "
-                                    "data?\n\n  verdict: the baseline explains the data"),
+                                    " (4 files)\n"
+                                    "accelcal discover: does the baseline explain the data?\n\n"
+                                    "  verdict: the baseline explains the data"),
             0u)
       << result.stdout_text;
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(out.File("d.json")));
   EXPECT_TRUE(json["effects"].empty());
-  EXPECT_EQ(json["landmark"], "C");
+  EXPECT_EQ(json["reached"], "C");
   EXPECT_EQ(json["candidates"].size(), 8u);
   EXPECT_TRUE(json["baseline"]["parameters"].contains("bias_x"));
   EXPECT_TRUE(json["extended"].contains("endpoint"));

@@ -46,7 +46,7 @@ TEST(JointBinary, RunsOnTheCourseDataWithAngleOffsetAndNonOrthogonality) {
               3 * json["joint"]["stddev"][effect].get<double>())
         << effect;
   }
-  EXPECT_EQ(json["landmark"], "C");
+  EXPECT_EQ(json["tied_landmark"], "C");
   double posterior_c = 0.0;
   for (const auto& hypothesis : json["hypotheses"]) {
     if (hypothesis["name"] == "C") posterior_c = hypothesis["posterior"].get<double>();

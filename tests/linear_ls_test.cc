@@ -158,6 +158,12 @@ TEST(CalibrationAccumulator, ThreadedPassEqualsOnePassAndRepeatsBitForBit) {
     again.AddTest(test, threads);
     EXPECT_EQ(again.x().CenteredForceResponse(), threaded.x().CenteredForceResponse());
     EXPECT_EQ(again.y().CenteredResponseResponse(), threaded.y().CenteredResponseResponse());
+    // The same bit for bit whatever the number of threads.
+    CalibrationAccumulator one_thread(9.8);
+    one_thread.AddTest(test, 1);
+    EXPECT_EQ(one_thread.x().CenteredForceResponse(), threaded.x().CenteredForceResponse());
+    EXPECT_EQ(one_thread.y().CenteredResponseResponse(), threaded.y().CenteredResponseResponse());
+    EXPECT_EQ(one_thread.x().MeanResponse(), threaded.x().MeanResponse());
   }
   // Too short to split: the one-thread pass, bit for bit.
   CalibrationTest short_test = test;

@@ -546,7 +546,7 @@ TEST(Disturbances, NeutralOnesLeaveTheSimulationBitIdentical) {
     EXPECT_EQ(data.run.measured_x, reference.run.measured_x) << neutral;
     EXPECT_EQ(data.run.measured_y, reference.run.measured_y) << neutral;
     EXPECT_TRUE(data.outlier_indices_x.empty() && data.outlier_indices_y.empty());
-    EXPECT_FALSE(TruthJson(scenario, data, 7).contains("disturbances")) << neutral;
+    EXPECT_TRUE(TruthJson(scenario, data, 7)["disturbances"].is_null()) << neutral;
   }
 }
 

@@ -219,7 +219,9 @@ TEST(TrajectoryBinary, RefusesMissingInitialVelocityAndBadLandmarks) {
 
 TEST(TrajectoryBinary, RefusesBadFlags) {
   ExpectRefused("", "give --data_dir, or all of --calibration_file");
-  ExpectRefused("--data_dir=. --alpha=1.5", "--alpha='1.5' is not a valid double in (0, 1)");
+  ExpectRefused("--data_dir=. --landmark_alpha=1.5",
+                "--landmark_alpha='1.5' is not a valid double in (0, 1)");
+  ExpectRefused("--data_dir=. --alpha=0.05", "--alpha was renamed --landmark_alpha");
   ExpectRefused("--data_dir=. --path_stride=0",
                 "--path_stride='0' is not a valid int32 in [1, 1000000000]");
 }

@@ -35,7 +35,7 @@ def main():
     for index, design in enumerate(result["designs"]):
         n = [point["n"] for point in design["curve"]]
         p = [max(point["p_wrong"], 1e-7) for point in design["curve"]]
-        line, = axes.loglog(n, p, styles[index % 4], label=f'{design["name"]}: N_min = {design["n_min"]}')
+        line, = axes.loglog(n, p, styles[index % 4], label=f'{design["name"]}: N_min = {design["n_min"] or "none"}')
         for check in design.get("monte_carlo", []):
             # Each check beside its own analytic value (x): subsets of the real test keep the
             # run's one noise realisation fixed, so their analytic value is not the curve's.
@@ -51,7 +51,7 @@ def main():
                 # as an upper bound.
                 axes.plot(check["n"], 1.0 / check["repetitions"], "v", color=line.get_color(), markersize=8)
                 drawn.add("v")
-        if design["n_min"] > 0:
+        if design["n_min"] is not None:  # null: none up to the limit
             axes.axvline(design["n_min"], color=line.get_color(), alpha=0.3)
     axes.axhline(result["max_error"], color="tab:red", linewidth=1, label=f'criterion P(wrong) = {result["max_error"]}')
     axes.set_xlabel("tilt-test samples N")

@@ -80,7 +80,8 @@ def main():
         axes.annotate(f'{landmark["name"]}  (d²={landmark["mahalanobis2"]:.2f})', (landmark["x"], landmark["y"]),
                       textcoords="offset points", xytext=(8, 6))
     verdict = f'reached {result["reached"]}' if result.get("reached") else "no landmark is consistent"
-    axes.set_title(f"Dead reckoning with the baseline correction: {verdict} (p = {result['p_value']:.3g})")
+    p_value = "" if result["p_value"] is None else f" (p = {result['p_value']:.3g})"  # null: no landmarks
+    axes.set_title(f"Dead reckoning with the baseline correction: {verdict}{p_value}")
     axes.set_xlabel("x (m)")
     axes.set_ylabel("y (m)")
     axes.set_aspect("equal", adjustable="datalim")

@@ -246,7 +246,8 @@ void CalibrationAccumulator::AddTest(const CalibrationTest& test) {
 
 void CalibrationAccumulator::AddTest(const CalibrationTest& test, int num_threads) {
   const int size = test.size();
-  const int parts = std::max(1, std::min(num_threads, size / kParallelMinSamples));
+  // The parts depend on the test alone, so the statistics do not depend on num_threads.
+  const int parts = std::max(1, size / kParallelMinSamples);
   if (parts == 1) {
     AddTest(test);
     return;
@@ -258,21 +259,25 @@ void CalibrationAccumulator::AddTest(const CalibrationTest& test, int num_thread
     return static_cast<int>(start / kAddTestBlockSamples * kAddTestBlockSamples);
   };
   std::vector<CalibrationAccumulator> accumulators(parts, CalibrationAccumulator(gravity_mps2_));
-  const auto add_part = [&](int part) {
-    const int start = begin(part);
-    accumulators[part].AddSamples(test.theta_rad.data() + start, test.measured_x.data() + start,
-                                  test.measured_y.data() + start, begin(part + 1) - start);
+  const int workers_wanted = std::max(1, std::min(num_threads, parts));
+  // Worker w adds parts w, w + workers_wanted, ...
+  const auto add_parts = [&](int worker) {
+    for (int part = worker; part < parts; part += workers_wanted) {
+      const int start = begin(part);
+      accumulators[part].AddSamples(test.theta_rad.data() + start, test.measured_x.data() + start,
+                                    test.measured_y.data() + start, begin(part + 1) - start);
+    }
   };
   std::vector<std::thread> workers;
-  std::vector<int> inline_parts = {0};  // the calling thread's share
-  for (int part = 1; part < parts; ++part) {
+  std::vector<int> inline_workers = {0};  // the calling thread's share
+  for (int worker = 1; worker < workers_wanted; ++worker) {
     try {
-      workers.emplace_back(add_part, part);
+      workers.emplace_back(add_parts, worker);
     } catch (const std::system_error&) {
-      inline_parts.push_back(part);
+      inline_workers.push_back(worker);
     }
   }
-  for (const int part : inline_parts) add_part(part);
+  for (const int worker : inline_workers) add_parts(worker);
   for (std::thread& worker : workers) worker.join();
   for (const CalibrationAccumulator& accumulator : accumulators) Merge(accumulator);
 }

@@ -63,12 +63,12 @@ class CalibrationAccumulator {
   // several calls gives the same statistics bit for bit when every call but the last has a
   // multiple of kAddTestBlockSamples samples, and equal to rounding otherwise.
   void AddTest(const CalibrationTest& test);
-  // AddTest on up to `num_threads` threads, each over a contiguous part of the test that
-  // starts on a block boundary and holds at least kParallelMinSamples samples (starting a
-  // thread costs tens of microseconds), the parts then merged in order. The statistics
-  // equal AddTest's to rounding (each part's sums are taken about its own first sample),
-  // and are the same bit for bit for a given test and num_threads. When a thread cannot be
-  // started, its part runs on the calling thread.
+  // AddTest in contiguous parts of the test, each starting on a block boundary and holding
+  // at least kParallelMinSamples samples (starting a thread costs tens of microseconds),
+  // spread over up to `num_threads` threads and merged in order. The parts depend on the
+  // test's length alone, so the statistics are the same bit for bit whatever num_threads;
+  // they equal AddTest's to rounding (each part's sums are taken about its own first
+  // sample). When a thread cannot be started, its parts run on the calling thread.
   void AddTest(const CalibrationTest& test, int num_threads);
   static constexpr int kParallelMinSamples = 1 << 18;
 

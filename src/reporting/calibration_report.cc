@@ -48,7 +48,7 @@ CalibrationRecord TwoAxisCalibrationRecord(const BaselineFit& fit, double gravit
   record.fit = {
       {"samples", fit.sample_count},
       {"chi2", {{"x", fit.chi2_x.chi2}, {"y", fit.chi2_y.chi2}}},
-      {"degrees_of_freedom", {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}}},
+      {"dof", {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}}},
       {"chi2_p_value", {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}}},
       {"alpha", alpha},
       {"verdict", CalibrationVerdict(fit, noise_from == kNoiseEstimatedFromResiduals, alpha)}};

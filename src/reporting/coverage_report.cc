@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 namespace {
@@ -96,7 +97,9 @@ std::string EffectImpactText(const std::vector<EffectImpact>& table) {
 
 nlohmann::json CoverageJson(const CoverageResult& result) {
   nlohmann::json parameters = nlohmann::json::object();
+  std::vector<std::string> names;
   for (const Parameter parameter : kBaselineParameters) {
+    names.push_back(Info(parameter).name);
     const ParameterCoverage& row = result.parameters[BaselineIndex(parameter)];
     parameters[Info(parameter).name] = {{"truth", row.truth},
                                         {"mean", row.mean},
@@ -111,6 +114,7 @@ nlohmann::json CoverageJson(const CoverageResult& result) {
       {"threads", result.threads},
       {"seconds", result.seconds},
       {"parameters", parameters},
+      {"units", UnitsJson(names)},
       {"ellipse_coverage",
        {{"x", Levels(result.axis_ellipse_coverage[0])},
         {"y", Levels(result.axis_ellipse_coverage[1])},

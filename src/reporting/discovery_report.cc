@@ -441,9 +441,12 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   }
   const CrossValidation& cv = result.cross_validation;
   const bool has_null = cv.folds > 0 && cv.null_stddev > 0.0;
+  const auto if_folds = [&](double value) {
+    return cv.folds > 0 ? nlohmann::json(value) : nlohmann::json(nullptr);
+  };
   nlohmann::json cross_validation = {{"folds", cv.folds},
-                                     {"baseline", cv.baseline},
-                                     {"extended", cv.extended},
+                                     {"baseline", if_folds(cv.baseline)},
+                                     {"extended", if_folds(cv.extended)},
                                      {"null_mean", has_null ? Finite(cv.null_mean) : nullptr},
                                      {"null_stddev", has_null ? Finite(cv.null_stddev) : nullptr},
                                      {"z", has_null ? Finite(cv.z) : nullptr}};
@@ -475,20 +478,25 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
       {"checks", checks},
       {"remaining", result.remaining},
       {"ambiguities", ambiguities},
-      {"landmark", ReachedJson(result.extended_decision)},
+      {"reached", ReachedJson(result.extended_decision)},
       {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
                                                      : nlohmann::json(result.tied_landmark)},
-      {"landmark_note", result.landmark_note},
+      {"landmark_note", result.landmark_note.empty() ? nlohmann::json(nullptr)
+                                                     : nlohmann::json(result.landmark_note)},
       {"baseline", SolutionJson(baseline, result.baseline.chi2_x.chi2, result.baseline.chi2_y.chi2,
-                                0.0, result.baseline_trajectory, result.baseline_decision)},
+                                std::nullopt, result.baseline_trajectory,
+                                result.baseline_decision)},
       {"extended", SolutionJson(result.extended.estimate, result.extended.chi2_x,
-                                result.extended.chi2_y, result.extended.chi2_endpoint,
+                                result.extended.chi2_y,
+                                result.tied_landmark.empty()
+                                    ? std::nullopt
+                                    : std::optional<double>(result.extended.chi2_endpoint),
                                 result.extended_trajectory, result.extended_decision)},
       {"gain",
        {{"baseline_shift_sigma", shifts},
         {"cross_validation", cross_validation},
-        {"posterior_before", before != nullptr ? before->posterior : 0.0},
-        {"posterior_after", after != nullptr ? after->posterior : 0.0}}}};
+        {"posterior_before", before != nullptr ? nlohmann::json(before->posterior) : nullptr},
+        {"posterior_after", after != nullptr ? nlohmann::json(after->posterior) : nullptr}}}};
 }
 
 std::string DiscoveryBinsCsv(const DiscoveryResult& result) {

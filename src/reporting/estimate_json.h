@@ -5,15 +5,20 @@
 // trajectory, joint, discover, analyze and the benchmark write them alike:
 //
 //   a parameter estimate  {"parameters": {name: value}, "stddev": {name: sigma},
-//                          "parameter_order": [name...], "covariance": [[...]]}
+//                          "units": {name: unit}, "parameter_order": [name...],
+//                          "covariance": [[...]]}
 //                         (the covariance in parameter_order, the spec's units)
 //   landmark scores       [{"name", "x", "y", "distance_m", "mahalanobis2",
 //                           "log_likelihood", "posterior", "p_value"}...]
-//   a solution            the estimate, "chi2" {x, y, endpoint}, "endpoint",
+//   a solution            the estimate, "chi2" {x, y, endpoint (null without a tie to a
+//                         landmark)}, "endpoint",
 //                         "endpoint_covariance", "endpoint_stddev", "landmarks" and
 //                         "reached" (null when no landmark is consistent)
 
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "estimation/landmark_decision.h"
 #include "estimation/parameter_estimate.h"
@@ -28,8 +33,16 @@ nlohmann::json LandmarkScoresJson(const LandmarkDecision& decision);
 // The decided landmark's name, or null.
 nlohmann::json ReachedJson(const LandmarkDecision& decision);
 
+// {name: unit} of the catalogue's parameters among `names` (docs/json.md: beside every
+// "parameters" object).
+nlohmann::json UnitsJson(const std::vector<std::string>& names);
+
+// The value, or null when it was not computed (docs/json.md: never 0 for "absent").
+nlohmann::json OptionalJson(const std::optional<double>& value);
+
 nlohmann::json SolutionJson(const ParameterEstimate& estimate, double chi2_x, double chi2_y,
-                            double chi2_endpoint, const DeadReckoningResult& trajectory,
+                            std::optional<double> chi2_endpoint,
+                            const DeadReckoningResult& trajectory,
                             const LandmarkDecision& decision);
 
 }  // namespace accelcal

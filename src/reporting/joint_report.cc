@@ -1,6 +1,9 @@
 #include "reporting/joint_report.h"
 
 #include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "common/format.h"
 #include "estimation/parameter_estimate.h"
@@ -11,6 +14,29 @@ namespace {
 
 std::string Cell(double value, double sigma) { return StringPrintf("%+.4e +- %.2e", value, sigma); }
 
+// The parameters fitted beyond bias and scale, for the text and the JSON alike.
+std::vector<std::string> EffectNames(const JointReport& report) {
+  std::vector<std::string> names;
+  for (const Parameter parameter : report.joint.estimate.free) {
+    if (!Info(parameter).baseline) names.push_back(Info(parameter).name);
+  }
+  return names;
+}
+
+// "angle_offset,nonorthogonality", or "none".
+std::string EffectsText(const JointReport& report) {
+  std::string text;
+  for (const std::string& name : EffectNames(report)) text += (text.empty() ? "" : ",") + name;
+  return text.empty() ? "none" : text;
+}
+
+// The joint fit's degrees of freedom: both axes' samples and the endpoint's two residuals
+// when tied, less the free parameters.
+int JointDof(const JointReport& report) {
+  return 2 * report.joint.samples + (report.joint.landmark.empty() ? 0 : 2) -
+         static_cast<int>(report.joint.estimate.free.size());
+}
+
 }  // namespace
 
 std::string JointTable(const JointReport& report, bool full_solver_report) {
@@ -18,7 +44,7 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
   const ParameterEstimate& joint = report.joint.estimate;
   std::string text = StringPrintf(
       "accelcal joint: the linear baseline and the joint nonlinear model (effects: %s; run %s)\n\n",
-      report.effects.empty() ? "none" : report.effects.c_str(),
+      EffectsText(report).c_str(),
       report.joint.landmark.empty() ? "not tied to a landmark"
                                     : ("tied to " + report.joint.landmark).c_str());
   // clang-format off
@@ -50,9 +76,7 @@ std::string JointTable(const JointReport& report, bool full_solver_report) {
                          report.joint.chi2_endpoint, report.joint.landmark.c_str());
   }
   text += StringPrintf("  (degrees of freedom: linear %d per axis; joint %d over both axes%s)\n",
-                       report.linear.chi2_x.dof,
-                       2 * report.joint.samples + (report.joint.landmark.empty() ? 0 : 2) -
-                           static_cast<int>(joint.free.size()),
+                       report.linear.chi2_x.dof, JointDof(report),
                        report.joint.landmark.empty() ? "" : " and the endpoint");
 
   text += "\n  endpoint (m)            x          y     1 sigma x, y    reached\n";
@@ -100,15 +124,19 @@ nlohmann::json JointJson(const JointReport& report) {
                           {"chi2_endpoint", if_solved(hypothesis.chi2_endpoint)},
                           {"posterior", hypothesis.posterior}});
   }
+  const auto tied = [&](double chi2) {
+    return report.joint.landmark.empty() ? std::optional<double>() : std::optional<double>(chi2);
+  };
   return {{"problem", "joint"},
-          {"effects", report.effects},
-          {"landmark", report.joint.landmark.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(report.joint.landmark)},
+          {"effects", EffectNames(report)},
+          {"dof", {{"linear_per_axis", report.linear.chi2_x.dof}, {"joint", JointDof(report)}}},
+          {"tied_landmark", report.joint.landmark.empty() ? nlohmann::json(nullptr)
+                                                          : nlohmann::json(report.joint.landmark)},
           {"linear", SolutionJson(FromBaselineFit(report.linear), report.linear.chi2_x.chi2,
-                                  report.linear.chi2_y.chi2, 0.0, report.linear_trajectory,
+                                  report.linear.chi2_y.chi2, std::nullopt, report.linear_trajectory,
                                   report.linear_decision)},
           {"joint", SolutionJson(report.joint.estimate, report.joint.chi2_x, report.joint.chi2_y,
-                                 report.joint.chi2_endpoint, report.joint_trajectory,
+                                 tied(report.joint.chi2_endpoint), report.joint_trajectory,
                                  report.joint_decision)},
           {"hypotheses", hypotheses},
           {"solver",

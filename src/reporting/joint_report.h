@@ -22,7 +22,6 @@ struct JointReport {
   JointResult joint;
   DeadReckoningResult joint_trajectory;
   LandmarkDecision joint_decision;
-  std::string effects;  // as given on the command line
 };
 
 std::string JointTable(const JointReport& report, bool full_solver_report);

@@ -111,19 +111,23 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
   nlohmann::json json = FitJson(fit);
   json["problem"] = "linear_ls";
   json["correlation"] = Matrix(fit.Correlation());
-  json["chi2_dof"] = {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}};
+  json["dof"] = {{"x", fit.chi2_x.dof}, {"y", fit.chi2_y.dof}};
   json["chi2_p_value"] = {{"x", fit.chi2_x.p_value}, {"y", fit.chi2_y.p_value}};
   json["n_samples"] = fit.sample_count;
   json["gravity_mps2"] = report.gravity_mps2;
   json["noise_variance"] = {{"x", report.noise_variance_x}, {"y", report.noise_variance_y}};
   json["theta_range_rad"] = {report.theta_min_rad, report.theta_max_rad};
+  json["simulation"] = nullptr;
   if (report.simulation_seed) {
     json["simulation"] = {{"scenario", report.scenario_name},
                           {"seed", *report.simulation_seed},
                           {"truth", Named(*report.truth)}};
   }
   if (!report.ceres_skipped.empty()) {
-    json["solvers"] = {{"closed_form", FitJson(fit)}, {"ceres_skipped", report.ceres_skipped}};
+    json["solvers"] = {{"closed_form", FitJson(fit)},
+                       {"ceres", nullptr},
+                       {"max_relative_difference", nullptr},
+                       {"ceres_skipped", report.ceres_skipped}};
     return json;
   }
   const FitDifference difference = CompareFits(fit, report.ceres.fit);
@@ -135,7 +139,8 @@ nlohmann::json LinearLsJson(const LinearLsReport& report) {
       {"closed_form", FitJson(fit)},
       {"ceres", ceres},
       {"max_relative_difference",
-       {{"parameters", difference.parameters}, {"covariance", difference.covariance}}}};
+       {{"parameters", difference.parameters}, {"covariance", difference.covariance}}},
+      {"ceres_skipped", nullptr}};
   return json;
 }
 

@@ -154,10 +154,13 @@ nlohmann::json DesignJson(const DesignCurve& design, const std::vector<MonteCarl
                            {"monte_carlo_sd", check.monte_carlo_sd},
                            {"repetitions", check.repetitions}});
   }
+  const auto count = [](int n) { return n > 0 ? nlohmann::json(n) : nlohmann::json(nullptr); };
+  const bool two_positions = design.name == "optimal";
   return {{"name", design.name},
-          {"n_min", design.n_min},
-          {"n_min_3sigma", design.n_min_3sigma},
-          {"positions_rad", {design.theta_a, design.theta_b}},
+          {"n_min", count(design.n_min)},
+          {"n_min_3sigma", count(design.n_min_3sigma)},
+          {"positions_rad", two_positions ? nlohmann::json({design.theta_a, design.theta_b})
+                                          : nlohmann::json(nullptr)},
           {"curve", curve},
           {"monte_carlo", monte_carlo}};
 }

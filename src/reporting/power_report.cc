@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "reporting/estimate_json.h"
 
 namespace accelcal {
 
@@ -30,8 +31,10 @@ std::string PowerText(const PowerReport& report) {
 
 nlohmann::json PowerJson(const PowerReport& report) {
   nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::string> names;
   for (const PowerRow& row : report.rows) {
     const ParameterInfo& info = Info(row.effect);
+    names.push_back(info.name);
     rows.push_back({{"name", info.name},
                     {"sigma", row.sigma},
                     {"unit", info.unit},
@@ -39,7 +42,14 @@ nlohmann::json PowerJson(const PowerReport& report) {
                     {"detection", row.detection},
                     {"other_effects_named", row.other_effects}});
   }
-  return {{"problem", "power"}, {"rows", rows}};
+  // What the text's header says, too.
+  return {{"problem", "power"},
+          {"scenario", report.scenario_name},
+          {"seed", report.options.seed},
+          {"trials", report.options.trials},
+          {"alpha", report.options.alpha},
+          {"rows", rows},
+          {"units", UnitsJson(names)}};
 }
 
 }  // namespace accelcal

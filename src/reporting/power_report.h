@@ -21,8 +21,8 @@ struct PowerReport {
 
 std::string PowerText(const PowerReport& report);
 
-// {"problem": "power", "rows": [{"name", "sigma", "unit", "sizes_sigma", "detection",
-// "other_effects_named"}, ...]}.
+// {"problem": "power", "scenario", "seed", "trials", "alpha", "rows": [{"name", "sigma",
+// "unit", "sizes_sigma", "detection", "other_effects_named"}, ...], "units"} (docs/json.md).
 nlohmann::json PowerJson(const PowerReport& report);
 
 }  // namespace accelcal

@@ -144,8 +144,9 @@ nlohmann::json TrajectoryJson(const TrajectoryReport& report) {
       {"reached", ReachedJson(decision)},
       {"best", decision.best >= 0 ? nlohmann::json(decision.scores[decision.best].landmark.name)
                                   : nlohmann::json(nullptr)},
-      {"p_value", decision.best >= 0 ? decision.scores[decision.best].p_value : 0.0},
-      {"alpha", decision.alpha},
+      {"p_value", decision.best >= 0 ? nlohmann::json(decision.scores[decision.best].p_value)
+                                     : nlohmann::json(nullptr)},
+      {"landmark_alpha", decision.alpha},
       {"error_budget", budget},
       {"baseline", ParameterEstimateJson(FromBaselineFit(report.fit))},
       {"run", {{"samples", t.sample_count}, {"dt_s", t.dt_s}, {"duration_s", t.duration_s}}}};

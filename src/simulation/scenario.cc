@@ -123,8 +123,10 @@ SimulatedData SimulateScenario(const Scenario& scenario, uint64_t seed, uint64_t
 nlohmann::json TruthJson(const Scenario& scenario, const SimulatedData& data, uint64_t seed) {
   using nlohmann::json;
   json parameters = json::object();
+  json units = json::object();
   for (const ParameterInfo& info : ParameterCatalogue()) {
     parameters[info.name] = scenario.truth.parameters[info.parameter];
+    units[info.name] = info.unit;
   }
   json landmarks = json::array();
   for (const Landmark& landmark : data.landmarks) {
@@ -134,6 +136,7 @@ nlohmann::json TruthJson(const Scenario& scenario, const SimulatedData& data, ui
       {"scenario", scenario.name},
       {"seed", seed},
       {"parameters", parameters},
+      {"units", units},
       {"gravity_mps2", scenario.truth.gravity_mps2},
       {"stated_noise_variance",
        {{"x", scenario.truth.stated_noise_variance_x},
@@ -146,7 +149,8 @@ nlohmann::json TruthJson(const Scenario& scenario, const SimulatedData& data, ui
       {"true_endpoint", {{"x", data.true_endpoint.x()}, {"y", data.true_endpoint.y()}}},
       {"reached_landmark", data.reached_landmark},
       {"reached_distance_m", data.reached_distance_m},
-      {"landmarks", landmarks}};
+      {"landmarks", landmarks},
+      {"disturbances", nullptr}};
   if (scenario.truth.disturbances.any()) {
     json disturbances = DisturbancesJson(scenario.truth.disturbances);
     disturbances["outlier_indices_x"] = data.outlier_indices_x;
