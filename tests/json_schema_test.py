@@ -149,7 +149,8 @@ def main():
                        capture_output=True)
         print(f"no course data: measured runs read {course_data}, simulated")
     data = f"--data_dir={course_data}"
-    # (schema, binary and flags, the JSON file: "json" for --json=FILE, else one in --out_dir)
+    # (schema, binary and flags, the JSON file: "json" for --json=FILE, "--flag" for --flag=FILE,
+    # else a file in --out_dir)
     runs = [
         ("linear_ls", ["linear_ls", data], "json"),
         ("linear_ls", ["linear_ls", "--set=tilt_samples=500", "--ceres_max_samples=0"], "json"),
@@ -171,6 +172,9 @@ def main():
          "json"),
         ("null_rate", ["null_rate", "--datasets=10", "--designs=course", "--noise_factors=1",
                        "--alphas=0.01", "--threads=2"], "json"),
+        ("calibrate", ["calibrate", data], "--calibration_out"),
+        ("calibrate", ["calibrate", f"--calibration_file={course_data}/ensayo.mat"],
+         "--calibration_out"),
     ]
     documented = {name for name in schemas if name != "provenance"}
     run_names = {name for name, _, _ in runs}
@@ -179,9 +183,9 @@ def main():
         errors.append(f"docs/json.md documents {sorted(documented)}, the test runs {sorted(run_names)}")
     for name, argv, output in runs:
         with tempfile.TemporaryDirectory() as scratch:
-            if output == "json":
+            if output == "json" or output.startswith("--"):
                 path = os.path.join(scratch, "out.json")
-                argv = argv + [f"--json={path}"]
+                argv = argv + [f"{'--json' if output == 'json' else output}={path}"]
             else:
                 path = os.path.join(scratch, "out", output)
                 argv = argv + [f"--out_dir={os.path.join(scratch, 'out')}"]
