@@ -83,13 +83,46 @@ std::string PlanarHint(const std::vector<std::array<double, 3>>& directions) {
   }
   scatter /= static_cast<double>(directions.size());
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  if (eigen.eigenvalues()[0] > 1e-3) return "";
+  // Smallest eigenvalue of the scatter: the mean squared out-of-plane component (0.01: about 6
+  // deg).
+  if (eigen.eigenvalues()[0] > 1e-2) return "";
   const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
   return StringPrintf(
-      "; the gravity directions of all poses lie in a plane (normal (%.3f, %.3f, %.3f) in the "
+      "; the gravity directions of all poses lie within a few degrees of a plane (normal (%.3f, "
+      "%.3f, %.3f) in the "
       "sensor frame: the sensor was only turned about that axis); add poses with gravity along "
       "or near it",
       normal[0], normal[1], normal[2]);
+}
+
+// Evaluates the whitened residuals and their Jacobian (in the directions' tangent space) and
+// refuses, naming the parameters, when the Jacobian is rank-deficient.
+Status CheckIdentifiable(double rank_tolerance, const std::vector<double*>& blocks,
+                         const std::vector<ceres::ResidualBlockId>& residual_blocks,
+                         const std::vector<std::array<double, 3>>& directions,
+                         ceres::Problem* problem, std::vector<double>* residuals) {
+  const int pose_count = static_cast<int>(directions.size());
+  ceres::Problem::EvaluateOptions evaluate_options;
+  evaluate_options.parameter_blocks = blocks;
+  evaluate_options.residual_blocks = residual_blocks;
+  double cost = 0.0;
+  std::vector<double> values;
+  ceres::CRSMatrix jacobian;
+  if (!problem->Evaluate(evaluate_options, &cost, &values, nullptr, &jacobian)) {
+    return Status::Error("the residuals could not be evaluated at the parameters reached");
+  }
+  CHECK_EQ(jacobian.num_cols, kTriadParameterCount + 2 * pose_count);
+  if (residuals != nullptr) *residuals = values;
+  const std::vector<std::string> unidentifiable =
+      UnidentifiableParameters(jacobian, rank_tolerance);
+  if (unidentifiable.empty()) return Status::Ok();
+  std::string names;
+  for (const std::string& name : unidentifiable) names += (names.empty() ? "" : ", ") + name;
+  return Status::Error(StringPrintf(
+      "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "
+      "%d residuals in the %d unknowns is rank-deficient)%s",
+      pose_count, (names + (unidentifiable.size() == 1 ? " is" : " are")).c_str(), 3 * pose_count,
+      kTriadParameterCount + 2 * pose_count, PlanarHint(directions).c_str()));
 }
 
 }  // namespace
@@ -147,36 +180,19 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
     blocks.push_back(result->directions[p].data());
   }
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.gradient_tolerance = options.gradient_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  result->iterations = summary.num_successful_steps + summary.num_unsuccessful_steps;
-  result->termination = ceres::TerminationTypeToString(summary.termination_type) +
-                        std::string(": ") + summary.message;
-  result->brief_report = summary.BriefReport();
-  if (!summary.IsSolutionUsable()) {
-    return Status::Error("the maximum-likelihood solve failed: " + result->termination);
-  }
+  // The rank check at the initial guess first: a rank-deficient problem wanders along its null
+  // space while solving, which blurs what the poses cannot determine (and the plane they lie in).
+  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(options.rank_tolerance, blocks, residual_blocks,
+                                             result->directions, &problem, nullptr));
+  // A failed solve is reported after the rank check: a rank-deficient problem often does not
+  // converge, and naming what cannot be determined is the more useful refusal.
+  const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
 
-  // Residuals and Jacobian at the solution, in the tangent space of the directions.
-  ceres::Problem::EvaluateOptions evaluate_options;
-  evaluate_options.parameter_blocks = blocks;
-  evaluate_options.residual_blocks = residual_blocks;
-  double cost = 0.0;
+  // At the solution: the whitened residuals, and the rank check again (the initial guess may
+  // have hidden a degeneracy).
   std::vector<double> residuals;
-  ceres::CRSMatrix jacobian;
-  if (!problem.Evaluate(evaluate_options, &cost, &residuals, nullptr, &jacobian)) {
-    return Status::Error("the residuals could not be evaluated at the solution");
-  }
-  CHECK_EQ(jacobian.num_cols, kTriadParameterCount + 2 * pose_count);
+  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(options.rank_tolerance, blocks, residual_blocks,
+                                             result->directions, &problem, &residuals));
   result->whitened_residuals.resize(pose_count);
   result->chi2 = 0.0;
   for (int p = 0; p < pose_count; ++p) {
@@ -185,18 +201,7 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
       result->chi2 += residuals[3 * p + k] * residuals[3 * p + k];
     }
   }
-
-  const std::vector<std::string> unidentifiable =
-      UnidentifiableParameters(jacobian, options.rank_tolerance);
-  if (!unidentifiable.empty()) {
-    std::string names;
-    for (const std::string& name : unidentifiable) names += (names.empty() ? "" : ", ") + name;
-    return Status::Error(StringPrintf(
-        "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "
-        "%d residuals in the %d unknowns is rank-deficient)%s",
-        pose_count, (names + (unidentifiable.size() == 1 ? " is" : " are")).c_str(), 3 * pose_count,
-        kTriadParameterCount + 2 * pose_count, PlanarHint(result->directions).c_str()));
-  }
+  ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the maximum-likelihood solve"));
   if (pose_count < kMinPoses) {
     return Status::Error(StringPrintf(
         "%d poses give %d residuals for %d unknowns (9 parameters and 2 per gravity direction), "

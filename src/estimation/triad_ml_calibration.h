@@ -30,6 +30,8 @@
 
 #include "common/status.h"
 #include "common/triad_log.h"
+#include "estimation/ceres_solve.h"
+#include "estimation/solver_report.h"
 #include "estimation/static_intervals.h"
 #include "models/triad.h"
 
@@ -38,10 +40,7 @@ namespace accelcal {
 struct TriadMlOptions {
   double gravity_mps2 = 9.81;
   TriadParameters initial = TriadParametersWithBias(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
-  int max_iterations = 200;
-  double function_tolerance = 1e-14;
-  double gradient_tolerance = 1e-14;
-  double parameter_tolerance = 1e-12;
+  QuietSolveOptions solve;  // LM, dense QR, tolerances 1e-14 (estimation/ceres_solve.h)
   // A singular value of the column-normalised Jacobian below this times the largest marks a
   // direction of parameter space the poses do not determine. Exact degeneracy is blurred by
   // noise (directions in a plane give ~1e-6 with 3 counts of noise); well-spread poses give
@@ -64,9 +63,7 @@ struct TriadMlResult {
   double chi2_per_dof = 0.0;
   double chi2_per_dof_spread = 0.0;  // sqrt(2 / dof)
   double p_value = 0.0;              // P(chi2_dof > chi2)
-  int iterations = 0;
-  std::string termination;
-  std::string brief_report;
+  SolverReport solver;
 };
 
 // Fails, naming what the poses cannot determine, as stated above. The poses' variances must

@@ -28,6 +28,14 @@ bool IsImuTkExample(const CalibrateImuReport& report) {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
+nlohmann::json LogJson(const CalibrateImuReport& report) {
+  return {{"path", report.log_path},
+          {"layout", report.log_layout},
+          {"samples", report.sample_count},
+          {"first_t_s", report.first_t_s},
+          {"last_t_s", report.last_t_s}};
+}
+
 }  // namespace
 
 std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report);
@@ -125,11 +133,7 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   json["mode"] = "imu_tk";
   json["model"] = "a = T K (u - b), docs/triad.md";
   json["gravity_mps2"] = options.gravity_mps2;
-  json["log"] = {{"path", report.log_path},
-                 {"layout", report.log_layout},
-                 {"samples", report.sample_count},
-                 {"first_t_s", report.first_t_s},
-                 {"last_t_s", report.last_t_s}};
+  json["log"] = LogJson(report);
   json["initial_rest"] = {{"duration_s", options.init_rest_s},
                           {"end_sample", result.rest_end},
                           {"end_t_s", report.rest_end_s},
@@ -268,8 +272,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
       ml.degrees_of_freedom, ml.chi2, ml.p_value);
   out << "Verdict: " << FitVerdict(ml) << ".\n\n";
-  out << ml.brief_report << "\n";
-  if (full_solver_report) out << "  " << ml.termination << "\n";
+  out << (full_solver_report ? ml.solver.full_report : ml.solver.brief_report) << "\n";
   return out.str();
 }
 
@@ -281,11 +284,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["mode"] = "ml";
   json["model"] = "a = T K (u - b), docs/triad.md";
   json["gravity_mps2"] = report.ml_options.gravity_mps2;
-  json["log"] = {{"path", report.log_path},
-                 {"layout", report.log_layout},
-                 {"samples", report.sample_count},
-                 {"first_t_s", report.first_t_s},
-                 {"last_t_s", report.last_t_s}};
+  json["log"] = LogJson(report);
   nlohmann::json parameters, stddev, units, difference, order = nlohmann::json::array();
   for (int p = 0; p < kTriadParameterCount; ++p) {
     parameters[infos[p].name] = ml.parameters[p];
@@ -342,7 +341,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
       {"parameters", imu_tk_parameters}, {"chosen_k", imu_tk.multiplier}, {"cost", imu_tk.cost}};
   json["difference_in_sigma"] = difference;
   json["difference_definition"] = "(ml - imu_tk) / ml stddev";
-  json["solver"] = ml.brief_report;
+  json["solver"] = ml.solver.brief_report;
   return json;
 }
 
