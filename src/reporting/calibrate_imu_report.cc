@@ -28,6 +28,13 @@ bool IsImuTkExample(const CalibrateImuReport& report) {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
+// An interval as both modes write it; each mode adds its own fields.
+nlohmann::json IntervalJson(const StaticInterval& s) {
+  return {
+      {"start", s.start},           {"end", s.end},   {"start_s", s.start_s},   {"end_s", s.end_s},
+      {"duration_s", s.duration_s}, {"mean", s.mean}, {"noise", s.noise_stddev}};
+}
+
 nlohmann::json LogJson(const CalibrateImuReport& report) {
   return {{"path", report.log_path},
           {"layout", report.log_layout},
@@ -177,14 +184,9 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   nlohmann::json intervals = nlohmann::json::array();
   for (size_t i = 0; i < result.intervals.size(); ++i) {
     const StaticInterval& s = result.intervals[i];
-    intervals.push_back({{"start", s.start},
-                         {"end", s.end},
-                         {"start_s", s.start_s},
-                         {"end_s", s.end_s},
-                         {"duration_s", s.duration_s},
-                         {"mean", s.mean},
-                         {"noise", s.noise_stddev},
-                         {"used", static_cast<bool>(result.interval_used[i])}});
+    nlohmann::json item = IntervalJson(s);
+    item["used"] = static_cast<bool>(result.interval_used[i]);
+    intervals.push_back(item);
   }
   json["intervals"] = intervals;
   json["intervals_note"] =
@@ -319,14 +321,10 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   for (size_t i = 0; i < report.result.intervals.size(); ++i) {
     if (!report.result.interval_used[i]) continue;
     const StaticInterval& s = report.result.intervals[i];
-    intervals.push_back({{"start", s.start},
-                         {"end", s.end},
-                         {"start_s", s.start_s},
-                         {"end_s", s.end_s},
-                         {"mean", s.mean},
-                         {"noise", s.noise_stddev},
-                         {"gravity_direction", ml.directions[pose]},
-                         {"whitened_residual", ml.whitened_residuals[pose]}});
+    nlohmann::json item = IntervalJson(s);
+    item["gravity_direction"] = ml.directions[pose];
+    item["whitened_residual"] = ml.whitened_residuals[pose];
+    intervals.push_back(item);
     ++pose;
   }
   json["intervals"] = intervals;
