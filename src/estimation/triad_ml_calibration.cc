@@ -212,10 +212,10 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   }
 
   ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::DENSE_SVD;
-  // Identifiability is decided above on the column-normalised Jacobian; here the columns span
-  // counts to (m/s^2)/count, so the unscaled condition number is legitimately large.
-  covariance_options.min_reciprocal_condition_number = 1e-20;
+  // Sparse QR, not dense SVD: under gcc's AddressSanitizer, Ceres' DENSE_SVD path (Eigen's
+  // BDCSVD) frees memory it did not allocate (an allocator mismatch between the prebuilt
+  // libceres and this build's Eigen), and the rank is checked above anyway.
+  covariance_options.algorithm_type = ceres::SPARSE_QR;
   covariance_options.num_threads = 1;
   ceres::Covariance covariance(covariance_options);
   const std::vector<std::pair<const double*, const double*>> pairs = {

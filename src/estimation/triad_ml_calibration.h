@@ -15,7 +15,7 @@
 // the mean of pose p then has variance s_k^2 / N_p. 3P residuals, 9 + 2P unknowns,
 // P - 9 degrees of freedom.
 //
-// Covariance of the 9 parameters: ceres::Covariance (dense SVD) of the whitened problem, the
+// Covariance of the 9 parameters: ceres::Covariance (sparse QR) of the whitened problem, the
 // inverse of the information with the directions as nuisance parameters. Fit statistic:
 // chi2 = sum r^2 on P - 9 degrees of freedom, p = P(chi2_{P-9} > chi2); chi2/dof has mean 1
 // and standard deviation sqrt(2/dof) when the noise model holds.
