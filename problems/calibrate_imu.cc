@@ -7,7 +7,12 @@
 //   a = T K (u - b)     (docs/triad.md: 3 non-orthogonality angles, 3 gains, 3 biases)
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
 // least 100; the k with the lowest final cost is kept (estimation/imu_tk_calibration.h).
-// Mode ml (the maximum-likelihood problem with covariance, issue 20) is not written yet.
+// Mode ml: the maximum-likelihood problem (estimation/triad_ml_calibration.h) on the poses of
+// the intervals imu_tk's rule chose: each interval's mean u_p against b + K^-1 T^-1 g n_p with an
+// unknown unit direction n_p per pose, whitened by white noise pooled per axis (s_k^2 / N_p),
+//   min 1/2 sum_p |(ubar_p - u_p) / sigma_p|^2,
+// started from imu_tk's solution; every parameter +- sigma (ceres::Covariance), the chi-square
+// fit statistic on P - 9 degrees of freedom, and the differences from imu_tk in sigma.
 //
 // Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
 // *.csv with the header t_s,acc_x,acc_y,acc_z (io/imu_log.h), in the sensor's own unit.
@@ -16,12 +21,14 @@
 //
 //   build/bin/calibrate_imu --log=../shared/data/imu_tk-xsens/xsens_acc.mat --g=9.81744 \
 //       --mode=imu_tk --init_rest_s=50 --initial_bias=32768 --json=imu_tk.json
+//   (and the same with --mode=ml --json=ml.json)
 
 #include <gflags/gflags.h>
 
 #include <iostream>
 
 #include "estimation/imu_tk_calibration.h"
+#include "estimation/triad_ml_calibration.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
@@ -31,7 +38,7 @@
 
 // clang-format off
 DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
-DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml (maximum likelihood with covariance) is not implemented yet.");
+DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the same intervals (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result.");
 DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744).");
 DEFINE_double(init_rest_s, 30.0, "Duration in s of the initial rest the thresholds are scaled from (imu_tk's default 30; its Xsens example uses 50).");
 DEFINE_double(initial_bias, 0.0, "Initial guess of the three biases, in the log's unit (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 and the angles at 0, as in imu_tk.");
@@ -55,18 +62,17 @@ constexpr char kUsage[] =
     "Calibrates a three-axis accelerometer from a multi-position log (no tilt table).\n"
     "Mode imu_tk reproduces imu_tk: a = T K (u - b) (angles in rad, K in (m/s^2)/count, b in\n"
     "counts), cost 1/2 sum (g - |a|)^2 in (m/s^2)^2, thresholds k = 2..10.\n"
+    "Mode ml: maximum likelihood on the same intervals (pose means, unknown gravity directions,\n"
+    "white noise), every parameter +- sigma and a chi-square fit statistic.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk --init_rest_s=50 \\\n"
-    "      --initial_bias=32768 [--json=out.json]";
+    "      --initial_bias=32768 [--mode=ml] [--json=out.json]";
 
 Status ValidateFlags() {
   if (FLAGS_log.empty())
     return Status::Error("--log is required: the accelerometer log to calibrate");
-  if (FLAGS_mode == "ml") {
-    return Status::Error("--mode=ml is not yet implemented; use --mode=imu_tk");
-  }
-  if (FLAGS_mode != "imu_tk") {
-    return Status::Error("--mode='" + FLAGS_mode + "' is not a mode; use --mode=imu_tk");
+  if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml") {
+    return Status::Error("--mode='" + FLAGS_mode + "' is not a mode; use --mode=imu_tk or ml");
   }
   if (FLAGS_window % 2 == 0) {
     return Status::Error("--window=" + std::to_string(FLAGS_window) +
@@ -98,7 +104,15 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   options.min_intervals = FLAGS_min_intervals;
   ACCELCAL_RETURN_IF_ERROR(CalibrateImuTk(log, options, &report->result).WithContext(FLAGS_log));
   report->rest_end_s = log.timestamp_s[report->result.rest_end];
-  return Status::Ok();
+  report->mode = FLAGS_mode;
+  if (FLAGS_mode != "ml") return Status::Ok();
+  // The same intervals as imu_tk's chosen k (its detector, kept for now), all their samples.
+  const std::vector<TriadPoseMean> poses =
+      PoseMeansOfIntervals(log, report->result.intervals, options.interval_samples);
+  for (const TriadPoseMean& pose : poses) report->ml_sample_count += pose.sample_count;
+  report->ml_options.gravity_mps2 = FLAGS_g;
+  report->ml_options.initial = report->result.best().parameters;
+  return CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log);
 }
 
 int Run(int argc, char** argv) {

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -57,13 +58,46 @@ TEST(CalibrateImuCli, PrintsImuTksCostForEveryKAndItsParametersAtK6) {
   EXPECT_TRUE(json.contains("command_line"));
 }
 
-TEST(CalibrateImuCli, RefusesModeMlAsNotYetImplemented) {
+// Mode ml on the same log: every parameter +- sigma, the fit statistic, and imu_tk's result
+// beside it. The white-noise model does not explain the xsens pose means (chi2/dof ~ 15, the
+// README), so the ML parameters are compared with imu_tk's within a loose 20 sigma: the
+// differences are reported, not hidden.
+TEST(CalibrateImuCli, ModeMlPrintsEveryParameterWithSigmaAndTheFitStatistic) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   testing::ScratchDir scratch;
-  const std::string log = scratch.Write("log.txt", "0.00 1 2 3\n0.01 1 2 3\n");
+  const std::string json_path = scratch.File("ml.json");
   const testing::CommandResult result =
-      RunBinary("calibrate_imu", "--log=" + log + " --mode=ml --json=" + scratch.File("o.json"));
-  ExpectBadInputContract(result, "calibrate_imu", "not yet implemented");
-  EXPECT_FALSE(testing::PathExists(scratch.File("o.json")));
+      RunBinary("calibrate_imu", "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --mode=ml " +
+                                     "--init_rest_s=50 --initial_bias=32768 --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const std::string& out = result.stdout_text;
+  EXPECT_NE(out.find("mode ml"), std::string::npos) << out;
+  EXPECT_NE(out.find("on 29 degrees of freedom, chi2/dof = "), std::string::npos) << out;
+  EXPECT_NE(out.find("does NOT explain the residuals"), std::string::npos) << out;
+
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_EQ(json["mode"], "ml");
+  for (const char* key : {"parameters", "stddev", "units", "covariance", "chi2",
+                          "degrees_of_freedom", "chi2_per_dof", "p_value", "intervals", "imu_tk"})
+    EXPECT_TRUE(json.contains(key)) << key;
+  EXPECT_EQ(json["degrees_of_freedom"], 29);
+  EXPECT_EQ(json["intervals"].size(), 38u);
+  EXPECT_EQ(json["covariance"]["parameter_order"].size(), 9u);
+  EXPECT_EQ(json["covariance"]["parameter_order"][0], "misalignment_yz");
+  const double chi2_per_dof = json["chi2_per_dof"].get<double>();
+  EXPECT_GT(chi2_per_dof, 5.0);  // issue 21: ~16
+  EXPECT_LT(json["p_value"].get<double>(), 1e-6);
+  for (const auto& item : json["parameters"].items()) {
+    const std::string& name = item.key();
+    const double sigma = json["stddev"][name].get<double>();
+    EXPECT_GT(sigma, 0.0) << name;
+    EXPECT_TRUE(std::isfinite(sigma)) << name;
+    const double difference =
+        item.value().get<double>() - json["imu_tk"]["parameters"][name].get<double>();
+    EXPECT_LT(std::abs(difference), 20.0 * sigma) << name;
+    EXPECT_NE(out.find(name), std::string::npos) << name;
+  }
+  EXPECT_EQ(json["units"]["bias_x"], "count");
 }
 
 TEST(CalibrateImuCli, RefusesABadLogInOneLineAndWritesNothing) {

@@ -22,6 +22,15 @@ struct TriadLog {
   }
 };
 
+// One static pose of a triad: the mean and the sample variance (divided by N - 1) per axis of
+// its N samples, in the log's unit. What the maximum-likelihood calibration fits
+// (estimation/triad_ml_calibration.h) and what the triad simulator produces.
+struct TriadPoseMean {
+  std::array<double, 3> mean{};
+  std::array<double, 3> variance{};
+  int sample_count = 0;
+};
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_COMMON_TRIAD_LOG_H_

@@ -1,5 +1,6 @@
 #include "reporting/calibrate_imu_report.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "common/format.h"
@@ -27,9 +28,28 @@ bool IsImuTkExample(const CalibrateImuReport& report) {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
+// An interval as both modes write it; each mode adds its own fields.
+nlohmann::json IntervalJson(const StaticInterval& s) {
+  return {
+      {"start", s.start},           {"end", s.end},   {"start_s", s.start_s},   {"end_s", s.end_s},
+      {"duration_s", s.duration_s}, {"mean", s.mean}, {"noise", s.noise_stddev}};
+}
+
+nlohmann::json LogJson(const CalibrateImuReport& report) {
+  return {{"path", report.log_path},
+          {"layout", report.log_layout},
+          {"samples", report.sample_count},
+          {"first_t_s", report.first_t_s},
+          {"last_t_s", report.last_t_s}};
+}
+
 }  // namespace
 
+std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report);
+nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report);
+
 std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report) {
+  if (report.mode == "ml") return CalibrateImuMlTable(report, full_solver_report);
   const ImuTkResult& result = report.result;
   const ImuTkOptions& options = report.options;
   const bool example = IsImuTkExample(report);
@@ -112,6 +132,7 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
 }
 
 nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
+  if (report.mode == "ml") return CalibrateImuMlJson(report);
   const ImuTkResult& result = report.result;
   const ImuTkOptions& options = report.options;
   const ImuTkSweepEntry& best = result.best();
@@ -119,11 +140,7 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   json["mode"] = "imu_tk";
   json["model"] = "a = T K (u - b), docs/triad.md";
   json["gravity_mps2"] = options.gravity_mps2;
-  json["log"] = {{"path", report.log_path},
-                 {"layout", report.log_layout},
-                 {"samples", report.sample_count},
-                 {"first_t_s", report.first_t_s},
-                 {"last_t_s", report.last_t_s}};
+  json["log"] = LogJson(report);
   json["initial_rest"] = {{"duration_s", options.init_rest_s},
                           {"end_sample", result.rest_end},
                           {"end_t_s", report.rest_end_s},
@@ -167,14 +184,9 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   nlohmann::json intervals = nlohmann::json::array();
   for (size_t i = 0; i < result.intervals.size(); ++i) {
     const StaticInterval& s = result.intervals[i];
-    intervals.push_back({{"start", s.start},
-                         {"end", s.end},
-                         {"start_s", s.start_s},
-                         {"end_s", s.end_s},
-                         {"duration_s", s.duration_s},
-                         {"mean", s.mean},
-                         {"noise", s.noise_stddev},
-                         {"used", static_cast<bool>(result.interval_used[i])}});
+    nlohmann::json item = IntervalJson(s);
+    item["used"] = static_cast<bool>(result.interval_used[i]);
+    intervals.push_back(item);
   }
   json["intervals"] = intervals;
   json["intervals_note"] =
@@ -191,6 +203,143 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
                           {"datasheet", datasheet}};
   }
   json["solver"] = result.brief_report;
+  return json;
+}
+
+namespace {
+
+std::string FitVerdict(const TriadMlResult& ml) {
+  if (ml.p_value >= 0.01) {
+    return StringPrintf(
+        "the white-noise model explains the residuals (p = %.3g >= 0.01): the sigmas above are "
+        "the calibration's uncertainty",
+        ml.p_value);
+  }
+  return StringPrintf(
+      "the white-noise model does NOT explain the residuals: chi2/dof = %.3g is %.1f expected "
+      "spreads above 1 (p = %.3g). The pose means scatter more than white noise of the "
+      "within-pose variance allows (noise correlated in time, drift, or a model error), so the "
+      "sigmas above understate the uncertainty (by a factor of about sqrt(chi2/dof) = %.2g "
+      "if the excess scatter were white)",
+      ml.chi2_per_dof, (ml.chi2_per_dof - 1.0) / ml.chi2_per_dof_spread, ml.p_value,
+      std::sqrt(ml.chi2_per_dof));
+}
+
+}  // namespace
+
+std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report) {
+  const TriadMlResult& ml = report.ml;
+  const ImuTkSweepEntry& imu_tk = report.result.best();
+  std::ostringstream out;
+  out << StringPrintf(
+      "calibrate_imu, mode ml: maximum likelihood with covariance (docs/triad.md), g = %.10g "
+      "m/s^2\n",
+      report.ml_options.gravity_mps2);
+  out << StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s\n", report.sample_count,
+                      report.first_t_s, report.last_t_s, report.log_layout.c_str());
+  out << StringPrintf(
+      "poses: the %d static intervals of at least %d samples that imu_tk's detector finds at "
+      "its chosen k = %d (imu_tk's rule, kept for now); each pose is the mean of ALL its "
+      "samples (%d in all)\n",
+      ml.pose_count, report.options.interval_samples, imu_tk.multiplier, report.ml_sample_count);
+  out << StringPrintf(
+      "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, %.4g, "
+      "%.4g) counts; a pose mean of N samples has variance s^2/N\n",
+      std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
+      std::sqrt(ml.noise_variance[2]));
+  out << StringPrintf(
+      "unknowns: 9 parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
+      "%d degrees of freedom\n\n",
+      ml.degrees_of_freedom);
+  out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance, beside imu_tk mode\n";
+  out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s\n", "parameter", "unit", "ml", "sigma",
+                      "imu_tk", "(ml-imu_tk)/sigma");
+  const auto& infos = TriadParameterInfos();
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    out << StringPrintf("  %-16s %-14s %16.8g %12.3g %16.8g %18.2f\n", infos[p].name, infos[p].unit,
+                        ml.parameters[p], ml.stddev[p], imu_tk.parameters[p],
+                        (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p]);
+  }
+  out << "  inverse scale (count per m/s^2):";
+  for (int k = 0; k < 3; ++k) {
+    const double gain = ml.parameters[kTriadScaleX + k];
+    out << StringPrintf(" %c %.6g +- %.2g", "xyz"[k], 1.0 / gain,
+                        ml.stddev[kTriadScaleX + k] / (gain * gain));
+  }
+  out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)\n\n", 1.0 / imu_tk.parameters[kTriadScaleX],
+                      1.0 / imu_tk.parameters[kTriadScaleY], 1.0 / imu_tk.parameters[kTriadScaleZ]);
+  out << StringPrintf(
+      "Fit: chi2 = %.6g on %d degrees of freedom, chi2/dof = %.4g (expected 1 +- %.3g), "
+      "p = P(chi2_%d > %.6g) = %.3g\n",
+      ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
+      ml.degrees_of_freedom, ml.chi2, ml.p_value);
+  out << "Verdict: " << FitVerdict(ml) << ".\n\n";
+  out << (full_solver_report ? ml.solver.full_report : ml.solver.brief_report) << "\n";
+  return out.str();
+}
+
+nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
+  const TriadMlResult& ml = report.ml;
+  const ImuTkSweepEntry& imu_tk = report.result.best();
+  const auto& infos = TriadParameterInfos();
+  nlohmann::json json;
+  json["mode"] = "ml";
+  json["model"] = "a = T K (u - b), docs/triad.md";
+  json["gravity_mps2"] = report.ml_options.gravity_mps2;
+  json["log"] = LogJson(report);
+  nlohmann::json parameters, stddev, units, difference, order = nlohmann::json::array();
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    parameters[infos[p].name] = ml.parameters[p];
+    stddev[infos[p].name] = ml.stddev[p];
+    units[infos[p].name] = infos[p].unit;
+    difference[infos[p].name] = (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p];
+    order.push_back(infos[p].name);
+  }
+  json["parameters"] = parameters;
+  json["stddev"] = stddev;
+  json["units"] = units;
+  nlohmann::json matrix = nlohmann::json::array();
+  for (int i = 0; i < kTriadParameterCount; ++i) matrix.push_back(ml.covariance[i]);
+  json["covariance"] = {{"parameter_order", order}, {"matrix", matrix}};
+  json["chi2"] = ml.chi2;
+  json["degrees_of_freedom"] = ml.degrees_of_freedom;
+  json["chi2_per_dof"] = ml.chi2_per_dof;
+  json["chi2_per_dof_expected_spread"] = ml.chi2_per_dof_spread;
+  json["p_value"] = ml.p_value;
+  json["p_value_definition"] = "P(chi2_dof > chi2), chi2 = sum of squared whitened residuals";
+  json["noise_model"] = {
+      {"description",
+       "white noise, one variance per axis pooled over the poses; a pose mean of N samples has "
+       "variance s^2/N"},
+      {"stddev_per_sample",
+       {std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
+        std::sqrt(ml.noise_variance[2])}},
+      {"unit", "count"}};
+  json["fit_verdict"] = FitVerdict(ml);
+  nlohmann::json intervals = nlohmann::json::array();
+  int pose = 0;
+  for (size_t i = 0; i < report.result.intervals.size(); ++i) {
+    if (!report.result.interval_used[i]) continue;
+    const StaticInterval& s = report.result.intervals[i];
+    nlohmann::json item = IntervalJson(s);
+    item["gravity_direction"] = ml.directions[pose];
+    item["whitened_residual"] = ml.whitened_residuals[pose];
+    intervals.push_back(item);
+    ++pose;
+  }
+  json["intervals"] = intervals;
+  json["intervals_note"] =
+      "imu_tk's intervals at its chosen k of at least interval_samples samples, each pose the "
+      "mean of all its samples; start and end 0-based, inclusive; mean and noise per axis in "
+      "the log's unit";
+  nlohmann::json imu_tk_parameters;
+  for (int p = 0; p < kTriadParameterCount; ++p)
+    imu_tk_parameters[infos[p].name] = imu_tk.parameters[p];
+  json["imu_tk"] = {
+      {"parameters", imu_tk_parameters}, {"chosen_k", imu_tk.multiplier}, {"cost", imu_tk.cost}};
+  json["difference_in_sigma"] = difference;
+  json["difference_definition"] = "(ml - imu_tk) / ml stddev";
+  json["solver"] = ml.solver.brief_report;
   return json;
 }
 

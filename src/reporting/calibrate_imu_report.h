@@ -1,16 +1,19 @@
 #ifndef ACCELCAL_REPORTING_CALIBRATE_IMU_REPORT_H_
 #define ACCELCAL_REPORTING_CALIBRATE_IMU_REPORT_H_
 
-// What calibrate_imu prints and writes in imu_tk mode: the threshold sweep, the chosen k, the
+// What calibrate_imu prints and writes. In imu_tk mode: the threshold sweep, the chosen k, the
 // parameters with their units (beside imu_tk's printed values and the datasheet's when the
-// log is imu_tk's own Xsens example, recognised by its SHA-256), the static intervals. The
-// text and the JSON come from the same numbers. Formatting only.
+// log is imu_tk's own Xsens example, recognised by its SHA-256), the static intervals. In ml mode:
+// the maximum-likelihood parameters ± sigma beside imu_tk's and their difference in sigma, the
+// covariance and the fit statistic. The text and the JSON come from the same numbers. Formatting
+// only.
 
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
+#include "estimation/triad_ml_calibration.h"
 
 namespace accelcal {
 
@@ -24,6 +27,12 @@ struct CalibrateImuReport {
   double rest_end_s = 0.0;
   ImuTkOptions options;
   ImuTkResult result;
+  // Mode ml: the maximum-likelihood fit of the poses of imu_tk's chosen intervals, started
+  // from imu_tk's solution, shown beside it.
+  std::string mode = "imu_tk";  // "imu_tk" or "ml"
+  TriadMlOptions ml_options;
+  TriadMlResult ml;
+  int ml_sample_count = 0;  // samples in the poses' means
 };
 
 // The SHA-256 of imu_tk's bin/test_data/xsens_acc.mat (../shared/data/imu_tk-xsens/SOURCE.txt).

@@ -1,0 +1,82 @@
+#ifndef ACCELCAL_ESTIMATION_TRIAD_ML_CALIBRATION_H_
+#define ACCELCAL_ESTIMATION_TRIAD_ML_CALIBRATION_H_
+
+// The maximum-likelihood calibration of a triad from its static poses (issue 20, 4(b);
+// docs/triad.md):
+//
+//   minimise 1/2 sum_p sum_k ((ubar_p,k - u_p,k) / sigma_p,k)^2,  u_p = b + K^-1 T^-1 g n_p
+//
+// over the 9 parameters of models/triad.h and one unit gravity direction n_p per pose
+// (2 degrees of freedom each, on ceres::SphereManifold<3>), residuals/triad_pose_residual.h.
+//
+// Noise model: every sample is the truth plus white noise, independent between samples and
+// axes, of one variance s_k^2 per axis for the whole log, estimated pooled over the poses:
+//   s_k^2 = sum_p (N_p - 1) s_p,k^2 / sum_p (N_p - 1);
+// the mean of pose p then has variance s_k^2 / N_p. 3P residuals, 9 + 2P unknowns,
+// P - 9 degrees of freedom.
+//
+// Covariance of the 9 parameters: ceres::Covariance (sparse QR) of the whitened problem, the
+// inverse of the information with the directions as nuisance parameters. Fit statistic:
+// chi2 = sum r^2 on P - 9 degrees of freedom, p = P(chi2_{P-9} > chi2); chi2/dof has mean 1
+// and standard deviation sqrt(2/dof) when the noise model holds.
+//
+// Refusals (a Status naming what cannot be determined, not a crash): fewer than 10 poses;
+// a Jacobian that is rank-deficient at the solution (e.g. all gravity directions in a plane),
+// with the parameters in its null space named; ceres::Covariance failing.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "common/status.h"
+#include "common/triad_log.h"
+#include "estimation/ceres_solve.h"
+#include "estimation/solver_report.h"
+#include "estimation/static_intervals.h"
+#include "models/triad.h"
+
+namespace accelcal {
+
+struct TriadMlOptions {
+  double gravity_mps2 = 9.81;
+  TriadParameters initial = TriadParametersWithBias(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
+  QuietSolveOptions solve;  // LM, dense QR, tolerances 1e-14 (estimation/ceres_solve.h)
+  // A singular value of the column-normalised Jacobian below this times the largest marks a
+  // direction of parameter space the poses do not determine. Exact degeneracy is blurred by
+  // noise (directions in a plane give ~1e-6 with 3 counts of noise); well-spread poses give
+  // ~0.1.
+  double rank_tolerance = 1e-4;
+};
+
+using TriadCovariance = std::array<std::array<double, kTriadParameterCount>, kTriadParameterCount>;
+
+struct TriadMlResult {
+  TriadParameters parameters{};
+  TriadParameters stddev{};
+  TriadCovariance covariance{};
+  std::vector<std::array<double, 3>> directions;          // n_p, unit vectors
+  std::vector<std::array<double, 3>> whitened_residuals;  // r_p per pose (dimensionless)
+  std::array<double, 3> noise_variance{};                 // pooled s_k^2, counts^2
+  int pose_count = 0;
+  double chi2 = 0.0;
+  int degrees_of_freedom = 0;
+  double chi2_per_dof = 0.0;
+  double chi2_per_dof_spread = 0.0;  // sqrt(2 / dof)
+  double p_value = 0.0;              // P(chi2_dof > chi2)
+  SolverReport solver;
+};
+
+// Fails, naming what the poses cannot determine, as stated above. The poses' variances must
+// be positive (a pose of one sample or a constant output cannot give its noise).
+Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOptions& options,
+                        TriadMlResult* result);
+
+// The pose of each interval of at least `min_samples` samples: mean and sample variance of all
+// its samples.
+std::vector<TriadPoseMean> PoseMeansOfIntervals(const TriadLog& log,
+                                                const std::vector<StaticInterval>& intervals,
+                                                int min_samples);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_TRIAD_ML_CALIBRATION_H_

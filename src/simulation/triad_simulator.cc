@@ -1,0 +1,54 @@
+#include "simulation/triad_simulator.h"
+
+#include <cmath>
+
+namespace accelcal {
+
+std::vector<std::array<double, 3>> RandomPoseDirections(int count, RandomSource* random) {
+  std::vector<std::array<double, 3>> directions;
+  directions.reserve(count);
+  while (static_cast<int>(directions.size()) < count) {
+    // A normal vector normalised is uniform on the sphere.
+    std::array<double, 3> d{random->StandardNormal(), random->StandardNormal(),
+                            random->StandardNormal()};
+    const double norm = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (norm < 1e-6) continue;
+    for (double& v : d) v /= norm;
+    directions.push_back(d);
+  }
+  return directions;
+}
+
+std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& options,
+                                              const std::vector<std::array<double, 3>>& directions,
+                                              RandomSource* random) {
+  std::vector<TriadPoseMean> poses;
+  poses.reserve(directions.size());
+  const int n = options.samples_per_pose;
+  for (const std::array<double, 3>& direction : directions) {
+    const double force[3] = {options.gravity_mps2 * direction[0],
+                             options.gravity_mps2 * direction[1],
+                             options.gravity_mps2 * direction[2]};
+    double actual_raw[3];
+    TriadRawOutput(options.truth.data(), force, actual_raw);
+    TriadPoseMean pose;
+    pose.sample_count = n;
+    for (int k = 0; k < 3; ++k) {
+      // Welford's running mean and sum of squared deviations.
+      double mean = 0.0;
+      double m2 = 0.0;
+      for (int i = 0; i < n; ++i) {
+        const double measured = actual_raw[k] + options.noise_stddev[k] * random->StandardNormal();
+        const double delta = measured - mean;
+        mean += delta / (i + 1);
+        m2 += delta * (measured - mean);
+      }
+      pose.mean[k] = mean;
+      pose.variance[k] = n > 1 ? m2 / (n - 1) : 0.0;
+    }
+    poses.push_back(pose);
+  }
+  return poses;
+}
+
+}  // namespace accelcal
