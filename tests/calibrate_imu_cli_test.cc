@@ -77,10 +77,10 @@ TEST(CalibrateImuCli, ModeMlPrintsEveryParameterWithSigmaAndTheFitStatistic) {
 
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
   EXPECT_EQ(json["mode"], "ml");
-  for (const char* key : {"parameters", "stddev", "units", "covariance", "chi2",
-                          "degrees_of_freedom", "chi2_per_dof", "p_value", "intervals", "imu_tk"})
+  for (const char* key : {"parameters", "stddev", "units", "covariance", "chi2", "dof",
+                          "chi2_per_dof", "p_value", "intervals", "imu_tk"})
     EXPECT_TRUE(json.contains(key)) << key;
-  EXPECT_EQ(json["degrees_of_freedom"], 29);
+  EXPECT_EQ(json["dof"], 29);
   EXPECT_EQ(json["intervals"].size(), 38u);
   EXPECT_EQ(json["covariance"]["parameter_order"].size(), 9u);
   EXPECT_EQ(json["covariance"]["parameter_order"][0], "misalignment_yz");

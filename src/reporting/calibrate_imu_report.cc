@@ -302,7 +302,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   for (int i = 0; i < kTriadParameterCount; ++i) matrix.push_back(ml.covariance[i]);
   json["covariance"] = {{"parameter_order", order}, {"matrix", matrix}};
   json["chi2"] = ml.chi2;
-  json["degrees_of_freedom"] = ml.degrees_of_freedom;
+  json["dof"] = ml.degrees_of_freedom;
   json["chi2_per_dof"] = ml.chi2_per_dof;
   json["chi2_per_dof_expected_spread"] = ml.chi2_per_dof_spread;
   json["p_value"] = ml.p_value;
