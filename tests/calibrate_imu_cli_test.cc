@@ -3,9 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <string>
+#include <vector>
 
 #include "test_support.h"
 
@@ -122,6 +125,73 @@ TEST(CalibrateImuCli, RefusesALogTooShortForTheDetector) {
 TEST(CalibrateImuCli, RefusesAMissingLogFlag) {
   const testing::CommandResult result = RunBinary("calibrate_imu", "");
   ExpectBadInputContract(result, "calibrate_imu", "--log is required");
+}
+
+}  // namespace
+}  // namespace accelcal
+
+namespace accelcal {
+namespace {
+
+// A hand-held session as a log in imu_tk's layout: 50 s at rest, then `directions` held 5 s
+// each with 1 s of motion between, 100 Hz, an ideal triad (bias 32768 counts, 415 counts per
+// m/s^2) and 3 counts of noise.
+std::string SessionLog(const std::vector<std::array<double, 3>>& directions) {
+  std::mt19937_64 random(7);
+  std::normal_distribution<double> noise(0.0, 3.0);
+  std::string text;
+  int sample = 0;
+  auto emit = [&](const std::array<double, 3>& n) {
+    text += std::to_string(0.01 * ++sample);
+    for (int k = 0; k < 3; ++k) {
+      text += " " + std::to_string(32768.0 + 415.0 * 9.81 * n[k] + noise(random));
+    }
+    text += "\n";
+  };
+  const std::array<double, 3> rest = {0.0, 0.0, 1.0};
+  for (int i = 0; i < 5000; ++i) emit(rest);
+  std::array<double, 3> from = rest;
+  for (const std::array<double, 3>& to : directions) {
+    for (int i = 0; i < 100; ++i) {  // the motion: along the chord, then normalised
+      std::array<double, 3> n;
+      double norm = 0.0;
+      for (int k = 0; k < 3; ++k) {
+        n[k] = from[k] + (to[k] - from[k]) * (i + 1) / 100.0 + 0.3 * std::sin(0.3 * i);
+        norm += n[k] * n[k];
+      }
+      for (double& v : n) v /= std::sqrt(norm);
+      emit(n);
+    }
+    for (int i = 0; i < 500; ++i) emit(to);
+    from = to;
+  }
+  return text;
+}
+
+// Issue 20: poses that cannot determine the model are refused by the binary in one line that
+// names the parameters it finds undetermined and the poses to add; here every pose's gravity
+// lies in the y-z plane (the sensor turned about its x axis only). Which parameters it names
+// depends on where the fit starts (imu_tk's estimate, itself adrift on such data), so the test
+// asks for the refusal, the plane and the advice, not for a list.
+TEST(CalibrateImuCli, ModeMlRefusesPosesInAPlaneNamingWhatTheyLeaveUndetermined) {
+  std::vector<std::array<double, 3>> planar;
+  for (int p = 0; p < 16; ++p) {
+    const double angle = 2.0 * M_PI * p / 16.0 + 0.1;
+    planar.push_back({0.0, std::sin(angle), std::cos(angle)});
+  }
+  testing::ScratchDir scratch;
+  const std::string log = scratch.Write("planar.txt", SessionLog(planar));
+  const std::string json = scratch.File("o.json");
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log=" + log +
+                                     " --g=9.81 --mode=ml --init_rest_s=50 "
+                                     "--initial_bias=32768 --json=" +
+                                     json);
+  ExpectBadInputContract(result, "calibrate_imu", "cannot determine the triad: ");
+  EXPECT_NE(result.stderr_text.find(" are not identifiable"), std::string::npos);
+  EXPECT_NE(result.stderr_text.find("lie within a few degrees of a plane"), std::string::npos);
+  EXPECT_NE(result.stderr_text.find("add poses with gravity along or near it"), std::string::npos);
+  EXPECT_FALSE(testing::PathExists(json));
 }
 
 }  // namespace
