@@ -489,3 +489,25 @@ TEST(MinSamplesOnTheRealTest, EvenlySpacedSubsetsSpreadAsTheAnalyticModelSays) {
 
 }  // namespace
 }  // namespace accelcal
+
+namespace accelcal {
+namespace {
+
+// The explanation quotes the N of a design that ran and names it: with --design=two alone it
+// once quoted the optimal design's search default (N = 100) as if it were a result.
+TEST(MinSamplesBinary, TheExplanationQuotesTheNOfADesignThatRan) {
+  ACCELCAL_REQUIRE_COURSE_DATA(dir);
+  const testing::CommandResult result =
+      testing::RunBinary("min_samples", "--data_dir='" + dir + "' --design=two --repetitions=0");
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const size_t at = result.stdout_text.find("design two       N_min = ");
+  ASSERT_NE(at, std::string::npos) << result.stdout_text;
+  const int n_min = std::atoi(result.stdout_text.c_str() + at + 25);
+  EXPECT_NE(result.stdout_text.find("N = " + std::to_string(n_min) +
+                                    " samples (design two) keep P(wrong) <= 0.01"),
+            std::string::npos)
+      << result.stdout_text;
+}
+
+}  // namespace
+}  // namespace accelcal

@@ -61,6 +61,17 @@ std::string Explanation(const MinSamplesReport& report) {
       nearest_name = landmarks[k].name;
     }
   }
+  // The N quoted is the uniform design's when it ran, else the first design's that meets the
+  // criterion (uniform_n_min is only a search default when the uniform design did not run).
+  std::string n_min_text =
+      "no design run here reaches P(wrong) <= " + StringPrintf("%g", report.max_error) +
+      " up to the full test";
+  for (const DesignCurve& design : report.study.designs) {
+    if (design.n_min < 0) continue;
+    n_min_text = StringPrintf("N = %d samples (design %s) keep P(wrong) <= %g", design.n_min,
+                              design.name.c_str(), report.max_error);
+    if (design.name == "uniform") break;
+  }
   const Eigen::Vector2d truth_point(t.x_m, t.y_m);
   const double floor =
       ProbabilityOfWrongLandmark(truth_point, model.noise_part, model.noise_part, landmarks, truth);
@@ -73,13 +84,13 @@ std::string Explanation(const MinSamplesReport& report) {
       "  any number of samples; the report's bound hides this by taking the run's noise as 3 sigma_eta (one sample)\n"
       "  instead of its double integral. In the plane the nearest competitor of %s is %s, %.1f sigma away (noise\n"
       "  part only): the landmarks are far apart, only not along each axis. Judged in 2-D with the honest\n"
-      "  covariance, N = %d samples keep P(wrong) <= %g; with infinitely many, P(wrong) still stays at %.1e,\n"
+      "  covariance, %s; with infinitely many, P(wrong) still stays at %.1e,\n"
       "  the run's noise floor: that is why no N can guarantee the decision.\n",
       // clang-format on
       d_min[0], t.name.c_str(), against[0].c_str(), d_min[1], t.name.c_str(), against[1].c_str(),
       d_min[0] / 2, d_min[1] / 2, std::sqrt(model.noise_part(0, 0)),
       std::sqrt(model.noise_part(1, 1)), t.name.c_str(), nearest_name.c_str(), nearest_2d,
-      report.study.uniform_n_min, report.max_error, floor);
+      n_min_text.c_str(), floor);
 }
 
 }  // namespace
