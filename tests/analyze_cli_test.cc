@@ -273,9 +273,9 @@ void ExpectSummaryAgreesWithResults(const std::string& markdown, const nlohmann:
             std::string::npos)
       << landmark_line;
   const std::string baseline_line = LineStartingWith(summary, "- The baseline fit");
-  EXPECT_NE(baseline_line.find(StringPrintf(
-                "chi2/dof %.4f in x", results["linear_ls"]["chi2"]["x"].get<double>() /
-                                          results["linear_ls"]["dof"]["x"].get<double>())),
+  EXPECT_NE(baseline_line.find(StringPrintf("chi2/dof %.4f in x",
+                                            results["linear_ls"]["chi2"]["x"].get<double>() /
+                                                results["linear_ls"]["dof"]["x"].get<double>())),
             std::string::npos)
       << baseline_line;
   EXPECT_NE(baseline_line.find(results["discover"]["verdict"].get<std::string>()),

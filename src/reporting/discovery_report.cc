@@ -461,8 +461,7 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   }
   const LandmarkScore* before = Tied(result.baseline_decision, result.tied_landmark);
   const LandmarkScore* after = Tied(result.extended_decision, result.tied_landmark);
-  return {
-      // clang-format off
+  return {// clang-format off
       {"problem", "discover"},
       {"alpha", alpha},
       {"verdict", result.verdict},
@@ -470,33 +469,33 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
       {"effects", effects},
       {"effects_figures",
        "delta_chi2, p_value and delta_bic of each effect are against the final model: the chi-square the final model gains over itself without that effect, with the same landmark tie; the *_at_selection figures are those of the step that added it"},
-      // clang-format on
-      {"history", history},
-      {"candidates", candidates},
-      {"noise", noise},
-      {"robust_fit", result.robust_fit},
-      {"checks", checks},
-      {"remaining", result.remaining},
-      {"ambiguities", ambiguities},
-      {"reached", ReachedJson(result.extended_decision)},
-      {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(result.tied_landmark)},
-      {"landmark_note", result.landmark_note.empty() ? nlohmann::json(nullptr)
-                                                     : nlohmann::json(result.landmark_note)},
-      {"baseline", SolutionJson(baseline, result.baseline.chi2_x.chi2, result.baseline.chi2_y.chi2,
-                                std::nullopt, result.baseline_trajectory,
-                                result.baseline_decision)},
-      {"extended", SolutionJson(result.extended.estimate, result.extended.chi2_x,
-                                result.extended.chi2_y,
-                                result.tied_landmark.empty()
-                                    ? std::nullopt
-                                    : std::optional<double>(result.extended.chi2_endpoint),
-                                result.extended_trajectory, result.extended_decision)},
-      {"gain",
-       {{"baseline_shift_sigma", shifts},
-        {"cross_validation", cross_validation},
-        {"posterior_before", before != nullptr ? nlohmann::json(before->posterior) : nullptr},
-        {"posterior_after", after != nullptr ? nlohmann::json(after->posterior) : nullptr}}}};
+          // clang-format on
+          {"history", history},
+          {"candidates", candidates},
+          {"noise", noise},
+          {"robust_fit", result.robust_fit},
+          {"checks", checks},
+          {"remaining", result.remaining},
+          {"ambiguities", ambiguities},
+          {"reached", ReachedJson(result.extended_decision)},
+          {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(result.tied_landmark)},
+          {"landmark_note", result.landmark_note.empty() ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(result.landmark_note)},
+          {"baseline",
+           SolutionJson(baseline, result.baseline.chi2_x.chi2, result.baseline.chi2_y.chi2,
+                        std::nullopt, result.baseline_trajectory, result.baseline_decision)},
+          {"extended",
+           SolutionJson(result.extended.estimate, result.extended.chi2_x, result.extended.chi2_y,
+                        result.tied_landmark.empty()
+                            ? std::nullopt
+                            : std::optional<double>(result.extended.chi2_endpoint),
+                        result.extended_trajectory, result.extended_decision)},
+          {"gain",
+           {{"baseline_shift_sigma", shifts},
+            {"cross_validation", cross_validation},
+            {"posterior_before", before != nullptr ? nlohmann::json(before->posterior) : nullptr},
+            {"posterior_after", after != nullptr ? nlohmann::json(after->posterior) : nullptr}}}};
 }
 
 std::string DiscoveryBinsCsv(const DiscoveryResult& result) {
