@@ -45,23 +45,6 @@ Status CheckFlags() {
   return CheckOutputPaths({{"--out", FLAGS_out}}, inputs);
 }
 
-Status BaselineOf(const CalibrationRecord& record, Eigen::Vector4d* parameters,
-                  Eigen::Matrix4d* covariance) {
-  if (record.geometry != "two_axis" || record.values.size() != 4) {
-    return Status::Error(FLAGS_calibration + ": apply corrects two-axis (x, y) logs; this " +
-                         "calibration's geometry is " + record.geometry);
-  }
-  *parameters = record.values;
-  *covariance = record.covariance;
-  for (int axis = 0; axis < 2; ++axis) {
-    if (!(1.0 + (*parameters)[BaselineIndex(ScaleOf(axis))] > 0.1)) {
-      return Status::Error(FLAGS_calibration + ": 1 + " + Info(ScaleOf(axis)).name +
-                           " is not above 0.1; no real sensor's gain is that far off");
-    }
-  }
-  return Status::Ok();
-}
-
 std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameters,
                          const Eigen::Matrix4d& covariance, const DataSource& source) {
   std::string csv = std::string("# accelcal apply ") + AccelcalVersion() +
@@ -108,7 +91,7 @@ int Run(int argc, char** argv) {
   if (status.ok()) status = ReadCalibrationFile(FLAGS_calibration, &record);
   Eigen::Vector4d parameters;
   Eigen::Matrix4d covariance;
-  if (status.ok()) status = BaselineOf(record, &parameters, &covariance);
+  if (status.ok()) status = TwoAxisBaseline(record, FLAGS_calibration, &parameters, &covariance);
   VehicleRun log;
   std::vector<std::string> notes;
   if (status.ok()) status = LoadMeasuredLog(FLAGS_in, &log, &notes);

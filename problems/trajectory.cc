@@ -98,12 +98,8 @@ Status Load(Inputs* inputs, TrajectoryReport* report, DataSource* source) {
 Status ReadCalibration(BaselineFit* fit) {
   CalibrationRecord record;
   ACCELCAL_RETURN_IF_ERROR(ReadCalibrationFile(FLAGS_calibration, &record));
-  if (record.geometry != "two_axis") {
-    return Status::Error(FLAGS_calibration + ": trajectory needs a two-axis (x, y) calibration; " +
-                         "this one's geometry is " + record.geometry);
-  }
-  fit->parameters = record.values;
-  fit->covariance = record.covariance;
+  ACCELCAL_RETURN_IF_ERROR(
+      TwoAxisBaseline(record, FLAGS_calibration, &fit->parameters, &fit->covariance));
   fit->sample_count = record.fit.value("samples", 0);
   return Status::Ok();
 }

@@ -73,6 +73,7 @@ TEST(CalibrationFile, RefusesWhatDoesNotSayWhatItClaims) {
       {"/covariance/0/1", nullptr, "covariance[0][1] is not a finite number"},
       {"/gravity_mps2", 981.0, "gravity_mps2 = 981 is outside [1, 100]"},
       {"/noise_variance/y", 0.0, "noise_variance/y = 0 is outside"},
+      {"/parameters/scale_x", -0.95, "1 + scale_x is not above 0.1"},
   };
   for (const Damage& damage : damages) {
     SCOPED_TRACE(damage.pointer);

@@ -118,6 +118,18 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
   return CheckCovariance(record->covariance, record->parameter_order);
 }
 
+// A correction divides by 1 + scale_k; no real sensor's gain is off by 90%.
+Status CheckGains(const CalibrationRecord& record) {
+  if (record.geometry != "two_axis") return Status::Ok();
+  for (const char* scale : {"scale_x", "scale_y"}) {
+    if (!(1.0 + record.values[record.IndexOf(scale)] > 0.1)) {
+      return Status::Error(std::string("1 + ") + scale +
+                           " is not above 0.1; no real sensor's gain is that far off");
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 int CalibrationRecord::IndexOf(const std::string& name) const {
@@ -218,6 +230,7 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   GeometryInfo geometry;
   ACCELCAL_RETURN_IF_ERROR(in_file(GeometryOf(parsed.geometry, &geometry)));
   ACCELCAL_RETURN_IF_ERROR(in_file(ParseParameters(json, geometry, &parsed)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(CheckGains(parsed)));
   ACCELCAL_RETURN_IF_ERROR(
       in_file(ReadNumber(json, "gravity_mps2", "", 1.0, 100.0, &parsed.gravity_mps2)));
   const nlohmann::json noise = json.value("noise_variance", nlohmann::json());
@@ -233,6 +246,18 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   parsed.written_by_version = json.value("accelcal_version", "");
   parsed.written_by_command_line = json.value("command_line", "");
   *record = std::move(parsed);
+  return Status::Ok();
+}
+
+Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
+                       Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance) {
+  if (record.geometry != "two_axis" || record.values.size() != 4) {
+    return Status::Error(path +
+                         ": a two-axis (x, y) calibration is needed; this one's geometry is " +
+                         record.geometry);
+  }
+  *parameters = record.values;
+  *covariance = record.covariance;
   return Status::Ok();
 }
 

@@ -76,6 +76,12 @@ Status ParseCalibration(const std::string& text, const std::string& path,
                         CalibrationRecord* record);
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record);
 
+// A two-axis calibration's parameters and covariance in parameter_order's order (bias_x,
+// scale_x, bias_y, scale_y: the baseline's, estimation/baseline_parameters.h); fails, naming
+// `path`, for another geometry.
+Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
+                       Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_CALIBRATION_FILE_H_
