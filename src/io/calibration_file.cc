@@ -2,7 +2,6 @@
 
 #include <Eigen/Eigenvalues>
 #include <cmath>
-#include <ctime>
 
 #include "common/format.h"
 #include "io/input_file.h"
@@ -11,15 +10,6 @@
 
 namespace accelcal {
 namespace {
-
-std::string UtcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof(text), "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
 
 // A number at `key` of `object`, finite, within [low, high].
 Status ReadNumber(const nlohmann::json& object, const std::string& key, const std::string& where,
@@ -199,7 +189,7 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
       {"covariance", covariance},
       {"noise_variance", noise},
       {"fit", record.fit},
-      {"created_utc", UtcNow()}};
+      {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}};
   AddProvenanceJson(record.source, &json);
   return json;
 }

@@ -1,6 +1,7 @@
 #include "io/provenance.h"
 
 #include <cctype>
+#include <ctime>
 #include <fstream>
 #include <vector>
 
@@ -41,6 +42,14 @@ std::string ShellWord(const std::string& argument) {
 }  // namespace
 
 const char* AccelcalVersion() { return ACCELCAL_VERSION; }
+
+std::string UtcNow(const char* format) {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[64];
+  return std::strftime(text, sizeof(text), format, &utc) > 0 ? text : "";
+}
 
 Status HashInputFile(const std::string& path, InputFile* file) {
   // Any size: the file is read in pieces, never whole.

@@ -67,6 +67,9 @@ std::string DataLine(const DataSource& source);
 void AddProvenanceJson(const DataSource& source, nlohmann::json* json);
 nlohmann::json InputFilesJson(const std::map<std::string, InputFile>& files);
 
+// The current time in UTC, formatted by strftime's `format` (e.g. "%Y-%m-%dT%H:%M:%SZ").
+std::string UtcNow(const char* format);
+
 // The command line as typed, each argument quoted for a POSIX shell where needed. Recorded
 // once by each binary before its flags are parsed (problems/problem_support.h).
 void RecordCommandLine(int argc, char** argv);

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <ctime>
 #include <map>
 
 #include "common/format.h"
@@ -24,11 +23,7 @@ namespace {
 ReportSection ProvenanceSection(const DataSource& source) {
   ReportSection section;
   section.title = "7. Provenance";
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char date[32];
-  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S UTC", &utc);
+  const std::string date = UtcNow("%Y-%m-%d %H:%M:%S UTC");
   section.paragraphs.push_back(DataLine(source) + ".");
   section.paragraphs.push_back(std::string("Written by accelcal ") + AccelcalVersion() + " on " +
                                date + " with: " + CommandLine());
