@@ -20,7 +20,7 @@
 // with --json.
 //
 //   build/bin/calibrate_imu --log=../shared/data/imu_tk-xsens/xsens_acc.mat --g=9.81744 \
-//       --mode=imu_tk --init_rest_s=50 --initial_bias=32768 --json=imu_tk.json
+//       --mode=imu_tk --init_rest_s=50 --initial_offset=32768 --json=imu_tk.json
 //   (and the same with --mode=ml --json=ml.json)
 
 #include <gflags/gflags.h>
@@ -41,7 +41,7 @@ DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-se
 DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the same intervals (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result.");
 DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744).");
 DEFINE_double(init_rest_s, 30.0, "Duration in s of the initial rest the thresholds are scaled from (imu_tk's default 30; its Xsens example uses 50).");
-DEFINE_double(initial_bias, 0.0, "Initial guess of the three biases, in the log's unit (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 and the angles at 0, as in imu_tk.");
+DEFINE_double(initial_offset, 0.0, "Initial guess of the three offsets b, in the log's unit (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 and the angles at 0, as in imu_tk.");
 DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
@@ -50,7 +50,8 @@ DEFINE_string(json, "", "Write the results as JSON to this file (written atomica
 
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_OPEN_RANGE(init_rest_s, 0.0, 1e6);
-ACCELCAL_FLAG_RANGE(initial_bias, -1e9, 1e9);
+ACCELCAL_FLAG_RANGE(initial_offset, -1e9, 1e9);
+ACCELCAL_RENAMED_FLAG(initial_bias, initial_offset);
 ACCELCAL_FLAG_RANGE(window, 11, 100001);
 ACCELCAL_FLAG_RANGE(interval_samples, 2, 1000000);
 ACCELCAL_FLAG_RANGE(min_intervals, 3, 100000);
@@ -66,7 +67,7 @@ constexpr char kUsage[] =
     "white noise), every parameter +- sigma and a chi-square fit statistic.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk --init_rest_s=50 \\\n"
-    "      --initial_bias=32768 [--mode=ml] [--json=out.json]";
+    "      --initial_offset=32768 [--mode=ml] [--json=out.json]";
 
 Status ValidateFlags() {
   if (FLAGS_log.empty())
@@ -98,7 +99,7 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   options.gravity_mps2 = FLAGS_g;
   options.init_rest_s = FLAGS_init_rest_s;
   options.initial =
-      TriadParametersWithBias(FLAGS_initial_bias, FLAGS_initial_bias, FLAGS_initial_bias);
+      TriadParametersWithOffset(FLAGS_initial_offset, FLAGS_initial_offset, FLAGS_initial_offset);
   options.window_samples = FLAGS_window;
   options.interval_samples = FLAGS_interval_samples;
   options.min_intervals = FLAGS_min_intervals;

@@ -18,7 +18,7 @@ namespace {
 using testing::ExpectBadInputContract;
 using testing::RunBinary;
 
-constexpr char kXsensFlags[] = "--g=9.81744 --mode=imu_tk --init_rest_s=50 --initial_bias=32768";
+constexpr char kXsensFlags[] = "--g=9.81744 --mode=imu_tk --init_rest_s=50 --initial_offset=32768";
 
 TEST(CalibrateImuCli, PrintsImuTksCostForEveryKAndItsParametersAtK6) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
@@ -54,7 +54,7 @@ TEST(CalibrateImuCli, PrintsImuTksCostForEveryKAndItsParametersAtK6) {
   EXPECT_EQ(json["intervals"].size(), 38u);
   EXPECT_TRUE(json["intervals"][0].contains("mean"));
   EXPECT_TRUE(json["intervals"][0].contains("noise"));
-  EXPECT_NEAR(json["parameters"]["bias_x"].get<double>(), 33124.2, 0.05);
+  EXPECT_NEAR(json["parameters"]["offset_x"].get<double>(), 33124.2, 0.05);
   EXPECT_EQ(json["units"]["misalignment_yz"], "rad");
   EXPECT_EQ(json["input_files"]["log"]["sha256"],
             "335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510");
@@ -71,7 +71,7 @@ TEST(CalibrateImuCli, ModeMlPrintsEveryParameterWithSigmaAndTheFitStatistic) {
   const std::string json_path = scratch.File("ml.json");
   const testing::CommandResult result =
       RunBinary("calibrate_imu", "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --mode=ml " +
-                                     "--init_rest_s=50 --initial_bias=32768 --json=" + json_path);
+                                     "--init_rest_s=50 --initial_offset=32768 --json=" + json_path);
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   const std::string& out = result.stdout_text;
   EXPECT_NE(out.find("mode ml"), std::string::npos) << out;
@@ -100,7 +100,7 @@ TEST(CalibrateImuCli, ModeMlPrintsEveryParameterWithSigmaAndTheFitStatistic) {
     EXPECT_LT(std::abs(difference), 20.0 * sigma) << name;
     EXPECT_NE(out.find(name), std::string::npos) << name;
   }
-  EXPECT_EQ(json["units"]["bias_x"], "count");
+  EXPECT_EQ(json["units"]["offset_x"], "count");
 }
 
 TEST(CalibrateImuCli, RefusesABadLogInOneLineAndWritesNothing) {
@@ -185,7 +185,7 @@ TEST(CalibrateImuCli, ModeMlRefusesPosesInAPlaneNamingWhatTheyLeaveUndetermined)
   const testing::CommandResult result =
       RunBinary("calibrate_imu", "--log=" + log +
                                      " --g=9.81 --mode=ml --init_rest_s=50 "
-                                     "--initial_bias=32768 --json=" +
+                                     "--initial_offset=32768 --json=" +
                                      json);
   ExpectBadInputContract(result, "calibrate_imu", "cannot determine the triad: ");
   EXPECT_NE(result.stderr_text.find(" are not identifiable"), std::string::npos);

@@ -35,7 +35,7 @@ ImuTkOptions XsensOptions() {
   ImuTkOptions options;  // imu_tk's test application on its Xsens log
   options.gravity_mps2 = 9.81744;
   options.init_rest_s = 50.0;
-  options.initial = TriadParametersWithBias(32768.0, 32768.0, 32768.0);
+  options.initial = TriadParametersWithOffset(32768.0, 32768.0, 32768.0);
   return options;
 }
 
@@ -109,12 +109,12 @@ TEST_F(ImuTkXsens, ChoosesK6WithImuTksPrintedParameters) {
   EXPECT_EQ(ToPrintedDigits(p[kTriadMisalignmentYz], "0.0033593"), "0.0033593");
   EXPECT_EQ(ToPrintedDigits(p[kTriadMisalignmentZy], "-0.0089064"), "-0.0089064");
   EXPECT_EQ(ToPrintedDigits(p[kTriadMisalignmentZx], "0.0213341"), "0.0213341");
-  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadScaleX]), "414.459");
-  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadScaleY]), "412.01");
-  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadScaleZ]), "414.649");
-  EXPECT_EQ(StringPrintf("%g", p[kTriadBiasX]), "33124.2");
-  EXPECT_EQ(StringPrintf("%g", p[kTriadBiasY]), "33275.2");
-  EXPECT_EQ(StringPrintf("%g", p[kTriadBiasZ]), "32364.4");
+  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadGainX]), "414.459");
+  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadGainY]), "412.01");
+  EXPECT_EQ(StringPrintf("%g", 1.0 / p[kTriadGainZ]), "414.649");
+  EXPECT_EQ(StringPrintf("%g", p[kTriadOffsetX]), "33124.2");
+  EXPECT_EQ(StringPrintf("%g", p[kTriadOffsetY]), "33275.2");
+  EXPECT_EQ(StringPrintf("%g", p[kTriadOffsetZ]), "32364.4");
 }
 
 TEST_F(ImuTkXsens, ReportsTheIntervalsOfTheChosenK) {
@@ -137,12 +137,12 @@ TriadParameters SimulatedTruth() {
   truth[kTriadMisalignmentYz] = 0.004;
   truth[kTriadMisalignmentZy] = -0.006;
   truth[kTriadMisalignmentZx] = 0.012;
-  truth[kTriadScaleX] = 1.0 / 410.0;
-  truth[kTriadScaleY] = 1.0 / 415.0;
-  truth[kTriadScaleZ] = 1.0 / 420.0;
-  truth[kTriadBiasX] = 33000.0;
-  truth[kTriadBiasY] = 33300.0;
-  truth[kTriadBiasZ] = 32400.0;
+  truth[kTriadGainX] = 1.0 / 410.0;
+  truth[kTriadGainY] = 1.0 / 415.0;
+  truth[kTriadGainZ] = 1.0 / 420.0;
+  truth[kTriadOffsetX] = 33000.0;
+  truth[kTriadOffsetY] = 33300.0;
+  truth[kTriadOffsetZ] = 32400.0;
   return truth;
 }
 
@@ -184,9 +184,9 @@ TEST(TriadModel, CompilesForCeresJets) {
   const double raw[3] = {33500.0, 32000.0, 36000.0};
   Jet force[3];
   TriadSpecificForce(parameters, raw, force);
-  // d a_z / d scale_z = u_z - b_z.
-  EXPECT_DOUBLE_EQ(force[2].v[kTriadScaleZ], raw[2] - truth[kTriadBiasZ]);
-  EXPECT_DOUBLE_EQ(force[2].v[kTriadBiasZ], -truth[kTriadScaleZ]);
+  // d a_z / d gain_z = u_z - b_z.
+  EXPECT_DOUBLE_EQ(force[2].v[kTriadGainZ], raw[2] - truth[kTriadOffsetZ]);
+  EXPECT_DOUBLE_EQ(force[2].v[kTriadOffsetZ], -truth[kTriadGainZ]);
 }
 
 TEST(ImuTkCalibration, RecoversANoiseFreeTriadExactly) {
@@ -244,8 +244,8 @@ TEST(ImuTkCalibration, FindsThePosesOfASimulatedSessionAndRecoversTheTriad) {
   const TriadParameters& p = result.best().parameters;
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(p[kTriadMisalignmentYz + k], truth[kTriadMisalignmentYz + k], 5e-4);
-    EXPECT_NEAR(p[kTriadScaleX + k] / truth[kTriadScaleX + k], 1.0, 5e-4);
-    EXPECT_NEAR(p[kTriadBiasX + k], truth[kTriadBiasX + k], 2.0);
+    EXPECT_NEAR(p[kTriadGainX + k] / truth[kTriadGainX + k], 1.0, 5e-4);
+    EXPECT_NEAR(p[kTriadOffsetX + k], truth[kTriadOffsetX + k], 2.0);
   }
 }
 

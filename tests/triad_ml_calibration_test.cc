@@ -23,12 +23,12 @@ constexpr double kGravity = 9.81744;
 
 // A triad close to the Xsens unit of imu_tk's example.
 TriadParameters Truth() {
-  TriadParameters truth = TriadParametersWithBias(33124.0, 33275.0, 32364.0);
+  TriadParameters truth = TriadParametersWithOffset(33124.0, 33275.0, 32364.0);
   const double angles_rad[3] = {0.0035, -0.009, 0.021};  // yz, zy, zx
   const double counts_per_mps2[3] = {414.5, 412.0, 414.6};
   for (int k = 0; k < 3; ++k) {
     truth[kTriadMisalignmentYz + k] = angles_rad[k];
-    truth[kTriadScaleX + k] = 1.0 / counts_per_mps2[k];
+    truth[kTriadGainX + k] = 1.0 / counts_per_mps2[k];
   }
   return truth;
 }
@@ -46,8 +46,8 @@ TriadSimulationOptions SimulationOptions() {
 TriadMlOptions MlOptions() {
   TriadMlOptions options;
   options.gravity_mps2 = kGravity;
-  options.initial = TriadParametersWithBias(33000.0, 33000.0, 33000.0);
-  for (int k = 0; k < 3; ++k) options.initial[kTriadScaleX + k] = 1.0 / 415.0;
+  options.initial = TriadParametersWithOffset(33000.0, 33000.0, 33000.0);
+  for (int k = 0; k < 3; ++k) options.initial[kTriadGainX + k] = 1.0 / 415.0;
   return options;
 }
 
@@ -124,8 +124,8 @@ TEST(TriadMlCalibration, ReportedSigmaMatchesTheMonteCarloSpread) {
 }
 
 // Every pose a rotation about the sensor's x axis: gravity never has an x component, so the
-// x output is (yz v_y - zy v_z) / scale_x + b_x, and to first order each pose's out-of-plane
-// tilt absorbs its x residual: scale_x, bias_x (and the angles with them) are not determined.
+// x output is (yz v_y - zy v_z) / gain_x + b_x, and to first order each pose's out-of-plane
+// tilt absorbs its x residual: gain_x, offset_x (and the angles with them) are not determined.
 TEST(TriadMlCalibration, RefusesPosesInAPlaneNamingTheUnidentifiableParameters) {
   RandomSource random(5, 0);
   std::vector<std::array<double, 3>> directions;
@@ -141,8 +141,8 @@ TEST(TriadMlCalibration, RefusesPosesInAPlaneNamingTheUnidentifiableParameters) 
   const std::string& message = status.message();
   std::printf("  refusal: %s\n", message.c_str());
   EXPECT_NE(message.find("not identifiable"), std::string::npos) << message;
-  EXPECT_NE(message.find("scale_x"), std::string::npos) << message;
-  EXPECT_NE(message.find("bias_x"), std::string::npos) << message;
+  EXPECT_NE(message.find("gain_x"), std::string::npos) << message;
+  EXPECT_NE(message.find("offset_x"), std::string::npos) << message;
   EXPECT_NE(message.find("lie within a few degrees of a plane"), std::string::npos) << message;
 }
 

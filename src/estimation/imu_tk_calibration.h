@@ -34,7 +34,7 @@ struct ImuTkOptions {
   double gravity_mps2 = 9.81;  // imu_tk's default; its Xsens example sets 9.81744
   double init_rest_s = 30.0;   // imu_tk's default; its Xsens example sets 50
   // imu_tk's default initial guess: angles 0, gains 1, bias 0 (its example sets 32768).
-  TriadParameters initial = TriadParametersWithBias(0.0, 0.0, 0.0);
+  TriadParameters initial = TriadParametersWithOffset(0.0, 0.0, 0.0);
   int window_samples = 101;    // odd; imu_tk raises it to at least 11 and to the next odd
   int interval_samples = 100;  // samples used from each interval, and its minimum length
   int min_intervals = 12;

@@ -39,7 +39,7 @@ namespace accelcal {
 
 struct TriadMlOptions {
   double gravity_mps2 = 9.81;
-  TriadParameters initial = TriadParametersWithBias(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
+  TriadParameters initial = TriadParametersWithOffset(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
   QuietSolveOptions solve;  // LM, dense QR, tolerances 1e-14 (estimation/ceres_solve.h)
   // A singular value of the column-normalised Jacobian below this times the largest marks a
   // direction of parameter space the poses do not determine. Exact degeneracy is blurred by

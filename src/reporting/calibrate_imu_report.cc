@@ -97,14 +97,14 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
   const auto& infos = TriadParameterInfos();
   for (int p = 0; p < kTriadParameterCount; ++p) {
     std::string value = StringPrintf("%.8g", best.parameters[p]);
-    if (p >= kTriadScaleX && p <= kTriadScaleZ) {
+    if (p >= kTriadGainX && p <= kTriadGainZ) {
       value = StringPrintf("1/%.6g", 1.0 / best.parameters[p]);
     }
     out << StringPrintf("  %-16s %-14s %-16s", infos[p].name, infos[p].unit, value.c_str());
     if (example) out << StringPrintf(" %-16s %s", kImuTkPrinted[p], kDatasheet[p]);
     out << "\n";
   }
-  out << "  (scale_k is printed as 1/(counts per m/s^2), the inverse scale imu_tk prints; the "
+  out << "  (gain_k is printed as 1/(counts per m/s^2), the inverse scale imu_tk prints; the "
          "datasheet gives the misalignment only to 0.01)\n\n";
 
   out << StringPrintf(
@@ -178,7 +178,7 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   json["units"] = units;
   nlohmann::json inverse;
   for (int k = 0; k < 3; ++k)
-    inverse["inverse_scale_" + Axis(k)] = 1.0 / best.parameters[kTriadScaleX + k];
+    inverse["inverse_scale_" + Axis(k)] = 1.0 / best.parameters[kTriadGainX + k];
   inverse["unit"] = "count/(m/s^2)";
   json["inverse_scale"] = inverse;
   nlohmann::json intervals = nlohmann::json::array();
@@ -262,12 +262,12 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   }
   out << "  inverse scale (count per m/s^2):";
   for (int k = 0; k < 3; ++k) {
-    const double gain = ml.parameters[kTriadScaleX + k];
+    const double gain = ml.parameters[kTriadGainX + k];
     out << StringPrintf(" %c %.6g +- %.2g", "xyz"[k], 1.0 / gain,
-                        ml.stddev[kTriadScaleX + k] / (gain * gain));
+                        ml.stddev[kTriadGainX + k] / (gain * gain));
   }
-  out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)\n\n", 1.0 / imu_tk.parameters[kTriadScaleX],
-                      1.0 / imu_tk.parameters[kTriadScaleY], 1.0 / imu_tk.parameters[kTriadScaleZ]);
+  out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)\n\n", 1.0 / imu_tk.parameters[kTriadGainX],
+                      1.0 / imu_tk.parameters[kTriadGainY], 1.0 / imu_tk.parameters[kTriadGainZ]);
   out << StringPrintf(
       "Fit: chi2 = %.6g on %d degrees of freedom, chi2/dof = %.4g (expected 1 +- %.3g), "
       "p = P(chi2_%d > %.6g) = %.3g\n",
