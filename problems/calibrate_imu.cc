@@ -25,14 +25,18 @@
 
 #include <gflags/gflags.h>
 
+#include <array>
+#include <cmath>
 #include <iostream>
 
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/triad_ml_calibration.h"
+#include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
+#include "models/triad_units.h"
 #include "problem_support.h"
 #include "reporting/calibrate_imu_report.h"
 
@@ -40,8 +44,9 @@
 DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
 DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the same intervals (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result.");
 DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744).");
-DEFINE_double(init_rest_s, 30.0, "Duration in s of the initial rest the thresholds are scaled from (imu_tk's default 30; its Xsens example uses 50).");
-DEFINE_double(initial_offset, 0.0, "Initial guess of the three offsets b, in the log's unit (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 and the angles at 0, as in imu_tk.");
+DEFINE_string(unit, "count", "The unit of the log's outputs: count (raw ADC counts, as imu_tk's example), m/s^2 or g. It sets the units of the gains ((m/s^2) per unit) and offsets (the unit); a calibration whose gains contradict it (e.g. gains near 1 from a log said to be in counts) is refused.");
+DEFINE_double(init_rest_s, 50.0, "Duration in s of the initial rest the imu_tk thresholds are scaled from (imu_tk's library default is 30; its Xsens example, and this default, 50). A rest that holds motion is refused, with the time the sensor starts moving.");
+DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in the log's unit: auto (the mean output of the whole log per axis, near the output at zero specific force when the poses are spread) or a number (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 per unit (9.80665 for --unit=g) and the angles at 0, as in imu_tk.");
 DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
@@ -50,7 +55,6 @@ DEFINE_string(json, "", "Write the results as JSON to this file (written atomica
 
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
 ACCELCAL_FLAG_OPEN_RANGE(init_rest_s, 0.0, 1e6);
-ACCELCAL_FLAG_RANGE(initial_offset, -1e9, 1e9);
 ACCELCAL_RENAMED_FLAG(initial_bias, initial_offset);
 ACCELCAL_FLAG_RANGE(window, 11, 100001);
 ACCELCAL_FLAG_RANGE(interval_samples, 2, 1000000);
@@ -94,16 +98,46 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   return Status::Ok();
 }
 
+// imu_tk's start: angles 0, gains 1 per unit of output (9.80665 for g), offsets given or, by
+// default, the output at zero specific force of an ideal sensor: 0 for a physical unit; for
+// counts, the mid-scale of the ADC, 2^(n-1) for unsigned outputs in [0, 2^n) (imu_tk's 32768
+// for its 16-bit Xsens example) or 0 for signed ones.
+Status InitialGuess(const TriadLog& log, TriadOutputUnit unit, TriadParameters* initial,
+                    std::string* offset_from) {
+  double offset = 0.0;
+  *offset_from = "--initial_offset";
+  if (FLAGS_initial_offset == "auto") {
+    *offset_from = "auto: 0 for a physical unit";
+    if (unit == TriadOutputUnit::kCount) {
+      offset = AdcMidScale(log);
+      *offset_from = offset > 0.0 ? "auto: the mid-scale of an unsigned ADC's range"
+                                  : "auto: 0, the mid-scale of a signed ADC";
+    }
+  } else if (!ParseFiniteNumber(FLAGS_initial_offset, &offset) || std::fabs(offset) > 1e9) {
+    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
+                         "' is neither auto nor a finite number within +-1e9 (the log's unit)");
+  }
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, unit, offset).WithContext(FLAGS_log));
+  *initial = TriadParametersWithOffset(offset, offset, offset);
+  if (unit == TriadOutputUnit::kG) {
+    for (int k = 0; k < 3; ++k) (*initial)[kTriadGainX + k] = 9.80665;
+  }
+  return Status::Ok();
+}
+
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit).WithContext("--unit"));
   ImuTkOptions& options = report->options;
   options.gravity_mps2 = FLAGS_g;
   options.init_rest_s = FLAGS_init_rest_s;
-  options.initial =
-      TriadParametersWithOffset(FLAGS_initial_offset, FLAGS_initial_offset, FLAGS_initial_offset);
+  ACCELCAL_RETURN_IF_ERROR(
+      InitialGuess(log, report->unit, &options.initial, &report->initial_offset_from));
   options.window_samples = FLAGS_window;
   options.interval_samples = FLAGS_interval_samples;
   options.min_intervals = FLAGS_min_intervals;
   ACCELCAL_RETURN_IF_ERROR(CalibrateImuTk(log, options, &report->result).WithContext(FLAGS_log));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckGainsMatchUnit(report->result.best().parameters, report->unit).WithContext(FLAGS_log));
   report->rest_end_s = log.timestamp_s[report->result.rest_end];
   report->mode = FLAGS_mode;
   if (FLAGS_mode != "ml") return Status::Ok();

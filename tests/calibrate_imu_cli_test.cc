@@ -116,7 +116,7 @@ TEST(CalibrateImuCli, RefusesABadLogInOneLineAndWritesNothing) {
 TEST(CalibrateImuCli, RefusesALogTooShortForTheDetector) {
   testing::ScratchDir scratch;
   std::string text;
-  for (int i = 0; i < 50; ++i) text += std::to_string(0.01 * (i + 1)) + " 1 2 3\n";
+  for (int i = 0; i < 50; ++i) text += std::to_string(0.01 * (i + 1)) + " 32768 32768 36800\n";
   const std::string log = scratch.Write("log.txt", text);
   const testing::CommandResult result = RunBinary("calibrate_imu", "--log=" + log);
   ExpectBadInputContract(result, "calibrate_imu", "record a longer session");
@@ -134,17 +134,23 @@ namespace accelcal {
 namespace {
 
 // A hand-held session as a log in imu_tk's layout: 50 s at rest, then `directions` held 5 s
-// each with 1 s of motion between, 100 Hz, an ideal triad (bias 32768 counts, 415 counts per
-// m/s^2) and 3 counts of noise.
-std::string SessionLog(const std::vector<std::array<double, 3>>& directions) {
+// each with 1 s of motion between, 100 Hz, an ideal triad (by default offset 32768 counts, 415
+// counts per m/s^2 and 3 counts of noise; in m/s^2, offset 0, 1 per m/s^2 and 3/415).
+struct SessionUnit {
+  double offset = 32768.0;
+  double per_mps2 = 415.0;
+  double noise = 3.0;
+};
+std::string SessionLog(const std::vector<std::array<double, 3>>& directions,
+                       const SessionUnit& unit = SessionUnit()) {
   std::mt19937_64 random(7);
-  std::normal_distribution<double> noise(0.0, 3.0);
+  std::normal_distribution<double> noise(0.0, unit.noise);
   std::string text;
   int sample = 0;
   auto emit = [&](const std::array<double, 3>& n) {
     text += std::to_string(0.01 * ++sample);
     for (int k = 0; k < 3; ++k) {
-      text += " " + std::to_string(32768.0 + 415.0 * 9.81 * n[k] + noise(random));
+      text += " " + std::to_string(unit.offset + unit.per_mps2 * 9.81 * n[k] + noise(random));
     }
     text += "\n";
   };
@@ -192,6 +198,103 @@ TEST(CalibrateImuCli, ModeMlRefusesPosesInAPlaneNamingWhatTheyLeaveUndetermined)
   EXPECT_NE(result.stderr_text.find("lie within a few degrees of a plane"), std::string::npos);
   EXPECT_NE(result.stderr_text.find("add poses with gravity along or near it"), std::string::npos);
   EXPECT_FALSE(testing::PathExists(json));
+}
+
+}  // namespace
+}  // namespace accelcal
+
+namespace accelcal {
+namespace {
+
+// Twenty directions spread over the sphere (a Fibonacci lattice): enough for every parameter.
+std::vector<std::array<double, 3>> SpreadDirections() {
+  std::vector<std::array<double, 3>> directions;
+  const int count = 20;
+  for (int p = 0; p < count; ++p) {
+    const double z = 1.0 - 2.0 * (p + 0.5) / count;
+    const double r = std::sqrt(1.0 - z * z);
+    const double phi = p * M_PI * (3.0 - std::sqrt(5.0));
+    directions.push_back({r * std::cos(phi), r * std::sin(phi), z});
+  }
+  return directions;
+}
+
+// The issue's own command line, with no other flag: the defaults (a 50 s rest, the offsets
+// started at the ADC's mid-scale) are imu_tk's Xsens example's, and reproduce its printed
+// output to its digits.
+TEST(CalibrateImuCli, TheIssuesCommandLineAloneReproducesImuTk) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("out.json");
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu",
+                "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --mode=imu_tk --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const std::string& out = result.stdout_text;
+  EXPECT_NE(out.find("Chosen: k = 6, the lowest final cost 0.120131"), std::string::npos) << out;
+  EXPECT_NE(out.find("0.0033593"), std::string::npos) << out;
+  EXPECT_NE(out.find("-0.0089064"), std::string::npos) << out;
+  EXPECT_NE(out.find("0.021334"), std::string::npos) << out;
+  EXPECT_NE(out.find("1/414.649        1/414.649"), std::string::npos) << out;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_NEAR(json["parameters"]["misalignment_zy"].get<double>(), -0.0089064, 5e-8);
+  EXPECT_NEAR(json["parameters"]["offset_z"].get<double>(), 32364.4, 0.05);
+}
+
+// A rest that holds motion would inflate every threshold; the refusal says when the sensor
+// starts moving (51.94 s on imu_tk's log) and what to give instead.
+TEST(CalibrateImuCli, RefusesAnInitialRestThatHoldsMotion) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --init_rest_s=60");
+  ExpectBadInputContract(result, "calibrate_imu", "the initial rest of 60 s is not at rest");
+  EXPECT_NE(result.stderr_text.find("moves from t = 51.9"), std::string::npos)
+      << result.stderr_text;
+  EXPECT_NE(result.stderr_text.find("--init_rest_s=51 or less"), std::string::npos)
+      << result.stderr_text;
+}
+
+// imu_tk's own default start (offsets 0) ends, on its own log, at a negative gain with a cost
+// as good as the right one: refused, not reported.
+TEST(CalibrateImuCli, RefusesTheNegativeGainImuTksCostCannotTellFromAPositiveOne) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  const testing::CommandResult result = RunBinary(
+      "calibrate_imu", "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --initial_offset=0");
+  ExpectBadInputContract(result, "calibrate_imu", "ends at a negative gain_");
+  EXPECT_NE(result.stderr_text.find("--initial_offset=auto"), std::string::npos);
+}
+
+// The unit is stated, never guessed, and a calibration that contradicts it is refused: a log
+// already in m/s^2 read as counts, and a log of counts said to be in m/s^2 or g.
+TEST(CalibrateImuCli, AUnitThatTheGainsContradictIsRefused) {
+  testing::ScratchDir scratch;
+  SessionUnit mps2;
+  mps2.offset = 0.0;
+  mps2.per_mps2 = 1.0;
+  mps2.noise = 3.0 / 415.0;
+  const std::string physical = scratch.Write("mps2.txt", SessionLog(SpreadDirections(), mps2));
+  const std::string counts = scratch.Write("counts.txt", SessionLog(SpreadDirections()));
+  const std::string json = scratch.File("o.json");
+
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + physical + " --json=" + json),
+                         "calibrate_imu",
+                         "the log looks already converted to m/s^2, not raw counts");
+  ExpectBadInputContract(
+      RunBinary("calibrate_imu", "--log=" + counts + " --unit=m/s^2 --json=" + json),
+      "calibrate_imu", "not about 9.8 as 1 g is in m/s^2");
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + counts + " --unit=g --json=" + json),
+                         "calibrate_imu", "not about 1 as 1 g is in g");
+  EXPECT_FALSE(testing::PathExists(json));
+
+  const testing::CommandResult ok =
+      RunBinary("calibrate_imu", "--log=" + physical + " --unit=m/s^2 --json=" + json);
+  ASSERT_EQ(ok.exit_status, 0) << ok.stderr_text;
+  const nlohmann::json out = nlohmann::json::parse(testing::ReadText(json));
+  EXPECT_EQ(out["units"]["gain_x"], "1");
+  EXPECT_EQ(out["units"]["offset_x"], "m/s^2");
+  EXPECT_EQ(out["log"]["unit"], "m/s^2");
+  EXPECT_NEAR(out["parameters"]["gain_x"].get<double>(), 1.0, 1e-3);
+  EXPECT_NEAR(out["parameters"]["offset_y"].get<double>(), 0.0, 1e-3);
 }
 
 }  // namespace

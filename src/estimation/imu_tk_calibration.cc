@@ -2,6 +2,7 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -42,6 +43,53 @@ ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& s
   return entry;
 }
 
+namespace {
+
+// The thresholds scale with the rest's variance norm, so a rest that holds motion (a session
+// whose rest is shorter than init_rest_s) inflates every threshold and the sweep silently
+// merges poses. White noise gives a rest norm equal to the median norm of the windows inside
+// it, to a few percent (1.02 on imu_tk's Xsens log); above kMaxRestRatio (imu_tk's smallest
+// multiplier) even k = 2 would let motion through.
+constexpr double kMaxRestRatio = 2.0;
+
+Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance_norm, int window,
+                        const ImuTkOptions& options, const ImuTkResult& result) {
+  const int half = window / 2;
+  std::vector<double> inside;
+  for (int i = half; i + half <= result.rest_end; ++i) inside.push_back(variance_norm[i]);
+  if (inside.empty()) {
+    return Status::Error(StringPrintf(
+        "the initial rest of %g s holds %d samples, fewer than the static detector's window of "
+        "%d; give a longer --init_rest_s (the log must start with the sensor still)",
+        options.init_rest_s, result.rest_end + 1, window));
+  }
+  std::vector<double> sorted = inside;
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  const double median = sorted[sorted.size() / 2];
+  if (!(median > 0.0)) {
+    return Status::Error(StringPrintf(
+        "the output is constant over the initial rest of %g s (zero variance): no noise to "
+        "scale the thresholds from; is the log a real sensor's?",
+        options.init_rest_s));
+  }
+  if (result.rest_variance_norm <= kMaxRestRatio * median) return Status::Ok();
+  int moving = half;
+  while (moving + 1 < static_cast<int>(variance_norm.size()) &&
+         variance_norm[moving] <= kMaxRestRatio * median)
+    ++moving;
+  // The first window above the limit ends at the first moving sample.
+  const int first_moving = std::min(moving + half, static_cast<int>(log.size()) - 1);
+  const double still_s = log.timestamp_s[first_moving] - log.timestamp_s[0];
+  return Status::Error(StringPrintf(
+      "the initial rest of %g s is not at rest: its variance norm is %.3g times the median of "
+      "its windows (at most %g when still), and the sensor moves from t = %.6g s; give "
+      "--init_rest_s=%.0f or less, the time the log starts still",
+      options.init_rest_s, result.rest_variance_norm / median, kMaxRestRatio,
+      log.timestamp_s[first_moving], std::floor(still_s)));
+}
+
+}  // namespace
+
 Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkResult* result) {
   *result = ImuTkResult();
   // imu_tk's own adjustment of the window: at least 11 samples, odd.
@@ -68,6 +116,7 @@ Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkRes
   result->rest_variance_norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 
   const std::vector<double> variance_norm = SlidingVarianceNorm(log, window);
+  ACCELCAL_RETURN_IF_ERROR(CheckInitialRest(log, variance_norm, window, options, *result));
   double best_cost = std::numeric_limits<double>::max();
   std::vector<StaticInterval> best_intervals;
   for (int k = options.min_multiplier; k <= options.max_multiplier; ++k) {
@@ -108,6 +157,19 @@ Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkRes
         "each for at least %d samples, and start with a rest of at least %g s",
         options.min_multiplier, options.max_multiplier, options.min_intervals,
         options.interval_samples, most, options.interval_samples, options.init_rest_s));
+  }
+  // imu_tk's cost depends on |T K (u - b)| alone, so it cannot tell a gain's sign, and from a
+  // start far from the output at zero g it can end at a negative gain with a fine cost.
+  const ImuTkSweepEntry& best = result->best();
+  for (int axis = 0; axis < 3; ++axis) {
+    if (best.parameters[kTriadGainX + axis] <= 0.0) {
+      return Status::Error(StringPrintf(
+          "imu_tk's fit at k = %d ends at a negative gain_%c = %.6g with offset %.6g: its cost "
+          "cannot tell a gain's sign, and the start (offset %.6g) was too far from the output at "
+          "zero specific force; start from an offset nearer it (--initial_offset=auto)",
+          best.multiplier, "xyz"[axis], best.parameters[kTriadGainX + axis],
+          best.parameters[kTriadOffsetX + axis], options.initial[kTriadOffsetX + axis]));
+    }
   }
   result->intervals = best_intervals;
   for (const StaticInterval& interval : best_intervals)

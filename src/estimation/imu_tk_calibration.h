@@ -75,7 +75,10 @@ struct ImuTkResult {
 };
 
 // Fails, saying why, when the log is shorter than the window, the initial rest is not inside
-// it, or no k yields min_intervals intervals.
+// it or holds motion (its variance norm above twice the median of its windows' norms: the
+// thresholds would let motion through; the message says when the sensor starts moving), no k
+// yields min_intervals intervals, or the chosen fit ends at a negative gain (imu_tk's cost
+// is blind to a gain's sign; a start far from the zero-g output can end there).
 Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkResult* result);
 
 // One solve of step 3 on given samples (the indices into `log`), from `options.initial`.

@@ -28,6 +28,12 @@ bool IsImuTkExample(const CalibrateImuReport& report) {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
+std::string LogLine(const CalibrateImuReport& report) {
+  return StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s, outputs in %s (--unit)\n",
+                      report.sample_count, report.first_t_s, report.last_t_s,
+                      report.log_layout.c_str(), TriadOutputUnitName(report.unit));
+}
+
 // An interval as both modes write it; each mode adds its own fields.
 nlohmann::json IntervalJson(const StaticInterval& s) {
   return {
@@ -38,6 +44,7 @@ nlohmann::json IntervalJson(const StaticInterval& s) {
 nlohmann::json LogJson(const CalibrateImuReport& report) {
   return {{"path", report.log_path},
           {"layout", report.log_layout},
+          {"unit", TriadOutputUnitName(report.unit)},
           {"samples", report.sample_count},
           {"first_t_s", report.first_t_s},
           {"last_t_s", report.last_t_s}};
@@ -58,12 +65,14 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
       "calibrate_imu, mode imu_tk: imu_tk's accelerometer calibration (Tedaldi et al., ICRA "
       "2014), g = %.10g m/s^2\n",
       options.gravity_mps2);
-  out << StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s\n", report.sample_count,
-                      report.first_t_s, report.last_t_s, report.log_layout.c_str());
+  out << LogLine(report);
   out << StringPrintf(
       "initial rest: samples 0..%d (to t = %.10g s, --init_rest_s=%g), variance norm %.6g "
-      "(unit^2)\n\n",
+      "(unit^2)\n",
       result.rest_end, report.rest_end_s, options.init_rest_s, result.rest_variance_norm);
+  out << StringPrintf("start of every fit: angles 0, gains %g, offsets %.10g (%s)\n\n",
+                      options.initial[kTriadGainX], options.initial[kTriadOffsetX],
+                      report.initial_offset_from.c_str());
   out << StringPrintf(
       "Threshold sweep: static where the variance norm over %d samples < k x %.6g; the first "
       "%d samples of each interval of at least %d; at least %d intervals\n",
@@ -97,10 +106,11 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
   const auto& infos = TriadParameterInfos();
   for (int p = 0; p < kTriadParameterCount; ++p) {
     std::string value = StringPrintf("%.8g", best.parameters[p]);
-    if (p >= kTriadGainX && p <= kTriadGainZ) {
+    if (p >= kTriadGainX && p <= kTriadGainZ && report.unit == TriadOutputUnit::kCount) {
       value = StringPrintf("1/%.6g", 1.0 / best.parameters[p]);
     }
-    out << StringPrintf("  %-16s %-14s %-16s", infos[p].name, infos[p].unit, value.c_str());
+    out << StringPrintf("  %-16s %-14s %-16s", infos[p].name,
+                        TriadParameterUnit(p, report.unit).c_str(), value.c_str());
     if (example) out << StringPrintf(" %-16s %s", kImuTkPrinted[p], kDatasheet[p]);
     out << "\n";
   }
@@ -146,6 +156,9 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
                           {"end_t_s", report.rest_end_s},
                           {"variance", result.rest_variance},
                           {"variance_norm", result.rest_variance_norm}};
+  json["initial_guess"] = {{"gain", options.initial[kTriadGainX]},
+                           {"offset", options.initial[kTriadOffsetX]},
+                           {"offset_from", report.initial_offset_from}};
   json["detector"] = {{"window_samples", options.window_samples},
                       {"interval_samples", options.interval_samples},
                       {"min_intervals", options.min_intervals}};
@@ -172,14 +185,14 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   const auto& infos = TriadParameterInfos();
   for (int p = 0; p < kTriadParameterCount; ++p) {
     parameters[infos[p].name] = best.parameters[p];
-    units[infos[p].name] = infos[p].unit;
+    units[infos[p].name] = TriadParameterUnit(p, report.unit);
   }
   json["parameters"] = parameters;
   json["units"] = units;
   nlohmann::json inverse;
   for (int k = 0; k < 3; ++k)
     inverse["inverse_scale_" + Axis(k)] = 1.0 / best.parameters[kTriadGainX + k];
-  inverse["unit"] = "count/(m/s^2)";
+  inverse["unit"] = std::string(TriadOutputUnitName(report.unit)) + "/(m/s^2)";
   json["inverse_scale"] = inverse;
   nlohmann::json intervals = nlohmann::json::array();
   for (size_t i = 0; i < result.intervals.size(); ++i) {
@@ -235,8 +248,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       "calibrate_imu, mode ml: maximum likelihood with covariance (docs/triad.md), g = %.10g "
       "m/s^2\n",
       report.ml_options.gravity_mps2);
-  out << StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s\n", report.sample_count,
-                      report.first_t_s, report.last_t_s, report.log_layout.c_str());
+  out << LogLine(report);
   out << StringPrintf(
       "poses: the %d static intervals of at least %d samples that imu_tk's detector finds at "
       "its chosen k = %d (imu_tk's rule, kept for now); each pose is the mean of ALL its "
@@ -244,9 +256,9 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       ml.pose_count, report.options.interval_samples, imu_tk.multiplier, report.ml_sample_count);
   out << StringPrintf(
       "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, %.4g, "
-      "%.4g) counts; a pose mean of N samples has variance s^2/N\n",
+      "%.4g) %s; a pose mean of N samples has variance s^2/N\n",
       std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
-      std::sqrt(ml.noise_variance[2]));
+      std::sqrt(ml.noise_variance[2]), TriadOutputUnitName(report.unit));
   out << StringPrintf(
       "unknowns: 9 parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
       "%d degrees of freedom\n\n",
@@ -256,11 +268,12 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
                       "imu_tk", "(ml-imu_tk)/sigma");
   const auto& infos = TriadParameterInfos();
   for (int p = 0; p < kTriadParameterCount; ++p) {
-    out << StringPrintf("  %-16s %-14s %16.8g %12.3g %16.8g %18.2f\n", infos[p].name, infos[p].unit,
-                        ml.parameters[p], ml.stddev[p], imu_tk.parameters[p],
+    out << StringPrintf("  %-16s %-14s %16.8g %12.3g %16.8g %18.2f\n", infos[p].name,
+                        TriadParameterUnit(p, report.unit).c_str(), ml.parameters[p], ml.stddev[p],
+                        imu_tk.parameters[p],
                         (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p]);
   }
-  out << "  inverse scale (count per m/s^2):";
+  out << StringPrintf("  inverse gain (%s per m/s^2):", TriadOutputUnitName(report.unit));
   for (int k = 0; k < 3; ++k) {
     const double gain = ml.parameters[kTriadGainX + k];
     out << StringPrintf(" %c %.6g +- %.2g", "xyz"[k], 1.0 / gain,
@@ -291,7 +304,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   for (int p = 0; p < kTriadParameterCount; ++p) {
     parameters[infos[p].name] = ml.parameters[p];
     stddev[infos[p].name] = ml.stddev[p];
-    units[infos[p].name] = infos[p].unit;
+    units[infos[p].name] = TriadParameterUnit(p, report.unit);
     difference[infos[p].name] = (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p];
     order.push_back(infos[p].name);
   }
@@ -314,7 +327,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
       {"stddev_per_sample",
        {std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
         std::sqrt(ml.noise_variance[2])}},
-      {"unit", "count"}};
+      {"unit", TriadOutputUnitName(report.unit)}};
   json["fit_verdict"] = FitVerdict(ml);
   nlohmann::json intervals = nlohmann::json::array();
   int pose = 0;

@@ -14,18 +14,21 @@
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/triad_ml_calibration.h"
+#include "models/triad_units.h"
 
 namespace accelcal {
 
 struct CalibrateImuReport {
   std::string log_path;
-  std::string log_layout;  // ImuLogLayoutName
-  std::string log_sha256;  // to recognise imu_tk's example log
+  std::string log_layout;                          // ImuLogLayoutName
+  std::string log_sha256;                          // to recognise imu_tk's example log
+  TriadOutputUnit unit = TriadOutputUnit::kCount;  // the log's, as the user stated it
   size_t sample_count = 0;
   double first_t_s = 0.0;
   double last_t_s = 0.0;
   double rest_end_s = 0.0;
   ImuTkOptions options;
+  std::string initial_offset_from;  // how the start's offsets were chosen
   ImuTkResult result;
   // Mode ml: the maximum-likelihood fit of the poses of imu_tk's chosen intervals, started
   // from imu_tk's solution, shown beside it.
