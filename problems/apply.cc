@@ -1,38 +1,48 @@
-// apply: a calibration file (calibrate's, io/calibration_file.h) applied to a new log of
-// measured accelerations, written as corrected accelerations with the calibration's
-// uncertainty of each (estimation/calibration_correction.h).
+// apply: a calibration file applied to a new log, written as corrected accelerations with the
+// calibration's uncertainty of each (estimation/calibration_correction.h). The calibration's
+// geometry decides the log's layout:
+//
+//   two_axis (calibrate's): a CSV with the header t,ax,ay (s, m/s^2) or a .mat with t and
+//     Aerr; the output's header is t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy
+//   triad (calibrate_imu --mode=ml's): a triad log (io/imu_log.h: imu_tk's whitespace layout
+//     or a CSV t_s,acc_x,acc_y,acc_z) in the calibration's output unit; the output's header is
+//     t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,corr_yz
 //
 //   build/bin/apply --calibration=cal.json --in=run.csv --out=corrected.csv
 //
-// The log is the run's layout: a CSV with the header t,ax,ay (s, m/s^2) or a .mat with t and
-// Aerr. The output CSV starts with '#' lines saying where it came from (the calibration and
-// the log with their SHA-256, the command), then the header
-//   t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy
+// The output CSV starts with '#' lines saying where it came from (the calibration and the log
+// with their SHA-256, the command).
 
 #include <gflags/gflags.h>
 
+#include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <vector>
 
 #include "estimation/calibration_correction.h"
 #include "io/calibration_file.h"
 #include "io/course_data.h"
+#include "io/imu_log.h"
 #include "io/provenance.h"
 #include "problem_support.h"
 
 // clang-format off
 DEFINE_string(calibration, "", "The calibration file (calibrate --calibration_out). Required.");
-DEFINE_string(in, "", "The log to correct: CSV with the header t,ax,ay (s, m/s^2) or .mat with t (Mx1, s) and Aerr (Mx2, m/s^2). Time must increase. Required.");
-DEFINE_string(out, "", "The corrected CSV to write (atomically): t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy after '#' lines of provenance. Required.");
+DEFINE_string(in, "", "The log to correct. For a two-axis calibration: CSV with the header t,ax,ay (s, m/s^2) or .mat with t (Mx1, s) and Aerr (Mx2, m/s^2). For a triad calibration: imu_tk's whitespace layout (t [s], x, y, z) or a CSV *.csv with the header t_s,acc_x,acc_y,acc_z, in the calibration's output unit. Time must increase. Required.");
+DEFINE_string(out, "", "The corrected CSV to write (atomically), after '#' lines of provenance: t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy (two-axis) or t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,corr_yz (triad). Required.");
 // clang-format on
 
 namespace accelcal {
 namespace {
 
 constexpr char kUsage[] =
-    "Applies a calibration file to a log of measured accelerations (m/s^2): per axis\n"
-    "a_k = (m_k - bias_k) / (1 + scale_k), with sigma_ak and corr(a_x, a_y), the uncertainty\n"
-    "the calibration's covariance gives each corrected value (shared by all samples; the\n"
-    "sensor's white noise, noise_variance in the calibration file, is not in it).\n"
+    "Applies a calibration file to a log. Two-axis (calibrate): per axis\n"
+    "a_k = (m_k - bias_k) / (1 + scale_k), m in m/s^2. Triad (calibrate_imu --mode=ml):\n"
+    "a = T K (u - b), u in the calibration's output unit (count, m/s^2 or g). Each corrected\n"
+    "value (m/s^2) comes with its sigma and correlations, the uncertainty the calibration's\n"
+    "covariance gives it (shared by all samples; the sensor's white noise, noise_variance in\n"
+    "the calibration file, is not in it).\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  apply --calibration=cal.json --in=run.csv --out=corrected.csv";
 
@@ -45,8 +55,8 @@ Status CheckFlags() {
   return CheckOutputPaths({{"--out", FLAGS_out}}, inputs);
 }
 
-std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameters,
-                         const Eigen::Matrix4d& covariance, const DataSource& source) {
+// The '#' lines every output starts with: where it came from.
+std::string ProvenanceLines(const DataSource& source) {
   std::string csv = std::string("# accelcal apply ") + AccelcalVersion() +
                     ": accelerations corrected by a calibration (docs/calibration.md)\n";
   for (const auto& [role, file] : source.files) {
@@ -56,19 +66,98 @@ std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameter
   csv +=
       "# sigma: the calibration's uncertainty of each value, shared by all samples (not the "
       "sensor noise)\n";
+  return csv;
+}
+
+std::string Correlation(const Eigen::MatrixXd& covariance, int i, int j) {
+  const double scale = std::sqrt(covariance(i, i) * covariance(j, j));
+  return StringPrintf("%.6g", scale > 0.0 ? covariance(i, j) / scale : 0.0);
+}
+
+std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameters,
+                         const Eigen::Matrix4d& covariance, const DataSource& source) {
+  std::string csv = ProvenanceLines(source);
   csv += "t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy\n";
   for (int j = 0; j < log.size(); ++j) {
     const CorrectedSample sample =
         CorrectBaseline(parameters, covariance, log.measured_x[j], log.measured_y[j]);
-    const double sigma_x = std::sqrt(sample.covariance(0, 0));
-    const double sigma_y = std::sqrt(sample.covariance(1, 1));
-    const double correlation =
-        sigma_x > 0.0 && sigma_y > 0.0 ? sample.covariance(0, 1) / (sigma_x * sigma_y) : 0.0;
     csv += RoundTripDouble(log.timestamp_s[j]) + "," + RoundTripDouble(sample.acceleration.x()) +
-           "," + RoundTripDouble(sample.acceleration.y()) + "," + StringPrintf("%.6g", sigma_x) +
-           "," + StringPrintf("%.6g", sigma_y) + "," + StringPrintf("%.6g", correlation) + "\n";
+           "," + RoundTripDouble(sample.acceleration.y()) + "," +
+           StringPrintf("%.6g", std::sqrt(sample.covariance(0, 0))) + "," +
+           StringPrintf("%.6g", std::sqrt(sample.covariance(1, 1))) + "," +
+           Correlation(sample.covariance, 0, 1) + "\n";
   }
   return csv;
+}
+
+// A triad's log corrected; refused when the corrected magnitudes are not about 1 g, which an
+// accelerometer's are at rest and in ordinary motion: the log is then in another unit than
+// the calibration's, or from another sensor.
+Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
+                       const Eigen::MatrixXd& covariance, const CalibrationRecord& record,
+                       const DataSource& source, std::string* csv, std::string* summary) {
+  std::vector<CorrectedTriadSample> samples;
+  samples.reserve(log.size());
+  std::vector<double> magnitude;
+  magnitude.reserve(log.size());
+  for (const std::array<double, 3>& output : log.output) {
+    samples.push_back(CorrectTriad(parameters, covariance, output));
+    magnitude.push_back(samples.back().acceleration.norm());
+  }
+  std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
+  const double median = magnitude[magnitude.size() / 2];
+  if (!(median >= 0.5 * record.gravity_mps2 && median <= 2.0 * record.gravity_mps2)) {
+    return Status::Error(StringPrintf(
+        "%s: corrected by %s, the log's median |a| is %.4g m/s^2, not about g = %g: is the log "
+        "in the calibration's output unit (%s) and from the same sensor?",
+        FLAGS_in.c_str(), FLAGS_calibration.c_str(), median, record.gravity_mps2,
+        record.output_unit.c_str()));
+  }
+  *csv = ProvenanceLines(source);
+  *csv +=
+      "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,"
+      "corr_yz\n";
+  for (size_t j = 0; j < log.size(); ++j) {
+    const CorrectedTriadSample& sample = samples[j];
+    *csv += RoundTripDouble(log.timestamp_s[j]);
+    for (int k = 0; k < 3; ++k) *csv += "," + RoundTripDouble(sample.acceleration[k]);
+    for (int k = 0; k < 3; ++k) *csv += StringPrintf(",%.6g", std::sqrt(sample.covariance(k, k)));
+    *csv += "," + Correlation(sample.covariance, 0, 1) + "," +
+            Correlation(sample.covariance, 0, 2) + "," + Correlation(sample.covariance, 1, 2) +
+            "\n";
+  }
+  const CorrectedTriadSample& first = samples.front();
+  *summary = StringPrintf(
+      "accelcal apply: %zu triad samples corrected (t %.6g to %.6g s) -> %s\n"
+      "  first sample  output (%.8g, %.8g, %.8g) %s -> corrected (%.6g, %.6g, %.6g) m/s^2, "
+      "sigma (%.3g, %.3g, %.3g) m/s^2\n"
+      "  median |a| over the log %.6g m/s^2 (g = %g)\n",
+      log.size(), log.timestamp_s.front(), log.timestamp_s.back(), FLAGS_out.c_str(),
+      log.output[0][0], log.output[0][1], log.output[0][2], record.output_unit.c_str(),
+      first.acceleration.x(), first.acceleration.y(), first.acceleration.z(),
+      std::sqrt(first.covariance(0, 0)), std::sqrt(first.covariance(1, 1)),
+      std::sqrt(first.covariance(2, 2)), median, record.gravity_mps2);
+  return Status::Ok();
+}
+
+// The triad path of Run: its own log layout and output columns.
+Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
+  TriadParameters parameters;
+  Eigen::MatrixXd covariance;
+  TriadOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(
+      TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
+  TriadLog log;
+  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_in, &log));
+  DataSource source;
+  ACCELCAL_RETURN_IF_ERROR(
+      DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source));
+  std::string csv;
+  ACCELCAL_RETURN_IF_ERROR(
+      CorrectTriadLog(log, parameters, covariance, record, source, &csv, summary));
+  ACCELCAL_RETURN_IF_ERROR(WriteOutputFiles({{FLAGS_out, csv}}));
+  *summary = WithDataLine(source, *summary);
+  return Status::Ok();
 }
 
 std::string Summary(const VehicleRun& log, const Eigen::Vector4d& parameters,
@@ -89,6 +178,13 @@ int Run(int argc, char** argv) {
   Status status = CheckFlags();
   CalibrationRecord record;
   if (status.ok()) status = ReadCalibrationFile(FLAGS_calibration, &record);
+  if (status.ok() && record.geometry == "triad") {
+    std::string summary;
+    status = ApplyTriad(record, &summary);
+    if (!status.ok()) return ExitWithError("apply", status);
+    std::cout << summary << std::flush;
+    return 0;
+  }
   Eigen::Vector4d parameters;
   Eigen::Matrix4d covariance;
   if (status.ok()) status = TwoAxisBaseline(record, FLAGS_calibration, &parameters, &covariance);

@@ -31,6 +31,7 @@
 
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/triad_ml_calibration.h"
+#include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
@@ -51,6 +52,7 @@ DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
+DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
 
 ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
@@ -83,7 +85,13 @@ Status ValidateFlags() {
     return Status::Error("--window=" + std::to_string(FLAGS_window) +
                          " is even; the window is centred on its sample, give an odd number");
   }
-  return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{{FLAGS_log}, {}});
+  if (!FLAGS_calibration_out.empty() && FLAGS_mode != "ml") {
+    return Status::Error(
+        "--calibration_out needs --mode=ml: a calibration file carries the parameters' "
+        "covariance, and imu_tk's cost gives none");
+  }
+  return CheckOutputPaths({{"--json", FLAGS_json}, {"--calibration_out", FLAGS_calibration_out}},
+                          RunInputs{{FLAGS_log}, {}});
 }
 
 Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
@@ -157,12 +165,17 @@ int Run(int argc, char** argv) {
   CalibrateImuReport report;
   DataSource source;
   std::string json_text;
+  std::string calibration_text;
   Status status = ValidateFlags();
   if (status.ok()) status = Load(&log, &report, &source);
   if (status.ok()) status = Solve(log, &report);
   if (status.ok() && !FLAGS_json.empty())
     status = JsonText(WithProvenance(CalibrateImuJson(report), source), &json_text);
-  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (status.ok() && !FLAGS_calibration_out.empty())
+    status = JsonText(CalibrationJson(TriadCalibrationRecord(report, source)), &calibration_text);
+  if (status.ok()) {
+    status = WriteOutputFiles({{FLAGS_json, json_text}, {FLAGS_calibration_out, calibration_text}});
+  }
   if (!status.ok()) return ExitWithError("calibrate_imu", status);
   std::cout << WithDataLine(source, CalibrateImuTable(report, FLAGS_v >= 1)) << std::flush;
   return 0;

@@ -23,7 +23,7 @@ namespace {
 CalibrationRecord ExampleRecord() {
   CalibrationRecord record;
   GeometryInfo geometry;
-  EXPECT_TRUE(GeometryOf("two_axis", &geometry).ok());
+  EXPECT_TRUE(GeometryOf("two_axis", "m/s^2", &geometry).ok());
   record.parameter_order = geometry.parameters;
   record.values = Eigen::Vector4d(0.0767, -0.0301, -0.0175, 0.0100);
   Eigen::Matrix4d covariance = Eigen::Matrix4d::Zero();

@@ -15,8 +15,10 @@
 // every sample (a bias error moves them all alike), not the sample-to-sample scatter.
 
 #include <Eigen/Core>
+#include <array>
 
 #include "estimation/baseline_parameters.h"
+#include "models/triad.h"
 
 namespace accelcal {
 
@@ -30,6 +32,19 @@ struct CorrectedSample {
 CorrectedSample CorrectBaseline(const Eigen::Vector4d& parameters,
                                 const Eigen::Matrix4d& covariance, double measured_x,
                                 double measured_y);
+
+// A triad's correction a = T K (u - b) (models/triad.h) of one output u (in the calibration's
+// output unit), and the covariance of a that the parameters' covariance (9x9, block order)
+// gives, to first order, J C J^T with J = d a / d parameters (automatic differentiation of
+// TriadSpecificForce itself, so the correction and its Jacobian cannot disagree). As for the
+// baseline, it is shared by every sample and excludes the sensor's noise.
+struct CorrectedTriadSample {
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  // m/s^2
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();    // (m/s^2)^2
+};
+CorrectedTriadSample CorrectTriad(const TriadParameters& parameters,
+                                  const Eigen::MatrixXd& covariance,
+                                  const std::array<double, 3>& output);
 
 }  // namespace accelcal
 

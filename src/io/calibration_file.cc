@@ -78,8 +78,10 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
   record->values.resize(n);
   for (size_t i = 0; i < n; ++i) {
     const std::string& name = geometry.parameters[i];
+    // Finite and of a sane size; a triad's offsets are counts of ADCs of up to 30 bits.
+    const double limit = record->geometry == "triad" ? 1e9 : 1e6;
     ACCELCAL_RETURN_IF_ERROR(ReadNumber(json.value("parameters", nlohmann::json()), name,
-                                        "parameters", -1e6, 1e6, &record->values[i]));
+                                        "parameters", -limit, limit, &record->values[i]));
     const nlohmann::json units = json.value("units", nlohmann::json());
     if (!units.is_object() || !units.contains(name) || units[name] != geometry.units[i]) {
       return Status::Error("units/" + name + " must be \"" + geometry.units[i] + "\", the unit " +
@@ -108,9 +110,21 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
   return CheckCovariance(record->covariance, record->parameter_order);
 }
 
-// A correction divides by 1 + scale_k; no real sensor's gain is off by 90%.
+// A correction divides by 1 + scale_k; no real sensor's gain is off by 90%. A triad's gains
+// must be positive and agree with its output unit.
 Status CheckGains(const CalibrationRecord& record) {
-  if (record.geometry != "two_axis") return Status::Ok();
+  if (record.geometry == "triad") {
+    TriadParameters parameters;
+    for (int p = 0; p < kTriadParameterCount; ++p) parameters[p] = record.values[p];
+    TriadOutputUnit unit;
+    ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(record.output_unit, &unit));
+    for (int k = 0; k < 3; ++k) {
+      if (!(parameters[kTriadGainX + k] > 0.0)) {
+        return Status::Error(std::string("parameters/gain_") + "xyz"[k] + " is not positive");
+      }
+    }
+    return CheckGainsMatchUnit(parameters, unit).WithContext("parameters");
+  }
   for (const char* scale : {"scale_x", "scale_y"}) {
     if (!(1.0 + record.values[record.IndexOf(scale)] > 0.1)) {
       return Status::Error(std::string("1 + ") + scale +
@@ -129,27 +143,54 @@ int CalibrationRecord::IndexOf(const std::string& name) const {
   return -1;
 }
 
-Status GeometryOf(const std::string& geometry, GeometryInfo* info) {
-  if (geometry != "two_axis") {
-    return Status::Error("unknown sensor geometry '" + geometry + "' (known: two_axis)");
+Status GeometryOf(const std::string& geometry, const std::string& output_unit, GeometryInfo* info) {
+  *info = GeometryInfo();
+  if (geometry == "two_axis") {
+    if (output_unit != "m/s^2") {
+      return Status::Error("the two-axis geometry's outputs are in m/s^2, not '" + output_unit +
+                           "'");
+    }
+    for (const Parameter parameter :
+         {Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY, Parameter::kScaleY}) {
+      info->parameters.push_back(Info(parameter).name);
+      info->units.push_back(Info(parameter).unit);
+    }
+    info->axes = {"x", "y"};
+    info->effects = {"bias", "scale"};
+    info->measurement = "m_k = (1 + scale_k) a_k + bias_k + noise_k, k = x, y";
+    info->correction = "a_k = (m_k - bias_k) / (1 + scale_k)";
+    info->conventions =
+        "m_k: the axis's output and a_k: the true specific force along axis k, both in m/s^2; "
+        "on the tilt table a_x = -g sin(theta), a_y = -g cos(theta) (spec/error-model.md); "
+        "noise_k white, of variance noise_variance.k";
+    return Status::Ok();
   }
-  info->parameters.clear();
-  info->units.clear();
-  for (const Parameter parameter :
-       {Parameter::kBiasX, Parameter::kScaleX, Parameter::kBiasY, Parameter::kScaleY}) {
-    info->parameters.push_back(Info(parameter).name);
-    info->units.push_back(Info(parameter).unit);
+  if (geometry == "triad") {
+    TriadOutputUnit unit;
+    ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(output_unit, &unit).WithContext("output_unit"));
+    for (int p = 0; p < kTriadParameterCount; ++p) {
+      info->parameters.push_back(TriadParameterInfos()[p].name);
+      info->units.push_back(TriadParameterUnit(p, unit));
+    }
+    info->axes = {"x", "y", "z"};
+    info->effects = {"misalignment", "gain", "offset"};
+    info->measurement = "u = K^-1 T^-1 a + b + noise (docs/triad.md)";
+    info->correction =
+        "a = T K (u - b), T = [[1, -misalignment_yz, misalignment_zy], [0, 1, "
+        "-misalignment_zx], [0, 0, 1]], K = diag(gain_x, gain_y, gain_z), b = (offset_x, "
+        "offset_y, offset_z)";
+    info->conventions =
+        "u: the triad's output in output_unit; a: specific force in m/s^2 in the frame whose x "
+        "is the x sensing axis and whose y lies in the plane of the x and y sensing axes; noise "
+        "white, of variance noise_variance.k per sample (output_unit squared)";
+    return Status::Ok();
   }
-  info->axes = {"x", "y"};
-  info->effects = {"bias", "scale"};
-  info->measurement = "m_k = (1 + scale_k) a_k + bias_k + noise_k, k = x, y";
-  info->correction = "a_k = (m_k - bias_k) / (1 + scale_k)";
-  return Status::Ok();
+  return Status::Error("unknown sensor geometry '" + geometry + "' (known: two_axis, triad)");
 }
 
 nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   GeometryInfo geometry;
-  const bool known = GeometryOf(record.geometry, &geometry).ok();
+  const bool known = GeometryOf(record.geometry, record.output_unit, &geometry).ok();
   nlohmann::json parameters = nlohmann::json::object();
   nlohmann::json units = nlohmann::json::object();
   nlohmann::json stddev = nlohmann::json::object();
@@ -163,33 +204,31 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
     for (int j = 0; j < record.values.size(); ++j) row.push_back(record.covariance(i, j));
     covariance.push_back(row);
   }
-  nlohmann::json noise = {{"unit", "(m/s^2)^2"}, {"from", record.noise_variance_from}};
+  nlohmann::json noise = {{"unit", "(" + record.output_unit + ")^2"},
+                          {"from", record.noise_variance_from}};
   for (size_t k = 0; k < record.noise_variance.size() && k < geometry.axes.size(); ++k) {
     noise[geometry.axes[k]] = record.noise_variance[k];
   }
-  nlohmann::json json = {
-      {"format", kCalibrationFormat},
-      {"format_version", kCalibrationFormatVersion},
-      {"model",
-       {{"geometry", record.geometry},
-        {"axes", geometry.axes},
-        {"effects", geometry.effects},
-        {"measurement", known ? geometry.measurement : ""},
-        {"correction", known ? geometry.correction : ""},
-        {"conventions",
-         "m_k: the axis's output and a_k: the true specific force along axis k, both in m/s^2; "
-         "on the tilt table a_x = -g sin(theta), a_y = -g cos(theta) (spec/error-model.md); "
-         "noise_k white, of variance noise_variance.k"},
-        {"document", "docs/calibration.md"}}},
-      {"gravity_mps2", record.gravity_mps2},
-      {"parameter_order", record.parameter_order},
-      {"parameters", parameters},
-      {"units", units},
-      {"stddev", stddev},
-      {"covariance", covariance},
-      {"noise_variance", noise},
-      {"fit", record.fit},
-      {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}};
+  nlohmann::json json = {{"format", kCalibrationFormat},
+                         {"format_version", kCalibrationFormatVersion},
+                         {"model",
+                          {{"geometry", record.geometry},
+                           {"axes", geometry.axes},
+                           {"effects", geometry.effects},
+                           {"measurement", known ? geometry.measurement : ""},
+                           {"correction", known ? geometry.correction : ""},
+                           {"output_unit", record.output_unit},
+                           {"conventions", known ? geometry.conventions : ""},
+                           {"document", "docs/calibration.md"}}},
+                         {"gravity_mps2", record.gravity_mps2},
+                         {"parameter_order", record.parameter_order},
+                         {"parameters", parameters},
+                         {"units", units},
+                         {"stddev", stddev},
+                         {"covariance", covariance},
+                         {"noise_variance", noise},
+                         {"fit", record.fit},
+                         {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}};
   AddProvenanceJson(record.source, &json);
   return json;
 }
@@ -217,8 +256,15 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   const nlohmann::json model = json.value("model", nlohmann::json::object());
   if (!model.is_object()) return Status::Error(path + ": \"model\" must be an object");
   ACCELCAL_RETURN_IF_ERROR(in_file(ReadString(model, "geometry", &parsed.geometry)));
+  // Version 1 files of the two-axis geometry written before the triad have no output_unit:
+  // theirs is m/s^2.
+  if (model.contains("output_unit") || parsed.geometry != "two_axis") {
+    ACCELCAL_RETURN_IF_ERROR(
+        in_file(ReadString(model, "output_unit", &parsed.output_unit).WithContext("model")));
+  }
   GeometryInfo geometry;
-  ACCELCAL_RETURN_IF_ERROR(in_file(GeometryOf(parsed.geometry, &geometry)));
+  ACCELCAL_RETURN_IF_ERROR(
+      in_file(GeometryOf(parsed.geometry, parsed.output_unit, &geometry).WithContext("model")));
   ACCELCAL_RETURN_IF_ERROR(in_file(ParseParameters(json, geometry, &parsed)));
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckGains(parsed)));
   ACCELCAL_RETURN_IF_ERROR(
@@ -249,6 +295,19 @@ Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
   *parameters = record.values;
   *covariance = record.covariance;
   return Status::Ok();
+}
+
+Status TriadCalibration(const CalibrationRecord& record, const std::string& path,
+                        TriadParameters* parameters, Eigen::MatrixXd* covariance,
+                        TriadOutputUnit* unit) {
+  if (record.geometry != "triad" || record.values.size() != kTriadParameterCount) {
+    return Status::Error(path +
+                         ": a triad (x, y, z) calibration is needed; this one's geometry is " +
+                         record.geometry);
+  }
+  for (int p = 0; p < kTriadParameterCount; ++p) (*parameters)[p] = record.values[p];
+  *covariance = record.covariance;
+  return ParseTriadOutputUnit(record.output_unit, unit).WithContext(path);
 }
 
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record) {

@@ -28,6 +28,8 @@
 
 #include "common/status.h"
 #include "io/provenance.h"
+#include "models/triad.h"
+#include "models/triad_units.h"
 
 namespace accelcal {
 
@@ -37,12 +39,16 @@ constexpr int kCalibrationFormatVersion = 1;
 // A calibration: parameters by name with their joint covariance, under a sensor geometry.
 struct CalibrationRecord {
   std::string geometry = "two_axis";
+  // The unit of the sensor's output the parameters map from: "m/s^2" for two_axis; for a
+  // triad "count", "m/s^2" or "g" (models/triad_units.h), which sets its parameters' units.
+  std::string output_unit = "m/s^2";
   std::vector<std::string> parameter_order;  // spec names
   Eigen::VectorXd values;
   Eigen::MatrixXd covariance;  // parameter_order's order
   double gravity_mps2 = 9.8;
-  // Per axis ("x", "y"), (m/s^2)^2, and where it came from: "--noise_variance",
-  // a conditions file's name, or "estimated from the residuals".
+  // Per axis (the geometry's axes), in output_unit squared, and where it came from:
+  // "--noise_variance", a conditions file's name, "estimated from the residuals" or, for a
+  // triad, "pooled within-pose variances".
   std::vector<double> noise_variance;
   std::string noise_variance_from;
   nlohmann::json fit = nlohmann::json::object();  // samples, chi-square, verdict
@@ -56,8 +62,11 @@ struct CalibrationRecord {
   int IndexOf(const std::string& name) const;
 };
 
-// The geometry's parameters, units and axes (only "two_axis" today: bias_x, scale_x,
-// bias_y, scale_y from the catalogue, models/effects.h).
+// A geometry's parameters, units and axes, for a given output unit:
+//   two_axis (output m/s^2): bias_x, scale_x, bias_y, scale_y from the catalogue,
+//     models/effects.h;
+//   triad (output count, m/s^2 or g): misalignment_yz, _zy, _zx, gain_x.., offset_x.. of
+//     models/triad.h, their units from models/triad_units.h.
 struct GeometryInfo {
   std::vector<std::string> parameters;
   std::vector<std::string> units;
@@ -65,8 +74,9 @@ struct GeometryInfo {
   std::vector<std::string> effects;
   const char* measurement;  // the model, in the spec's words
   const char* correction;   // its inverse, as apply uses it
+  const char* conventions;  // what the symbols are, in words
 };
-Status GeometryOf(const std::string& geometry, GeometryInfo* info);
+Status GeometryOf(const std::string& geometry, const std::string& output_unit, GeometryInfo* info);
 
 // The file's JSON. The current UTC time is written as created_utc.
 nlohmann::json CalibrationJson(const CalibrationRecord& record);
@@ -81,6 +91,12 @@ Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record);
 // `path`, for another geometry.
 Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
                        Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance);
+
+// A triad calibration's parameters (models/triad.h's block order), covariance and output
+// unit; fails, naming `path`, for another geometry.
+Status TriadCalibration(const CalibrationRecord& record, const std::string& path,
+                        TriadParameters* parameters, Eigen::MatrixXd* covariance,
+                        TriadOutputUnit* unit);
 
 }  // namespace accelcal
 

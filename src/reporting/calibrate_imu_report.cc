@@ -291,6 +291,30 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   return out.str();
 }
 
+CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
+                                         const DataSource& source) {
+  const TriadMlResult& ml = report.ml;
+  CalibrationRecord record;
+  record.geometry = "triad";
+  record.output_unit = TriadOutputUnitName(report.unit);
+  record.values.resize(kTriadParameterCount);
+  record.covariance.resize(kTriadParameterCount, kTriadParameterCount);
+  for (int i = 0; i < kTriadParameterCount; ++i) {
+    record.parameter_order.push_back(TriadParameterInfos()[i].name);
+    record.values[i] = ml.parameters[i];
+    for (int j = 0; j < kTriadParameterCount; ++j) record.covariance(i, j) = ml.covariance[i][j];
+  }
+  record.gravity_mps2 = report.ml_options.gravity_mps2;
+  record.noise_variance.assign(ml.noise_variance.begin(), ml.noise_variance.end());
+  record.noise_variance_from = "pooled within-pose variances";
+  record.fit = {
+      {"poses", ml.pose_count},       {"samples", report.ml_sample_count}, {"chi2", ml.chi2},
+      {"dof", ml.degrees_of_freedom}, {"chi2_p_value", ml.p_value},        {"alpha", 0.01},
+      {"verdict", FitVerdict(ml)}};
+  record.source = source;
+  return record;
+}
+
 nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
   const ImuTkSweepEntry& imu_tk = report.result.best();

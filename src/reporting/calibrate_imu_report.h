@@ -14,6 +14,8 @@
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/triad_ml_calibration.h"
+#include "io/calibration_file.h"
+#include "io/provenance.h"
 #include "models/triad_units.h"
 
 namespace accelcal {
@@ -43,6 +45,9 @@ constexpr char kImuTkXsensAccSha256[] =
     "335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510";
 
 std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report);
+// Mode ml's result as a calibration file's record (io/calibration_file.h, geometry triad).
+CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
+                                         const DataSource& source);
 nlohmann::json CalibrateImuJson(const CalibrateImuReport& report);
 
 }  // namespace accelcal

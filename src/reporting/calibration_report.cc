@@ -58,7 +58,7 @@ CalibrationRecord TwoAxisCalibrationRecord(const BaselineFit& fit, double gravit
 
 std::string CalibrationTable(const CalibrationRecord& record, const std::string& out) {
   GeometryInfo geometry;
-  if (!GeometryOf(record.geometry, &geometry).ok()) return "";
+  if (!GeometryOf(record.geometry, record.output_unit, &geometry).ok()) return "";
   std::string text =
       "accelcal calibrate: bias and scale per axis from the tilt test alone\n\n"
       "  parameter   unit         value          sigma\n";
