@@ -54,15 +54,14 @@ Status ZeroFloor(int axis, int window) {
       kAxisNames[axis], window));
 }
 
-// "3 (2.8 to 51.4 s, median 7.8 s)" or "0".
+// " (2.8 to 51.4 s, median 7.8 s)", or nothing for no intervals.
 std::string DescribeDurations(const std::vector<StaticInterval>& intervals) {
-  if (intervals.empty()) return "0";
+  if (intervals.empty()) return "";
   std::vector<double> durations;
   for (const StaticInterval& interval : intervals) durations.push_back(interval.duration_s);
   const double median = Quantile(&durations, 0.5);
   const auto [shortest, longest] = std::minmax_element(durations.begin(), durations.end());
-  return StringPrintf("%zu (%.1f to %.1f s, median %.1f s)", intervals.size(), *shortest, *longest,
-                      median);
+  return StringPrintf(" (%.1f to %.1f s, median %.1f s)", *shortest, *longest, median);
 }
 
 Status CheckOptions(const NoiseFloorOptions& options) {
@@ -248,11 +247,11 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
           : StringPrintf("record at least %d more poses, each held still for at least %.1f s",
                          options.min_intervals - found, hold_s);
   return Status::Error(StringPrintf(
-      "found %s static intervals of at least %g s and %s shorter ones; the calibration needs at "
-      "least %d poses: %s",
-      DescribeDurations(detection->intervals).c_str(), options.min_interval_s,
-      DescribeDurations(detection->short_intervals).c_str(), options.min_intervals,
-      advice.c_str()));
+      "found %d static intervals of at least %g s%s and %zu shorter ones%s; the calibration needs "
+      "at least %d poses: %s",
+      found, options.min_interval_s, DescribeDurations(detection->intervals).c_str(),
+      detection->short_intervals.size(), DescribeDurations(detection->short_intervals).c_str(),
+      options.min_intervals, advice.c_str()));
 }
 
 }  // namespace accelcal
