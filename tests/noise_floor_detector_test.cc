@@ -67,8 +67,17 @@ TriadSession SimulateSession(int poses, double hold_s, uint64_t seed) {
   return SimulateTriadSession(XsensLikeSession(), holds, &random);
 }
 
-// The refusal's one line in the test's output, for a reader to judge.
-void Show(const Status& status) { std::printf("[ refusal   ] %s\n", status.message().c_str()); }
+// The detector's refusal of `log`, its one line also shown in the test's output for a reader to
+// judge; empty when it was not refused.
+std::string Refusal(const TriadLog& log, const NoiseFloorOptions& options,
+                    NoiseFloorDetection* detection) {
+  const Status status = DetectStaticIntervalsFromNoiseFloor(log, options, detection);
+  if (status.ok()) return "";
+  std::printf("[ refusal   ] %s\n", status.message().c_str());
+  return status.message();
+}
+#define EXPECT_SAYS(message, text) \
+  EXPECT_NE((message).find(text), std::string::npos) << "refusal: '" << (message) << "'"
 
 int Overlap(const StaticInterval& a, const StaticInterval& b) {
   return std::max(0, std::min(a.end, b.end) - std::max(a.start, b.start) + 1);
@@ -205,10 +214,9 @@ TEST(NoiseFloorDetector, RefusesALogThatNeverRests) {
   options.turn_s = 2.0;
   const TriadSession session = SimulateTriadSession(options, holds, &random);
   NoiseFloorDetection detection;
-  const Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
-  EXPECT_NE(status.message().find("never rests"), std::string::npos) << status.message();
+  const std::string refusal = Refusal(session.log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "never rests");
 }
 
 TEST(NoiseFloorDetector, RefusesAnOutputWithoutNoise) {
@@ -219,46 +227,38 @@ TEST(NoiseFloorDetector, RefusesAnOutputWithoutNoise) {
   options.noise_stddev = {0.0, 0.0, 0.0};
   const TriadSession session = SimulateTriadSession(options, holds, &random);
   NoiseFloorDetection detection;
-  Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
-  EXPECT_NE(status.message().find("constant to its last digit"), std::string::npos)
-      << status.message();
+  std::string refusal = Refusal(session.log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "constant to its last digit");
 
   // One axis stuck, the others noisy.
   TriadLog stuck = SimulateSession(12, 3.0, 42).log;
   for (std::array<double, 3>& sample : stuck.output) sample[1] = 65535.0;
-  status = DetectStaticIntervalsFromNoiseFloor(stuck, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
-  EXPECT_NE(status.message().find("axis y is constant"), std::string::npos) << status.message();
+  refusal = Refusal(stuck, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "axis y is constant");
 }
 
 TEST(NoiseFloorDetector, RefusesTooFewPosesSayingHowManyAndWhatToAdd) {
   const TriadSession session = SimulateSession(6, 3.0, 51);
   NoiseFloorDetection detection;
-  const Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
+  const std::string refusal = Refusal(session.log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
   EXPECT_EQ(detection.intervals.size(), 6u);  // what was found stays for the caller to show
-  EXPECT_NE(status.message().find("found 6 static intervals of at least 1 s ("), std::string::npos)
-      << status.message();
-  EXPECT_NE(status.message().find("at least 10 poses"), std::string::npos) << status.message();
-  EXPECT_NE(status.message().find("record at least 4 more poses"), std::string::npos)
-      << status.message();
+  EXPECT_SAYS(refusal, "found 6 static intervals of at least 1 s (");
+  EXPECT_SAYS(refusal, "at least 10 poses");
+  EXPECT_SAYS(refusal, "record at least 4 more poses");
 }
 
 TEST(NoiseFloorDetector, RefusesHoldsTooShortSayingHowLongToHold) {
   // 12 holds of 1.5 s: intervals of about 0.5 s, below the 1 s minimum.
   const TriadSession session = SimulateSession(12, 1.5, 61);
   NoiseFloorDetection detection;
-  const Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
+  const std::string refusal = Refusal(session.log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
   EXPECT_EQ(detection.intervals.size(), 0u);
   EXPECT_EQ(detection.short_intervals.size(), 12u);
-  EXPECT_NE(status.message().find("hold each pose still for at least 2.0 s"), std::string::npos)
-      << status.message();
+  EXPECT_SAYS(refusal, "hold each pose still for at least 2.0 s");
 
   // With the minimum lowered to 0.3 s the same log gives its 12 poses.
   NoiseFloorOptions options;
@@ -272,19 +272,17 @@ TEST(NoiseFloorDetector, RefusesBadOptionsAndALogShorterThanTheWindow) {
   NoiseFloorDetection detection;
   NoiseFloorOptions options;
   options.threshold_factor = 1.3;  // white noise over 101 samples crosses it 1 time in 40
-  Status status = DetectStaticIntervalsFromNoiseFloor(session.log, options, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
-  EXPECT_NE(status.message().find("within white noise's own spread"), std::string::npos);
+  std::string refusal = Refusal(session.log, options, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "within white noise's own spread");
   options = NoiseFloorOptions();
   options.window_samples = 100;
   EXPECT_FALSE(DetectStaticIntervalsFromNoiseFloor(session.log, options, &detection).ok());
   TriadLog short_log;
   for (int i = 0; i < 50; ++i) short_log.Add(0.01 * i, 1.0 * i, 2.0, 3.0);
-  status = DetectStaticIntervalsFromNoiseFloor(short_log, {}, &detection);
-  ASSERT_FALSE(status.ok());
-  Show(status);
-  EXPECT_NE(status.message().find("fewer than the static detector's window"), std::string::npos);
+  refusal = Refusal(short_log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "fewer than the static detector's window");
 }
 
 // (c), (d) imu_tk's Xsens log (issue 20): an initial rest of about 50 s and 37 poses.
