@@ -26,7 +26,7 @@
 // Threshold: a window is still when V_i,k < m s_k^2 on every axis, m = threshold_factor
 // (default 10).
 //   False alarms (a still window called moving, which splits or shortens a pose): for white
-//   noise their probability per window and axis is P(chi2_{w-1} > m (w - 1)), 1e-150 for
+//   noise their probability per window and axis is P(chi2_{w-1} > m (w - 1)), 2e-148 for
 //   m = 10, w = 101; factors that white noise alone crosses with probability above 1e-6 are
 //   refused. Real poses also carry small disturbances: on imu_tk's Xsens log the still
 //   windows reach 2 to 7 times the floor (hand taps, vibration) while moving windows reach
