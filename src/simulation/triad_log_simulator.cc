@@ -1,0 +1,94 @@
+#include "simulation/triad_log_simulator.h"
+
+#include <cmath>
+
+namespace accelcal {
+namespace {
+
+using Vector3 = std::array<double, 3>;
+
+Vector3 Cross(const Vector3& a, const Vector3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+double Dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// Rodrigues' rotation of `v` about the unit `axis` by `angle_rad`.
+Vector3 Rotate(const Vector3& v, const Vector3& axis, double angle_rad) {
+  const Vector3 cross = Cross(axis, v);
+  const double along = Dot(axis, v) * (1.0 - std::cos(angle_rad));
+  const double c = std::cos(angle_rad);
+  const double s = std::sin(angle_rad);
+  return {v[0] * c + cross[0] * s + axis[0] * along, v[1] * c + cross[1] * s + axis[1] * along,
+          v[2] * c + cross[2] * s + axis[2] * along};
+}
+
+// The unit axis turning `from` towards `to`; for opposite directions any axis perpendicular to
+// `from` does.
+Vector3 TurnAxis(const Vector3& from, const Vector3& to) {
+  Vector3 axis = Cross(from, to);
+  double norm = std::sqrt(Dot(axis, axis));
+  if (norm < 1e-9) {
+    axis = Cross(from, std::abs(from[0]) < 0.9 ? Vector3{1.0, 0.0, 0.0} : Vector3{0.0, 1.0, 0.0});
+    norm = std::sqrt(Dot(axis, axis));
+  }
+  return {axis[0] / norm, axis[1] / norm, axis[2] / norm};
+}
+
+class SampleWriter {
+ public:
+  SampleWriter(const TriadSessionOptions& options, RandomSource* random, TriadLog* log)
+      : options_(options), random_(random), log_(log) {}
+
+  void Add(const Vector3& direction) {
+    const double force[3] = {options_.gravity_mps2 * direction[0],
+                             options_.gravity_mps2 * direction[1],
+                             options_.gravity_mps2 * direction[2]};
+    double actual_raw[3];
+    TriadRawOutput(options_.truth.data(), force, actual_raw);
+    double measured[3];
+    for (int k = 0; k < 3; ++k) {
+      measured[k] = actual_raw[k] + options_.noise_stddev[k] * random_->StandardNormal();
+      if (options_.round_to_counts) measured[k] = std::round(measured[k]);
+    }
+    const double t_s = options_.start_s + static_cast<double>(log_->size()) / options_.rate_hz;
+    log_->Add(t_s, measured[0], measured[1], measured[2]);
+  }
+  int size() const { return static_cast<int>(log_->size()); }
+
+ private:
+  const TriadSessionOptions& options_;
+  RandomSource* random_;
+  TriadLog* log_;
+};
+
+}  // namespace
+
+TriadSession SimulateTriadSession(const TriadSessionOptions& options,
+                                  const std::vector<TriadHold>& holds, RandomSource* random) {
+  TriadSession session;
+  SampleWriter writer(options, random, &session.log);
+  const int turn_samples = static_cast<int>(std::lround(options.turn_s * options.rate_hz));
+  for (size_t p = 0; p < holds.size(); ++p) {
+    const Vector3& direction = holds[p].direction;
+    TriadHoldSamples samples;
+    samples.start = writer.size();
+    const int hold_samples = static_cast<int>(std::lround(holds[p].duration_s * options.rate_hz));
+    for (int i = 0; i < hold_samples; ++i) writer.Add(direction);
+    samples.end = writer.size() - 1;
+    session.holds.push_back(samples);
+    if (p + 1 == holds.size()) break;
+    const Vector3& next = holds[p + 1].direction;
+    const Vector3 axis = TurnAxis(direction, next);
+    const double angle_rad = std::atan2(
+        std::sqrt(Dot(Cross(direction, next), Cross(direction, next))), Dot(direction, next));
+    // Samples strictly inside the turn: its end points are the holds' own samples.
+    for (int i = 1; i < turn_samples; ++i) {
+      const double progress = 0.5 * (1.0 - std::cos(M_PI * i / turn_samples));
+      writer.Add(Rotate(direction, axis, angle_rad * progress));
+    }
+  }
+  return session;
+}
+
+}  // namespace accelcal

@@ -1,0 +1,56 @@
+#ifndef ACCELCAL_SIMULATION_TRIAD_LOG_SIMULATOR_H_
+#define ACCELCAL_SIMULATION_TRIAD_LOG_SIMULATOR_H_
+
+// A whole multi-position session of a triad (models/triad.h), sample by sample, as a static
+// detector sees it: the sensor held still in one orientation after another, turned between
+// them, every sample with white Gaussian noise. The holds' true first and last samples come
+// back beside the log, so a detector's intervals can be checked against them.
+//
+// Hold p: specific force g n_p. Turn from n_p to n_p+1 over `turn_s`: the direction rotates
+// about n_p x n_p+1 by the angle between them times (1 - cos(pi tau / turn_s)) / 2, tau the time
+// into the turn, so it starts and ends at rest, as a hand does, and the first samples of a turn
+// differ from the hold by little (the hardest boundaries for a detector). The triad outputs
+// u = K^-1 T^-1 a + b (TriadRawOutput), plus noise, rounded to whole counts when asked (an ADC).
+// The log starts with the first hold: no initial rest unless the caller makes it long.
+
+#include <array>
+#include <vector>
+
+#include "common/triad_log.h"
+#include "models/triad.h"
+#include "simulation/random.h"
+
+namespace accelcal {
+
+struct TriadHold {
+  std::array<double, 3> direction{};  // unit vector of the specific force
+  double duration_s = 0.0;            // 0: the turn passes through it without stopping
+};
+
+struct TriadSessionOptions {
+  TriadParameters truth{};
+  double gravity_mps2 = 9.81;
+  double rate_hz = 100.0;
+  double turn_s = 1.5;
+  std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in counts
+  bool round_to_counts = true;
+  double start_s = 0.0;  // time stamp of the first sample
+};
+
+// The true samples of a hold, inclusive (end < start for a hold of no samples).
+struct TriadHoldSamples {
+  int start = 0;
+  int end = -1;
+};
+
+struct TriadSession {
+  TriadLog log;
+  std::vector<TriadHoldSamples> holds;  // one per TriadHold, in order
+};
+
+TriadSession SimulateTriadSession(const TriadSessionOptions& options,
+                                  const std::vector<TriadHold>& holds, RandomSource* random);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_SIMULATION_TRIAD_LOG_SIMULATOR_H_
