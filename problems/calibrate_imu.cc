@@ -30,6 +30,8 @@
 #include <iostream>
 
 #include "estimation/imu_tk_calibration.h"
+#include "estimation/noise_floor_detector.h"
+#include "estimation/triad_initial_guess.h"
 #include "estimation/triad_ml_calibration.h"
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
@@ -51,6 +53,9 @@ DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in 
 DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
+DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/noise_floor_detector.h); imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
+DEFINE_double(threshold_factor, 10.0, "Detector noise_floor: a window is still when its variance is below this times the noise floor's on every axis (white noise crosses 10 with probability 2e-148 at 101 samples; motion reaches 100 to 100000).");
+DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals shorter than this (s) are listed apart and not used.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
@@ -61,6 +66,8 @@ ACCELCAL_RENAMED_FLAG(initial_bias, initial_offset);
 ACCELCAL_FLAG_RANGE(window, 11, 100001);
 ACCELCAL_FLAG_RANGE(interval_samples, 2, 1000000);
 ACCELCAL_FLAG_RANGE(min_intervals, 3, 100000);
+ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
+ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 
 namespace accelcal {
 namespace {
@@ -84,6 +91,10 @@ Status ValidateFlags() {
   if (FLAGS_window % 2 == 0) {
     return Status::Error("--window=" + std::to_string(FLAGS_window) +
                          " is even; the window is centred on its sample, give an odd number");
+  }
+  if (FLAGS_detector != "noise_floor" && FLAGS_detector != "imu_tk") {
+    return Status::Error("--detector='" + FLAGS_detector +
+                         "' is not a detector; use --detector=noise_floor or imu_tk");
   }
   if (!FLAGS_calibration_out.empty() && FLAGS_mode != "ml") {
     return Status::Error(
@@ -133,8 +144,8 @@ Status InitialGuess(const TriadLog& log, TriadOutputUnit unit, TriadParameters* 
   return Status::Ok();
 }
 
-Status Solve(const TriadLog& log, CalibrateImuReport* report) {
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit).WithContext("--unit"));
+// imu_tk's calibration: the imu_tk mode's answer, and the ml mode's comparison.
+Status SolveImuTk(const TriadLog& log, CalibrateImuReport* report) {
   ImuTkOptions& options = report->options;
   options.gravity_mps2 = FLAGS_g;
   options.init_rest_s = FLAGS_init_rest_s;
@@ -147,15 +158,46 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   ACCELCAL_RETURN_IF_ERROR(
       CheckGainsMatchUnit(report->result.best().parameters, report->unit).WithContext(FLAGS_log));
   report->rest_end_s = log.timestamp_s[report->result.rest_end];
-  report->mode = FLAGS_mode;
-  if (FLAGS_mode != "ml") return Status::Ok();
-  // The same intervals as imu_tk's chosen k (its detector, kept for now), all their samples.
-  const std::vector<TriadPoseMean> poses =
-      PoseMeansOfIntervals(log, report->result.intervals, options.interval_samples);
+  return Status::Ok();
+}
+
+// Mode ml: the poses of the chosen detector, the maximum-likelihood fit from a start taken
+// from the poses themselves, and imu_tk's answer beside it when imu_tk's rules can give one.
+Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
+  report->detector = FLAGS_detector;
+  report->imu_tk_status = SolveImuTk(log, report);
+  if (FLAGS_detector == "imu_tk") {
+    ACCELCAL_RETURN_IF_ERROR(report->imu_tk_status);
+    const ImuTkResult& result = report->result;
+    for (size_t i = 0; i < result.intervals.size(); ++i) {
+      if (result.interval_used[i]) report->pose_intervals.push_back(result.intervals[i]);
+    }
+  } else {
+    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode; the
+    // unit is checked on its own then.
+    ACCELCAL_RETURN_IF_ERROR(
+        CheckOutputsMatchUnit(log, report->unit, AdcMidScale(log)).WithContext(FLAGS_log));
+    NoiseFloorOptions& options = report->noise_floor_options;
+    options.window_samples = FLAGS_window;
+    options.threshold_factor = FLAGS_threshold_factor;
+    options.min_interval_s = FLAGS_min_interval_s;
+    ACCELCAL_RETURN_IF_ERROR(DetectStaticIntervalsFromNoiseFloor(log, options, &report->noise_floor)
+                                 .WithContext(FLAGS_log));
+    report->pose_intervals = report->noise_floor.intervals;
+  }
+  const std::vector<TriadPoseMean> poses = PoseMeansOfIntervals(log, report->pose_intervals, 2);
   for (const TriadPoseMean& pose : poses) report->ml_sample_count += pose.sample_count;
   report->ml_options.gravity_mps2 = FLAGS_g;
-  report->ml_options.initial = report->result.best().parameters;
-  return CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log);
+  report->ml_options.initial = TriadStartFromPoses(poses, FLAGS_g);
+  ACCELCAL_RETURN_IF_ERROR(
+      CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log));
+  return CheckGainsMatchUnit(report->ml.parameters, report->unit).WithContext(FLAGS_log);
+}
+
+Status Solve(const TriadLog& log, CalibrateImuReport* report) {
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit).WithContext("--unit"));
+  report->mode = FLAGS_mode;
+  return FLAGS_mode == "ml" ? SolveMl(log, report) : SolveImuTk(log, report);
 }
 
 int Run(int argc, char** argv) {

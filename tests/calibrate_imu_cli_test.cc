@@ -195,7 +195,8 @@ TEST(CalibrateImuCli, ModeMlRefusesPosesInAPlaneNamingWhatTheyLeaveUndetermined)
                                      json);
   ExpectBadInputContract(result, "calibrate_imu", "cannot determine the triad: ");
   EXPECT_NE(result.stderr_text.find(" are not identifiable"), std::string::npos);
-  EXPECT_NE(result.stderr_text.find("lie within a few degrees of a plane"), std::string::npos);
+  EXPECT_NE(result.stderr_text.find("lie within a few degrees of a plane"), std::string::npos)
+      << result.stderr_text;
   EXPECT_NE(result.stderr_text.find("add poses with gravity along or near it"), std::string::npos);
   EXPECT_FALSE(testing::PathExists(json));
 }

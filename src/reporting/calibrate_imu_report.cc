@@ -240,20 +240,37 @@ std::string FitVerdict(const TriadMlResult& ml) {
 
 }  // namespace
 
+std::string PosesLine(const CalibrateImuReport& report) {
+  const TriadMlResult& ml = report.ml;
+  if (report.detector == "imu_tk") {
+    return StringPrintf(
+        "poses: the %d static intervals of at least %d samples that imu_tk's detector finds at "
+        "its chosen k = %d; each pose is the mean of ALL its samples (%d in all)\n",
+        ml.pose_count, report.options.interval_samples, report.result.best().multiplier,
+        report.ml_sample_count);
+  }
+  const NoiseFloorDetection& d = report.noise_floor;
+  return StringPrintf(
+      "poses: the %d static intervals of at least %g s found from the log's own noise floor "
+      "(s = %.4g, %.4g, %.4g %s per sample; still where every axis's variance over %d samples "
+      "< %g s^2; %.1f%% of the log still; %zu shorter intervals not used); each pose is the "
+      "mean of ALL its samples (%d in all)\n",
+      ml.pose_count, report.noise_floor_options.min_interval_s, d.floor_stddev[0],
+      d.floor_stddev[1], d.floor_stddev[2], TriadOutputUnitName(report.unit), d.window_samples,
+      report.noise_floor_options.threshold_factor, 100.0 * d.still_fraction,
+      d.short_intervals.size(), report.ml_sample_count);
+}
+
 std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report) {
   const TriadMlResult& ml = report.ml;
-  const ImuTkSweepEntry& imu_tk = report.result.best();
+  const bool with_imu_tk = report.imu_tk_status.ok();
   std::ostringstream out;
   out << StringPrintf(
       "calibrate_imu, mode ml: maximum likelihood with covariance (docs/triad.md), g = %.10g "
       "m/s^2\n",
       report.ml_options.gravity_mps2);
   out << LogLine(report);
-  out << StringPrintf(
-      "poses: the %d static intervals of at least %d samples that imu_tk's detector finds at "
-      "its chosen k = %d (imu_tk's rule, kept for now); each pose is the mean of ALL its "
-      "samples (%d in all)\n",
-      ml.pose_count, report.options.interval_samples, imu_tk.multiplier, report.ml_sample_count);
+  out << PosesLine(report);
   out << StringPrintf(
       "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, %.4g, "
       "%.4g) %s; a pose mean of N samples has variance s^2/N\n",
@@ -263,15 +280,25 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       "unknowns: 9 parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
       "%d degrees of freedom\n\n",
       ml.degrees_of_freedom);
-  out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance, beside imu_tk mode\n";
-  out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s\n", "parameter", "unit", "ml", "sigma",
-                      "imu_tk", "(ml-imu_tk)/sigma");
+  out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance";
+  if (with_imu_tk) {
+    out << StringPrintf(", beside imu_tk's (its rules, k = %d)\n", report.result.best().multiplier);
+    out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s\n", "parameter", "unit", "ml", "sigma",
+                        "imu_tk", "(ml-imu_tk)/sigma");
+  } else {
+    out << "\n  imu_tk's rules give no answer on this log: " << report.imu_tk_status.message()
+        << "\n";
+    out << StringPrintf("  %-16s %-14s %16s %12s\n", "parameter", "unit", "ml", "sigma");
+  }
   const auto& infos = TriadParameterInfos();
   for (int p = 0; p < kTriadParameterCount; ++p) {
-    out << StringPrintf("  %-16s %-14s %16.8g %12.3g %16.8g %18.2f\n", infos[p].name,
-                        TriadParameterUnit(p, report.unit).c_str(), ml.parameters[p], ml.stddev[p],
-                        imu_tk.parameters[p],
-                        (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p]);
+    out << StringPrintf("  %-16s %-14s %16.8g %12.3g", infos[p].name,
+                        TriadParameterUnit(p, report.unit).c_str(), ml.parameters[p], ml.stddev[p]);
+    if (with_imu_tk) {
+      const double imu_tk = report.result.best().parameters[p];
+      out << StringPrintf(" %16.8g %18.2f", imu_tk, (ml.parameters[p] - imu_tk) / ml.stddev[p]);
+    }
+    out << "\n";
   }
   out << StringPrintf("  inverse gain (%s per m/s^2):", TriadOutputUnitName(report.unit));
   for (int k = 0; k < 3; ++k) {
@@ -279,8 +306,12 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
     out << StringPrintf(" %c %.6g +- %.2g", "xyz"[k], 1.0 / gain,
                         ml.stddev[kTriadGainX + k] / (gain * gain));
   }
-  out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)\n\n", 1.0 / imu_tk.parameters[kTriadGainX],
-                      1.0 / imu_tk.parameters[kTriadGainY], 1.0 / imu_tk.parameters[kTriadGainZ]);
+  if (with_imu_tk) {
+    const TriadParameters& imu_tk = report.result.best().parameters;
+    out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)", 1.0 / imu_tk[kTriadGainX],
+                        1.0 / imu_tk[kTriadGainY], 1.0 / imu_tk[kTriadGainZ]);
+  }
+  out << "\n\n";
   out << StringPrintf(
       "Fit: chi2 = %.6g on %d degrees of freedom, chi2/dof = %.4g (expected 1 +- %.3g), "
       "p = P(chi2_%d > %.6g) = %.3g\n",
@@ -315,21 +346,47 @@ CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
   return record;
 }
 
+nlohmann::json DetectorJson(const CalibrateImuReport& report) {
+  if (report.detector == "imu_tk") {
+    return {{"name", "imu_tk"},
+            {"chosen_k", report.result.best().multiplier},
+            {"window_samples", report.options.window_samples},
+            {"interval_samples", report.options.interval_samples}};
+  }
+  const NoiseFloorDetection& d = report.noise_floor;
+  nlohmann::json short_intervals = nlohmann::json::array();
+  for (const StaticInterval& s : d.short_intervals) short_intervals.push_back(IntervalJson(s));
+  return {{"name", "noise_floor"},
+          {"window_samples", d.window_samples},
+          {"threshold_factor", report.noise_floor_options.threshold_factor},
+          {"min_interval_s", report.noise_floor_options.min_interval_s},
+          {"floor_stddev", d.floor_stddev},
+          {"threshold_variance", d.threshold_variance},
+          {"white_false_alarm", d.white_false_alarm},
+          {"still_fraction", d.still_fraction},
+          {"floor_shape", d.floor_shape},
+          {"short_intervals", short_intervals}};
+}
+
 nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
-  const ImuTkSweepEntry& imu_tk = report.result.best();
+  const bool with_imu_tk = report.imu_tk_status.ok();
   const auto& infos = TriadParameterInfos();
   nlohmann::json json;
   json["mode"] = "ml";
   json["model"] = "a = T K (u - b), docs/triad.md";
   json["gravity_mps2"] = report.ml_options.gravity_mps2;
   json["log"] = LogJson(report);
+  json["detector"] = DetectorJson(report);
   nlohmann::json parameters, stddev, units, difference, order = nlohmann::json::array();
   for (int p = 0; p < kTriadParameterCount; ++p) {
     parameters[infos[p].name] = ml.parameters[p];
     stddev[infos[p].name] = ml.stddev[p];
     units[infos[p].name] = TriadParameterUnit(p, report.unit);
-    difference[infos[p].name] = (ml.parameters[p] - imu_tk.parameters[p]) / ml.stddev[p];
+    if (with_imu_tk) {
+      difference[infos[p].name] =
+          (ml.parameters[p] - report.result.best().parameters[p]) / ml.stddev[p];
+    }
     order.push_back(infos[p].name);
   }
   json["parameters"] = parameters;
@@ -354,27 +411,29 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
       {"unit", TriadOutputUnitName(report.unit)}};
   json["fit_verdict"] = FitVerdict(ml);
   nlohmann::json intervals = nlohmann::json::array();
-  int pose = 0;
-  for (size_t i = 0; i < report.result.intervals.size(); ++i) {
-    if (!report.result.interval_used[i]) continue;
-    const StaticInterval& s = report.result.intervals[i];
-    nlohmann::json item = IntervalJson(s);
+  for (size_t pose = 0; pose < report.pose_intervals.size(); ++pose) {
+    nlohmann::json item = IntervalJson(report.pose_intervals[pose]);
     item["gravity_direction"] = ml.directions[pose];
     item["whitened_residual"] = ml.whitened_residuals[pose];
     intervals.push_back(item);
-    ++pose;
   }
   json["intervals"] = intervals;
   json["intervals_note"] =
-      "imu_tk's intervals at its chosen k of at least interval_samples samples, each pose the "
-      "mean of all its samples; start and end 0-based, inclusive; mean and noise per axis in "
-      "the log's unit";
-  nlohmann::json imu_tk_parameters;
-  for (int p = 0; p < kTriadParameterCount; ++p)
-    imu_tk_parameters[infos[p].name] = imu_tk.parameters[p];
-  json["imu_tk"] = {
-      {"parameters", imu_tk_parameters}, {"chosen_k", imu_tk.multiplier}, {"cost", imu_tk.cost}};
-  json["difference_in_sigma"] = difference;
+      "the detector's intervals, one per pose, each pose the mean of all its samples; start and "
+      "end 0-based, inclusive; mean and noise per axis in the log's unit";
+  if (with_imu_tk) {
+    const ImuTkSweepEntry& imu_tk = report.result.best();
+    nlohmann::json imu_tk_parameters;
+    for (int p = 0; p < kTriadParameterCount; ++p)
+      imu_tk_parameters[infos[p].name] = imu_tk.parameters[p];
+    json["imu_tk"] = {
+        {"parameters", imu_tk_parameters}, {"chosen_k", imu_tk.multiplier}, {"cost", imu_tk.cost}};
+    json["difference_in_sigma"] = difference;
+  } else {
+    json["imu_tk"] = nullptr;
+    json["imu_tk_unavailable"] = report.imu_tk_status.message();
+    json["difference_in_sigma"] = nullptr;
+  }
   json["difference_definition"] = "(ml - imu_tk) / ml stddev";
   json["solver"] = ml.solver.brief_report;
   return json;

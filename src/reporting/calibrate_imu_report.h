@@ -13,6 +13,7 @@
 
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
+#include "estimation/noise_floor_detector.h"
 #include "estimation/triad_ml_calibration.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
@@ -32,9 +33,14 @@ struct CalibrateImuReport {
   ImuTkOptions options;
   std::string initial_offset_from;  // how the start's offsets were chosen
   ImuTkResult result;
-  // Mode ml: the maximum-likelihood fit of the poses of imu_tk's chosen intervals, started
-  // from imu_tk's solution, shown beside it.
   std::string mode = "imu_tk";  // "imu_tk" or "ml"
+  // Mode ml: the poses of the detector ("noise_floor" or "imu_tk"), the maximum-likelihood
+  // fit, and imu_tk's result beside it when its rules gave one (imu_tk_status says why not).
+  std::string detector = "noise_floor";
+  NoiseFloorOptions noise_floor_options;
+  NoiseFloorDetection noise_floor;
+  std::vector<StaticInterval> pose_intervals;  // one per pose of the fit
+  Status imu_tk_status;
   TriadMlOptions ml_options;
   TriadMlResult ml;
   int ml_sample_count = 0;  // samples in the poses' means
