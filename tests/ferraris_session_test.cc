@@ -19,19 +19,6 @@
 namespace accelcal {
 namespace {
 
-std::string ImucalDataDir() {
-  return testing::DataDirFrom("ACCELCAL_IMUCAL_DATA",
-                              std::string(ACCELCAL_SOURCE_DIR) + "/../shared/data/imucal-ferraris",
-                              "annotated_session.csv");
-}
-
-#define ACCELCAL_REQUIRE_IMUCAL_DATA(dir)                                           \
-  const std::string dir = ImucalDataDir();                                          \
-  if (dir.empty()) {                                                                \
-    GTEST_SKIP() << "imucal data not found: set ACCELCAL_IMUCAL_DATA or put it in " \
-                    "../shared/data/imucal-ferraris";                               \
-  }
-
 constexpr char kHeader[] = "part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z\n";
 
 // Two rows per section, labels in imucal's order, values that identify the section.
@@ -187,7 +174,7 @@ TEST(ImucalSession, RefusesACalibrationJsonOfTheWrongShape) {
 class FerrarisReportOnImucalsExample : public ::testing::Test {
  protected:
   void SetUp() override {
-    const std::string dir = ImucalDataDir();
+    const std::string dir = testing::ImucalDataDir();
     if (dir.empty()) GTEST_SKIP() << "imucal data not found: set ACCELCAL_IMUCAL_DATA";
     report_.session_path = dir + "/annotated_session.csv";
     ASSERT_TRUE(ReadImucalSession(report_.session_path, &report_.session).ok());

@@ -204,10 +204,10 @@ Status FitKnownDirections(const HoldData& holds, double gravity_mps2, const Tria
   fit->frame_correction_rad = {0.0, 0.0, 0.0};
   ceres::Problem problem;
   for (int p = 0; p < kFerrarisHoldCount; ++p) {
-    const Eigen::Vector3d reference = start_rotation.transpose() * (gravity_mps2 * HoldAxis(p));
+    const Eigen::Vector3d reference = start_rotation.transpose() * HoldAxis(p);
     problem.AddResidualBlock(
         FerrarisHoldResidual::Create(holds.mean[p], holds.mean_stddev[p],
-                                     {reference[0], reference[1], reference[2]}),
+                                     {reference[0], reference[1], reference[2]}, gravity_mps2),
         nullptr, fit->parameters.data(), fit->frame_correction_rad.data());
   }
   ACCELCAL_RETURN_IF_ERROR(SolveQuietly(solve, &problem, &fit->solver)

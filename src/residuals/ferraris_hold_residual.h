@@ -11,8 +11,9 @@
 // ubar: the hold's mean (counts); sigma_k = sqrt(s_k^2 / N): the standard deviation of a mean
 // of N samples of white noise of variance s_k^2; Q0 a fixed starting rotation (the closed
 // form's) and w its small correction (rad, angle-axis, a block of 3), so the 12 unknowns are
-// the 9 triad parameters and w, with no singularity near the solution. Whitened, so the cost
-// is 1/2 chi-square.
+// the 9 triad parameters and w, with no singularity near the solution. The residual is
+// residuals/triad_pose_residual.h's with the direction n = Q^T (+-e_i) given: whitened, so the
+// cost is 1/2 chi-square.
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/rotation.h>
@@ -20,46 +21,43 @@
 #include <array>
 
 #include "models/triad.h"
+#include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
 
 class FerrarisHoldResidual {
  public:
-  // `reference_force` = Q0^T (+-g e_i), m/s^2 in the starting frame.
+  // `reference_direction` = Q0^T (+-e_i), a unit vector in the starting frame.
   FerrarisHoldResidual(const std::array<double, 3>& measured_mean,
                        const std::array<double, 3>& mean_stddev,
-                       const std::array<double, 3>& reference_force)
-      : measured_mean_(measured_mean),
-        mean_stddev_(mean_stddev),
-        reference_force_(reference_force) {}
+                       const std::array<double, 3>& reference_direction, double gravity_mps2)
+      : pose_(measured_mean, mean_stddev, gravity_mps2),
+        reference_direction_(reference_direction) {}
 
   template <typename T>
   bool operator()(const T* const parameters, const T* const frame_correction, T* residual) const {
-    // a' = Exp(w)^T Q0^T (+-g e_i) = Exp(-w) reference_force.
+    // n = Exp(w)^T Q0^T (+-e_i) = Exp(-w) reference_direction; then the pose's residual with
+    // that direction known.
     const T inverse_correction[3] = {-frame_correction[0], -frame_correction[1],
                                      -frame_correction[2]};
-    const T reference[3] = {T(reference_force_[0]), T(reference_force_[1]), T(reference_force_[2])};
-    T force[3];
-    ceres::AngleAxisRotatePoint(inverse_correction, reference, force);
-    T predicted[3];
-    TriadRawOutput(parameters, force, predicted);
-    for (int k = 0; k < 3; ++k) {
-      residual[k] = (T(measured_mean_[k]) - predicted[k]) / T(mean_stddev_[k]);
-    }
-    return true;
+    const T reference[3] = {T(reference_direction_[0]), T(reference_direction_[1]),
+                            T(reference_direction_[2])};
+    T direction[3];
+    ceres::AngleAxisRotatePoint(inverse_correction, reference, direction);
+    return pose_(parameters, direction, residual);
   }
 
   static ceres::CostFunction* Create(const std::array<double, 3>& measured_mean,
                                      const std::array<double, 3>& mean_stddev,
-                                     const std::array<double, 3>& reference_force) {
+                                     const std::array<double, 3>& reference_direction,
+                                     double gravity_mps2) {
     return new ceres::AutoDiffCostFunction<FerrarisHoldResidual, 3, kTriadParameterCount, 3>(
-        new FerrarisHoldResidual(measured_mean, mean_stddev, reference_force));
+        new FerrarisHoldResidual(measured_mean, mean_stddev, reference_direction, gravity_mps2));
   }
 
  private:
-  const std::array<double, 3> measured_mean_;    // counts
-  const std::array<double, 3> mean_stddev_;      // counts
-  const std::array<double, 3> reference_force_;  // m/s^2
+  const TriadPoseResidual pose_;
+  const std::array<double, 3> reference_direction_;  // unit vector
 };
 
 }  // namespace accelcal
