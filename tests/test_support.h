@@ -92,6 +92,19 @@ inline std::string ImuTkDataDir() {
                     "../shared/data/imu_tk-xsens";                                  \
   }
 
+// imucal's Ferraris example (issue 20): $ACCELCAL_IMUCAL_DATA, else
+// ../shared/data/imucal-ferraris.
+inline std::string ImucalDataDir() {
+  return DataDirFrom("ACCELCAL_IMUCAL_DATA", ACCELCAL_DEFAULT_IMUCAL_DATA, "annotated_session.csv");
+}
+
+#define ACCELCAL_REQUIRE_IMUCAL_DATA(dir)                                           \
+  const std::string dir = ::accelcal::testing::ImucalDataDir();                     \
+  if (dir.empty()) {                                                                \
+    GTEST_SKIP() << "imucal data not found: set ACCELCAL_IMUCAL_DATA or put it in " \
+                    "../shared/data/imucal-ferraris";                               \
+  }
+
 inline std::string BinaryPath(const std::string& name) {
   return std::string(ACCELCAL_BIN_DIR) + "/" + name;
 }

@@ -13,13 +13,13 @@
 #include "io/course_data.h"
 #include "io/input_file.h"
 #include "io/input_text.h"
+#include "io/line_stream.h"
 
 namespace accelcal {
 namespace {
 
 constexpr char kCsvHeaderHint[] = "t_s,acc_x,acc_y,acc_z";
 constexpr char kWhitespaceColumns[] = "t [s], x, y, z";
-constexpr size_t kChunkBytes = 1 << 20;
 constexpr size_t kMaxLineBytes = 1 << 16;
 
 std::string Where(long long line_number) { return "line " + std::to_string(line_number); }
@@ -162,57 +162,24 @@ Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log) {
 
 Status StreamImuLog(const std::string& path, size_t batch_samples,
                     const std::function<void(const TriadLog& batch)>& on_batch) {
-  uint64_t size = 0;
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckInputFile(path, std::numeric_limits<uint64_t>::max(), "an accelerometer log", &size));
-  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                       &std::fclose);
-  if (!file) return Status::Error(path + ": cannot open: " + std::strerror(errno));
   ImuLogLineParser parser(ImuLogLayoutOf(path));
   TriadLog batch;
   const size_t batch_limit = std::max<size_t>(1, batch_samples);
-  std::string carried;  // the start of a line whose end is in the next chunk
-  std::vector<char> chunk(kChunkBytes);
-  while (true) {
-    const size_t count = std::fread(chunk.data(), 1, chunk.size(), file.get());
-    if (count == 0) {
-      if (std::ferror(file.get()))
-        return Status::Error(path + ": cannot read: " + std::strerror(errno));
-      break;
-    }
-    std::string_view data(chunk.data(), count);
-    size_t begin = 0;
-    while (true) {
-      const size_t end = data.find('\n', begin);
-      if (end == std::string_view::npos) {
-        carried.append(data.substr(begin));
-        if (carried.size() > kMaxLineBytes) {
-          return Status::Error(
-              StringPrintf("%s: line %lld is longer than %zu bytes: not an "
-                           "accelerometer log",
-                           path.c_str(), parser.line_number() + 1, kMaxLineBytes));
+  ACCELCAL_RETURN_IF_ERROR(StreamTextLines(
+      path, "an accelerometer log", kMaxLineBytes,
+      [&](std::string_view line) {
+        bool is_sample = false;
+        ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(line, &is_sample));
+        if (!is_sample) return Status::Ok();
+        const std::array<double, 3>& v = parser.output();
+        batch.Add(parser.t_s(), v[0], v[1], v[2]);
+        if (batch.size() >= batch_limit) {
+          on_batch(batch);
+          batch = TriadLog();
         }
-        break;
-      }
-      std::string_view line = data.substr(begin, end - begin);
-      if (!carried.empty()) {
-        carried.append(line);
-        line = carried;
-      }
-      bool is_sample = false;
-      ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(line, &is_sample).WithContext(path));
-      carried.clear();
-      begin = end + 1;
-      if (!is_sample) continue;
-      const std::array<double, 3>& v = parser.output();
-      batch.Add(parser.t_s(), v[0], v[1], v[2]);
-      if (batch.size() >= batch_limit) {
-        on_batch(batch);
-        batch = TriadLog();
-      }
-    }
-  }
-  if (!carried.empty()) return parser.UnterminatedLastLine(carried).WithContext(path);
+        return Status::Ok();
+      },
+      [&](std::string_view rest) { return parser.UnterminatedLastLine(rest); }));
   ACCELCAL_RETURN_IF_ERROR(parser.Finish().WithContext(path));
   if (batch.size() > 0) on_batch(batch);
   return Status::Ok();
