@@ -87,13 +87,15 @@ Status RunPipeline(PipelineOutput* out, std::map<std::string, std::vector<double
   const Clock::time_point start = Clock::now();
   ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_log, &out->log));
   const Clock::time_point read = Clock::now();
-  ACCELCAL_RETURN_IF_ERROR(CalibrateImuTk(out->log, report.options, &report.result));
+  ACCELCAL_RETURN_IF_ERROR(
+      CalibrateImuTk(out->log, report.options, &report.result).WithContext(FLAGS_log));
   const Clock::time_point imu_tk = Clock::now();
   const std::vector<TriadPoseMean> poses =
       PoseMeansOfIntervals(out->log, report.result.intervals, report.options.interval_samples);
   report.ml_options.gravity_mps2 = FLAGS_g;
   report.ml_options.initial = report.result.best().parameters;
-  ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, report.ml_options, &report.ml));
+  ACCELCAL_RETURN_IF_ERROR(
+      CalibrateTriadMl(poses, report.ml_options, &report.ml).WithContext(FLAGS_log));
   const Clock::time_point ml = Clock::now();
   for (const TriadPoseMean& pose : poses) report.ml_sample_count += pose.sample_count;
   (*seconds)["read"].push_back(Seconds(start, read));
@@ -146,7 +148,7 @@ int Run(int argc, char** argv) {
   int detected = 0;
   for (int repetition = 0; repetition < FLAGS_repetitions; ++repetition) {
     const Status status = RunPipeline(&out, &seconds);
-    if (!status.ok()) return fail(status.WithContext(FLAGS_log));
+    if (!status.ok()) return fail(status);
     detected = TimeDetector(out.log, out.report.options, &seconds["detect"]);
   }
 
