@@ -7,9 +7,9 @@ Run with Debian's /usr/bin/python3 (python3-numpy, python3-scipy):
 
   triad_scipy.py --log=xsens_acc.mat --accelcal_json=cc.json [--json=py.json] [--min_ratio=10]
 
-prints a PASS/FAIL line per check, both sides' median wall and CPU times per stage and the ratios; exits 1
-when a check fails, 3 when every check passes but the total's ratio (numpy/SciPy over accelcal)
-is below --min_ratio, 2 on bad input.
+prints a PASS/FAIL line per check, both sides' median wall and CPU times per stage and the
+ratios; exits 1 when a check fails, 3 when every check passes but the total's wall-time ratio
+(numpy/SciPy over accelcal) is below --min_ratio, 2 on bad input.
 
 The stages, as accelcal's (names and units of docs/triad.md, a = T K (u - b)):
 
