@@ -37,7 +37,7 @@ configuration=(--g=9.81744 --init_rest_s=50 --initial_offset=32768)
 say() { echo "triad_bench: $*" >&2; }
 
 if [ ! -x "$bin_dir/triad_bench" ]; then
-  say "no $bin_dir/triad_bench; build it (cmake --build build --target triad_bench) or give the bin folder"
+  say "no $bin_dir/triad_bench; build it (cmake --build build --target triad_bench)"
   exit 2
 fi
 if [ ! -x "$python" ] || ! "$python" -c 'import numpy, scipy' 2>/dev/null; then
