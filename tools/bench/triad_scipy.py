@@ -262,7 +262,7 @@ class MlProblem:
         self.count = len(means)
         self.n0 = n0
         # e1, e2: an orthonormal basis of the tangent plane at n0, from a cross product with
-        # whichever of x and y is farther from n0.
+        # the x axis, or with y when n0 is within 26 degrees of x.
         helper = np.where(np.abs(n0[:, [0]]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
         e1 = np.cross(n0, helper)
         self.e1 = e1 / np.linalg.norm(e1, axis=1)[:, None]
