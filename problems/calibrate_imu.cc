@@ -28,6 +28,7 @@
 #include <array>
 #include <cmath>
 #include <iostream>
+#include <map>
 
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/noise_floor_detector.h"
@@ -36,12 +37,15 @@
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
+#include "io/imucal_calibration_json.h"
+#include "io/imucal_session.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
 #include "models/triad_units.h"
 #include "problem_support.h"
 #include "reporting/calibrate_imu_report.h"
+#include "reporting/ferraris_report.h"
 
 // clang-format off
 DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
@@ -56,6 +60,9 @@ DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give t
 DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/noise_floor_detector.h); imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
 DEFINE_double(threshold_factor, 10.0, "Detector noise_floor: a window is still when its variance is below this times the noise floor's on every axis (white noise crosses 10 with probability 2e-148 at 101 samples; motion reaches 100 to 100000).");
 DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals shorter than this (s) are listed apart and not used.");
+DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (header part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z; raw counts; the six holds and three turns labelled in part), docs/imucal.md.");
+DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
+DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
@@ -68,26 +75,49 @@ ACCELCAL_FLAG_RANGE(interval_samples, 2, 1000000);
 ACCELCAL_FLAG_RANGE(min_intervals, 3, 100000);
 ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
 ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
+ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
 
 namespace accelcal {
 namespace {
 
 constexpr char kUsage[] =
     "Calibrates a three-axis accelerometer from a multi-position log (no tilt table).\n"
-    "Mode imu_tk reproduces imu_tk: a = T K (u - b) (angles in rad, K in (m/s^2)/count, b in\n"
-    "counts), cost 1/2 sum (g - |a|)^2 in (m/s^2)^2, thresholds k = 2..10.\n"
-    "Mode ml: maximum likelihood on the same intervals (pose means, unknown gravity directions,\n"
-    "white noise), every parameter +- sigma and a chi-square fit statistic.\n"
+    "Model a = T K (u - b) (docs/triad.md): angles in rad, gains K in (m/s^2) per unit of the\n"
+    "output (--unit=count|m/s^2|g), offsets b in that unit.\n"
+    "Mode imu_tk reproduces imu_tk: cost 1/2 sum (g - |a|)^2 in (m/s^2)^2, thresholds k = 2..10\n"
+    "times an initial rest's variance norm.\n"
+    "Mode ml: maximum likelihood on static poses found from the log's own noise floor (pose\n"
+    "means, unknown gravity directions, white noise): every parameter +- sigma, a chi-square fit\n"
+    "statistic, imu_tk's answer beside it, and --calibration_out for apply.\n"
+    "Mode ferraris: imucal's closed form on its six holds (--session), and the least squares\n"
+    "that six holds allow (docs/imucal.md).\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
-    "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk --init_rest_s=50 \\\n"
-    "      --initial_offset=32768 [--mode=ml] [--json=out.json]";
+    "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk|ml [--json=out.json]\n"
+    "      [--calibration_out=cal.json]\n"
+    "  calibrate_imu --mode=ferraris --session=annotated_session.csv [--reference=cal.json]";
 
 Status ValidateFlags() {
+  if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml" && FLAGS_mode != "ferraris") {
+    return Status::Error("--mode='" + FLAGS_mode +
+                         "' is not a mode; use --mode=imu_tk, ml or ferraris");
+  }
+  if (FLAGS_mode == "ferraris") {
+    if (FLAGS_session.empty() || !FLAGS_log.empty()) {
+      return Status::Error(
+          "--mode=ferraris reads --session (imucal's annotated session CSV), not --log");
+    }
+    if (!FLAGS_calibration_out.empty()) {
+      return Status::Error(
+          "--calibration_out needs --mode=ml: six holds cannot determine the triad's angles "
+          "(docs/imucal.md), so no full calibration with covariance comes from them");
+    }
+    return CheckOutputPaths({{"--json", FLAGS_json}},
+                            RunInputs{{FLAGS_session, FLAGS_reference}, {}});
+  }
   if (FLAGS_log.empty())
     return Status::Error("--log is required: the accelerometer log to calibrate");
-  if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml") {
-    return Status::Error("--mode='" + FLAGS_mode + "' is not a mode; use --mode=imu_tk or ml");
-  }
+  if (!FLAGS_session.empty() || !FLAGS_reference.empty())
+    return Status::Error("--session and --reference belong to --mode=ferraris");
   if (FLAGS_window % 2 == 0) {
     return Status::Error("--window=" + std::to_string(FLAGS_window) +
                          " is even; the window is centred on its sample, give an odd number");
@@ -200,9 +230,43 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   return FLAGS_mode == "ml" ? SolveMl(log, report) : SolveImuTk(log, report);
 }
 
+// Mode ferraris: imucal's closed form on its six holds, and what least squares can say.
+Status RunFerraris(std::string* table) {
+  FerrarisReport report;
+  report.session_path = FLAGS_session;
+  report.options.gravity_mps2 = FLAGS_g;
+  report.options.sampling_rate_hz = FLAGS_sampling_rate_hz;
+  std::map<std::string, std::string> files = {{"session", FLAGS_session}};
+  ACCELCAL_RETURN_IF_ERROR(ReadImucalSession(FLAGS_session, &report.session));
+  if (!FLAGS_reference.empty()) {
+    ACCELCAL_RETURN_IF_ERROR(ReadImucalCalibrationJson(FLAGS_reference, &report.reference));
+    report.has_reference = true;
+    report.reference_path = FLAGS_reference;
+    files["reference"] = FLAGS_reference;
+  }
+  ACCELCAL_RETURN_IF_ERROR(AnalyzeFerraris(report.session, report.options,
+                                           FerrarisLeastSquaresOptions(), &report.analysis)
+                               .WithContext(FLAGS_session));
+  DataSource source;
+  ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", files, &source));
+  std::string json_text;
+  if (!FLAGS_json.empty())
+    ACCELCAL_RETURN_IF_ERROR(JsonText(WithProvenance(FerrarisJson(report), source), &json_text));
+  ACCELCAL_RETURN_IF_ERROR(WriteOutputFiles({{FLAGS_json, json_text}}));
+  *table = WithDataLine(source, FerrarisTable(report));
+  return Status::Ok();
+}
+
 int Run(int argc, char** argv) {
   if (!InitProblem("calibrate_imu", kUsage, "problems/calibrate_imu", &argc, &argv))
     return kExitBadInput;
+  if (FLAGS_mode == "ferraris") {
+    std::string table;
+    const Status status = ValidateFlags().ok() ? RunFerraris(&table) : ValidateFlags();
+    if (!status.ok()) return ExitWithError("calibrate_imu", status);
+    std::cout << table << std::flush;
+    return 0;
+  }
   TriadLog log;
   CalibrateImuReport report;
   DataSource source;

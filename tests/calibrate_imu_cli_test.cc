@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -140,6 +141,8 @@ struct SessionUnit {
   double offset = 32768.0;
   double per_mps2 = 415.0;
   double noise = 3.0;
+  int rest_samples = 5000;
+  int hold_samples = 500;
 };
 std::string SessionLog(const std::vector<std::array<double, 3>>& directions,
                        const SessionUnit& unit = SessionUnit()) {
@@ -155,7 +158,7 @@ std::string SessionLog(const std::vector<std::array<double, 3>>& directions,
     text += "\n";
   };
   const std::array<double, 3> rest = {0.0, 0.0, 1.0};
-  for (int i = 0; i < 5000; ++i) emit(rest);
+  for (int i = 0; i < unit.rest_samples; ++i) emit(rest);
   std::array<double, 3> from = rest;
   for (const std::array<double, 3>& to : directions) {
     for (int i = 0; i < 100; ++i) {  // the motion: along the chord, then normalised
@@ -168,7 +171,7 @@ std::string SessionLog(const std::vector<std::array<double, 3>>& directions,
       for (double& v : n) v /= std::sqrt(norm);
       emit(n);
     }
-    for (int i = 0; i < 500; ++i) emit(to);
+    for (int i = 0; i < unit.hold_samples; ++i) emit(to);
     from = to;
   }
   return text;
@@ -296,6 +299,137 @@ TEST(CalibrateImuCli, AUnitThatTheGainsContradictIsRefused) {
   EXPECT_EQ(out["log"]["unit"], "m/s^2");
   EXPECT_NEAR(out["parameters"]["gain_x"].get<double>(), 1.0, 1e-3);
   EXPECT_NEAR(out["parameters"]["offset_y"].get<double>(), 0.0, 1e-3);
+}
+
+}  // namespace
+}  // namespace accelcal
+
+namespace accelcal {
+namespace {
+
+// Log in, calibration file out, apply: the file says what it is (geometry, output unit, units),
+// its parameters hold the truth within 4 sigma, and apply's corrected values of outputs of
+// known specific force hold it within 4 of the sigma apply reports for them.
+TEST(CalibrateImuCli, ModeMlCalibrationFileAndApplyHoldTheTruthWithinTheirSigma) {
+  testing::ScratchDir scratch;
+  const std::string log = scratch.Write("session.txt", SessionLog(SpreadDirections()));
+  const std::string cal = scratch.File("cal.json");
+  const testing::CommandResult calibrated =
+      RunBinary("calibrate_imu", "--log=" + log + " --g=9.81 --mode=ml --calibration_out=" + cal);
+  ASSERT_EQ(calibrated.exit_status, 0) << calibrated.stderr_text;
+  const nlohmann::json file = nlohmann::json::parse(testing::ReadText(cal));
+  EXPECT_EQ(file["model"]["geometry"], "triad");
+  EXPECT_EQ(file["model"]["output_unit"], "count");
+  EXPECT_EQ(file["units"]["gain_x"], "(m/s^2)/count");
+  EXPECT_EQ(file["units"]["offset_z"], "count");
+  EXPECT_EQ(file["input_files"]["log"]["path"], log);
+  for (const char* axis : {"x", "y", "z"}) {
+    const std::string gain = std::string("gain_") + axis;
+    const std::string offset = std::string("offset_") + axis;
+    EXPECT_LT(std::fabs(file["parameters"][gain].get<double>() - 1.0 / 415.0),
+              4.0 * file["stddev"][gain].get<double>())
+        << gain;
+    EXPECT_LT(std::fabs(file["parameters"][offset].get<double>() - 32768.0),
+              4.0 * file["stddev"][offset].get<double>())
+        << offset;
+  }
+
+  // Outputs of known specific force, without noise: what is left is the calibration's error.
+  const std::vector<std::array<double, 3>> forces = {
+      {0.0, 0.0, 9.81}, {9.81, 0.0, 0.0}, {3.0, -4.0, 8.0}, {-6.0, 6.0, -5.0}};
+  std::string text = "t_s,acc_x,acc_y,acc_z\n";
+  for (size_t j = 0; j < forces.size(); ++j) {
+    text += std::to_string(0.01 * (j + 1));
+    for (int k = 0; k < 3; ++k) text += "," + std::to_string(32768.0 + 415.0 * forces[j][k]);
+    text += "\n";
+  }
+  const std::string in = scratch.Write("run.csv", text);
+  const std::string out = scratch.File("corrected.csv");
+  const testing::CommandResult applied =
+      RunBinary("apply", "--calibration=" + cal + " --in=" + in + " --out=" + out);
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  std::vector<std::string> rows;
+  std::stringstream lines(testing::ReadText(out));
+  for (std::string line; std::getline(lines, line);) {
+    if (!line.empty() && line[0] != '#') rows.push_back(line);
+  }
+  ASSERT_EQ(rows.size(), forces.size() + 1);
+  EXPECT_EQ(rows[0],
+            "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,"
+            "corr_xz,corr_yz");
+  for (size_t j = 0; j < forces.size(); ++j) {
+    std::vector<double> v;
+    std::stringstream row(rows[j + 1]);
+    for (std::string field; std::getline(row, field, ',');) v.push_back(std::stod(field));
+    ASSERT_EQ(v.size(), 10u);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_GT(v[4 + k], 0.0);
+      EXPECT_LT(std::fabs(v[1 + k] - forces[j][k]), 4.0 * v[4 + k])
+          << "sample " << j << " axis " << k << ": " << rows[j + 1];
+    }
+  }
+
+  // The same outputs converted to m/s^2 are not the calibration's unit: refused.
+  std::string converted = "t_s,acc_x,acc_y,acc_z\n";
+  for (size_t j = 0; j < forces.size(); ++j) {
+    converted += std::to_string(0.01 * (j + 1)) + "," + std::to_string(forces[j][0]) + "," +
+                 std::to_string(forces[j][1]) + "," + std::to_string(forces[j][2]) + "\n";
+  }
+  const std::string wrong = scratch.Write("mps2.csv", converted);
+  const std::string out2 = scratch.File("corrected2.csv");
+  ExpectBadInputContract(
+      RunBinary("apply", "--calibration=" + cal + " --in=" + wrong + " --out=" + out2), "apply",
+      "in the calibration's output unit (count)");
+  EXPECT_FALSE(testing::PathExists(out2));
+}
+
+// A short session with no initial rest and holds of 2.5 s: imu_tk's rules find nothing to
+// calibrate from, the noise-floor detector finds every hold, and mode ml says why imu_tk is
+// not beside it.
+TEST(CalibrateImuCli, ModeMlCalibratesAShortSessionWithNoRestWhereImuTksRulesCannot) {
+  SessionUnit shape;
+  shape.rest_samples = 250;
+  shape.hold_samples = 250;
+  std::vector<std::array<double, 3>> directions = SpreadDirections();
+  directions.resize(14);
+  testing::ScratchDir scratch;
+  const std::string log = scratch.Write("short.txt", SessionLog(directions, shape));
+  const std::string json_path = scratch.File("o.json");
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --g=9.81"), "calibrate_imu",
+                         "");
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log=" + log + " --g=9.81 --mode=ml --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("imu_tk's rules give no answer on this log"), std::string::npos)
+      << result.stdout_text;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_EQ(json["detector"]["name"], "noise_floor");
+  EXPECT_EQ(json["intervals"].size(), directions.size() + 1);  // the short rest is a pose too
+  EXPECT_TRUE(json["imu_tk"].is_null());
+  EXPECT_LT(std::fabs(json["parameters"]["offset_x"].get<double>() - 32768.0),
+            4.0 * json["stddev"]["offset_x"].get<double>());
+}
+
+// imucal's example_cal.json reproduced by the binary from annotated_session.csv, element by
+// element, and the least squares beside it.
+TEST(CalibrateImuCli, ModeFerrarisReproducesImucalsExampleCalibration) {
+  ACCELCAL_REQUIRE_IMUCAL_DATA(dir);
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("f.json");
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu",
+                "--mode=ferraris --session='" + dir + "/annotated_session.csv' --reference='" +
+                    dir + "/example_cal.json' --sampling_rate_hz=204.8 --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const std::string marker = "largest relative difference from the reference, element by element: ";
+  const size_t at = result.stdout_text.find(marker);
+  ASSERT_NE(at, std::string::npos) << result.stdout_text;
+  EXPECT_LT(std::stod(result.stdout_text.substr(at + marker.size())), 1e-12);
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_EQ(json["mode"], "ferraris");
+  EXPECT_TRUE(json["parameters"].contains("gain_x"));
+  EXPECT_TRUE(json["stddev"].contains("offset_z"));
+  EXPECT_EQ(json["input_files"]["session"]["sha256"].get<std::string>().size(), 64u);
 }
 
 }  // namespace
