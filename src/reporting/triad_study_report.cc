@@ -55,7 +55,8 @@ std::string VerdictText(const TriadMonteCarloResult& r) {
   std::string text;
   if (r.passed) {
     text = StringPrintf(
-        "verdict: %s: every reported sigma within [0.9, 1.1] of the Monte Carlo spread, every "
+        "verdict: %s: every reported sigma within [0.9, 1.1] of the Monte Carlo spread (or 3 "
+        "sd of the ratio, when wider), every "
         "coverage at 1, 2, 3 sigma and the p < 0.01 rate within 3 binomial sd of the expected, "
         "%d of %d trials fitted",
         r.claim_possible ? "PASS" : "consistent, but no claim (fewer than 1000 trials)",
