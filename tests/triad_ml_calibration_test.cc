@@ -15,7 +15,6 @@
 #include <string>
 #include <vector>
 
-#include "common/format.h"
 #include "models/triad.h"
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
@@ -305,10 +304,7 @@ void ExpectSuggestedPosesMakeItIdentifiable(const std::vector<std::array<double,
   ASSERT_FALSE(status.ok()) << label;
   std::printf("  %s: %s\n", label, status.message().c_str());
   ASSERT_FALSE(refused.suggested_directions.empty()) << label;
-  EXPECT_NE(
-      status.message().find(StringPrintf("add %zu pose", refused.suggested_directions.size())),
-      std::string::npos)
-      << status.message();
+  EXPECT_NE(status.message().find(" held with "), std::string::npos) << status.message();
   std::vector<std::array<double, 3>> more = directions;
   more.insert(more.end(), refused.suggested_directions.begin(), refused.suggested_directions.end());
   TriadMlResult fitted;

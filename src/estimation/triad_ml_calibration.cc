@@ -96,8 +96,9 @@ std::string PlanarHint(const std::vector<std::array<double, 3>>& directions) {
   if (eigen.eigenvalues()[0] > 1e-2) return "";
   const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
   return StringPrintf(
-      "; the gravity directions of all poses lie within a few degrees of a plane (normal (%.3f, "
-      "%.3f, %.3f) in the sensor frame: the sensor was only turned about that axis)",
+      "; all poses' gravity directions lie within a few degrees of a plane (normal (%.3f, %.3f, "
+      "%.3f), sensor frame: the sensor was only turned about it); add poses with gravity along "
+      "or near it",
       normal[0], normal[1], normal[2]);
 }
 
@@ -266,12 +267,20 @@ std::string DescribeDirection(const std::array<double, 3>& d) {
   return StringPrintf("(%.2f, %.2f, %.2f) up", d[0], d[1], d[2]);
 }
 
-std::string SuggestionText(const std::vector<std::array<double, 3>>& suggested) {
+// The poses to add, in words: after the plane's advice (`after_planar_hint`) as its example.
+// At most 6 are listed; the result holds them all.
+std::string SuggestionText(const std::vector<std::array<double, 3>>& suggested,
+                           bool after_planar_hint) {
   if (suggested.empty()) return "";
+  constexpr size_t kListed = 6;
   std::string list;
-  for (const auto& d : suggested) list += (list.empty() ? "" : ", ") + DescribeDirection(d);
-  return StringPrintf("; add %zu pose%s held with %s (sensor frame)", suggested.size(),
-                      suggested.size() == 1 ? "" : "s", list.c_str());
+  for (size_t i = 0; i < std::min(suggested.size(), kListed); ++i)
+    list += (i == 0 ? "" : ", ") + DescribeDirection(suggested[i]);
+  if (suggested.size() > kListed) list += StringPrintf(" and %zu more", suggested.size() - kListed);
+  const std::string poses =
+      suggested.size() == 1 ? "this pose" : StringPrintf("these %zu poses", suggested.size());
+  return (after_planar_hint ? ", e.g. " : "; add ") + poses + " held with " + list +
+         " (sensor frame)";
 }
 
 // What CheckIdentifiable needs of the problem being solved.
@@ -317,12 +326,13 @@ Status CheckIdentifiable(const ProblemState& state,
   result->suggested_directions = SuggestedPoses(state, directions);
   std::string names;
   for (const std::string& name : unidentifiable) names += (names.empty() ? "" : ", ") + name;
+  const std::string planar_hint = PlanarHint(directions);
   return Status::Error(StringPrintf(
       "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "
       "%d residuals in the %d unknowns is rank-deficient)%s%s",
       pose_count, (names + (unidentifiable.size() == 1 ? " is" : " are")).c_str(), 3 * pose_count,
-      state.parameter_count + 2 * pose_count, PlanarHint(directions).c_str(),
-      SuggestionText(result->suggested_directions).c_str()));
+      state.parameter_count + 2 * pose_count, planar_hint.c_str(),
+      SuggestionText(result->suggested_directions, !planar_hint.empty()).c_str()));
 }
 
 // The standard deviation of the mean of a pose of the median sample count.
@@ -446,7 +456,7 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
         "least %d poses%s",
         pose_count, 3 * pose_count, parameter_count + 2 * pose_count, parameter_count,
         pose_count - parameter_count, min_poses,
-        SuggestionText(result->suggested_directions).c_str()));
+        SuggestionText(result->suggested_directions, false).c_str()));
   }
 
   ceres::Covariance::Options covariance_options;
