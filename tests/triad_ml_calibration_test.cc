@@ -18,23 +18,15 @@
 #include "models/triad.h"
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
+#include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
 namespace {
 
 constexpr double kGravity = 9.81744;
 
-// A triad close to the Xsens unit of imu_tk's example.
-TriadParameters Truth() {
-  TriadParameters truth = TriadParametersWithOffset(33124.0, 33275.0, 32364.0);
-  const double angles_rad[3] = {0.0035, -0.009, 0.021};  // yz, zy, zx
-  const double counts_per_mps2[3] = {414.5, 412.0, 414.6};
-  for (int k = 0; k < 3; ++k) {
-    truth[kTriadMisalignmentYz + k] = angles_rad[k];
-    truth[kTriadGainX + k] = 1.0 / counts_per_mps2[k];
-  }
-  return truth;
-}
+// A triad close to the Xsens unit of imu_tk's example (the study's default truth).
+TriadParameters Truth() { return XsensLikeTriad(); }
 
 TriadSimulationOptions SimulationOptions() {
   TriadSimulationOptions options;
@@ -64,6 +56,12 @@ TEST(TriadPoseResidual, IsZeroAtTheTruth) {
   const TriadPoseResidual residual(raw, {0.3, 0.3, 0.3}, kGravity);
   double r[3];
   ASSERT_TRUE(residual(truth.data(), direction, r));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
+  // And with second-order scale terms, through the 12-parameter blocks.
+  const TriadScaleNonlinearity k2 = {2e-4, -1e-4, 3e-4};
+  TriadRawOutput(truth.data(), k2.data(), force, raw.data());
+  const TriadPoseResidual quadratic(raw, {0.3, 0.3, 0.3}, kGravity);
+  ASSERT_TRUE(quadratic(truth.data(), k2.data(), direction, r));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
 }
 
@@ -168,7 +166,7 @@ TEST(TriadMlCalibration, RefusesFewerThanTenPoses) {
 }
 
 // The second-order scale terms used below (1/(m/s^2)): 8 to 23 counts at 1 g along an axis.
-constexpr TriadScaleNonlinearity kScaleNonlinearity = {2e-4, -1e-4, 3e-4};
+const TriadScaleNonlinearity kScaleNonlinearity = ExampleScaleNonlinearity();
 
 TEST(TriadMlModel, ScaleNonlinearityRoundTripsAndMatchesTheTiltTableSign) {
   const TriadParameters truth = Truth();
@@ -222,19 +220,6 @@ TEST(TriadResidual, GradientCheckerAgreesWithAutodiff) {
     // The k2 columns are there: d r_k / d k2_k = -w_k^2 / (gain_k sigma_k) is far from zero.
     for (int k = 0; k < 3; ++k) EXPECT_GT(std::abs(results.jacobians[1](k, k)), 100.0) << k;
   }
-}
-
-TEST(TriadResidual, IsZeroAtTheTruthWithScaleNonlinearity) {
-  const TriadParameters truth = Truth();
-  const double direction[3] = {0.6, -0.48, 0.64};
-  const double force[3] = {kGravity * direction[0], kGravity * direction[1],
-                           kGravity * direction[2]};
-  std::array<double, 3> raw;
-  TriadRawOutput(truth.data(), kScaleNonlinearity.data(), force, raw.data());
-  const TriadPoseResidual residual(raw, {0.3, 0.3, 0.3}, kGravity);
-  double r[3];
-  ASSERT_TRUE(residual(truth.data(), kScaleNonlinearity.data(), direction, r));
-  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
 }
 
 TriadMlOptions TwelveParameterOptions() {
