@@ -5,33 +5,28 @@
 
 #include "estimation/triad_ml_calibration.h"
 
+#include <ceres/gradient_checker.h>
+#include <ceres/sphere_manifold.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "models/triad.h"
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
+#include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
 namespace {
 
 constexpr double kGravity = 9.81744;
 
-// A triad close to the Xsens unit of imu_tk's example.
-TriadParameters Truth() {
-  TriadParameters truth = TriadParametersWithOffset(33124.0, 33275.0, 32364.0);
-  const double angles_rad[3] = {0.0035, -0.009, 0.021};  // yz, zy, zx
-  const double counts_per_mps2[3] = {414.5, 412.0, 414.6};
-  for (int k = 0; k < 3; ++k) {
-    truth[kTriadMisalignmentYz + k] = angles_rad[k];
-    truth[kTriadGainX + k] = 1.0 / counts_per_mps2[k];
-  }
-  return truth;
-}
+// A triad close to the Xsens unit of imu_tk's example (the study's default truth).
+TriadParameters Truth() { return XsensLikeTriad(); }
 
 TriadSimulationOptions SimulationOptions() {
   TriadSimulationOptions options;
@@ -61,6 +56,12 @@ TEST(TriadPoseResidual, IsZeroAtTheTruth) {
   const TriadPoseResidual residual(raw, {0.3, 0.3, 0.3}, kGravity);
   double r[3];
   ASSERT_TRUE(residual(truth.data(), direction, r));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
+  // And with second-order scale terms, through the 12-parameter blocks.
+  const TriadScaleNonlinearity k2 = {2e-4, -1e-4, 3e-4};
+  TriadRawOutput(truth.data(), k2.data(), force, raw.data());
+  const TriadPoseResidual quadratic(raw, {0.3, 0.3, 0.3}, kGravity);
+  ASSERT_TRUE(quadratic(truth.data(), k2.data(), direction, r));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
 }
 
@@ -162,6 +163,177 @@ TEST(TriadMlCalibration, RefusesFewerThanTenPoses) {
           << status.message();
     }
   }
+}
+
+// The second-order scale terms used below (1/(m/s^2)): 8 to 23 counts at 1 g along an axis.
+const TriadScaleNonlinearity kScaleNonlinearity = ExampleScaleNonlinearity();
+
+TEST(TriadMlModel, ScaleNonlinearityRoundTripsAndMatchesTheTiltTableSign) {
+  const TriadParameters truth = Truth();
+  const double force[3] = {-4.1, 7.3, 5.2};  // m/s^2
+  double raw[3], linear_raw[3], back[3];
+  TriadRawOutput(truth.data(), kScaleNonlinearity.data(), force, raw);
+  TriadRawOutput(truth.data(), force, linear_raw);
+  ASSERT_TRUE(TriadSpecificForce(truth.data(), kScaleNonlinearity.data(), raw, back));
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(back[k], force[k], 1e-12) << k;
+  // Positive k2 makes the axis read more, as m_k += k2_k f_k^2 does on the tilt table: on z,
+  // (w_z = f_z) the output rises by k2_z f_z^2 / gain_z counts.
+  EXPECT_NEAR(raw[2] - linear_raw[2],
+              kScaleNonlinearity[2] * force[2] * force[2] / truth[kTriadGainZ], 1e-9);
+  // k2 = 0 is the 9-parameter model to the last bit.
+  const TriadScaleNonlinearity zero{};
+  double zero_raw[3];
+  TriadRawOutput(truth.data(), zero.data(), force, zero_raw);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(zero_raw[k], linear_raw[k]);
+}
+
+// The Jacobian autodiff gives the solver and ceres::Covariance against central differences,
+// in the direction's tangent space, at a point where the residual is not zero.
+TEST(TriadResidual, GradientCheckerAgreesWithAutodiff) {
+  const TriadParameters parameters = Truth();
+  std::array<double, 3> direction = {0.48, -0.6, 0.64};
+  const std::array<double, 3> mean = {33200.0, 30800.0, 35100.0};
+  const std::array<double, 3> mean_stddev = {0.3, 0.25, 0.35};
+  ceres::SphereManifold<3> sphere;
+  // The checker differentiates by Ridders' method, whose first step (a relative 1e-2, and at
+  // least that absolutely) would move a gain of 0.0024 (m/s^2)/count by four times itself.
+  ceres::NumericDiffOptions numeric;
+  numeric.ridders_relative_initial_step_size = 1e-6;
+  {
+    const std::unique_ptr<ceres::CostFunction> cost(
+        TriadPoseResidual::Create(mean, mean_stddev, kGravity));
+    const std::vector<const ceres::Manifold*> manifolds = {nullptr, &sphere};
+    ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
+    const std::vector<const double*> blocks = {parameters.data(), direction.data()};
+    ceres::GradientChecker::ProbeResults results;
+    EXPECT_TRUE(checker.Probe(blocks.data(), 1e-7, &results)) << results.error_log;
+  }
+  {
+    const std::unique_ptr<ceres::CostFunction> cost(
+        TriadPoseResidual::CreateWithScaleNonlinearity(mean, mean_stddev, kGravity));
+    const std::vector<const ceres::Manifold*> manifolds = {nullptr, nullptr, &sphere};
+    ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
+    const std::vector<const double*> blocks = {parameters.data(), kScaleNonlinearity.data(),
+                                               direction.data()};
+    ceres::GradientChecker::ProbeResults results;
+    EXPECT_TRUE(checker.Probe(blocks.data(), 1e-7, &results)) << results.error_log;
+    // The k2 columns are there: d r_k / d k2_k = -w_k^2 / (gain_k sigma_k) is far from zero.
+    for (int k = 0; k < 3; ++k) EXPECT_GT(std::abs(results.jacobians[1](k, k)), 100.0) << k;
+  }
+}
+
+TriadMlOptions TwelveParameterOptions() {
+  TriadMlOptions options = MlOptions();
+  options.scale_nonlinearity = true;
+  return options;
+}
+
+TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
+  TriadSimulationOptions simulation = SimulationOptions();
+  simulation.scale_nonlinearity = kScaleNonlinearity;
+  RandomSource random(20, 2);
+  const std::vector<TriadPoseMean> poses =
+      SimulateTriadPoses(simulation, RandomPoseDirections(30, &random), &random);
+  TriadMlResult result;
+  const Status status = CalibrateTriadMl(poses, TwelveParameterOptions(), &result);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(result.degrees_of_freedom, 18);
+  const TriadParameters truth = Truth();
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    EXPECT_LT(std::abs(result.parameters[p] - truth[p]), 3.0 * result.stddev[p])
+        << TriadParameterInfos()[p].name;
+  }
+  for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
+    const double error = result.scale_nonlinearity[k] - kScaleNonlinearity[k];
+    EXPECT_LT(std::abs(error), 3.0 * result.scale_nonlinearity_stddev[k])
+        << TriadScaleNonlinearityInfos()[k].name;
+    // Determined well enough to tell from zero (sigma ~1e-5 1/(m/s^2) with 30 poses).
+    EXPECT_LT(result.scale_nonlinearity_stddev[k], 0.2 * std::abs(kScaleNonlinearity[k]));
+  }
+  EXPECT_GT(result.p_value, 0.001);
+  // The 9-parameter fit of the same poses does not explain them: k2 is in the data.
+  TriadMlResult nine;
+  ASSERT_TRUE(CalibrateTriadMl(poses, MlOptions(), &nine).ok());
+  EXPECT_LT(nine.p_value, 1e-6) << nine.chi2_per_dof;
+}
+
+// Without the option nothing changes: the 9-parameter fit reports no k2, and the
+// 12-parameter fit of data without k2 finds k2 at zero within 3 sigma.
+TEST(TriadMlCalibration, ScaleNonlinearityOptionOffLeavesTheNineParameterFit) {
+  RandomSource random(20, 1);
+  const std::vector<TriadPoseMean> poses =
+      SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(30, &random), &random);
+  TriadMlResult nine, twelve;
+  ASSERT_TRUE(CalibrateTriadMl(poses, MlOptions(), &nine).ok());
+  EXPECT_FALSE(nine.scale_nonlinearity_estimated);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(nine.scale_nonlinearity[k], 0.0);
+  ASSERT_TRUE(CalibrateTriadMl(poses, TwelveParameterOptions(), &twelve).ok());
+  EXPECT_TRUE(twelve.scale_nonlinearity_estimated);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_LT(std::abs(twelve.scale_nonlinearity[k]), 3.0 * twelve.scale_nonlinearity_stddev[k]);
+  }
+  // Estimating three more parameters costs precision, never gains it.
+  for (int p = 0; p < kTriadParameterCount; ++p) EXPECT_GE(twelve.stddev[p], nine.stddev[p]);
+}
+
+// A degenerate pose set is refused with the poses to add; holding those as well makes the
+// triad identifiable, so the advice is right, not only printed.
+void ExpectSuggestedPosesMakeItIdentifiable(const std::vector<std::array<double, 3>>& directions,
+                                            const TriadMlOptions& options, const char* label) {
+  TriadSimulationOptions simulation = SimulationOptions();
+  if (options.scale_nonlinearity) simulation.scale_nonlinearity = kScaleNonlinearity;
+  RandomSource random(31, 0);
+  TriadMlResult refused;
+  const Status status =
+      CalibrateTriadMl(SimulateTriadPoses(simulation, directions, &random), options, &refused);
+  ASSERT_FALSE(status.ok()) << label;
+  std::printf("  %s: %s\n", label, status.message().c_str());
+  ASSERT_FALSE(refused.suggested_directions.empty()) << label;
+  EXPECT_NE(status.message().find(" held with "), std::string::npos) << status.message();
+  std::vector<std::array<double, 3>> more = directions;
+  more.insert(more.end(), refused.suggested_directions.begin(), refused.suggested_directions.end());
+  TriadMlResult fitted;
+  const Status fixed =
+      CalibrateTriadMl(SimulateTriadPoses(simulation, more, &random), options, &fitted);
+  EXPECT_TRUE(fixed.ok()) << label << ": " << fixed.message();
+}
+
+std::vector<std::array<double, 3>> AboutX(int count) {
+  std::vector<std::array<double, 3>> directions;
+  for (int i = 0; i < count; ++i) {
+    const double angle = 2.0 * M_PI * i / count;
+    directions.push_back({0.0, std::cos(angle), std::sin(angle)});
+  }
+  return directions;
+}
+
+TEST(TriadMlCalibration, RefusalOfPlanarPosesSaysToHoldTheMissingAxisUpAndDown) {
+  for (const TriadMlOptions& options : {MlOptions(), TwelveParameterOptions()}) {
+    RandomSource random(5, 0);
+    TriadMlResult result;
+    ASSERT_FALSE(CalibrateTriadMl(SimulateTriadPoses(SimulationOptions(), AboutX(20), &random),
+                                  options, &result)
+                     .ok());
+    // The first two poses to add: x up and x down, the axis the turns about x never showed.
+    ASSERT_GE(result.suggested_directions.size(), 2u);
+    EXPECT_GT(std::abs(result.suggested_directions[0][0]), 0.99);
+    EXPECT_GT(std::abs(result.suggested_directions[1][0]), 0.99);
+    EXPECT_LT(result.suggested_directions[0][0] * result.suggested_directions[1][0], 0.0);
+    ExpectSuggestedPosesMakeItIdentifiable(AboutX(20), options,
+                                           options.scale_nonlinearity ? "planar, 12" : "planar, 9");
+  }
+}
+
+TEST(TriadMlCalibration, RefusalOfSixAndOfFewPosesNamesPosesThatFixIt) {
+  const std::vector<std::array<double, 3>> six = SixPoseDirections();
+  ExpectSuggestedPosesMakeItIdentifiable(six, MlOptions(), "six, 9");
+  ExpectSuggestedPosesMakeItIdentifiable(six, TwelveParameterOptions(), "six, 12");
+  RandomSource random(11, 8);
+  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(8, &random), MlOptions(), "8, 9");
+  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(11, &random),
+                                         TwelveParameterOptions(), "11, 12");
+  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(9, &random), MlOptions(),
+                                         "9 (no dof), 9");
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <ceres/sphere_manifold.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -14,7 +15,14 @@
 namespace accelcal {
 namespace {
 
-constexpr int kMinPoses = kTriadParameterCount + 1;  // at least one degree of freedom
+// At least one degree of freedom.
+int MinPoses(int parameter_count) { return parameter_count + 1; }
+
+const char* EstimatedParameterName(int index) {
+  return index < kTriadParameterCount
+             ? TriadParameterInfos()[index].name
+             : TriadScaleNonlinearityInfos()[index - kTriadParameterCount].name;
+}
 
 // s_k^2 pooled over the poses, weighted by their N_p - 1 degrees of freedom.
 Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<double, 3>* pooled) {
@@ -45,7 +53,7 @@ Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<d
 // the column-normalised Jacobian (so that counts, rad and (m/s^2)/count compare) whose singular
 // values are below rank_tolerance times the largest. Returns the names of the triad
 // parameters with a weight above 0.1 in that null space, empty when the Jacobian has full rank.
-std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs,
+std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs, int parameter_count,
                                                   double rank_tolerance) {
   Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row) {
@@ -67,14 +75,14 @@ std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs,
   const int nullity = static_cast<int>(jacobian.cols()) - rank;
   if (nullity == 0) return names;
   const Eigen::MatrixXd null_space = svd.matrixV().rightCols(nullity);
-  for (int p = 0; p < kTriadParameterCount; ++p) {
-    if (null_space.row(p).norm() > 0.1) names.push_back(TriadParameterInfos()[p].name);
+  for (int p = 0; p < parameter_count; ++p) {
+    if (null_space.row(p).norm() > 0.1) names.push_back(EstimatedParameterName(p));
   }
   if (names.empty()) names.push_back("the gravity directions of some poses");
   return names;
 }
 
-// When the directions lie near a plane: its normal, to say which poses to add.
+// When the directions lie near a plane: its normal, to say how the sensor was turned.
 std::string PlanarHint(const std::vector<std::array<double, 3>>& directions) {
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const auto& d : directions) {
@@ -88,44 +96,261 @@ std::string PlanarHint(const std::vector<std::array<double, 3>>& directions) {
   if (eigen.eigenvalues()[0] > 1e-2) return "";
   const Eigen::Vector3d normal = eigen.eigenvectors().col(0);
   return StringPrintf(
-      "; the gravity directions of all poses lie within a few degrees of a plane (normal (%.3f, "
-      "%.3f, %.3f) in the "
-      "sensor frame: the sensor was only turned about that axis); add poses with gravity along "
+      "; all poses' gravity directions lie within a few degrees of a plane (normal (%.3f, %.3f, "
+      "%.3f), sensor frame: the sensor was only turned about it); add poses with gravity along "
       "or near it",
       normal[0], normal[1], normal[2]);
 }
 
+// What the poses tell about the estimated parameters, and which poses would tell more.
+// Everything is evaluated at one point of parameter space (the refusal's).
+class PoseAdvisor {
+ public:
+  PoseAdvisor(const double* parameters, const double* scale_nonlinearity,
+              const std::array<double, 3>& mean_stddev, double gravity_mps2)
+      : parameters_(parameters),
+        scale_nonlinearity_(scale_nonlinearity),
+        mean_stddev_(mean_stddev),
+        gravity_mps2_(gravity_mps2),
+        parameter_count_(kTriadParameterCount +
+                         (scale_nonlinearity == nullptr ? 0 : kTriadScaleNonlinearityCount)) {}
+
+  // a_p: the pose's information on the parameters is a_p a_p^T, its own direction
+  // marginalised. The pose's 3 residuals move with the parameters through J (3 x parameters)
+  // and with its direction through B (3 x 2, the sphere's tangent plane); only the residual
+  // direction q orthogonal to both columns of B carries information on the parameters.
+  Eigen::VectorXd InformationVector(const std::array<double, 3>& direction) const {
+    const std::unique_ptr<ceres::CostFunction> cost(
+        scale_nonlinearity_ == nullptr
+            ? TriadPoseResidual::Create({0.0, 0.0, 0.0}, mean_stddev_, gravity_mps2_)
+            : TriadPoseResidual::CreateWithScaleNonlinearity({0.0, 0.0, 0.0}, mean_stddev_,
+                                                             gravity_mps2_));
+    double residual[3];
+    Eigen::Matrix<double, 3, kTriadParameterCount, Eigen::RowMajor> jacobian_parameters;
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> jacobian_scale_nonlinearity;
+    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> jacobian_direction;
+    std::vector<const double*> blocks = {parameters_};
+    std::vector<double*> jacobians = {jacobian_parameters.data()};
+    if (scale_nonlinearity_ != nullptr) {
+      blocks.push_back(scale_nonlinearity_);
+      jacobians.push_back(jacobian_scale_nonlinearity.data());
+    }
+    blocks.push_back(direction.data());
+    jacobians.push_back(jacobian_direction.data());
+    CHECK(cost->Evaluate(blocks.data(), residual, jacobians.data()));
+
+    const Eigen::Vector3d n(direction[0], direction[1], direction[2]);
+    const Eigen::Vector3d helper =
+        std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d tangent_1 = n.cross(helper).normalized();
+    const Eigen::Vector3d tangent_2 = n.cross(tangent_1);
+    const Eigen::Vector3d q =
+        (jacobian_direction * tangent_1).cross(jacobian_direction * tangent_2).normalized();
+    Eigen::VectorXd a(parameter_count_);
+    a.head<kTriadParameterCount>() = jacobian_parameters.transpose() * q;
+    if (scale_nonlinearity_ != nullptr) {
+      a.tail<kTriadScaleNonlinearityCount>() = jacobian_scale_nonlinearity.transpose() * q;
+    }
+    return a;
+  }
+
+  // The poses to add to `held` (unit directions), best first, as the header states.
+  std::vector<std::array<double, 3>> Suggest(const std::vector<std::array<double, 3>>& held) const {
+    const std::vector<std::array<double, 3>> candidates = CandidateDirections();
+    std::vector<Eigen::VectorXd> candidate_vectors;
+    Eigen::VectorXd sphere_diagonal = Eigen::VectorXd::Zero(parameter_count_);
+    Eigen::MatrixXd sphere = Eigen::MatrixXd::Zero(parameter_count_, parameter_count_);
+    for (const auto& direction : candidates) {
+      candidate_vectors.push_back(InformationVector(direction));
+      sphere += candidate_vectors.back() * candidate_vectors.back().transpose();
+    }
+    sphere /= static_cast<double>(candidates.size());
+    // Per-parameter scale: the information one sphere-spread pose gives it.
+    const Eigen::VectorXd scale = sphere.diagonal().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+    const double enough =
+        SmallestEigenvalue(scale.asDiagonal() * sphere * scale.asDiagonal());  // one pose's
+    for (Eigen::VectorXd& a : candidate_vectors) a = scale.cwiseProduct(a);
+
+    Eigen::MatrixXd information = Eigen::MatrixXd::Zero(parameter_count_, parameter_count_);
+    for (const auto& direction : held) {
+      const Eigen::VectorXd a = scale.cwiseProduct(InformationVector(direction));
+      information += a * a.transpose();
+    }
+    const int min_poses = MinPoses(parameter_count_);
+    std::vector<std::array<double, 3>> suggested;
+    while (suggested.size() < 12 &&
+           (SmallestEigenvalue(information) < enough ||
+            static_cast<int>(held.size() + suggested.size()) < min_poses)) {
+      const double before = Objective(information);
+      std::vector<double> gains(candidates.size());
+      size_t best = 0;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        gains[c] =
+            Objective(information + candidate_vectors[c] * candidate_vectors[c].transpose()) -
+            before;
+        if (gains[c] > gains[best]) best = c;
+      }
+      // A direction a person can hold (an axis, an edge or a corner of a box up) when it
+      // does nearly as well.
+      for (size_t c = 0; c < kBoxDirections; ++c) {
+        if (gains[c] >= 0.95 * gains[best] && (best >= kBoxDirections || gains[c] > gains[best]))
+          best = c;
+      }
+      information += candidate_vectors[best] * candidate_vectors[best].transpose();
+      suggested.push_back(candidates[best]);
+    }
+    return suggested;
+  }
+
+ private:
+  static constexpr size_t kBoxDirections = 26;
+
+  // The 26 directions of a box's faces, edges and corners first, then a Fibonacci lattice
+  // of 600 points over the sphere.
+  static std::vector<std::array<double, 3>> CandidateDirections() {
+    std::vector<std::array<double, 3>> directions;
+    for (int x = -1; x <= 1; ++x) {
+      for (int y = -1; y <= 1; ++y) {
+        for (int z = -1; z <= 1; ++z) {
+          if (x == 0 && y == 0 && z == 0) continue;
+          const double norm = std::sqrt(static_cast<double>(x * x + y * y + z * z));
+          directions.push_back({x / norm, y / norm, z / norm});
+        }
+      }
+    }
+    // Axes before edges before corners, so that a tie keeps the simplest.
+    std::stable_sort(directions.begin(), directions.end(), [](const auto& a, const auto& b) {
+      auto zeros = [](const std::array<double, 3>& d) {
+        return (d[0] == 0.0) + (d[1] == 0.0) + (d[2] == 0.0);
+      };
+      return zeros(a) > zeros(b);
+    });
+    constexpr int kLattice = 600;
+    const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+    for (int i = 0; i < kLattice; ++i) {
+      const double z = 1.0 - (2.0 * i + 1.0) / kLattice;
+      const double r = std::sqrt(1.0 - z * z);
+      directions.push_back({r * std::cos(golden_angle * i), r * std::sin(golden_angle * i), z});
+    }
+    return directions;
+  }
+
+  static double SmallestEigenvalue(const Eigen::MatrixXd& information) {
+    return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(information, Eigen::EigenvaluesOnly)
+        .eigenvalues()[0];
+  }
+
+  // sum_i log(lambda_i + 1e-3): raising a null eigenvalue to one pose's worth gains ~7, so
+  // the directions the poses lack come first, all of them, not only the weakest one.
+  static double Objective(const Eigen::MatrixXd& information) {
+    const Eigen::VectorXd eigenvalues =
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(information, Eigen::EigenvaluesOnly)
+            .eigenvalues();
+    double sum = 0.0;
+    for (int i = 0; i < eigenvalues.size(); ++i)
+      sum += std::log(std::max(eigenvalues[i], 0.0) + 1e-3);
+    return sum;
+  }
+
+  const double* parameters_;
+  const double* scale_nonlinearity_;
+  const std::array<double, 3> mean_stddev_;
+  const double gravity_mps2_;
+  const int parameter_count_;
+};
+
+// "x up", "-y up" ... for an axis, else the vector that points up.
+std::string DescribeDirection(const std::array<double, 3>& d) {
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(d[k]) > 0.999) return StringPrintf("%c %s", "xyz"[k], d[k] > 0 ? "up" : "down");
+  }
+  return StringPrintf("(%.2f, %.2f, %.2f) up", d[0], d[1], d[2]);
+}
+
+// The poses to add, in words: after the plane's advice (`after_planar_hint`) as its example.
+// At most 6 are listed; the result holds them all.
+std::string SuggestionText(const std::vector<std::array<double, 3>>& suggested,
+                           bool after_planar_hint) {
+  if (suggested.empty()) return "";
+  constexpr size_t kListed = 6;
+  std::string list;
+  for (size_t i = 0; i < std::min(suggested.size(), kListed); ++i)
+    list += (i == 0 ? "" : ", ") + DescribeDirection(suggested[i]);
+  if (suggested.size() > kListed) list += StringPrintf(" and %zu more", suggested.size() - kListed);
+  const std::string poses =
+      suggested.size() == 1 ? "this pose" : StringPrintf("these %zu poses", suggested.size());
+  return (after_planar_hint ? ", e.g. " : "; add ") + poses + " held with " + list +
+         " (sensor frame)";
+}
+
+// What CheckIdentifiable needs of the problem being solved.
+struct ProblemState {
+  const TriadMlOptions* options;
+  int parameter_count;          // 9 or 12
+  double* parameters;           // the 9 triad parameters
+  double* scale_nonlinearity;   // k2, or null when not estimated
+  std::vector<double*> blocks;  // the parameter blocks, triad ones first
+  std::vector<ceres::ResidualBlockId> residual_blocks;
+  std::array<double, 3> mean_stddev;  // of a pose of the median sample count (counts)
+};
+
+std::vector<std::array<double, 3>> SuggestedPoses(const ProblemState& state,
+                                                  const std::vector<std::array<double, 3>>& held) {
+  return PoseAdvisor(state.parameters, state.scale_nonlinearity, state.mean_stddev,
+                     state.options->gravity_mps2)
+      .Suggest(held);
+}
+
 // Evaluates the whitened residuals and their Jacobian (in the directions' tangent space) and
-// refuses, naming the parameters, when the Jacobian is rank-deficient.
-Status CheckIdentifiable(double rank_tolerance, const std::vector<double*>& blocks,
-                         const std::vector<ceres::ResidualBlockId>& residual_blocks,
+// refuses, naming the parameters and the poses to add, when the Jacobian is rank-deficient.
+Status CheckIdentifiable(const ProblemState& state,
                          const std::vector<std::array<double, 3>>& directions,
-                         ceres::Problem* problem, std::vector<double>* residuals) {
+                         ceres::Problem* problem, std::vector<double>* residuals,
+                         TriadMlResult* result) {
   const int pose_count = static_cast<int>(directions.size());
   ceres::Problem::EvaluateOptions evaluate_options;
-  evaluate_options.parameter_blocks = blocks;
-  evaluate_options.residual_blocks = residual_blocks;
+  evaluate_options.parameter_blocks = state.blocks;
+  evaluate_options.residual_blocks = state.residual_blocks;
   double cost = 0.0;
   std::vector<double> values;
   ceres::CRSMatrix jacobian;
   if (!problem->Evaluate(evaluate_options, &cost, &values, nullptr, &jacobian)) {
     return Status::Error("the residuals could not be evaluated at the parameters reached");
   }
-  CHECK_EQ(jacobian.num_cols, kTriadParameterCount + 2 * pose_count);
+  CHECK_EQ(jacobian.num_cols, state.parameter_count + 2 * pose_count);
   if (residuals != nullptr) *residuals = values;
   const std::vector<std::string> unidentifiable =
-      UnidentifiableParameters(jacobian, rank_tolerance);
+      UnidentifiableParameters(jacobian, state.parameter_count, state.options->rank_tolerance);
   if (unidentifiable.empty()) return Status::Ok();
+  result->unidentifiable = unidentifiable;
+  result->suggested_directions = SuggestedPoses(state, directions);
   std::string names;
   for (const std::string& name : unidentifiable) names += (names.empty() ? "" : ", ") + name;
+  const std::string planar_hint = PlanarHint(directions);
   return Status::Error(StringPrintf(
       "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "
-      "%d residuals in the %d unknowns is rank-deficient)%s",
+      "%d residuals in the %d unknowns is rank-deficient)%s%s",
       pose_count, (names + (unidentifiable.size() == 1 ? " is" : " are")).c_str(), 3 * pose_count,
-      kTriadParameterCount + 2 * pose_count, PlanarHint(directions).c_str()));
+      state.parameter_count + 2 * pose_count, planar_hint.c_str(),
+      SuggestionText(result->suggested_directions, !planar_hint.empty()).c_str()));
+}
+
+// The standard deviation of the mean of a pose of the median sample count.
+std::array<double, 3> TypicalMeanStddev(const std::vector<TriadPoseMean>& poses,
+                                        const std::array<double, 3>& noise_variance) {
+  std::vector<int> counts;
+  for (const TriadPoseMean& pose : poses) counts.push_back(pose.sample_count);
+  std::nth_element(counts.begin(), counts.begin() + counts.size() / 2, counts.end());
+  const double median = counts[counts.size() / 2];
+  return {std::sqrt(noise_variance[0] / median), std::sqrt(noise_variance[1] / median),
+          std::sqrt(noise_variance[2] / median)};
 }
 
 }  // namespace
+
+int TriadEstimatedParameterCount(const TriadMlOptions& options) {
+  return kTriadParameterCount + (options.scale_nonlinearity ? kTriadScaleNonlinearityCount : 0);
+}
 
 std::vector<TriadPoseMean> PoseMeansOfIntervals(const TriadLog& log,
                                                 const std::vector<StaticInterval>& intervals,
@@ -146,44 +371,64 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
                         TriadMlResult* result) {
   *result = TriadMlResult();
   const int pose_count = static_cast<int>(poses.size());
+  const int parameter_count = TriadEstimatedParameterCount(options);
   result->pose_count = pose_count;
+  result->scale_nonlinearity_estimated = options.scale_nonlinearity;
   if (pose_count < 1) return Status::Error("no static poses to calibrate from");
   ACCELCAL_RETURN_IF_ERROR(PooledNoiseVariance(poses, &result->noise_variance));
 
   // Initial directions: the initial calibration's specific force of each mean, normalised.
   result->parameters = options.initial;
+  if (options.scale_nonlinearity) result->scale_nonlinearity = options.initial_scale_nonlinearity;
+  double* scale_nonlinearity =
+      options.scale_nonlinearity ? result->scale_nonlinearity.data() : nullptr;
   result->directions.resize(pose_count);
   for (int p = 0; p < pose_count; ++p) {
-    double force[3];
-    TriadSpecificForce(options.initial.data(), poses[p].mean.data(), force);
+    double force[3] = {0.0, 0.0, 0.0};
+    const bool mapped =
+        TriadSpecificForce(options.initial.data(), static_cast<const double*>(scale_nonlinearity),
+                           poses[p].mean.data(), force);
     const double norm = std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]);
-    if (!(norm > 0.0) || !std::isfinite(norm)) {
+    if (!mapped || !(norm > 0.0) || !std::isfinite(norm)) {
       return Status::Error(StringPrintf(
           "pose %d: the initial calibration maps its mean to a specific force of norm %g; give "
           "an initial bias near the output at zero specific force",
-          p + 1, norm));
+          p + 1, mapped ? norm : NAN));
     }
     for (int k = 0; k < 3; ++k) result->directions[p][k] = force[k] / norm;
   }
 
   ceres::Problem problem;
-  std::vector<ceres::ResidualBlockId> residual_blocks;
-  std::vector<double*> blocks = {result->parameters.data()};
+  ProblemState state;
+  state.options = &options;
+  state.parameter_count = parameter_count;
+  state.parameters = result->parameters.data();
+  state.scale_nonlinearity = scale_nonlinearity;
+  state.blocks = {result->parameters.data()};
+  if (scale_nonlinearity != nullptr) state.blocks.push_back(scale_nonlinearity);
+  state.mean_stddev = TypicalMeanStddev(poses, result->noise_variance);
   for (int p = 0; p < pose_count; ++p) {
     std::array<double, 3> mean_stddev;
     for (int k = 0; k < 3; ++k)
       mean_stddev[k] = std::sqrt(result->noise_variance[k] / poses[p].sample_count);
-    residual_blocks.push_back(problem.AddResidualBlock(
-        TriadPoseResidual::Create(poses[p].mean, mean_stddev, options.gravity_mps2), nullptr,
-        result->parameters.data(), result->directions[p].data()));
-    problem.SetManifold(result->directions[p].data(), new ceres::SphereManifold<3>());
-    blocks.push_back(result->directions[p].data());
+    double* direction = result->directions[p].data();
+    if (scale_nonlinearity == nullptr) {
+      state.residual_blocks.push_back(problem.AddResidualBlock(
+          TriadPoseResidual::Create(poses[p].mean, mean_stddev, options.gravity_mps2), nullptr,
+          result->parameters.data(), direction));
+    } else {
+      state.residual_blocks.push_back(problem.AddResidualBlock(
+          TriadPoseResidual::CreateWithScaleNonlinearity(poses[p].mean, mean_stddev,
+                                                         options.gravity_mps2),
+          nullptr, result->parameters.data(), scale_nonlinearity, direction));
+    }
+    problem.SetManifold(direction, new ceres::SphereManifold<3>());
+    state.blocks.push_back(direction);
   }
 
   // The rank check at the initial guess first: a rank-deficient problem wanders along its null
   // space while solving, which blurs what the poses cannot determine (and the plane they lie in).
-  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(options.rank_tolerance, blocks, residual_blocks,
-                                             result->directions, &problem, nullptr));
+  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(state, result->directions, &problem, nullptr, result));
   // A failed solve is reported after the rank check: a rank-deficient problem often does not
   // converge, and naming what cannot be determined is the more useful refusal.
   const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
@@ -191,8 +436,8 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   // At the solution: the whitened residuals, and the rank check again (the initial guess may
   // have hidden a degeneracy).
   std::vector<double> residuals;
-  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(options.rank_tolerance, blocks, residual_blocks,
-                                             result->directions, &problem, &residuals));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckIdentifiable(state, result->directions, &problem, &residuals, result));
   result->whitened_residuals.resize(pose_count);
   result->chi2 = 0.0;
   for (int p = 0; p < pose_count; ++p) {
@@ -202,13 +447,16 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
     }
   }
   ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the maximum-likelihood solve"));
-  if (pose_count < kMinPoses) {
+  const int min_poses = MinPoses(parameter_count);
+  if (pose_count < min_poses) {
+    result->suggested_directions = SuggestedPoses(state, result->directions);
     return Status::Error(StringPrintf(
-        "%d poses give %d residuals for %d unknowns (9 parameters and 2 per gravity direction), "
+        "%d poses give %d residuals for %d unknowns (%d parameters and 2 per gravity direction), "
         "%d degrees of freedom: nothing is left to check the noise model; hold the sensor in at "
-        "least %d poses",
-        pose_count, 3 * pose_count, kTriadParameterCount + 2 * pose_count,
-        pose_count - kTriadParameterCount, kMinPoses));
+        "least %d poses%s",
+        pose_count, 3 * pose_count, parameter_count + 2 * pose_count, parameter_count,
+        pose_count - parameter_count, min_poses,
+        SuggestionText(result->suggested_directions, false).c_str()));
   }
 
   ceres::Covariance::Options covariance_options;
@@ -218,12 +466,17 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   covariance_options.algorithm_type = ceres::SPARSE_QR;
   covariance_options.num_threads = 1;
   ceres::Covariance covariance(covariance_options);
-  const std::vector<std::pair<const double*, const double*>> pairs = {
+  std::vector<std::pair<const double*, const double*>> pairs = {
       {result->parameters.data(), result->parameters.data()}};
+  if (scale_nonlinearity != nullptr) {
+    pairs.push_back({scale_nonlinearity, scale_nonlinearity});
+    pairs.push_back({result->parameters.data(), scale_nonlinearity});
+  }
   if (!covariance.Compute(pairs, &problem)) {
-    return Status::Error(
-        "ceres::Covariance could not invert the information of the 9 triad parameters; the "
-        "poses do not determine them");
+    return Status::Error(StringPrintf(
+        "ceres::Covariance could not invert the information of the %d triad parameters; the "
+        "poses do not determine them",
+        parameter_count));
   }
   double block[kTriadParameterCount * kTriadParameterCount];
   covariance.GetCovarianceBlock(result->parameters.data(), result->parameters.data(), block);
@@ -232,8 +485,21 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
       result->covariance[i][j] = block[i * kTriadParameterCount + j];
     result->stddev[i] = std::sqrt(result->covariance[i][i]);
   }
+  if (scale_nonlinearity != nullptr) {
+    constexpr int kK2 = kTriadScaleNonlinearityCount;
+    covariance.GetCovarianceBlock(scale_nonlinearity, scale_nonlinearity, block);
+    for (int i = 0; i < kK2; ++i) {
+      for (int j = 0; j < kK2; ++j)
+        result->scale_nonlinearity_covariance[i][j] = block[i * kK2 + j];
+      result->scale_nonlinearity_stddev[i] = std::sqrt(result->scale_nonlinearity_covariance[i][i]);
+    }
+    covariance.GetCovarianceBlock(result->parameters.data(), scale_nonlinearity, block);
+    for (int i = 0; i < kTriadParameterCount; ++i) {
+      for (int j = 0; j < kK2; ++j) result->cross_covariance[i][j] = block[i * kK2 + j];
+    }
+  }
 
-  result->degrees_of_freedom = pose_count - kTriadParameterCount;
+  result->degrees_of_freedom = pose_count - parameter_count;
   const double dof = result->degrees_of_freedom;
   result->chi2_per_dof = result->chi2 / dof;
   result->chi2_per_dof_spread = std::sqrt(2.0 / dof);

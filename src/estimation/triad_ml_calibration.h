@@ -20,9 +20,22 @@
 // chi2 = sum r^2 on P - 9 degrees of freedom, p = P(chi2_{P-9} > chi2); chi2/dof has mean 1
 // and standard deviation sqrt(2/dof) when the noise model holds.
 //
-// Refusals (a Status naming what cannot be determined, not a crash): fewer than 10 poses;
-// a Jacobian that is rank-deficient at the solution (e.g. all gravity directions in a plane),
-// with the parameters in its null space named; ceres::Covariance failing.
+// With options.scale_nonlinearity, the 3 second-order scale terms k2_k of models/triad.h are
+// estimated too (their own block): 12 parameters, P - 12 degrees of freedom.
+//
+// Refusals (a Status naming what cannot be determined, not a crash): fewer poses than
+// parameters + 1; a Jacobian that is rank-deficient at the initial guess or at the solution
+// (e.g. all gravity directions in a plane), with the parameters in its null space named and
+// the poses to add computed (below); ceres::Covariance failing.
+//
+// The poses to add: each pose p gives the parameters the rank-one information a_p a_p^T
+// (its direction marginalised: a_p = J_p^T q_p, q_p the residual direction the pose's own
+// two direction unknowns cannot absorb). Normalised so that its diagonal counts "poses'
+// worth" (divided by the mean diagonal of poses spread over the whole sphere), the
+// information of the poses held is raised greedily: each step adds, from ~600 directions
+// over the sphere (the 26 axis, edge and corner directions preferred on a near tie), the
+// one that most increases sum_i log(lambda_i + 1e-3), until the smallest eigenvalue reaches
+// that of one sphere-spread pose and there are parameters + 1 poses (at most 12 added).
 
 #include <array>
 #include <string>
@@ -46,7 +59,14 @@ struct TriadMlOptions {
   // noise (directions in a plane give ~1e-6 with 3 counts of noise); well-spread poses give
   // ~0.1.
   double rank_tolerance = 1e-4;
+  // Estimate the second-order scale terms k2_k (scale_nonlinearity_x/y/z, 1/(m/s^2)) too,
+  // starting from initial_scale_nonlinearity.
+  bool scale_nonlinearity = false;
+  TriadScaleNonlinearity initial_scale_nonlinearity{};
 };
+
+// 9, or 12 with options.scale_nonlinearity.
+int TriadEstimatedParameterCount(const TriadMlOptions& options);
 
 using TriadCovariance = std::array<std::array<double, kTriadParameterCount>, kTriadParameterCount>;
 
@@ -64,6 +84,21 @@ struct TriadMlResult {
   double chi2_per_dof_spread = 0.0;  // sqrt(2 / dof)
   double p_value = 0.0;              // P(chi2_dof > chi2)
   SolverReport solver;
+
+  // With options.scale_nonlinearity: k2_k (1/(m/s^2)), its sigma and covariance blocks
+  // (covariance above stays the 9 parameters' block).
+  bool scale_nonlinearity_estimated = false;
+  TriadScaleNonlinearity scale_nonlinearity{};
+  TriadScaleNonlinearity scale_nonlinearity_stddev{};
+  std::array<TriadScaleNonlinearity, kTriadScaleNonlinearityCount> scale_nonlinearity_covariance{};
+  // [i][k]: covariance of triad parameter i with k2_k.
+  std::array<TriadScaleNonlinearity, kTriadParameterCount> cross_covariance{};
+
+  // When refused because the poses cannot determine the model: the parameters in the null
+  // space, and the poses to add, as unit specific-force directions in the sensor frame (the
+  // direction that points up when the sensor is held still), best first.
+  std::vector<std::string> unidentifiable;
+  std::vector<std::array<double, 3>> suggested_directions;
 };
 
 // Fails, naming what the poses cannot determine, as stated above. The poses' variances must

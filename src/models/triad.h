@@ -14,8 +14,22 @@
 //
 // The parameters form one block of kTriadParameterCount doubles at the offsets below (the
 // order imu_tk's solver uses, so that the same problem is solved step by step).
+//
+// Optionally (TriadMlOptions::scale_nonlinearity), a second-order scale term per axis, the
+// triad's counterpart of the tilt table's k2_k (../shared/spec/error-model.md,
+// models/effects/scale_nonlinearity.h: m_k += k2_k f_k^2), with the same name, unit and
+// sign. It acts where the tilt table's does, in the sensor's direction: with w = T^-1 a the
+// specific force along the sensing axes (m/s^2) and v_k = gain_k (u_k - offset_k) the
+// gain-corrected output of axis k (m/s^2),
+//
+//   v_k = w_k + k2_k w_k^2,   k2_k = scale_nonlinearity_k [1/(m/s^2)],
+//
+// so a positive k2_k makes the axis read more than linear at large |w_k| of either sign.
+// It is its own block of kTriadScaleNonlinearityCount doubles, so that the 9-parameter
+// problem is unchanged when the term is not estimated.
 
 #include <array>
+#include <cmath>
 #include <string>
 
 namespace accelcal {
@@ -53,6 +67,19 @@ inline const std::array<TriadParameterInfo, kTriadParameterCount>& TriadParamete
 
 using TriadParameters = std::array<double, kTriadParameterCount>;
 
+constexpr int kTriadScaleNonlinearityCount = 3;  // x, y, z, in 1/(m/s^2)
+inline const std::array<TriadParameterInfo, kTriadScaleNonlinearityCount>&
+TriadScaleNonlinearityInfos() {
+  static const std::array<TriadParameterInfo, kTriadScaleNonlinearityCount> infos = {{
+      {"scale_nonlinearity_x", "1/(m/s^2)"},
+      {"scale_nonlinearity_y", "1/(m/s^2)"},
+      {"scale_nonlinearity_z", "1/(m/s^2)"},
+  }};
+  return infos;
+}
+
+using TriadScaleNonlinearity = std::array<double, kTriadScaleNonlinearityCount>;
+
 // The identity calibration of imu_tk (angles 0, gains 1) with the given offsets.
 inline TriadParameters TriadParametersWithOffset(double offset_x, double offset_y,
                                                  double offset_z) {
@@ -65,28 +92,61 @@ inline TriadParameters TriadParametersWithOffset(double offset_x, double offset_
 }
 
 // a = T K (u - b). T is a scalar or a ceres::Jet; `raw` is the measured output in counts.
+// With `scale_nonlinearity` (k2, may be null: no second-order term) each gain-corrected output
+// v_k is first mapped back to the force along its axis, w_k = 2 v_k / (1 + sqrt(1 + 4 k2_k v_k))
+// (the root of k2 w^2 + w - v = 0 that tends to v as k2 -> 0, written without cancellation),
+// and a = T w. Returns false when 1 + 4 k2_k v_k < 0: no force gives that output.
 template <typename T>
-void TriadSpecificForce(const T* parameters, const double* raw, T* specific_force) {
-  const T ux = parameters[kTriadGainX] * (T(raw[0]) - parameters[kTriadOffsetX]);
-  const T uy = parameters[kTriadGainY] * (T(raw[1]) - parameters[kTriadOffsetY]);
-  const T uz = parameters[kTriadGainZ] * (T(raw[2]) - parameters[kTriadOffsetZ]);
-  specific_force[0] =
-      ux - parameters[kTriadMisalignmentYz] * uy + parameters[kTriadMisalignmentZy] * uz;
-  specific_force[1] = uy - parameters[kTriadMisalignmentZx] * uz;
-  specific_force[2] = uz;
+bool TriadSpecificForce(const T* parameters, const T* scale_nonlinearity, const double* raw,
+                        T* specific_force) {
+  using std::sqrt;  // ceres::Jet's sqrt is found by argument-dependent lookup
+  T along[3];
+  for (int k = 0; k < 3; ++k) {
+    const T v = parameters[kTriadGainX + k] * (T(raw[k]) - parameters[kTriadOffsetX + k]);
+    if (scale_nonlinearity == nullptr) {
+      along[k] = v;
+      continue;
+    }
+    const T discriminant = T(1.0) + T(4.0) * scale_nonlinearity[k] * v;
+    if (!(discriminant >= T(0.0))) return false;
+    along[k] = T(2.0) * v / (T(1.0) + sqrt(discriminant));
+  }
+  specific_force[0] = along[0] - parameters[kTriadMisalignmentYz] * along[1] +
+                      parameters[kTriadMisalignmentZy] * along[2];
+  specific_force[1] = along[1] - parameters[kTriadMisalignmentZx] * along[2];
+  specific_force[2] = along[2];
+  return true;
 }
 
-// The inverse, u = K^-1 T^-1 a + b: what the triad outputs under the specific force `a`
-// (the simulator's direction). T is unit upper-triangular, so T^-1 a is back-substitution.
+// The 9-parameter model (no second-order term).
+template <typename T>
+void TriadSpecificForce(const T* parameters, const double* raw, T* specific_force) {
+  TriadSpecificForce(parameters, static_cast<const T*>(nullptr), raw, specific_force);
+}
+
+// The inverse, u = K^-1 (w + k2 w^2) + b with w = T^-1 a: what the triad outputs under the
+// specific force `a` (the simulator's direction and the maximum-likelihood residual's).
+// T is unit upper-triangular, so T^-1 a is back-substitution. `scale_nonlinearity` may be
+// null (no second-order term).
+template <typename T>
+void TriadRawOutput(const T* parameters, const T* scale_nonlinearity, const T* specific_force,
+                    T* raw) {
+  T along[3];
+  along[2] = specific_force[2];
+  along[1] = specific_force[1] + parameters[kTriadMisalignmentZx] * along[2];
+  along[0] = specific_force[0] + parameters[kTriadMisalignmentYz] * along[1] -
+             parameters[kTriadMisalignmentZy] * along[2];
+  for (int k = 0; k < 3; ++k) {
+    T v = along[k];
+    if (scale_nonlinearity != nullptr) v += scale_nonlinearity[k] * along[k] * along[k];
+    raw[k] = v / parameters[kTriadGainX + k] + parameters[kTriadOffsetX + k];
+  }
+}
+
+// The 9-parameter model (no second-order term).
 template <typename T>
 void TriadRawOutput(const T* parameters, const T* specific_force, T* raw) {
-  const T vz = specific_force[2];
-  const T vy = specific_force[1] + parameters[kTriadMisalignmentZx] * vz;
-  const T vx = specific_force[0] + parameters[kTriadMisalignmentYz] * vy -
-               parameters[kTriadMisalignmentZy] * vz;
-  raw[0] = vx / parameters[kTriadGainX] + parameters[kTriadOffsetX];
-  raw[1] = vy / parameters[kTriadGainY] + parameters[kTriadOffsetY];
-  raw[2] = vz / parameters[kTriadGainZ] + parameters[kTriadOffsetZ];
+  TriadRawOutput(parameters, static_cast<const T*>(nullptr), specific_force, raw);
 }
 
 }  // namespace accelcal

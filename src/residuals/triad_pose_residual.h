@@ -11,6 +11,10 @@
 // sigma_p,k = sqrt(s_k^2 / N_p): the standard deviation of a mean of N_p samples of white
 // noise of variance s_k^2 (counts). Whitened here, so the cost is 1/2 chi-square and
 // ceres::Covariance is the inverse information.
+//
+// With the second-order scale terms (models/triad.h) the model output is
+// u_p,k = b_k + (w_k + k2_k w_k^2) / gain_k, w = T^-1 g n_p, and k2 is a third block
+// (CreateWithScaleNonlinearity); Create keeps the 9-parameter problem as it was.
 
 #include <ceres/autodiff_cost_function.h>
 
@@ -26,16 +30,17 @@ class TriadPoseResidual {
                     const std::array<double, 3>& mean_stddev, double gravity_mps2)
       : measured_mean_(measured_mean), mean_stddev_(mean_stddev), gravity_mps2_(gravity_mps2) {}
 
+  // Blocks: the 9 triad parameters, the unit direction n_p.
   template <typename T>
   bool operator()(const T* const parameters, const T* const direction, T* residual) const {
-    const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
-                        T(gravity_mps2_) * direction[2]};
-    T predicted[3];
-    TriadRawOutput(parameters, force, predicted);
-    for (int k = 0; k < 3; ++k) {
-      residual[k] = (T(measured_mean_[k]) - predicted[k]) / T(mean_stddev_[k]);
-    }
-    return true;
+    return Evaluate(parameters, static_cast<const T*>(nullptr), direction, residual);
+  }
+
+  // Blocks: the 9 triad parameters, the 3 second-order scale terms, the unit direction n_p.
+  template <typename T>
+  bool operator()(const T* const parameters, const T* const scale_nonlinearity,
+                  const T* const direction, T* residual) const {
+    return Evaluate(parameters, scale_nonlinearity, direction, residual);
   }
 
   static ceres::CostFunction* Create(const std::array<double, 3>& measured_mean,
@@ -45,7 +50,28 @@ class TriadPoseResidual {
         new TriadPoseResidual(measured_mean, mean_stddev, gravity_mps2));
   }
 
+  static ceres::CostFunction* CreateWithScaleNonlinearity(
+      const std::array<double, 3>& measured_mean, const std::array<double, 3>& mean_stddev,
+      double gravity_mps2) {
+    return new ceres::AutoDiffCostFunction<TriadPoseResidual, 3, kTriadParameterCount,
+                                           kTriadScaleNonlinearityCount, 3>(
+        new TriadPoseResidual(measured_mean, mean_stddev, gravity_mps2));
+  }
+
  private:
+  template <typename T>
+  bool Evaluate(const T* parameters, const T* scale_nonlinearity, const T* direction,
+                T* residual) const {
+    const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
+                        T(gravity_mps2_) * direction[2]};
+    T predicted[3];
+    TriadRawOutput(parameters, scale_nonlinearity, force, predicted);
+    for (int k = 0; k < 3; ++k) {
+      residual[k] = (T(measured_mean_[k]) - predicted[k]) / T(mean_stddev_[k]);
+    }
+    return true;
+  }
+
   const std::array<double, 3> measured_mean_;
   const std::array<double, 3> mean_stddev_;  // counts
   const double gravity_mps2_;

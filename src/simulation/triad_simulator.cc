@@ -19,6 +19,22 @@ std::vector<std::array<double, 3>> RandomPoseDirections(int count, RandomSource*
   return directions;
 }
 
+std::vector<std::array<double, 3>> PlanarPoseDirections(int count, int axis) {
+  std::vector<std::array<double, 3>> directions;
+  for (int i = 0; i < count; ++i) {
+    const double angle_rad = 2.0 * M_PI * i / count;
+    std::array<double, 3> d{};
+    d[(axis + 1) % 3] = std::cos(angle_rad);
+    d[(axis + 2) % 3] = std::sin(angle_rad);
+    directions.push_back(d);
+  }
+  return directions;
+}
+
+std::vector<std::array<double, 3>> SixPoseDirections() {
+  return {{{1, 0, 0}}, {{-1, 0, 0}}, {{0, 1, 0}}, {{0, -1, 0}}, {{0, 0, 1}}, {{0, 0, -1}}};
+}
+
 std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& options,
                                               const std::vector<std::array<double, 3>>& directions,
                                               RandomSource* random) {
@@ -30,7 +46,7 @@ std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& opti
                              options.gravity_mps2 * direction[1],
                              options.gravity_mps2 * direction[2]};
     double actual_raw[3];
-    TriadRawOutput(options.truth.data(), force, actual_raw);
+    TriadRawOutput(options.truth.data(), options.scale_nonlinearity.data(), force, actual_raw);
     TriadPoseMean pose;
     pose.sample_count = n;
     for (int k = 0; k < 3; ++k) {
