@@ -13,10 +13,12 @@ ACCELCAL_PACKAGES=(
 # The sanitizer suite and the fuzzers (./tools/test.sh --sanitize, tools/fuzz.sh) build with
 # clang and its runtimes (libFuzzer, ASan, UBSan, LSan) into build-sanitize/.
 ACCELCAL_SANITIZE_PACKAGES=(clang libclang-rt-14-dev)
-ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha|OutsideTheCatalogue/HonestVerdictTest\..*|CorrelatedNoise\.ReportedSigmasMatchTheMonteCarloSpread|HeavyTails\.TheRobustFitsSigmasMatchTheMonteCarloSpread|Ambiguity\..*|NullRateStudy\.CountsDoNotDependOnTheThreadCount|ScaleCubic\.DiscoveryNamesItWhenHiddenAndEstimatesItWithinThreeSigma|NullRateStudy\.FalseDiscoveryRateIsWithinAlphaOnTwoDesigns|DeadReckon\.ReportedCovarianceMatchesMonteCarlo.*|MinSamplesBinary\.MonteCarloChecksAgreeWithTheAnalyticCurveWithinBinomialError|AnalyseDesign\.AnalyticCurveAgreesWithFullSimulation|CoverageStudy\.TheBaselinesReportedCovarianceIsRightOnTheCourseScenario|ProgressBinary\.AlwaysShowsTheTimeLeftOnStderrAndChangesNoOutput|TriadMlCalibration\.ReportedSigmaMatchesTheMonteCarloSpread|Installed\..*)$'
+ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha|OutsideTheCatalogue/HonestVerdictTest\..*|CorrelatedNoise\.ReportedSigmasMatchTheMonteCarloSpread|HeavyTails\.TheRobustFitsSigmasMatchTheMonteCarloSpread|Ambiguity\..*|NullRateStudy\.CountsDoNotDependOnTheThreadCount|ScaleCubic\.DiscoveryNamesItWhenHiddenAndEstimatesItWithinThreeSigma|NullRateStudy\.FalseDiscoveryRateIsWithinAlphaOnTwoDesigns|DeadReckon\.ReportedCovarianceMatchesMonteCarlo.*|MinSamplesBinary\.MonteCarloChecksAgreeWithTheAnalyticCurveWithinBinomialError|AnalyseDesign\.AnalyticCurveAgreesWithFullSimulation|CoverageStudy\.TheBaselinesReportedCovarianceIsRightOnTheCourseScenario|ProgressBinary\.AlwaysShowsTheTimeLeftOnStderrAndChangesNoOutput|TriadMlCalibration\.ReportedSigmaMatchesTheMonteCarloSpread|TriadStudy\..*SigmasMatchTheMonteCarloSpread|TriadStudy\.FailsWhen.*|FerrarisLeastSquares\..*MonteCarlo.*|Installed\..*)$'
+# -O1 and line tables only (what ASan's authors advise): reports keep file:line, and the build
+# takes about half the time of -O2 -g.
 ACCELCAL_SANITIZE_CMAKE_ARGS=(
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DACCELCAL_FUZZ=ON
-  -DACCELCAL_BUILD_BENCHMARKS=OFF
+  -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only -DNDEBUG"
+  -DCMAKE_CXX_COMPILER=clang++ -DACCELCAL_FUZZ=ON -DACCELCAL_BUILD_BENCHMARKS=OFF
 )
 
 # accelcal_install_packages [extra packages...]: the project's packages and any extra ones.

@@ -2,8 +2,9 @@
 # The README's second command: install what is missing, build in Release, run every test.
 #
 #   ./tools/test.sh [ctest args...]             build/ (g++, Release)
-#   ./tools/test.sh --sanitize [ctest args...]  build-sanitize/ (clang, RelWithDebInfo): every
-#                                               target with AddressSanitizer and UBSan, the
+#   ./tools/test.sh --sanitize [ctest args...]  build-sanitize/ (clang, -O1, line tables):
+#                                               every target with AddressSanitizer and UBSan;
+#                                               the unit tests, the bad-input corpora and the
 #                                               fuzz targets replaying their seeds
 #
 # Tests that need the course data read it from $ACCELCAL_COURSE_DATA
@@ -22,12 +23,16 @@ if [ "${1:-}" = "--sanitize" ]; then
   export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1:strict_string_checks=1}
   export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
   export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$ACCELCAL_ROOT/tests/sanitizer/lsan.supp}
-  # The statistical tests of ACCELCAL_SANITIZE_SKIPPED (tools/setup.sh) repeat, hundreds or
-  # thousands of times, code that the other tests run once; instrumented, they would take
-  # most of the suite's time and find nothing the others do not. The plain suite runs them;
-  # ACCELCAL_SANITIZE_ALL=1 runs them here too.
+  # What runs instrumented: the library's unit tests (label unit) and the bad-input and
+  # bad-flag corpora, which drive every binary's readers and flag checks with damaged input
+  # (the fuzzers, tools/fuzz.sh, go further). Not here: the end-to-end tests (label
+  # end_to_end: the binaries on good data, Python tools, installs, signals), which run code
+  # the unit tests already run, at 4-5 times the plain suite's cost under ASan, and the
+  # statistical tests of ACCELCAL_SANITIZE_SKIPPED (tools/setup.sh), which repeat it
+  # hundreds or thousands of times. The plain suite runs them all; ACCELCAL_SANITIZE_ALL=1
+  # runs them here too.
   if [ "${ACCELCAL_SANITIZE_ALL:-0}" != 1 ]; then
-    set -- -E "$ACCELCAL_SANITIZE_SKIPPED" "$@"
+    set -- -LE end_to_end -E "$ACCELCAL_SANITIZE_SKIPPED" "$@"
   fi
 else
   accelcal_install_packages
