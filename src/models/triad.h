@@ -8,9 +8,9 @@
 //                          [ 0   0    1  ]
 //
 // u: the raw output (counts), b: offset (counts), K: gain ((m/s^2)/count), T: the small
-// non-orthogonality angles (rad) that map the sensing axes onto an orthogonal frame whose
-// x is the x sensing axis and whose y lies in the plane of the x and y sensing axes (so the
-// lower triangle is zero). a: specific force in m/s^2, in that frame.
+// non-orthogonality angles (rad). Axis k reads the force along row k of T^-1, upper-triangular
+// too, so the orthogonal frame of a has its z along the z sensing axis and its y in the plane of
+// the y and z sensing axes (docs/triad.md). a: specific force in m/s^2, in that frame.
 //
 // The parameters form one block of kTriadParameterCount doubles at the offsets below (the
 // order imu_tk's solver uses, so that the same problem is solved step by step).
