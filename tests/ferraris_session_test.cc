@@ -206,7 +206,7 @@ TEST_F(FerrarisReportOnImucalsExample, JsonHasEveryKeyTheModeDocuments) {
   EXPECT_EQ(json.at("not_identifiable"),
             (nlohmann::json{"misalignment_yz", "misalignment_zy", "misalignment_zx"}));
   EXPECT_EQ(json.at("identifiable").size(), 6u);
-  EXPECT_EQ(json.at("degrees_of_freedom"), 6);
+  EXPECT_EQ(json.at("dof"), 6);
   EXPECT_GT(json.at("chi2").get<double>(), 1e4);
   EXPECT_EQ(json.at("unknown_directions").at("stddev").at("misalignment_zx").get<double>(), 0.0);
   EXPECT_GT(json.at("unknown_directions").at("stddev").at("offset_z").get<double>(), 0.0);

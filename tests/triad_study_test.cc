@@ -118,8 +118,8 @@ TEST(TriadStudyCli, PrintsTheVerdictAndWritesTheJson) {
       << result.stdout_text;
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
   EXPECT_EQ(json["problem"], "triad_study");
-  EXPECT_EQ(json["parameters"].size(), 9u);
-  EXPECT_EQ(json["parameters"][3]["name"], "gain_x");
+  EXPECT_EQ(json["rows"].size(), 9u);
+  EXPECT_EQ(json["rows"][3]["name"], "gain_x");
   EXPECT_EQ(json["source"]["kind"], "simulated");
   EXPECT_FALSE(json["verdict"]["claim_possible"]);
 }

@@ -190,10 +190,9 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   json["parameters"] = parameters;
   json["units"] = units;
   nlohmann::json inverse;
-  for (int k = 0; k < 3; ++k)
-    inverse["inverse_scale_" + Axis(k)] = 1.0 / best.parameters[kTriadGainX + k];
+  for (int k = 0; k < 3; ++k) inverse[Axis(k)] = 1.0 / best.parameters[kTriadGainX + k];
   inverse["unit"] = std::string(TriadOutputUnitName(report.unit)) + "/(m/s^2)";
-  json["inverse_scale"] = inverse;
+  json["inverse_gain"] = inverse;
   nlohmann::json intervals = nlohmann::json::array();
   for (size_t i = 0; i < result.intervals.size(); ++i) {
     const StaticInterval& s = result.intervals[i];
@@ -426,9 +425,12 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
     nlohmann::json imu_tk_parameters;
     for (int p = 0; p < kTriadParameterCount; ++p)
       imu_tk_parameters[infos[p].name] = imu_tk.parameters[p];
-    json["imu_tk"] = {
-        {"parameters", imu_tk_parameters}, {"chosen_k", imu_tk.multiplier}, {"cost", imu_tk.cost}};
+    json["imu_tk"] = {{"parameters", imu_tk_parameters},
+                      {"units", units},
+                      {"chosen_k", imu_tk.multiplier},
+                      {"cost", imu_tk.cost}};
     json["difference_in_sigma"] = difference;
+    json["imu_tk_unavailable"] = nullptr;
   } else {
     json["imu_tk"] = nullptr;
     json["imu_tk_unavailable"] = report.imu_tk_status.message();

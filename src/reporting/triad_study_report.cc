@@ -141,15 +141,23 @@ nlohmann::json TriadStudyJson(const TriadStudyReport& report) {
       {"directions", Directions(r.directions)},
       {"refused", r.refused},
   };
+  // Both outcomes write every key; what does not apply to one is null (docs/json.md).
+  json["refusal"] = r.refused ? nlohmann::json(r.refusal) : nlohmann::json(nullptr);
+  json["unidentifiable"] = r.refused ? nlohmann::json(r.unidentifiable) : nlohmann::json(nullptr);
+  json["suggested_directions"] =
+      r.refused ? Directions(r.suggested_directions) : nlohmann::json(nullptr);
   if (r.refused) {
-    json["refusal"] = r.refusal;
-    json["unidentifiable"] = r.unidentifiable;
-    json["suggested_directions"] = Directions(r.suggested_directions);
+    for (const char* key : {"rows", "expected_coverage", "fit_statistic", "first_failure",
+                            "verdict", "seconds", "threads"}) {
+      json[key] = nullptr;
+    }
+    json["trials_ok"] = 0;  // counts: no session was simulated
+    json["trials_failed"] = 0;
     return json;
   }
-  nlohmann::json parameters = nlohmann::json::array();
+  nlohmann::json rows = nlohmann::json::array();
   for (const TriadParameterStudy& row : r.parameters) {
-    parameters.push_back(
+    rows.push_back(
         {{"name", row.name},
          {"unit", row.unit},
          {"truth", row.truth},
@@ -162,18 +170,19 @@ nlohmann::json TriadStudyJson(const TriadStudyReport& report) {
          {"ratio_stderr", row.ratio_stderr},
          {"coverage", {{"1", row.coverage[0]}, {"2", row.coverage[1]}, {"3", row.coverage[2]}}}});
   }
-  json["parameters"] = parameters;
+  json["rows"] = rows;
   json["expected_coverage"] = {{"1", TriadMonteCarloResult::kExpectedCoverage[0]},
                                {"2", TriadMonteCarloResult::kExpectedCoverage[1]},
                                {"3", TriadMonteCarloResult::kExpectedCoverage[2]}};
-  json["fit_statistic"] = {{"degrees_of_freedom", r.degrees_of_freedom},
+  json["fit_statistic"] = {{"dof", r.degrees_of_freedom},
                            {"chi2_per_dof_mean", r.chi2_per_dof_mean},
                            {"chi2_per_dof_mean_stderr", r.chi2_per_dof_mean_stderr},
                            {"p_below_0_01", r.p_below_001},
                            {"p_below_0_01_stderr", r.p_below_001_stderr}};
   json["trials_ok"] = r.trials_ok;
   json["trials_failed"] = r.trials_failed;
-  if (r.trials_failed > 0) json["first_failure"] = r.first_failure;
+  json["first_failure"] =
+      r.trials_failed > 0 ? nlohmann::json(r.first_failure) : nlohmann::json(nullptr);
   json["verdict"] = {
       {"claim_possible", r.claim_possible}, {"passed", r.passed}, {"failures", r.failures}};
   json["seconds"] = r.seconds;
