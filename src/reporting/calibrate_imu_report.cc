@@ -263,6 +263,8 @@ std::string PosesLine(const CalibrateImuReport& report) {
 std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report) {
   const TriadMlResult& ml = report.ml;
   const bool with_imu_tk = report.imu_tk_status.ok();
+  // The datasheet's values beside imu_tk's own example log (recognised by its SHA-256).
+  const bool datasheet = with_imu_tk && IsImuTkExample(report);
   std::ostringstream out;
   out << StringPrintf(
       "calibrate_imu, mode ml: maximum likelihood with covariance (docs/triad.md), g = %.10g "
@@ -282,8 +284,9 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance";
   if (with_imu_tk) {
     out << StringPrintf(", beside imu_tk's (its rules, k = %d)\n", report.result.best().multiplier);
-    out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s\n", "parameter", "unit", "ml", "sigma",
+    out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s", "parameter", "unit", "ml", "sigma",
                         "imu_tk", "(ml-imu_tk)/sigma");
+    out << (datasheet ? "   datasheet\n" : "\n");
   } else {
     out << "\n  imu_tk's rules give no answer on this log: " << report.imu_tk_status.message()
         << "\n";
@@ -296,6 +299,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
     if (with_imu_tk) {
       const double imu_tk = report.result.best().parameters[p];
       out << StringPrintf(" %16.8g %18.2f", imu_tk, (ml.parameters[p] - imu_tk) / ml.stddev[p]);
+      if (datasheet) out << "   " << kDatasheet[p];
     }
     out << "\n";
   }
