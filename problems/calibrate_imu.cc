@@ -116,6 +116,14 @@ Status ValidateFlags() {
   }
   if (FLAGS_log.empty())
     return Status::Error("--log is required: the accelerometer log to calibrate");
+  TriadOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit).WithContext("--unit"));
+  double offset = 0.0;
+  if (FLAGS_initial_offset != "auto" &&
+      (!ParseFiniteNumber(FLAGS_initial_offset, &offset) || std::fabs(offset) > 1e9)) {
+    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
+                         "' is neither auto nor a finite number within +-1e9 (the log's unit)");
+  }
   if (!FLAGS_session.empty() || !FLAGS_reference.empty())
     return Status::Error("--session and --reference belong to --mode=ferraris");
   if (FLAGS_window % 2 == 0) {
@@ -162,9 +170,8 @@ Status InitialGuess(const TriadLog& log, TriadOutputUnit unit, TriadParameters* 
       *offset_from = offset > 0.0 ? "auto: the mid-scale of an unsigned ADC's range"
                                   : "auto: 0, the mid-scale of a signed ADC";
     }
-  } else if (!ParseFiniteNumber(FLAGS_initial_offset, &offset) || std::fabs(offset) > 1e9) {
-    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
-                         "' is neither auto nor a finite number within +-1e9 (the log's unit)");
+  } else {
+    ParseFiniteNumber(FLAGS_initial_offset, &offset);  // checked by ValidateFlags
   }
   ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, unit, offset).WithContext(FLAGS_log));
   *initial = TriadParametersWithOffset(offset, offset, offset);
