@@ -1,6 +1,9 @@
 #include "estimation/static_intervals.h"
 
 #include <cmath>
+#include <cstdint>
+
+#include "estimation/noise_floor_detector.h"
 
 namespace accelcal {
 
@@ -53,11 +56,70 @@ static double Norm(const std::array<double, 3>& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
+namespace {
+
+// Outputs this far from the first sample at most keep the window sums below in int64 and
+// their combination w Q - S^2 in 128 bits for any window below 2^31 samples.
+constexpr double kMaxIntegerDeviation = 1 << 24;
+
+// Whether every output is a whole number within kMaxIntegerDeviation of the first sample's
+// (imu_tk's logs are ADC counts).
+bool HoldsIntegerCounts(const TriadLog& log) {
+  for (const std::array<double, 3>& u : log.output) {
+    for (int k = 0; k < 3; ++k) {
+      const double deviation = u[k] - log.output.front()[k];
+      if (u[k] != std::floor(u[k]) || !(std::abs(deviation) <= kMaxIntegerDeviation)) return false;
+    }
+  }
+  return true;
+}
+
+// The window variance of integer counts from exact running sums: with S and Q the sums of the
+// deviations and of their squares, w Q - S^2 is an exact integer, and the variance
+// (w Q - S^2) / (w (w - 1)) is rounded once or twice, against the two-pass variance's rounding
+// at every term; the two agree to a few ulps.
+std::vector<std::array<double, 3>> IntegerWindowVariances(const TriadLog& log, int window) {
+  const int n = static_cast<int>(log.size());
+  std::vector<std::array<double, 3>> variances(n - window + 1);
+  const double denominator = static_cast<double>(window) * (window - 1);
+  for (int axis = 0; axis < 3; ++axis) {
+    const double reference = log.output.front()[axis];
+    auto deviation = [&](int i) { return static_cast<int64_t>(log.output[i][axis] - reference); };
+    int64_t sum = 0;
+    int64_t sum_squares = 0;
+    for (int i = 0; i < window; ++i) {
+      sum += deviation(i);
+      sum_squares += deviation(i) * deviation(i);
+    }
+    for (int j = 0;; ++j) {
+      const __int128 scaled =
+          static_cast<__int128>(window) * sum_squares - static_cast<__int128>(sum) * sum;
+      variances[j][axis] = static_cast<double>(scaled) / denominator;
+      if (j + window >= n) break;
+      const int64_t leaving = deviation(j);
+      const int64_t entering = deviation(j + window);
+      sum += entering - leaving;
+      sum_squares += entering * entering - leaving * leaving;
+    }
+  }
+  return variances;
+}
+
+}  // namespace
+
+// Running sums rather than imu_tk's two passes per window: O(n) instead of O(n w). Exact
+// integer sums for a log of counts; otherwise the noise-floor detector's re-anchored sums
+// (WindowVariances), which differ from the two-pass variance in the last bits of a rest that
+// follows a large move. imu_tk's Xsens log gives the same intervals at every k as the two
+// passes (tests/imu_tk_calibration_test.cc).
 std::vector<double> SlidingVarianceNorm(const TriadLog& log, int window) {
   const int n = static_cast<int>(log.size());
   const int half = window / 2;
   std::vector<double> norm(n, 0.0);
-  for (int i = half; i < n - half; ++i) norm[i] = Norm(IntervalVariance(log, i - half, i + half));
+  if (n < window) return norm;
+  const std::vector<std::array<double, 3>> variances =
+      HoldsIntegerCounts(log) ? IntegerWindowVariances(log, window) : WindowVariances(log, window);
+  for (size_t j = 0; j < variances.size(); ++j) norm[j + half] = Norm(variances[j]);
   return norm;
 }
 
