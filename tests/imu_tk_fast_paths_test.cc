@@ -1,18 +1,23 @@
 // The fast paths of imu_tk's calibration (issue 20, docs/performance.md) against the plain
 // definitions they replace: the batch residual's hand-written Jacobian against automatic
-// differentiation of the one-sample residual, and the running-sum sliding variance against
-// the two-pass variance of each window.
+// differentiation of the one-sample residual, the running-sum sliding variance against the
+// two-pass variance of each window, and the log reader's decimal parser against
+// std::from_chars.
 
 #include <gtest/gtest.h>
 
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "common/triad_log.h"
 #include "estimation/static_intervals.h"
+#include "io/csv_reader.h"
+#include "io/imu_log.h"
 #include "models/triad.h"
 #include "residuals/imu_tk_residual.h"
 
@@ -105,6 +110,80 @@ TEST(SlidingVarianceNorm, EqualsTheTwoPassNormOfEveryWindow) {
   TriadLog short_log;
   for (int i = 0; i < 5; ++i) short_log.Add(i, 1.0, 2.0, 3.0);
   EXPECT_EQ(SlidingVarianceNorm(short_log, 11), std::vector<double>(5, 0.0));
+}
+
+// The reader's short-decimal path must give the double std::from_chars gives
+// (ParseFiniteNumber), bit for bit, and accept and refuse the same cells: each cell is put in
+// the x column of a two-sample log.
+void ExpectReadAsParseFiniteNumber(const std::string& cell) {
+  TriadLog log;
+  const Status status =
+      ParseImuLog("0 " + cell + " 2 3\n1 4 5 6\n", ImuLogLayout::kWhitespace, &log);
+  double expected = 0.0;
+  const bool number = ParseFiniteNumber(cell, &expected);
+  ASSERT_EQ(status.ok(), number) << "'" << cell << "': " << status.message();
+  if (number) {
+    EXPECT_EQ(std::signbit(log.output[0][0]), std::signbit(expected)) << cell;
+    EXPECT_EQ(log.output[0][0], expected) << "'" << cell << "'";
+  }
+}
+
+TEST(ImuLogReader, ReadsEveryDecimalAsStdFromChars) {
+  for (const char* cell : {"3.3108000e+04",
+                           "0",
+                           "-0",
+                           "+0.0",
+                           ".5",
+                           "-.5",
+                           "+.5",
+                           "5.",
+                           "1e5",
+                           "1E+05",
+                           "1.5e-0",
+                           "1e",
+                           "1e+",
+                           "e5",
+                           ".",
+                           "-",
+                           "+",
+                           "+-5",
+                           "-+5",
+                           "1..2",
+                           "1.2.3",
+                           "0x10",
+                           "1e22",
+                           "1e23",
+                           "1e-22",
+                           "1e-23",
+                           "9007199254740992",
+                           "9007199254740993",
+                           "12345678901234567890",
+                           "1234567890123456789",
+                           "0.000000000000000000000000000001",
+                           "00000000000000000000001.5",
+                           "1e999",
+                           "1e-999",
+                           "inf",
+                           "nan",
+                           "1,5",
+                           "3.3108000e+04x",
+                           "0.1",
+                           "0.3",
+                           "1.7976931e308"}) {
+    ExpectReadAsParseFiniteNumber(cell);
+  }
+  std::mt19937 random(9);
+  std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
+  std::uniform_int_distribution<int> exponent(-30, 30);
+  std::uniform_int_distribution<int> precision(0, 20);
+  char buffer[64];
+  for (int trial = 0; trial < 20000; ++trial) {
+    const double x = mantissa(random) * std::pow(10.0, exponent(random));
+    const int digits = precision(random);
+    const char* format = trial % 3 == 0 ? "%.*e" : trial % 3 == 1 ? "%.*f" : "%.*g";
+    std::snprintf(buffer, sizeof(buffer), format, digits, x);
+    ExpectReadAsParseFiniteNumber(buffer);
+  }
 }
 
 }  // namespace
