@@ -1,5 +1,6 @@
 #include "estimation/static_intervals.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -20,8 +21,8 @@ std::array<double, 3> IntervalMean(const TriadLog& log, int start, int end) {
 // Two passes (the mean, then the squared deviations from it), as imu_tk computes it, so that
 // a sample's variance norm and hence its side of the threshold are the same to the last bit
 // as far as the order of the sums allows.
-std::array<double, 3> IntervalVariance(const TriadLog& log, int start, int end) {
-  const std::array<double, 3> mean = IntervalMean(log, start, end);
+static std::array<double, 3> VarianceAbout(const TriadLog& log, int start, int end,
+                                           const std::array<double, 3>& mean) {
   std::array<double, 3> variance{};
   for (int i = start; i <= end; ++i) {
     for (int k = 0; k < 3; ++k) {
@@ -32,6 +33,10 @@ std::array<double, 3> IntervalVariance(const TriadLog& log, int start, int end) 
   const double dof = end - start;
   for (int k = 0; k < 3; ++k) variance[k] /= dof;
   return variance;
+}
+
+std::array<double, 3> IntervalVariance(const TriadLog& log, int start, int end) {
+  return VarianceAbout(log, start, end, IntervalMean(log, start, end));
 }
 
 int InitialRestEnd(const TriadLog& log, double duration_s) {
@@ -58,26 +63,26 @@ static double Norm(const std::array<double, 3>& v) {
 
 namespace {
 
-// Outputs this far from the first sample at most keep the window sums below in int64 and
-// their combination w Q - S^2 in 128 bits for any window below 2^31 samples.
-constexpr double kMaxIntegerDeviation = 1 << 24;
-
-// Whether every output is a whole number within kMaxIntegerDeviation of the first sample's
-// (imu_tk's logs are ADC counts).
-bool HoldsIntegerCounts(const TriadLog& log) {
+// The largest |u - u_0| over the log when every output is a whole number (imu_tk's logs are
+// ADC counts) below 2^52 in magnitude; -1 otherwise.
+double IntegerCountsSpread(const TriadLog& log) {
+  double spread = 0.0;
   for (const std::array<double, 3>& u : log.output) {
     for (int k = 0; k < 3; ++k) {
-      const double deviation = u[k] - log.output.front()[k];
-      if (u[k] != std::floor(u[k]) || !(std::abs(deviation) <= kMaxIntegerDeviation)) return false;
+      // The range first: the conversion below is defined only inside int64's.
+      if (!(std::abs(u[k]) < 0x1p52)) return -1.0;
+      if (static_cast<double>(static_cast<int64_t>(u[k])) != u[k]) return -1.0;
+      spread = std::max(spread, std::abs(u[k] - log.output.front()[k]));
     }
   }
-  return true;
+  return spread;
 }
 
 // The window variance of integer counts from exact running sums: with S and Q the sums of the
-// deviations and of their squares, w Q - S^2 is an exact integer, and the variance
-// (w Q - S^2) / (w (w - 1)) is rounded once or twice, against the two-pass variance's rounding
-// at every term; the two agree to a few ulps.
+// deviations from the first sample and of their squares, w Q - S^2 is an exact integer, and
+// the variance (w Q - S^2) / (w (w - 1)) is rounded once or twice, against the two-pass
+// variance's rounding at every term; the two agree to a few ulps. `Wide` holds w Q and S^2.
+template <typename Wide>
 std::vector<std::array<double, 3>> IntegerWindowVariances(const TriadLog& log, int window) {
   const int n = static_cast<int>(log.size());
   std::vector<std::array<double, 3>> variances(n - window + 1);
@@ -92,8 +97,7 @@ std::vector<std::array<double, 3>> IntegerWindowVariances(const TriadLog& log, i
       sum_squares += deviation(i) * deviation(i);
     }
     for (int j = 0;; ++j) {
-      const __int128 scaled =
-          static_cast<__int128>(window) * sum_squares - static_cast<__int128>(sum) * sum;
+      const Wide scaled = static_cast<Wide>(window) * sum_squares - static_cast<Wide>(sum) * sum;
       variances[j][axis] = static_cast<double>(scaled) / denominator;
       if (j + window >= n) break;
       const int64_t leaving = deviation(j);
@@ -117,8 +121,18 @@ std::vector<double> SlidingVarianceNorm(const TriadLog& log, int window) {
   const int half = window / 2;
   std::vector<double> norm(n, 0.0);
   if (n < window) return norm;
-  const std::vector<std::array<double, 3>> variances =
-      HoldsIntegerCounts(log) ? IntegerWindowVariances(log, window) : WindowVariances(log, window);
+  // A spread below 2^24 keeps S and Q in int64 for any window below 2^31 samples, and
+  // w Q - S^2 too while w^2 spread^2 < 2^62; beyond, 128 bits.
+  const double spread = IntegerCountsSpread(log);
+  const double scaled_bound = static_cast<double>(window) * window * spread * spread;
+  std::vector<std::array<double, 3>> variances;
+  if (spread < 0.0 || spread > 0x1p24) {
+    variances = WindowVariances(log, window);
+  } else if (scaled_bound < 0x1p62) {
+    variances = IntegerWindowVariances<int64_t>(log, window);
+  } else {
+    variances = IntegerWindowVariances<__int128>(log, window);
+  }
   for (size_t j = 0; j < variances.size(); ++j) norm[j + half] = Norm(variances[j]);
   return norm;
 }
@@ -129,7 +143,8 @@ void DescribeInterval(const TriadLog& log, StaticInterval* interval) {
   interval->duration_s = interval->end_s - interval->start_s;
   interval->mean = IntervalMean(log, interval->start, interval->end);
   if (interval->end > interval->start) {
-    const std::array<double, 3> variance = IntervalVariance(log, interval->start, interval->end);
+    const std::array<double, 3> variance =
+        VarianceAbout(log, interval->start, interval->end, interval->mean);
     for (int k = 0; k < 3; ++k) interval->noise_stddev[k] = std::sqrt(variance[k]);
   }
 }
