@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "common/format.h"
 #include "residuals/imu_tk_residual.h"
@@ -15,11 +16,12 @@ ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& s
                                   const ImuTkOptions& options, std::string* brief_report) {
   ImuTkSweepEntry entry;
   entry.parameters = options.initial;
+  std::vector<std::array<double, 3>> raw;
+  raw.reserve(samples.size());
+  for (const int i : samples) raw.push_back(log.output[i]);
   ceres::Problem problem;
-  for (const int i : samples) {
-    problem.AddResidualBlock(ImuTkResidual::Create(log.output[i], options.gravity_mps2), nullptr,
-                             entry.parameters.data());
-  }
+  problem.AddResidualBlock(new ImuTkBatchResidual(std::move(raw), options.gravity_mps2), nullptr,
+                           entry.parameters.data());
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
