@@ -277,12 +277,18 @@ ReportDocument Document(const CalibrateImuReport& report, const DataSource& sour
   doc.sections.push_back(ParameterSection(report));
   doc.sections.push_back(FitSection(report));
   doc.sections.push_back(ProvenanceSection(source, "5. Provenance"));
-  if (!absent.empty()) {
-    ReportSection missing;
-    missing.title = "Figures not drawn";
-    for (const auto& [figure, why] : absent)
-      missing.paragraphs.push_back(figure + ": " + why + ".");
-    doc.sections.push_back(missing);
+  // A figure that could not be drawn is named where it would stand, with the reason.
+  int not_drawn = 0;
+  for (ReportSection& section : doc.sections) {
+    const auto why = absent.find(section.figure);
+    if (section.figure.empty() || why == absent.end()) continue;
+    section.paragraphs.push_back("Figure not drawn (" + section.figure + "): " + why->second + ".");
+    section.figure.clear();
+    ++not_drawn;
+  }
+  if (not_drawn > 0) {
+    doc.summary.push_back(StringPrintf("%d figure%s not drawn: the section says why.", not_drawn,
+                                       not_drawn == 1 ? "" : "s"));
   }
   return doc;
 }
