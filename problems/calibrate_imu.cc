@@ -46,6 +46,7 @@
 #include "problem_support.h"
 #include "reporting/calibrate_imu_report.h"
 #include "reporting/ferraris_report.h"
+#include "reporting/triad_report.h"
 
 // clang-format off
 DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
@@ -64,6 +65,7 @@ DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (heade
 DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
 DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
+DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
 
@@ -106,6 +108,8 @@ Status ValidateFlags() {
       return Status::Error(
           "--mode=ferraris reads --session (imucal's annotated session CSV), not --log");
     }
+    if (!FLAGS_report.empty())
+      return Status::Error("--report needs --mode=ml: the report shows the ml fit's poses");
     if (!FLAGS_calibration_out.empty()) {
       return Status::Error(
           "--calibration_out needs --mode=ml: six holds cannot determine the triad's angles "
@@ -139,7 +143,14 @@ Status ValidateFlags() {
         "--calibration_out needs --mode=ml: a calibration file carries the parameters' "
         "covariance, and imu_tk's cost gives none");
   }
-  return CheckOutputPaths({{"--json", FLAGS_json}, {"--calibration_out", FLAGS_calibration_out}},
+  if (!FLAGS_report.empty() && FLAGS_mode != "ml") {
+    return Status::Error(
+        "--report needs --mode=ml: the report shows each pose's residual, which imu_tk's cost "
+        "does not give");
+  }
+  return CheckOutputPaths({{"--json", FLAGS_json},
+                           {"--calibration_out", FLAGS_calibration_out},
+                           {"--report", FLAGS_report}},
                           RunInputs{{FLAGS_log}, {}});
 }
 
@@ -279,6 +290,8 @@ int Run(int argc, char** argv) {
   DataSource source;
   std::string json_text;
   std::string calibration_text;
+  std::string report_html;
+  FigureOutcome figures;
   Status status = ValidateFlags();
   if (status.ok()) status = Load(&log, &report, &source);
   if (status.ok()) status = Solve(log, &report);
@@ -286,11 +299,21 @@ int Run(int argc, char** argv) {
     status = JsonText(WithProvenance(CalibrateImuJson(report), source), &json_text);
   if (status.ok() && !FLAGS_calibration_out.empty())
     status = JsonText(CalibrationJson(TriadCalibrationRecord(report, source)), &calibration_text);
+  if (status.ok() && !FLAGS_report.empty()) {
+    status = TriadReportHtml(log, report, source,
+                             {DefaultToolsDir(ACCELCAL_TOOLS_DIR), "/usr/bin/python3"},
+                             &report_html, &figures);
+  }
   if (status.ok()) {
-    status = WriteOutputFiles({{FLAGS_json, json_text}, {FLAGS_calibration_out, calibration_text}});
+    status = WriteOutputFiles({{FLAGS_json, json_text},
+                               {FLAGS_calibration_out, calibration_text},
+                               {FLAGS_report, report_html}});
   }
   if (!status.ok()) return ExitWithError("calibrate_imu", status);
-  std::cout << WithDataLine(source, CalibrateImuTable(report, FLAGS_v >= 1)) << std::flush;
+  std::cout << WithDataLine(source, CalibrateImuTable(report, FLAGS_v >= 1));
+  if (!FLAGS_report.empty())
+    std::cout << "report: " << FLAGS_report << " (figures: " << FigureOutcomeLine(figures) << ")\n";
+  std::cout << std::flush;
   return 0;
 }
 

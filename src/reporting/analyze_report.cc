@@ -17,12 +17,10 @@
 #include "reporting/report_document.h"
 
 namespace accelcal {
-namespace {
 
-// Where the report's data came from, and how to make it again.
-ReportSection ProvenanceSection(const DataSource& source) {
+ReportSection ProvenanceSection(const DataSource& source, const std::string& title) {
   ReportSection section;
-  section.title = "7. Provenance";
+  section.title = title;
   const std::string date = UtcNow("%Y-%m-%d %H:%M:%S UTC");
   section.paragraphs.push_back(DataLine(source) + ".");
   section.paragraphs.push_back(std::string("Written by accelcal ") + AccelcalVersion() + " on " +
@@ -38,6 +36,8 @@ ReportSection ProvenanceSection(const DataSource& source) {
   }
   return section;
 }
+
+namespace {
 
 std::string Num(double value, const char* format = "%.4g") { return StringPrintf(format, value); }
 
@@ -55,8 +55,8 @@ std::string Sentence(std::string text) {
 // A figure takes a few seconds; a plot program still running after this is stopped.
 constexpr double kPlotTimeoutS = 300.0;
 
-// Runs a plot script with an argument vector (no shell); returns "" or why the figure is
-// absent.
+}  // namespace
+
 std::string Plot(const FigureTools& tools, const std::string& script,
                  const std::vector<std::string>& arguments) {
   const std::string path = tools.tools_dir + "/" + script;
@@ -76,6 +76,8 @@ std::string Plot(const FigureTools& tools, const std::string& script,
   return exit_status == 0 ? ""
                           : script + " failed (exit status " + std::to_string(exit_status) + ")";
 }
+
+namespace {
 
 // The verdict box's discovery part: the verdict in its four-verdict form, and whatever of
 // the remaining structure, the ambiguities and the noise findings its sentence does not
@@ -560,7 +562,7 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
       comparison.table.push_back({row.figure, row.reference, row.accelcal, row.verdict});
   }
   doc.sections.push_back(comparison);
-  doc.sections.push_back(ProvenanceSection(r.data_source));
+  doc.sections.push_back(ProvenanceSection(r.data_source, "7. Provenance"));
 
   if (!absent.empty()) {
     ReportSection missing;

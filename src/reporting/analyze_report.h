@@ -17,6 +17,7 @@
 #include "estimation/discovery.h"
 #include "io/provenance.h"
 #include "reporting/linear_ls_report.h"
+#include "reporting/report_document.h"
 #include "reporting/trajectory_report.h"
 #include "studies/min_samples.h"
 
@@ -45,6 +46,16 @@ struct FigureTools {
   std::string tools_dir;
   std::string python;
 };
+
+// Runs the plot script `script` of tools.tools_dir with `arguments` (an argument vector, no
+// shell); returns "" when it drew, or why the figure is absent (no script, no matplotlib, a
+// failure), in words for the report.
+std::string Plot(const FigureTools& tools, const std::string& script,
+                 const std::vector<std::string>& arguments);
+
+// A report's provenance section: the data line, the version, the date and the command line,
+// and every input file with its size and SHA-256.
+ReportSection ProvenanceSection(const DataSource& source, const std::string& title);
 
 // Which figures the plot scripts drew, and why each absent one is absent.
 struct FigureOutcome {

@@ -7,24 +7,30 @@
 #include "models/triad.h"
 
 namespace accelcal {
-namespace {
 
 // What imu_tk printed on its Xsens example (issue 20), in block order, and the sensor's
 // datasheet values (SOURCE.txt). Shown only beside a run on that very file.
-constexpr const char* kImuTkPrinted[kTriadParameterCount] = {"0.0033593", "-0.0089064", "0.0213341",
-                                                             "1/414.459", "1/412.01",   "1/414.649",
-                                                             "33124.2",   "33275.2",    "32364.4"};
+const char* const kImuTkPrinted[kTriadParameterCount] = {"0.0033593", "-0.0089064", "0.0213341",
+                                                         "1/414.459", "1/412.01",   "1/414.649",
+                                                         "33124.2",   "33275.2",    "32364.4"};
+namespace {
+
 constexpr const char* kImuTkPrintedCosts[] = {"0.134724", "0.131345", "0.126126",
                                               "0.120558", "0.120131", "0.120586",
                                               "0.121338", "0.121422", "0.13824"};
 constexpr int kImuTkPrintedIntervals[] = {42, 40, 39, 38, 38, 38, 38, 38, 38};
-constexpr const char* kDatasheet[kTriadParameterCount] = {
+
+}  // namespace
+
+const char* const kDatasheet[kTriadParameterCount] = {
     "(0.01)", "(0.01)", "(0.01)", "1/415", "1/413", "1/415", "33123", "33276", "32360"};
 
 bool IsImuTkExample(const CalibrateImuReport& report) {
   return report.log_sha256 == kImuTkXsensAccSha256 && report.options.min_multiplier == 2 &&
          report.options.max_multiplier == 10;
 }
+
+namespace {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
@@ -218,8 +224,6 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   return json;
 }
 
-namespace {
-
 std::string FitVerdict(const TriadMlResult& ml) {
   if (ml.p_value >= 0.01) {
     return StringPrintf(
@@ -236,8 +240,6 @@ std::string FitVerdict(const TriadMlResult& ml) {
       ml.chi2_per_dof, (ml.chi2_per_dof - 1.0) / ml.chi2_per_dof_spread, ml.p_value,
       std::sqrt(ml.chi2_per_dof));
 }
-
-}  // namespace
 
 std::string PosesLine(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;

@@ -50,6 +50,17 @@ struct CalibrateImuReport {
 constexpr char kImuTkXsensAccSha256[] =
     "335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510";
 
+// What imu_tk printed on its Xsens example (issue 20) and the sensor's datasheet values
+// (SOURCE.txt), in block order, as printed; shown only beside a run on that very file, which
+// IsImuTkExample recognises (its SHA-256 and imu_tk's own sweep of k).
+extern const char* const kImuTkPrinted[kTriadParameterCount];
+extern const char* const kDatasheet[kTriadParameterCount];
+bool IsImuTkExample(const CalibrateImuReport& report);
+
+// Mode ml: the poses' detector in one line, and the fit statistic's verdict in words.
+std::string PosesLine(const CalibrateImuReport& report);
+std::string FitVerdict(const TriadMlResult& ml);
+
 std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report);
 // Mode ml's result as a calibration file's record (io/calibration_file.h, geometry triad).
 CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
