@@ -280,7 +280,8 @@ int Run(int argc, char** argv) {
     return kExitBadInput;
   if (FLAGS_mode == "ferraris") {
     std::string table;
-    const Status status = ValidateFlags().ok() ? RunFerraris(&table) : ValidateFlags();
+    Status status = ValidateFlags();
+    if (status.ok()) status = RunFerraris(&table);
     if (!status.ok()) return ExitWithError("calibrate_imu", status);
     std::cout << table << std::flush;
     return 0;
