@@ -17,7 +17,10 @@ if [ "${1:-}" = "--sanitize" ]; then
   shift
   accelcal_install_packages "${ACCELCAL_SANITIZE_PACKAGES[@]}"
   build_dir="$ACCELCAL_ROOT/build-sanitize"
-  accelcal_build "$build_dir" "${ACCELCAL_SANITIZE_CMAKE_ARGS[@]}"
+  end_to_end=OFF
+  [ "${ACCELCAL_SANITIZE_ALL:-0}" = 1 ] && end_to_end=ON
+  accelcal_build "$build_dir" "${ACCELCAL_SANITIZE_CMAKE_ARGS[@]}" \
+    -DACCELCAL_BUILD_END_TO_END_TESTS=$end_to_end
   # halt_on_error: the first report fails the test. Leaks are checked (LeakSanitizer);
   # tests/sanitizer/lsan.supp lists the libraries' own process-lifetime allocations.
   export ASAN_OPTIONS=${ASAN_OPTIONS:-halt_on_error=1:detect_leaks=1:strict_string_checks=1}
