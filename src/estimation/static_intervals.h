@@ -4,7 +4,8 @@
 // Static intervals of a triad log: where the sensor was held still.
 //
 // imu_tk's rule (Tedaldi et al., ICRA 2014; imu_tk's staticIntervalsDetector), reproduced
-// exactly:
+// (the window variances by running sums, within a few ulps of imu_tk's two passes for a log
+// in counts, so the intervals are imu_tk's):
 //   - for every sample i whose centred window [i - h, i + h] of w = 2h + 1 samples lies in
 //     the log, the sample variance per axis over the window (divided by w - 1), and its norm
 //     v_i = sqrt(var_x^2 + var_y^2 + var_z^2) (count^2 for a log in counts);
