@@ -64,6 +64,7 @@ DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals short
 DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (header part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z; raw counts; the six holds and three turns labelled in part), docs/imucal.md.");
 DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
 DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
+DEFINE_bool(scale_nonlinearity, false, "Mode ml: estimate a second-order scale term per axis too (scale_nonlinearity_x/y/z, 1/(m/s^2), the spec's k2: the axis reads w + k2 w^2 for a force w along it), 12 parameters in all. Not yet written to a calibration file.");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
@@ -137,6 +138,13 @@ Status ValidateFlags() {
   if (FLAGS_detector != "noise_floor" && FLAGS_detector != "imu_tk") {
     return Status::Error("--detector='" + FLAGS_detector +
                          "' is not a detector; use --detector=noise_floor or imu_tk");
+  }
+  if (FLAGS_scale_nonlinearity && FLAGS_mode != "ml")
+    return Status::Error("--scale_nonlinearity needs --mode=ml");
+  if (FLAGS_scale_nonlinearity && !FLAGS_calibration_out.empty()) {
+    return Status::Error(
+        "--calibration_out with --scale_nonlinearity: the calibration file and apply do not yet "
+        "carry the second-order terms; calibrate without it to write a file");
   }
   if (!FLAGS_calibration_out.empty() && FLAGS_mode != "ml") {
     return Status::Error(
@@ -237,6 +245,7 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   for (const TriadPoseMean& pose : poses) report->ml_sample_count += pose.sample_count;
   report->ml_options.gravity_mps2 = FLAGS_g;
   report->ml_options.initial = TriadStartFromPoses(poses, FLAGS_g);
+  report->ml_options.scale_nonlinearity = FLAGS_scale_nonlinearity;
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log));
   return CheckGainsMatchUnit(report->ml.parameters, report->unit).WithContext(FLAGS_log);

@@ -434,3 +434,35 @@ TEST(CalibrateImuCli, ModeFerrarisReproducesImucalsExampleCalibration) {
 
 }  // namespace
 }  // namespace accelcal
+
+namespace accelcal {
+namespace {
+
+// The second-order scale terms on imu_tk's log: 12 parameters, so 3 degrees of freedom fewer
+// than the 9-parameter fit of the same 38 poses, and each k2 with its sigma and the spec's unit.
+TEST(CalibrateImuCli, ModeMlEstimatesTheSecondOrderScaleTermsWithTheirSigma) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  testing::ScratchDir scratch;
+  const std::string nine = scratch.File("nine.json");
+  const std::string twelve = scratch.File("twelve.json");
+  const std::string log = "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --mode=ml";
+  ASSERT_EQ(RunBinary("calibrate_imu", log + " --json=" + nine).exit_status, 0);
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", log + " --scale_nonlinearity --json=" + twelve);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const nlohmann::json a = nlohmann::json::parse(testing::ReadText(nine));
+  const nlohmann::json b = nlohmann::json::parse(testing::ReadText(twelve));
+  EXPECT_EQ(b["dof"].get<int>(), a["dof"].get<int>() - 3);
+  EXPECT_EQ(b["intervals"].size(), a["intervals"].size());
+  EXPECT_LE(b["chi2"].get<double>(), a["chi2"].get<double>());  // a nested model fits no worse
+  for (const char* name :
+       {"scale_nonlinearity_x", "scale_nonlinearity_y", "scale_nonlinearity_z"}) {
+    EXPECT_EQ(b["units"][name], "1/(m/s^2)") << name;
+    EXPECT_GT(b["stddev"][name].get<double>(), 0.0) << name;
+    EXPECT_LT(std::fabs(b["parameters"][name].get<double>()), 1e-3) << name;
+  }
+  EXPECT_FALSE(a["parameters"].contains("scale_nonlinearity_x"));
+}
+
+}  // namespace
+}  // namespace accelcal

@@ -194,6 +194,8 @@ def main():
             ("calibrate_imu", ["calibrate_imu"] + log, "json"),
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml"] + log, "json"),
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--detector=imu_tk"] + log, "json"),
+            ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--scale_nonlinearity"] + log,
+             "json"),
             ("calibrate", ["calibrate_imu", "--mode=ml"] + log, "--calibration_out"),
         ]
     else:

@@ -280,8 +280,10 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
       std::sqrt(ml.noise_variance[2]), TriadOutputUnitName(report.unit));
   out << StringPrintf(
-      "unknowns: 9 parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
+      "unknowns: %d parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
       "%d degrees of freedom\n\n",
+      ml.scale_nonlinearity_estimated ? kTriadParameterCount + kTriadScaleNonlinearityCount
+                                      : kTriadParameterCount,
       ml.degrees_of_freedom);
   out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance";
   if (with_imu_tk) {
@@ -304,6 +306,15 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       if (datasheet) out << "   " << kDatasheet[p];
     }
     out << "\n";
+  }
+  if (ml.scale_nonlinearity_estimated) {
+    for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
+      out << StringPrintf("  %-16s %-14s %16.8g %12.3g  (%.2f sigma from 0)\n",
+                          TriadScaleNonlinearityInfos()[k].name,
+                          TriadScaleNonlinearityInfos()[k].unit, ml.scale_nonlinearity[k],
+                          ml.scale_nonlinearity_stddev[k],
+                          ml.scale_nonlinearity[k] / ml.scale_nonlinearity_stddev[k]);
+    }
   }
   out << StringPrintf("  inverse gain (%s per m/s^2):", TriadOutputUnitName(report.unit));
   for (int k = 0; k < 3; ++k) {
@@ -394,9 +405,18 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
     }
     order.push_back(infos[p].name);
   }
+  if (ml.scale_nonlinearity_estimated) {
+    for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
+      const char* name = TriadScaleNonlinearityInfos()[k].name;
+      parameters[name] = ml.scale_nonlinearity[k];
+      stddev[name] = ml.scale_nonlinearity_stddev[k];
+      units[name] = TriadScaleNonlinearityInfos()[k].unit;
+    }
+  }
   json["parameters"] = parameters;
   json["stddev"] = stddev;
   json["units"] = units;
+  // The 9 parameters' block (the second-order terms' variances are in stddev).
   nlohmann::json matrix = nlohmann::json::array();
   for (int i = 0; i < kTriadParameterCount; ++i) matrix.push_back(ml.covariance[i]);
   json["covariance"] = {{"parameter_order", order}, {"matrix", matrix}};
