@@ -47,24 +47,6 @@ constexpr char kUsage[] =
     "  null_rate [--designs=course,n2000] [--noise_factors=0.25,1,4] [--alphas=0.01,0.05]\n"
     "            [--datasets=170] [--threads=2] [--json=null_rate.json] [--progress=always]";
 
-// A comma-separated list of numbers, each accepted by `valid` (whose range `range` names).
-Status ParseNumbers(const char* flag, const std::string& text, bool (*valid)(double),
-                    const char* range, std::vector<double>* values) {
-  values->clear();
-  std::istringstream stream(text);
-  for (std::string item; std::getline(stream, item, ',');) {
-    double value;
-    if (!ParseFiniteNumber(item, &value) || !valid(value)) {
-      return Status::Error(std::string(flag) + ": '" + item.substr(0, 40) +
-                           "' is not a number in " + range);
-    }
-    values->push_back(value);
-  }
-  if (values->empty()) return Status::Error(std::string(flag) + " is empty");
-  if (values->size() > 20) return Status::Error(std::string(flag) + " lists more than 20 values");
-  return Status::Ok();
-}
-
 Status ParseDesigns(const std::string& text, std::vector<std::string>* designs) {
   designs->clear();
   std::istringstream stream(text);
@@ -91,11 +73,11 @@ bool HasRepeats(std::vector<T> values) {
 // The study's options from the flags: the lists parsed and checked, no value repeated.
 Status OptionsFromFlags(NullRateOptions* options) {
   ACCELCAL_RETURN_IF_ERROR(ParseDesigns(FLAGS_designs, &options->designs));
-  ACCELCAL_RETURN_IF_ERROR(ParseNumbers(
+  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(
       "--noise_factors", FLAGS_noise_factors, [](double x) { return x > 0.0 && x <= 1e4; },
-      "(0, 1e4]", &options->noise_factors));
-  ACCELCAL_RETURN_IF_ERROR(ParseNumbers(
-      "--alphas", FLAGS_alphas, [](double x) { return x > 0.0 && x < 0.5; }, "(0, 0.5)",
+      "a number in (0, 1e4]", &options->noise_factors));
+  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(
+      "--alphas", FLAGS_alphas, [](double x) { return x > 0.0 && x < 0.5; }, "a number in (0, 0.5)",
       &options->alphas));
   if (HasRepeats(options->designs) || HasRepeats(options->noise_factors) ||
       HasRepeats(options->alphas)) {

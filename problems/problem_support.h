@@ -21,8 +21,10 @@
 #include <map>
 #include <new>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "common/format.h"
 #include "common/measurements.h"
@@ -30,6 +32,7 @@
 #include "io/atomic_file.h"
 #include "io/cleanup.h"
 #include "io/course_data.h"
+#include "io/csv_reader.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
@@ -81,6 +84,24 @@ inline int GuardedMain(const char* program, int (*run)(int, char**), int argc, c
     return ExitWithError(program, Status::Error(std::string("internal error (") + exception.what() +
                                                 "); please report it with the command line"));
   }
+}
+
+// A flag holding a comma-separated list of at most 20 numbers, each accepted by `valid`; a
+// value it refuses is named with what it should be, `expected` ("a number in (0, 0.5)").
+inline Status ParseNumberList(const char* flag, const std::string& text, bool (*valid)(double),
+                              const char* expected, std::vector<double>* values) {
+  values->clear();
+  std::istringstream stream(text);
+  for (std::string item; std::getline(stream, item, ',');) {
+    double value;
+    if (!ParseFiniteNumber(item, &value) || !valid(value)) {
+      return Status::Error(std::string(flag) + ": '" + item.substr(0, 40) + "' is not " + expected);
+    }
+    values->push_back(value);
+  }
+  if (values->empty()) return Status::Error(std::string(flag) + " is empty");
+  if (values->size() > 20) return Status::Error(std::string(flag) + " lists more than 20 values");
+  return Status::Ok();
 }
 
 // The allowed range of a numeric flag, declared once beside the flag:

@@ -56,15 +56,9 @@ constexpr char kUsage[] =
 
 Status ParseNoise(const std::string& text, std::array<double, 3>* noise) {
   std::vector<double> values;
-  std::istringstream stream(text);
-  for (std::string item; std::getline(stream, item, ',');) {
-    double value;
-    if (!ParseFiniteNumber(item, &value) || !(value > 0.0) || value > 1e6) {
-      return Status::Error("--noise: '" + item.substr(0, 40) +
-                           "' is not a noise sd in (0, 1e6] counts");
-    }
-    values.push_back(value);
-  }
+  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(
+      "--noise", text, [](double x) { return x > 0.0 && x <= 1e6; },
+      "a noise sd in (0, 1e6] counts", &values));
   if (values.size() == 1) values.assign(3, values[0]);
   if (values.size() != 3) {
     return Status::Error("--noise takes one value (all axes) or three (x,y,z), not " +

@@ -6,9 +6,11 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "common/format.h"
 #include "estimation/chi_square.h"
+#include "estimation/triad_ml_calibration.h"
 #include "residuals/ferraris_hold_residual.h"
 #include "residuals/triad_pose_residual.h"
 
@@ -24,8 +26,7 @@ struct HoldData {
 };
 
 Status PrepareHolds(const FerrarisSession& session, HoldData* holds, Vector3* pooled) {
-  Vector3 sum{};
-  double weight = 0.0;
+  std::vector<TriadPoseMean> accelerometer;
   for (int p = 0; p < kFerrarisHoldCount; ++p) {
     const TriadPoseMean& hold = session.sections[p].accelerometer;
     if (hold.sample_count < 2) {
@@ -34,11 +35,11 @@ Status PrepareHolds(const FerrarisSession& session, HoldData* holds, Vector3* po
           "for at least a second",
           kFerrarisSectionLabels[p], hold.sample_count));
     }
-    for (int k = 0; k < 3; ++k) sum[k] += (hold.sample_count - 1) * hold.variance[k];
-    weight += hold.sample_count - 1;
+    accelerometer.push_back(hold);
   }
+  // The noise model of the maximum-likelihood triad fit, pooled over the six holds.
+  *pooled = PooledWithinPoseVariance(accelerometer);
   for (int k = 0; k < 3; ++k) {
-    (*pooled)[k] = sum[k] / weight;
     if (!((*pooled)[k] > 0.0) || !std::isfinite((*pooled)[k])) {
       return Status::Error(StringPrintf(
           "the accelerometer's %c output does not vary within any hold (pooled variance %g): "

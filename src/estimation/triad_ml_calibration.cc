@@ -26,19 +26,15 @@ const char* EstimatedParameterName(int index) {
 
 // s_k^2 pooled over the poses, weighted by their N_p - 1 degrees of freedom.
 Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<double, 3>* pooled) {
-  std::array<double, 3> sum{};
-  double weight = 0.0;
   for (const TriadPoseMean& pose : poses) {
     if (pose.sample_count < 2) {
       return Status::Error(StringPrintf(
           "a pose of %d sample(s) has no sample variance; every pose needs at least 2 samples",
           pose.sample_count));
     }
-    for (int k = 0; k < 3; ++k) sum[k] += (pose.sample_count - 1) * pose.variance[k];
-    weight += pose.sample_count - 1;
   }
+  *pooled = PooledWithinPoseVariance(poses);
   for (int k = 0; k < 3; ++k) {
-    (*pooled)[k] = sum[k] / weight;
     if (!((*pooled)[k] > 0.0) || !std::isfinite((*pooled)[k])) {
       return Status::Error(StringPrintf(
           "the output of axis %c does not vary within any pose (pooled variance %g); the white "
@@ -357,6 +353,17 @@ std::array<double, 3> TypicalMeanStddev(const std::vector<TriadPoseMean>& poses,
 
 int TriadEstimatedParameterCount(const TriadMlOptions& options) {
   return kTriadParameterCount + (options.scale_nonlinearity ? kTriadScaleNonlinearityCount : 0);
+}
+
+std::array<double, 3> PooledWithinPoseVariance(const std::vector<TriadPoseMean>& poses) {
+  std::array<double, 3> sum{};
+  double weight = 0.0;
+  for (const TriadPoseMean& pose : poses) {
+    for (int k = 0; k < 3; ++k) sum[k] += (pose.sample_count - 1) * pose.variance[k];
+    weight += pose.sample_count - 1;
+  }
+  for (double& value : sum) value /= weight;
+  return sum;
 }
 
 std::vector<TriadPoseMean> PoseMeansOfIntervals(const TriadLog& log,

@@ -106,6 +106,12 @@ struct TriadMlResult {
 Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOptions& options,
                         TriadMlResult* result);
 
+// The noise model's variance per axis, pooled over the poses (each of at least 2 samples; the
+// callers check, each saying which of its poses is short):
+//   s_k^2 = sum_p (N_p - 1) s_p,k^2 / sum_p (N_p - 1).
+// Zero or not finite when no pose varies on an axis; the callers refuse that in their words.
+std::array<double, 3> PooledWithinPoseVariance(const std::vector<TriadPoseMean>& poses);
+
 // The pose of each interval of at least `min_samples` samples: mean and sample variance of all
 // its samples.
 std::vector<TriadPoseMean> PoseMeansOfIntervals(const TriadLog& log,
