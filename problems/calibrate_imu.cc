@@ -202,11 +202,9 @@ Status InitialGuess(const TriadLog& log, TriadOutputUnit unit, TriadParameters* 
 
 // imu_tk's calibration: the imu_tk mode's answer, and the ml mode's comparison.
 Status SolveImuTk(const TriadLog& log, CalibrateImuReport* report) {
-  ImuTkOptions& options = report->options;
+  ImuTkOptions& options = report->options;  // options.initial: set by Solve
   options.gravity_mps2 = FLAGS_g;
   options.init_rest_s = FLAGS_init_rest_s;
-  ACCELCAL_RETURN_IF_ERROR(
-      InitialGuess(log, report->unit, &options.initial, &report->initial_offset_from));
   options.window_samples = FLAGS_window;
   options.interval_samples = FLAGS_interval_samples;
   options.min_intervals = FLAGS_min_intervals;
@@ -229,10 +227,7 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
       if (result.interval_used[i]) report->pose_intervals.push_back(result.intervals[i]);
     }
   } else {
-    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode; the
-    // unit is checked on its own then.
-    ACCELCAL_RETURN_IF_ERROR(
-        CheckOutputsMatchUnit(log, report->unit, AdcMidScale(log)).WithContext(FLAGS_log));
+    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode.
     NoiseFloorOptions& options = report->noise_floor_options;
     options.window_samples = FLAGS_window;
     options.threshold_factor = FLAGS_threshold_factor;
@@ -254,6 +249,9 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit).WithContext("--unit"));
   report->mode = FLAGS_mode;
+  // imu_tk's start, and the unit checked against the log with its offset, once for both modes.
+  ACCELCAL_RETURN_IF_ERROR(
+      InitialGuess(log, report->unit, &report->options.initial, &report->initial_offset_from));
   return FLAGS_mode == "ml" ? SolveMl(log, report) : SolveImuTk(log, report);
 }
 
