@@ -57,11 +57,15 @@ TEST(TriadPoseResidual, IsZeroAtTheTruth) {
   double r[3];
   ASSERT_TRUE(residual(truth.data(), direction, r));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
-  // And with second-order scale terms, through the 12-parameter blocks.
+  // And with second-order scale terms, through the effects' block: TriadPredictOutput is
+  // TriadRawOutput's expression.
   const TriadScaleNonlinearity k2 = {2e-4, -1e-4, 3e-4};
   TriadRawOutput(truth.data(), k2.data(), force, raw.data());
+  TriadEffectCoefficients effects{};
+  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+  for (int k = 0; k < 3; ++k) effects[first_k2 + k] = k2[k];
   const TriadPoseResidual quadratic(raw, {0.3, 0.3, 0.3}, kGravity);
-  ASSERT_TRUE(quadratic(truth.data(), k2.data(), direction, r));
+  ASSERT_TRUE(quadratic(truth.data(), effects.data(), direction, r));
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], 0.0, 1e-9);
 }
 
@@ -167,6 +171,14 @@ TEST(TriadMlCalibration, RefusesFewerThanTenPoses) {
 
 // The second-order scale terms used below (1/(m/s^2)): 8 to 23 counts at 1 g along an axis.
 const TriadScaleNonlinearity kScaleNonlinearity = ExampleScaleNonlinearity();
+const int kFirstK2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+
+// kScaleNonlinearity in the effects' block.
+TriadEffectCoefficients ScaleNonlinearityEffects() {
+  TriadEffectCoefficients effects{};
+  for (int k = 0; k < 3; ++k) effects[kFirstK2 + k] = kScaleNonlinearity[k];
+  return effects;
+}
 
 TEST(TriadMlModel, ScaleNonlinearityRoundTripsAndMatchesTheTiltTableSign) {
   const TriadParameters truth = Truth();
@@ -209,16 +221,23 @@ TEST(TriadResidual, GradientCheckerAgreesWithAutodiff) {
     EXPECT_TRUE(checker.Probe(blocks.data(), 1e-7, &results)) << results.error_log;
   }
   {
+    // Every effect at a small non-zero value, 20 s after the time origin (so that the drift's
+    // column is not zero).
+    TriadPoseContext context;
+    context.time_s = 20.0;
+    TriadEffectCoefficients effects = ScaleNonlinearityEffects();
+    for (int c = 0; c < kTriadEffectCoefficientCount; ++c)
+      if (effects[c] == 0.0) effects[c] = 1e-3;
     const std::unique_ptr<ceres::CostFunction> cost(
-        TriadPoseResidual::CreateWithScaleNonlinearity(mean, mean_stddev, kGravity));
+        TriadPoseResidual::CreateWithEffects(mean, mean_stddev, kGravity, context));
     const std::vector<const ceres::Manifold*> manifolds = {nullptr, nullptr, &sphere};
     ceres::GradientChecker checker(cost.get(), &manifolds, numeric);
-    const std::vector<const double*> blocks = {parameters.data(), kScaleNonlinearity.data(),
-                                               direction.data()};
+    const std::vector<const double*> blocks = {parameters.data(), effects.data(), direction.data()};
     ceres::GradientChecker::ProbeResults results;
     EXPECT_TRUE(checker.Probe(blocks.data(), 1e-7, &results)) << results.error_log;
     // The k2 columns are there: d r_k / d k2_k = -w_k^2 / (gain_k sigma_k) is far from zero.
-    for (int k = 0; k < 3; ++k) EXPECT_GT(std::abs(results.jacobians[1](k, k)), 100.0) << k;
+    for (int k = 0; k < 3; ++k)
+      EXPECT_GT(std::abs(results.jacobians[1](k, kFirstK2 + k)), 100.0) << k;
   }
 }
 
@@ -230,7 +249,7 @@ TriadMlOptions TwelveParameterOptions() {
 
 TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
   TriadSimulationOptions simulation = SimulationOptions();
-  simulation.scale_nonlinearity = kScaleNonlinearity;
+  simulation.effects = ScaleNonlinearityEffects();
   RandomSource random(20, 2);
   const std::vector<TriadPoseMean> poses =
       SimulateTriadPoses(simulation, RandomPoseDirections(30, &random), &random);
@@ -244,11 +263,11 @@ TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
         << TriadParameterInfos()[p].name;
   }
   for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
-    const double error = result.scale_nonlinearity[k] - kScaleNonlinearity[k];
-    EXPECT_LT(std::abs(error), 3.0 * result.scale_nonlinearity_stddev[k])
+    const double error = result.effects[kFirstK2 + k] - kScaleNonlinearity[k];
+    EXPECT_LT(std::abs(error), 3.0 * result.effects_stddev[kFirstK2 + k])
         << TriadScaleNonlinearityInfos()[k].name;
     // Determined well enough to tell from zero (sigma ~1e-5 1/(m/s^2) with 30 poses).
-    EXPECT_LT(result.scale_nonlinearity_stddev[k], 0.2 * std::abs(kScaleNonlinearity[k]));
+    EXPECT_LT(result.effects_stddev[kFirstK2 + k], 0.2 * std::abs(kScaleNonlinearity[k]));
   }
   EXPECT_GT(result.p_value, 0.001);
   // The 9-parameter fit of the same poses does not explain them: k2 is in the data.
@@ -265,12 +284,12 @@ TEST(TriadMlCalibration, ScaleNonlinearityOptionOffLeavesTheNineParameterFit) {
       SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(30, &random), &random);
   TriadMlResult nine, twelve;
   ASSERT_TRUE(CalibrateTriadMl(poses, MlOptions(), &nine).ok());
-  EXPECT_FALSE(nine.scale_nonlinearity_estimated);
-  for (int k = 0; k < 3; ++k) EXPECT_EQ(nine.scale_nonlinearity[k], 0.0);
+  EXPECT_TRUE(nine.effects_estimated.empty());
+  for (double value : nine.effects) EXPECT_EQ(value, 0.0);
   ASSERT_TRUE(CalibrateTriadMl(poses, TwelveParameterOptions(), &twelve).ok());
-  EXPECT_TRUE(twelve.scale_nonlinearity_estimated);
+  EXPECT_EQ(twelve.effects_estimated.size(), 3u);
   for (int k = 0; k < 3; ++k) {
-    EXPECT_LT(std::abs(twelve.scale_nonlinearity[k]), 3.0 * twelve.scale_nonlinearity_stddev[k]);
+    EXPECT_LT(std::abs(twelve.effects[kFirstK2 + k]), 3.0 * twelve.effects_stddev[kFirstK2 + k]);
   }
   // Estimating three more parameters costs precision, never gains it.
   for (int p = 0; p < kTriadParameterCount; ++p) EXPECT_GE(twelve.stddev[p], nine.stddev[p]);
@@ -281,7 +300,7 @@ TEST(TriadMlCalibration, ScaleNonlinearityOptionOffLeavesTheNineParameterFit) {
 void ExpectSuggestedPosesMakeItIdentifiable(const std::vector<std::array<double, 3>>& directions,
                                             const TriadMlOptions& options, const char* label) {
   TriadSimulationOptions simulation = SimulationOptions();
-  if (options.scale_nonlinearity) simulation.scale_nonlinearity = kScaleNonlinearity;
+  if (options.scale_nonlinearity) simulation.effects = ScaleNonlinearityEffects();
   RandomSource random(31, 0);
   TriadMlResult refused;
   const Status status =

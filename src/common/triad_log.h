@@ -29,6 +29,8 @@ struct TriadPoseMean {
   std::array<double, 3> mean{};
   std::array<double, 3> variance{};
   int sample_count = 0;
+  double time_s = 0.0;      // mid-time of the pose (s, the log's clock)
+  double duration_s = 0.0;  // last minus first sample's time stamp (s)
 };
 
 }  // namespace accelcal

@@ -18,10 +18,14 @@ namespace {
 // At least one degree of freedom.
 int MinPoses(int parameter_count) { return parameter_count + 1; }
 
-const char* EstimatedParameterName(int index) {
-  return index < kTriadParameterCount
-             ? TriadParameterInfos()[index].name
-             : TriadScaleNonlinearityInfos()[index - kTriadParameterCount].name;
+// The names of the estimated parameters in the order of the Jacobian's columns: the 9 triad
+// parameters, then the estimated effect coefficients.
+std::vector<std::string> EstimatedParameterNames(const std::vector<int>& effects) {
+  std::vector<std::string> names;
+  for (const TriadParameterInfo& info : TriadParameterInfos()) names.push_back(info.name);
+  const std::vector<TriadEffectCoefficient> coefficients = TriadEffectCoefficientList();
+  for (int c : effects) names.push_back(coefficients[c].name);
+  return names;
 }
 
 // s_k^2 pooled over the poses, weighted by their N_p - 1 degrees of freedom.
@@ -49,8 +53,10 @@ Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<d
 // the column-normalised Jacobian (so that counts, rad and (m/s^2)/count compare) whose singular
 // values are below rank_tolerance times the largest. Returns the names of the triad
 // parameters with a weight above 0.1 in that null space, empty when the Jacobian has full rank.
-std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs, int parameter_count,
+std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs,
+                                                  const std::vector<std::string>& parameter_names,
                                                   double rank_tolerance) {
+  const int parameter_count = static_cast<int>(parameter_names.size());
   Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
   for (int row = 0; row < crs.num_rows; ++row) {
     for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
@@ -79,7 +85,7 @@ std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs, i
   if (nullity == 0) return names;
   const Eigen::MatrixXd null_space = svd.matrixV().rightCols(nullity);
   for (int p = 0; p < parameter_count; ++p) {
-    if (null_space.row(p).norm() > 0.1) names.push_back(EstimatedParameterName(p));
+    if (null_space.row(p).norm() > 0.1) names.push_back(parameter_names[p]);
   }
   if (names.empty()) names.push_back("the gravity directions of some poses");
   return names;
@@ -109,34 +115,37 @@ std::string PlanarHint(const std::vector<std::array<double, 3>>& directions) {
 // Everything is evaluated at one point of parameter space (the refusal's).
 class PoseAdvisor {
  public:
-  PoseAdvisor(const double* parameters, const double* scale_nonlinearity,
+  // `effects` may be null (no effect estimated); `estimated` lists its coefficients that are.
+  PoseAdvisor(const double* parameters, const double* effects, const std::vector<int>& estimated,
               const std::array<double, 3>& mean_stddev, double gravity_mps2)
       : parameters_(parameters),
-        scale_nonlinearity_(scale_nonlinearity),
+        effects_(effects),
+        estimated_(estimated),
         mean_stddev_(mean_stddev),
         gravity_mps2_(gravity_mps2),
-        parameter_count_(kTriadParameterCount +
-                         (scale_nonlinearity == nullptr ? 0 : kTriadScaleNonlinearityCount)) {}
+        parameter_count_(kTriadParameterCount + static_cast<int>(estimated.size())) {}
 
   // a_p: the pose's information on the parameters is a_p a_p^T, its own direction
   // marginalised. The pose's 3 residuals move with the parameters through J (3 x parameters)
   // and with its direction through B (3 x 2, the sphere's tangent plane); only the residual
   // direction q orthogonal to both columns of B carries information on the parameters.
   Eigen::VectorXd InformationVector(const std::array<double, 3>& direction) const {
+    // A pose at the time origin: a drift term's information depends on when the pose is
+    // held, which advice on directions cannot choose.
     const std::unique_ptr<ceres::CostFunction> cost(
-        scale_nonlinearity_ == nullptr
+        effects_ == nullptr
             ? TriadPoseResidual::Create({0.0, 0.0, 0.0}, mean_stddev_, gravity_mps2_)
-            : TriadPoseResidual::CreateWithScaleNonlinearity({0.0, 0.0, 0.0}, mean_stddev_,
-                                                             gravity_mps2_));
+            : TriadPoseResidual::CreateWithEffects({0.0, 0.0, 0.0}, mean_stddev_, gravity_mps2_,
+                                                   TriadPoseContext()));
     double residual[3];
     Eigen::Matrix<double, 3, kTriadParameterCount, Eigen::RowMajor> jacobian_parameters;
-    Eigen::Matrix<double, 3, 3, Eigen::RowMajor> jacobian_scale_nonlinearity;
+    Eigen::Matrix<double, 3, kTriadEffectCoefficientCount, Eigen::RowMajor> jacobian_effects;
     Eigen::Matrix<double, 3, 3, Eigen::RowMajor> jacobian_direction;
     std::vector<const double*> blocks = {parameters_};
     std::vector<double*> jacobians = {jacobian_parameters.data()};
-    if (scale_nonlinearity_ != nullptr) {
-      blocks.push_back(scale_nonlinearity_);
-      jacobians.push_back(jacobian_scale_nonlinearity.data());
+    if (effects_ != nullptr) {
+      blocks.push_back(effects_);
+      jacobians.push_back(jacobian_effects.data());
     }
     blocks.push_back(direction.data());
     jacobians.push_back(jacobian_direction.data());
@@ -151,9 +160,8 @@ class PoseAdvisor {
         (jacobian_direction * tangent_1).cross(jacobian_direction * tangent_2).normalized();
     Eigen::VectorXd a(parameter_count_);
     a.head<kTriadParameterCount>() = jacobian_parameters.transpose() * q;
-    if (scale_nonlinearity_ != nullptr) {
-      a.tail<kTriadScaleNonlinearityCount>() = jacobian_scale_nonlinearity.transpose() * q;
-    }
+    for (size_t i = 0; i < estimated_.size(); ++i)
+      a[kTriadParameterCount + i] = jacobian_effects.col(estimated_[i]).dot(q);
     return a;
   }
 
@@ -256,7 +264,8 @@ class PoseAdvisor {
   }
 
   const double* parameters_;
-  const double* scale_nonlinearity_;
+  const double* effects_;
+  const std::vector<int> estimated_;
   const std::array<double, 3> mean_stddev_;
   const double gravity_mps2_;
   const int parameter_count_;
@@ -289,9 +298,10 @@ std::string SuggestionText(const std::vector<std::array<double, 3>>& suggested,
 // What CheckIdentifiable needs of the problem being solved.
 struct ProblemState {
   const TriadMlOptions* options;
-  int parameter_count;          // 9 or 12
+  std::vector<std::string> parameter_names;  // 9 + the estimated effect coefficients
+  std::vector<int> effects_estimated;
   double* parameters;           // the 9 triad parameters
-  double* scale_nonlinearity;   // k2, or null when not estimated
+  double* effects;              // the effects' block, or null when none is estimated
   std::vector<double*> blocks;  // the parameter blocks, triad ones first
   std::vector<ceres::ResidualBlockId> residual_blocks;
   std::array<double, 3> mean_stddev;  // of a pose of the median sample count (counts)
@@ -299,7 +309,7 @@ struct ProblemState {
 
 std::vector<std::array<double, 3>> SuggestedPoses(const ProblemState& state,
                                                   const std::vector<std::array<double, 3>>& held) {
-  return PoseAdvisor(state.parameters, state.scale_nonlinearity, state.mean_stddev,
+  return PoseAdvisor(state.parameters, state.effects, state.effects_estimated, state.mean_stddev,
                      state.options->gravity_mps2)
       .Suggest(held);
 }
@@ -320,10 +330,11 @@ Status CheckIdentifiable(const ProblemState& state,
   if (!problem->Evaluate(evaluate_options, &cost, &values, nullptr, &jacobian)) {
     return Status::Error("the residuals could not be evaluated at the parameters reached");
   }
-  CHECK_EQ(jacobian.num_cols, state.parameter_count + 2 * pose_count);
+  const int parameter_count = static_cast<int>(state.parameter_names.size());
+  CHECK_EQ(jacobian.num_cols, parameter_count + 2 * pose_count);
   if (residuals != nullptr) *residuals = values;
   const std::vector<std::string> unidentifiable =
-      UnidentifiableParameters(jacobian, state.parameter_count, state.options->rank_tolerance);
+      UnidentifiableParameters(jacobian, state.parameter_names, state.options->rank_tolerance);
   if (unidentifiable.empty()) return Status::Ok();
   result->unidentifiable = unidentifiable;
   result->suggested_directions = SuggestedPoses(state, directions);
@@ -334,7 +345,7 @@ Status CheckIdentifiable(const ProblemState& state,
       "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "
       "%d residuals in the %d unknowns is rank-deficient)%s%s",
       pose_count, (names + (unidentifiable.size() == 1 ? " is" : " are")).c_str(), 3 * pose_count,
-      state.parameter_count + 2 * pose_count, planar_hint.c_str(),
+      parameter_count + 2 * pose_count, planar_hint.c_str(),
       SuggestionText(result->suggested_directions, !planar_hint.empty()).c_str()));
 }
 
@@ -351,8 +362,19 @@ std::array<double, 3> TypicalMeanStddev(const std::vector<TriadPoseMean>& poses,
 
 }  // namespace
 
+std::vector<int> TriadEstimatedEffects(const TriadMlOptions& options) {
+  std::vector<int> effects = options.effects;
+  if (options.scale_nonlinearity) {
+    const int first = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+    for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) effects.push_back(first + k);
+  }
+  std::sort(effects.begin(), effects.end());
+  effects.erase(std::unique(effects.begin(), effects.end()), effects.end());
+  return effects;
+}
+
 int TriadEstimatedParameterCount(const TriadMlOptions& options) {
-  return kTriadParameterCount + (options.scale_nonlinearity ? kTriadScaleNonlinearityCount : 0);
+  return kTriadParameterCount + static_cast<int>(TriadEstimatedEffects(options).size());
 }
 
 std::array<double, 3> PooledWithinPoseVariance(const std::vector<TriadPoseMean>& poses) {
@@ -376,6 +398,8 @@ std::vector<TriadPoseMean> PoseMeansOfIntervals(const TriadLog& log,
     pose.mean = IntervalMean(log, interval.start, interval.end);
     pose.variance = IntervalVariance(log, interval.start, interval.end);
     pose.sample_count = interval.sample_count();
+    pose.time_s = 0.5 * (interval.start_s + interval.end_s);
+    pose.duration_s = interval.end_s - interval.start_s;
     poses.push_back(pose);
   }
   return poses;
@@ -385,23 +409,39 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
                         TriadMlResult* result) {
   *result = TriadMlResult();
   const int pose_count = static_cast<int>(poses.size());
-  const int parameter_count = TriadEstimatedParameterCount(options);
+  const std::vector<int> estimated = TriadEstimatedEffects(options);
+  const int parameter_count = kTriadParameterCount + static_cast<int>(estimated.size());
   result->pose_count = pose_count;
-  result->scale_nonlinearity_estimated = options.scale_nonlinearity;
+  result->effects_estimated = estimated;
   if (pose_count < 1) return Status::Error("no static poses to calibrate from");
   ACCELCAL_RETURN_IF_ERROR(PooledNoiseVariance(poses, &result->noise_variance));
+  if (!options.pose_mean_variance.empty() &&
+      static_cast<int>(options.pose_mean_variance.size()) != pose_count) {
+    return Status::Error(StringPrintf("%zu pose-mean variances for %d poses",
+                                      options.pose_mean_variance.size(), pose_count));
+  }
+  for (const int c : estimated) {
+    if (c < 0 || c >= kTriadEffectCoefficientCount)
+      return Status::Error(StringPrintf("no triad effect coefficient %d", c));
+  }
+  result->time_origin_s = 0.0;
+  for (const TriadPoseMean& pose : poses) result->time_origin_s += pose.time_s / pose_count;
 
-  // Initial directions: the initial calibration's specific force of each mean, normalised.
+  // Initial directions: the initial calibration's specific force of each mean, normalised
+  // (the 9 parameters and the second-order terms, the effects that change a pose's direction
+  // little).
   result->parameters = options.initial;
-  if (options.scale_nonlinearity) result->scale_nonlinearity = options.initial_scale_nonlinearity;
-  double* scale_nonlinearity =
-      options.scale_nonlinearity ? result->scale_nonlinearity.data() : nullptr;
+  result->effects = options.initial_effects;
+  for (int c = 0; c < kTriadEffectCoefficientCount; ++c) {
+    if (!std::binary_search(estimated.begin(), estimated.end(), c)) result->effects[c] = 0.0;
+  }
+  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+  double* effects = estimated.empty() ? nullptr : result->effects.data();
   result->directions.resize(pose_count);
   for (int p = 0; p < pose_count; ++p) {
     double force[3] = {0.0, 0.0, 0.0};
-    const bool mapped =
-        TriadSpecificForce(options.initial.data(), static_cast<const double*>(scale_nonlinearity),
-                           poses[p].mean.data(), force);
+    const bool mapped = TriadSpecificForce(options.initial.data(), &result->effects[first_k2],
+                                           poses[p].mean.data(), force);
     const double norm = std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]);
     if (!mapped || !(norm > 0.0) || !std::isfinite(norm)) {
       return Status::Error(StringPrintf(
@@ -415,29 +455,49 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   ceres::Problem problem;
   ProblemState state;
   state.options = &options;
-  state.parameter_count = parameter_count;
+  state.parameter_names = EstimatedParameterNames(estimated);
+  state.effects_estimated = estimated;
   state.parameters = result->parameters.data();
-  state.scale_nonlinearity = scale_nonlinearity;
+  state.effects = effects;
   state.blocks = {result->parameters.data()};
-  if (scale_nonlinearity != nullptr) state.blocks.push_back(scale_nonlinearity);
+  if (effects != nullptr) state.blocks.push_back(effects);
   state.mean_stddev = TypicalMeanStddev(poses, result->noise_variance);
+  result->mean_stddev.resize(pose_count);
   for (int p = 0; p < pose_count; ++p) {
-    std::array<double, 3> mean_stddev;
-    for (int k = 0; k < 3; ++k)
-      mean_stddev[k] = std::sqrt(result->noise_variance[k] / poses[p].sample_count);
+    std::array<double, 3>& mean_stddev = result->mean_stddev[p];
+    for (int k = 0; k < 3; ++k) {
+      const double variance = options.pose_mean_variance.empty()
+                                  ? result->noise_variance[k] / poses[p].sample_count
+                                  : options.pose_mean_variance[p][k];
+      if (!(variance > 0.0) || !std::isfinite(variance)) {
+        return Status::Error(StringPrintf(
+            "pose %d: the variance of its mean on axis %c is %g; the noise model must give a "
+            "positive variance",
+            p + 1, "xyz"[k], variance));
+      }
+      mean_stddev[k] = std::sqrt(variance);
+    }
     double* direction = result->directions[p].data();
-    if (scale_nonlinearity == nullptr) {
+    if (effects == nullptr) {
       state.residual_blocks.push_back(problem.AddResidualBlock(
           TriadPoseResidual::Create(poses[p].mean, mean_stddev, options.gravity_mps2), nullptr,
           result->parameters.data(), direction));
     } else {
-      state.residual_blocks.push_back(problem.AddResidualBlock(
-          TriadPoseResidual::CreateWithScaleNonlinearity(poses[p].mean, mean_stddev,
-                                                         options.gravity_mps2),
-          nullptr, result->parameters.data(), scale_nonlinearity, direction));
+      TriadPoseContext context;
+      context.time_s = poses[p].time_s - result->time_origin_s;
+      state.residual_blocks.push_back(
+          problem.AddResidualBlock(TriadPoseResidual::CreateWithEffects(
+                                       poses[p].mean, mean_stddev, options.gravity_mps2, context),
+                                   nullptr, result->parameters.data(), effects, direction));
     }
     problem.SetManifold(direction, new ceres::SphereManifold<3>());
     state.blocks.push_back(direction);
+  }
+  if (effects != nullptr && static_cast<int>(estimated.size()) < kTriadEffectCoefficientCount) {
+    std::vector<int> held;
+    for (int c = 0; c < kTriadEffectCoefficientCount; ++c)
+      if (!std::binary_search(estimated.begin(), estimated.end(), c)) held.push_back(c);
+    problem.SetManifold(effects, new ceres::SubsetManifold(kTriadEffectCoefficientCount, held));
   }
 
   // The rank check at the initial guess first: a rank-deficient problem wanders along its null
@@ -482,9 +542,9 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   ceres::Covariance covariance(covariance_options);
   std::vector<std::pair<const double*, const double*>> pairs = {
       {result->parameters.data(), result->parameters.data()}};
-  if (scale_nonlinearity != nullptr) {
-    pairs.push_back({scale_nonlinearity, scale_nonlinearity});
-    pairs.push_back({result->parameters.data(), scale_nonlinearity});
+  if (effects != nullptr) {
+    pairs.push_back({effects, effects});
+    pairs.push_back({result->parameters.data(), effects});
   }
   if (!covariance.Compute(pairs, &problem)) {
     return Status::Error(StringPrintf(
@@ -492,6 +552,7 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
         "poses do not determine them",
         parameter_count));
   }
+  constexpr int kE = kTriadEffectCoefficientCount;
   double block[kTriadParameterCount * kTriadParameterCount];
   covariance.GetCovarianceBlock(result->parameters.data(), result->parameters.data(), block);
   for (int i = 0; i < kTriadParameterCount; ++i) {
@@ -499,17 +560,17 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
       result->covariance[i][j] = block[i * kTriadParameterCount + j];
     result->stddev[i] = std::sqrt(result->covariance[i][i]);
   }
-  if (scale_nonlinearity != nullptr) {
-    constexpr int kK2 = kTriadScaleNonlinearityCount;
-    covariance.GetCovarianceBlock(scale_nonlinearity, scale_nonlinearity, block);
-    for (int i = 0; i < kK2; ++i) {
-      for (int j = 0; j < kK2; ++j)
-        result->scale_nonlinearity_covariance[i][j] = block[i * kK2 + j];
-      result->scale_nonlinearity_stddev[i] = std::sqrt(result->scale_nonlinearity_covariance[i][i]);
+  if (effects != nullptr) {
+    std::vector<double> effect_block(kE * kE);
+    covariance.GetCovarianceBlock(effects, effects, effect_block.data());
+    for (int i = 0; i < kE; ++i) {
+      for (int j = 0; j < kE; ++j) result->effects_covariance[i][j] = effect_block[i * kE + j];
+      result->effects_stddev[i] = std::sqrt(std::max(result->effects_covariance[i][i], 0.0));
     }
-    covariance.GetCovarianceBlock(result->parameters.data(), scale_nonlinearity, block);
+    std::vector<double> cross_block(kTriadParameterCount * kE);
+    covariance.GetCovarianceBlock(result->parameters.data(), effects, cross_block.data());
     for (int i = 0; i < kTriadParameterCount; ++i) {
-      for (int j = 0; j < kK2; ++j) result->cross_covariance[i][j] = block[i * kK2 + j];
+      for (int j = 0; j < kE; ++j) result->cross_covariance[i][j] = cross_block[i * kE + j];
     }
   }
 

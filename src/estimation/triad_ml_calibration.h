@@ -20,8 +20,16 @@
 // chi2 = sum r^2 on P - 9 degrees of freedom, p = P(chi2_{P-9} > chi2); chi2/dof has mean 1
 // and standard deviation sqrt(2/dof) when the noise model holds.
 //
-// With options.scale_nonlinearity, the 3 second-order scale terms k2_k of models/triad.h are
-// estimated too (their own block): 12 parameters, P - 12 degrees of freedom.
+// Effects beyond the 9 parameters (models/triad_effect_list.h): options.effects names the
+// coefficients to estimate (options.scale_nonlinearity adds the three second-order scale terms
+// k2_k); all of them are one block, the others held at zero: 9 + E parameters, P - 9 - E
+// degrees of freedom. A coefficient that depends on time (offset_drift_k) is referred to the
+// mean of the poses' mid-times.
+//
+// The noise of a pose mean: by default the white-noise variance above, s_k^2 / N_p; or the
+// variances options.pose_mean_variance gives, one per pose and axis (e.g. from the Allan
+// variance of the log at the pose's duration, estimation/allan_variance.h), which the
+// noise model of the pose means then is.
 //
 // Refusals (a Status naming what cannot be determined, not a crash): fewer poses than
 // parameters + 1; a Jacobian that is rank-deficient at the initial guess or at the solution
@@ -47,6 +55,7 @@
 #include "estimation/solver_report.h"
 #include "estimation/static_intervals.h"
 #include "models/triad.h"
+#include "models/triad_effect_list.h"
 
 namespace accelcal {
 
@@ -59,13 +68,21 @@ struct TriadMlOptions {
   // noise (directions in a plane give ~1e-6 with 3 counts of noise); well-spread poses give
   // ~0.1.
   double rank_tolerance = 1e-4;
-  // Estimate the second-order scale terms k2_k (scale_nonlinearity_x/y/z, 1/(m/s^2)) too,
-  // starting from initial_scale_nonlinearity.
+  // Estimate the second-order scale terms k2_k (scale_nonlinearity_x/y/z, 1/(m/s^2)) too.
   bool scale_nonlinearity = false;
-  TriadScaleNonlinearity initial_scale_nonlinearity{};
+  // More coefficients of models/triad_effect_list.h to estimate (indices into
+  // TriadEffectCoefficientList()), starting from initial_effects.
+  std::vector<int> effects;
+  TriadEffectCoefficients initial_effects{};
+  // Empty: white noise, s_k^2 / N_p. Otherwise the variance of each pose's mean per axis (the
+  // log's unit squared), one entry per pose.
+  std::vector<std::array<double, 3>> pose_mean_variance;
 };
 
-// 9, or 12 with options.scale_nonlinearity.
+// The effect coefficients estimated (indices into TriadEffectCoefficientList(), ascending).
+std::vector<int> TriadEstimatedEffects(const TriadMlOptions& options);
+
+// 9 plus the effect coefficients estimated.
 int TriadEstimatedParameterCount(const TriadMlOptions& options);
 
 using TriadCovariance = std::array<std::array<double, kTriadParameterCount>, kTriadParameterCount>;
@@ -77,6 +94,7 @@ struct TriadMlResult {
   std::vector<std::array<double, 3>> directions;          // n_p, unit vectors
   std::vector<std::array<double, 3>> whitened_residuals;  // r_p per pose (dimensionless)
   std::array<double, 3> noise_variance{};                 // pooled s_k^2, counts^2
+  std::vector<std::array<double, 3>> mean_stddev;         // sigma_p,k the residuals divide by
   int pose_count = 0;
   double chi2 = 0.0;
   int degrees_of_freedom = 0;
@@ -85,14 +103,16 @@ struct TriadMlResult {
   double p_value = 0.0;              // P(chi2_dof > chi2)
   SolverReport solver;
 
-  // With options.scale_nonlinearity: k2_k (1/(m/s^2)), its sigma and covariance blocks
-  // (covariance above stays the 9 parameters' block).
-  bool scale_nonlinearity_estimated = false;
-  TriadScaleNonlinearity scale_nonlinearity{};
-  TriadScaleNonlinearity scale_nonlinearity_stddev{};
-  std::array<TriadScaleNonlinearity, kTriadScaleNonlinearityCount> scale_nonlinearity_covariance{};
-  // [i][k]: covariance of triad parameter i with k2_k.
-  std::array<TriadScaleNonlinearity, kTriadParameterCount> cross_covariance{};
+  // The effect coefficients estimated (TriadEstimatedEffects), their values, sigmas and
+  // covariance blocks (covariance above stays the 9 parameters' block); zero for the others.
+  // time_origin_s: the time offset_drift_k is referred to (s, the log's clock).
+  std::vector<int> effects_estimated;
+  TriadEffectCoefficients effects{};
+  TriadEffectCoefficients effects_stddev{};
+  std::array<TriadEffectCoefficients, kTriadEffectCoefficientCount> effects_covariance{};
+  // [i][c]: covariance of triad parameter i with coefficient c.
+  std::array<TriadEffectCoefficients, kTriadParameterCount> cross_covariance{};
+  double time_origin_s = 0.0;
 
   // When refused because the poses cannot determine the model: the parameters in the null
   // space, and the poses to add, as unit specific-force directions in the sensor frame (the

@@ -282,9 +282,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   out << StringPrintf(
       "unknowns: %d parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
       "%d degrees of freedom\n\n",
-      ml.scale_nonlinearity_estimated ? kTriadParameterCount + kTriadScaleNonlinearityCount
-                                      : kTriadParameterCount,
-      ml.degrees_of_freedom);
+      kTriadParameterCount + static_cast<int>(ml.effects_estimated.size()), ml.degrees_of_freedom);
   out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance";
   if (with_imu_tk) {
     out << StringPrintf(", beside imu_tk's (its rules, k = %d)\n", report.result.best().multiplier);
@@ -307,14 +305,12 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
     }
     out << "\n";
   }
-  if (ml.scale_nonlinearity_estimated) {
-    for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
-      out << StringPrintf("  %-16s %-14s %16.8g %12.3g  (%.2f sigma from 0)\n",
-                          TriadScaleNonlinearityInfos()[k].name,
-                          TriadScaleNonlinearityInfos()[k].unit, ml.scale_nonlinearity[k],
-                          ml.scale_nonlinearity_stddev[k],
-                          ml.scale_nonlinearity[k] / ml.scale_nonlinearity_stddev[k]);
-    }
+  const std::vector<TriadEffectCoefficient> coefficients = TriadEffectCoefficientList();
+  for (const int c : ml.effects_estimated) {
+    out << StringPrintf("  %-16s %-14s %16.8g %12.3g  (%.2f sigma from 0)\n",
+                        coefficients[c].name.c_str(),
+                        TriadEffectUnit(c, TriadOutputUnitName(report.unit)).c_str(), ml.effects[c],
+                        ml.effects_stddev[c], ml.effects[c] / ml.effects_stddev[c]);
   }
   out << StringPrintf("  inverse gain (%s per m/s^2):", TriadOutputUnitName(report.unit));
   for (int k = 0; k < 3; ++k) {
@@ -405,13 +401,11 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
     }
     order.push_back(infos[p].name);
   }
-  if (ml.scale_nonlinearity_estimated) {
-    for (int k = 0; k < kTriadScaleNonlinearityCount; ++k) {
-      const char* name = TriadScaleNonlinearityInfos()[k].name;
-      parameters[name] = ml.scale_nonlinearity[k];
-      stddev[name] = ml.scale_nonlinearity_stddev[k];
-      units[name] = TriadScaleNonlinearityInfos()[k].unit;
-    }
+  for (const int c : ml.effects_estimated) {
+    const std::string name = TriadEffectCoefficientList()[c].name;
+    parameters[name] = ml.effects[c];
+    stddev[name] = ml.effects_stddev[c];
+    units[name] = TriadEffectUnit(c, TriadOutputUnitName(report.unit));
   }
   json["parameters"] = parameters;
   json["stddev"] = stddev;

@@ -12,23 +12,28 @@
 // noise of variance s_k^2 (counts). Whitened here, so the cost is 1/2 chi-square and
 // ceres::Covariance is the inverse information.
 //
-// With the second-order scale terms (models/triad.h) the model output is
-// u_p,k = b_k + (w_k + k2_k w_k^2) / gain_k, w = T^-1 g n_p, and k2 is a third block
-// (CreateWithScaleNonlinearity); Create keeps the 9-parameter problem as it was.
+// With effects beyond the 9 parameters (models/triad_effect_list.h: second-order scale terms,
+// offset drift, ...), u_p is TriadPredictOutput's and their coefficients are a third block of
+// kTriadEffectCoefficientCount doubles (CreateWithEffects; the calibration holds the ones it
+// does not estimate at zero). Create keeps the 9-parameter problem as it was.
 
 #include <ceres/autodiff_cost_function.h>
 
 #include <array>
 
-#include "models/triad.h"
+#include "models/triad_effect_list.h"
 
 namespace accelcal {
 
 class TriadPoseResidual {
  public:
   TriadPoseResidual(const std::array<double, 3>& measured_mean,
-                    const std::array<double, 3>& mean_stddev, double gravity_mps2)
-      : measured_mean_(measured_mean), mean_stddev_(mean_stddev), gravity_mps2_(gravity_mps2) {}
+                    const std::array<double, 3>& mean_stddev, double gravity_mps2,
+                    const TriadPoseContext& context = TriadPoseContext())
+      : measured_mean_(measured_mean),
+        mean_stddev_(mean_stddev),
+        gravity_mps2_(gravity_mps2),
+        context_(context) {}
 
   // Blocks: the 9 triad parameters, the unit direction n_p.
   template <typename T>
@@ -36,11 +41,11 @@ class TriadPoseResidual {
     return Evaluate(parameters, static_cast<const T*>(nullptr), direction, residual);
   }
 
-  // Blocks: the 9 triad parameters, the 3 second-order scale terms, the unit direction n_p.
+  // Blocks: the 9 triad parameters, the effects' coefficients, the unit direction n_p.
   template <typename T>
-  bool operator()(const T* const parameters, const T* const scale_nonlinearity,
-                  const T* const direction, T* residual) const {
-    return Evaluate(parameters, scale_nonlinearity, direction, residual);
+  bool operator()(const T* const parameters, const T* const effects, const T* const direction,
+                  T* residual) const {
+    return Evaluate(parameters, effects, direction, residual);
   }
 
   static ceres::CostFunction* Create(const std::array<double, 3>& measured_mean,
@@ -50,22 +55,21 @@ class TriadPoseResidual {
         new TriadPoseResidual(measured_mean, mean_stddev, gravity_mps2));
   }
 
-  static ceres::CostFunction* CreateWithScaleNonlinearity(
-      const std::array<double, 3>& measured_mean, const std::array<double, 3>& mean_stddev,
-      double gravity_mps2) {
+  static ceres::CostFunction* CreateWithEffects(const std::array<double, 3>& measured_mean,
+                                                const std::array<double, 3>& mean_stddev,
+                                                double gravity_mps2,
+                                                const TriadPoseContext& context) {
     return new ceres::AutoDiffCostFunction<TriadPoseResidual, 3, kTriadParameterCount,
-                                           kTriadScaleNonlinearityCount, 3>(
-        new TriadPoseResidual(measured_mean, mean_stddev, gravity_mps2));
+                                           kTriadEffectCoefficientCount, 3>(
+        new TriadPoseResidual(measured_mean, mean_stddev, gravity_mps2, context));
   }
 
  private:
   template <typename T>
-  bool Evaluate(const T* parameters, const T* scale_nonlinearity, const T* direction,
-                T* residual) const {
-    const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
-                        T(gravity_mps2_) * direction[2]};
+  bool Evaluate(const T* parameters, const T* effects, const T* direction, T* residual) const {
     T predicted[3];
-    TriadRawOutput(parameters, scale_nonlinearity, force, predicted);
+    if (!TriadPredictOutput(parameters, effects, context_, direction, gravity_mps2_, predicted))
+      return false;
     for (int k = 0; k < 3; ++k) {
       residual[k] = (T(measured_mean_[k]) - predicted[k]) / T(mean_stddev_[k]);
     }
@@ -75,6 +79,7 @@ class TriadPoseResidual {
   const std::array<double, 3> measured_mean_;
   const std::array<double, 3> mean_stddev_;  // counts
   const double gravity_mps2_;
+  const TriadPoseContext context_;
 };
 
 }  // namespace accelcal

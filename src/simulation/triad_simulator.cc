@@ -41,14 +41,25 @@ std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& opti
   std::vector<TriadPoseMean> poses;
   poses.reserve(directions.size());
   const int n = options.samples_per_pose;
+  const double duration_s = (n - 1) / options.sample_rate_hz;
+  const double mean_time_s =
+      0.5 * (static_cast<double>(directions.size()) - 1.0) * options.pose_spacing_s +
+      0.5 * duration_s;
   for (const std::array<double, 3>& direction : directions) {
-    const double force[3] = {options.gravity_mps2 * direction[0],
-                             options.gravity_mps2 * direction[1],
-                             options.gravity_mps2 * direction[2]};
-    double actual_raw[3];
-    TriadRawOutput(options.truth.data(), options.scale_nonlinearity.data(), force, actual_raw);
     TriadPoseMean pose;
     pose.sample_count = n;
+    pose.duration_s = duration_s;
+    pose.time_s = static_cast<double>(poses.size()) * options.pose_spacing_s + 0.5 * duration_s;
+    TriadPoseContext context;
+    context.time_s = pose.time_s - mean_time_s;
+    double actual_raw[3];
+    TriadPredictOutput(options.truth.data(), options.effects.data(), context, direction.data(),
+                       options.gravity_mps2, actual_raw);
+    for (int k = 0; k < 3; ++k) {
+      // Drawn only when asked, so that the sessions of a seed are those without wander.
+      if (options.pose_wander_stddev[k] > 0.0)
+        actual_raw[k] += options.pose_wander_stddev[k] * random->StandardNormal();
+    }
     for (int k = 0; k < 3; ++k) {
       // Welford's running mean and sum of squared deviations.
       double mean = 0.0;

@@ -2,11 +2,13 @@
 #define ACCELCAL_SIMULATION_TRIAD_SIMULATOR_H_
 
 // Static poses of a triad (models/triad.h), simulated: in pose p the specific force is
-// g n_p for a unit gravity direction n_p, the triad outputs u = K^-1 (w + k2 w^2) + b with
-// w = T^-1 g n_p (TriadRawOutput, the same expression the residuals invert; k2 the
-// second-order scale terms, zero by default), and every sample adds white
-// Gaussian noise of a known standard deviation per axis, in counts. Each pose is summarised
-// as the mean and sample variance of its samples (common/triad_log.h), as the static
+// g n_p for a unit gravity direction n_p, the triad outputs what TriadPredictOutput says
+// (models/triad_effect_list.h: the 9 parameters and any effect's coefficients, zero by
+// default; the same expression the residuals invert), pose p is held at time p * spacing
+// (referred, like the fit's, to the mean of the poses' times), each pose's output may be
+// shifted by a per-pose random offset (bias wander between poses, none by default), and every
+// sample adds white Gaussian noise of a known standard deviation per axis, in counts. Each pose is
+// summarised as the mean and sample variance of its samples (common/triad_log.h), as the static
 // detector summarises an interval of a real log.
 
 #include <array>
@@ -14,16 +16,22 @@
 
 #include "common/triad_log.h"
 #include "models/triad.h"
+#include "models/triad_effect_list.h"
 #include "simulation/random.h"
 
 namespace accelcal {
 
 struct TriadSimulationOptions {
   TriadParameters truth{};
-  TriadScaleNonlinearity scale_nonlinearity{};  // k2_k, 1/(m/s^2)
+  TriadEffectCoefficients effects{};  // models/triad_effect_list.h's units
   double gravity_mps2 = 9.81;
   int samples_per_pose = 100;
   std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in counts
+  double sample_rate_hz = 100.0;
+  double pose_spacing_s = 10.0;  // from one pose's start to the next's
+  // Standard deviation of each pose's offset (counts), drawn anew per pose: the pose means
+  // scatter more than their samples' white noise says, as coloured noise makes them.
+  std::array<double, 3> pose_wander_stddev{};
 };
 
 // `count` directions drawn uniformly on the unit sphere.

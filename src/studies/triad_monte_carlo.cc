@@ -48,11 +48,9 @@ struct Trial {
 void Flatten(const TriadMlResult& fit, Trial* trial) {
   trial->estimate.assign(fit.parameters.begin(), fit.parameters.end());
   trial->stddev.assign(fit.stddev.begin(), fit.stddev.end());
-  if (fit.scale_nonlinearity_estimated) {
-    trial->estimate.insert(trial->estimate.end(), fit.scale_nonlinearity.begin(),
-                           fit.scale_nonlinearity.end());
-    trial->stddev.insert(trial->stddev.end(), fit.scale_nonlinearity_stddev.begin(),
-                         fit.scale_nonlinearity_stddev.end());
+  for (const int c : fit.effects_estimated) {
+    trial->estimate.push_back(fit.effects[c]);
+    trial->stddev.push_back(fit.effects_stddev[c]);
   }
 }
 
@@ -239,7 +237,9 @@ Status RunTriadMonteCarlo(const TriadMonteCarloOptions& options, TriadMonteCarlo
 
   TriadSimulationOptions simulation;
   simulation.truth = options.truth;
-  simulation.scale_nonlinearity = options.truth_scale_nonlinearity;
+  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+  for (int k = 0; k < kTriadScaleNonlinearityCount; ++k)
+    simulation.effects[first_k2 + k] = options.truth_scale_nonlinearity[k];
   simulation.gravity_mps2 = options.gravity_mps2;
   simulation.samples_per_pose = options.samples_per_pose;
   simulation.noise_stddev = options.noise_stddev;
