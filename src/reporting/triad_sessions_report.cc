@@ -287,6 +287,9 @@ std::string TriadRepeatabilityTable(const TriadRepeatabilityReport& report) {
       "device and parameter; covered when inside the 95%% interval\n",
       session_count, session_count - 1);
   out << kSchemes;
+  out << "  claimed: device (what calibrate_imu reports). pooled and array borrow strength from the\n"
+         "  other devices, which a session shift shared by the whole array defeats: both under-cover\n"
+         "  the offsets in the Monte Carlo (docs/repeatability.md)\n";
   CoverageRows(report.loso.coverage, &out);
   out << "  by held-out session (all kinds):";
   for (int scheme = 0; scheme < kSessionSchemeCount; ++scheme) {
