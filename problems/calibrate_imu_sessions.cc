@@ -73,18 +73,22 @@ Status SplitSessions(std::vector<std::string>* paths) {
 
 Status ValidateSessionFlags(const std::vector<std::string>& paths) {
   if (FLAGS_mode != "ml") {
-    return Status::Error("--log with several sessions (a comma) needs --mode=ml: only the ml "
-                         "mode gives each session's covariance; got --mode=" + FLAGS_mode);
+    return Status::Error(
+        "--log with several sessions (a comma) needs --mode=ml: only the ml "
+        "mode gives each session's covariance; got --mode=" +
+        FLAGS_mode);
   }
   if (FLAGS_detector != "noise_floor") {
-    return Status::Error("--log with several sessions uses --detector=noise_floor only "
-                         "(imu_tk's needs an initial rest per log); drop --detector");
+    return Status::Error(
+        "--log with several sessions uses --detector=noise_floor only "
+        "(imu_tk's needs an initial rest per log); drop --detector");
   }
   if (FLAGS_scale_nonlinearity || !FLAGS_report.empty() || !FLAGS_calibration_out.empty() ||
       !FLAGS_session.empty() || !FLAGS_reference.empty()) {
-    return Status::Error("--log with several sessions writes --json only: --scale_nonlinearity, "
-                         "--report, --calibration_out, --session and --reference belong to a "
-                         "single session");
+    return Status::Error(
+        "--log with several sessions writes --json only: --scale_nonlinearity, "
+        "--report, --calibration_out, --session and --reference belong to a "
+        "single session");
   }
   TriadOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit).WithContext("--unit"));
@@ -104,7 +108,8 @@ Status ValidateSessionFlags(const std::vector<std::string>& paths) {
 // The unit a log's outputs look like (the first of count, m/s^2, g its outputs match), to
 // refuse sessions recorded in different units before any is calibrated.
 const char* ApparentUnit(const TriadLog& log) {
-  for (TriadOutputUnit unit : {TriadOutputUnit::kCount, TriadOutputUnit::kMps2, TriadOutputUnit::kG}) {
+  for (TriadOutputUnit unit :
+       {TriadOutputUnit::kCount, TriadOutputUnit::kMps2, TriadOutputUnit::kG}) {
     const double offset = unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
     if (CheckOutputsMatchUnit(log, unit, offset).ok()) return TriadOutputUnitName(unit);
   }
@@ -152,8 +157,8 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
     session.path = paths[s];
     session.sha256 = source->files.at("session_" + std::to_string(s + 1)).sha256;
     ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(logs[s], options, &session.calibration)
-                                 .WithContext("session " + std::to_string(s + 1) + " (" +
-                                              paths[s] + ") fails calibration"));
+                                 .WithContext("session " + std::to_string(s + 1) + " (" + paths[s] +
+                                              ") fails calibration"));
     report->sessions.push_back(std::move(session));
   }
   std::vector<TriadMlResult> results;

@@ -13,6 +13,8 @@
 //   build/bin/triad_repeatability --data_dir=../shared/data/mimu4444 --g=9.8187 \
 //       --trials=500 --json=repeatability.json
 
+#include "studies/triad_repeatability.h"
+
 #include <gflags/gflags.h>
 
 #include <algorithm>
@@ -26,7 +28,6 @@
 #include "io/provenance.h"
 #include "problem_support.h"
 #include "reporting/triad_sessions_report.h"
-#include "studies/triad_repeatability.h"
 
 // clang-format off
 DEFINE_string(data_dir, "", "The sessions: a folder whose subfolders (e.g. run1, run2, run3; every one whose name starts with --session_prefix) each hold one log per device (imu1.csv ... imuD.csv, CSV with header t_s,acc_x,acc_y,acc_z), as ../shared/data/mimu4444.");
@@ -110,15 +111,15 @@ Status LoadAndCalibrate(TriadRepeatabilityReport* report, DataSource* source) {
   report->sessions.assign(report->device_names.size(), {});
   for (const std::string& session : report->session_names) {
     for (size_t d = 0; d < report->device_names.size(); ++d) {
-      const std::string path = (std::filesystem::path(FLAGS_data_dir) / session /
-                                (report->device_names[d] + ".csv"))
-                                   .string();
+      const std::string path =
+          (std::filesystem::path(FLAGS_data_dir) / session / (report->device_names[d] + ".csv"))
+              .string();
       files[session + "/" + report->device_names[d]] = path;
       TriadLog log;
       ACCELCAL_RETURN_IF_ERROR(ReadImuLog(path, &log));
       TriadSessionCalibration calibration;
-      ACCELCAL_RETURN_IF_ERROR(
-          CalibrateTriadSession(log, options, &calibration).WithContext(path + " fails calibration"));
+      ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(log, options, &calibration)
+                                   .WithContext(path + " fails calibration"));
       report->sessions[d].push_back(calibration.ml);
     }
   }

@@ -22,8 +22,8 @@ std::string Mimu4444Dir() {
                               "run3/imu8.csv");
 }
 
-#define REQUIRE_MIMU4444(dir)                                                     \
-  const std::string dir = Mimu4444Dir();                                          \
+#define REQUIRE_MIMU4444(dir)            \
+  const std::string dir = Mimu4444Dir(); \
   if (dir.empty()) GTEST_SKIP() << "mimu4444 data not found: set ACCELCAL_MIMU4444_DATA"
 
 std::string Imu1Runs(const std::string& dir) {
@@ -106,16 +106,16 @@ TEST(CalibrateImuSessionsCli, RefusesWhatCannotBeCombined) {
   std::ostringstream short_log;
   for (int i = 0; i < 2001 && std::getline(head, line); ++i) short_log << line << "\n";
   const std::string cut = scratch.Write("cut.csv", short_log.str());
-  ExpectRefused("--mode=ml --log='" + a + "," + cut + "'", "session 2 (" + cut + ") fails calibration",
-                scratch);
+  ExpectRefused("--mode=ml --log='" + a + "," + cut + "'",
+                "session 2 (" + cut + ") fails calibration", scratch);
 }
 
 TEST(TriadRepeatabilityCli, PrintsTheLeaveOneSessionOutCoverage) {
   REQUIRE_MIMU4444(dir);
   testing::ScratchDir scratch;
   const std::string json_path = scratch.File("repeatability.json");
-  const testing::CommandResult result = RunBinary(
-      "triad_repeatability", "--data_dir='" + dir + "' --trials=0 --json=" + json_path);
+  const testing::CommandResult result =
+      RunBinary("triad_repeatability", "--data_dir='" + dir + "' --trials=0 --json=" + json_path);
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   const std::string& out = result.stdout_text;
   EXPECT_NE(out.find("8 devices x 3 sessions"), std::string::npos) << out;

@@ -69,8 +69,7 @@ EstimatorCheck RunEstimator(double tau, int sessions, bool equal_variances, int 
     EXPECT_TRUE(EstimateRandomEffects(draw.training, 0.95, &estimate).ok());
     check.coverage_new += std::fabs(draw.new_session - estimate.common) <=
                           estimate.interval_multiplier * estimate.new_session_stddev;
-    check.coverage_tau +=
-        estimate.between.stddev_low <= tau && tau <= estimate.between.stddev_high;
+    check.coverage_tau += estimate.between.stddev_low <= tau && tau <= estimate.between.stddev_high;
     check.mean_tau2 += estimate.between.variance;
   }
   check.coverage_new /= trials;
@@ -223,8 +222,8 @@ TEST(Mimu4444, LeaveOneSessionOutCoverageAsPrinted) {
   LosoResult loso;
   ASSERT_TRUE(LeaveOneSessionOut(sessions, &loso).ok());
   const int expected[kSessionSchemeCount][kTriadParameterKindCount] = {
-      {72, 72, 72},  // device: t_1 = 12.7 with 2 sessions learnt
-      {65, 64, 62},  // pooled as if the devices were independent: under-covers
+      {72, 72, 72},   // device: t_1 = 12.7 with 2 sessions learnt
+      {65, 64, 62},   // pooled as if the devices were independent: under-covers
       {67, 68, 72}};  // array: common shift + own, Satterthwaite
   for (int scheme = 0; scheme < kSessionSchemeCount; ++scheme) {
     for (int kind = 0; kind < kTriadParameterKindCount; ++kind) {

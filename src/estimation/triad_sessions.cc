@@ -48,8 +48,8 @@ double IncompleteBetaFraction(double a, double b, double x) {
 double RegularizedIncompleteBeta(double a, double b, double x) {
   if (x <= 0.0) return 0.0;
   if (x >= 1.0) return 1.0;
-  const double log_front = std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) +
-                           a * std::log(x) + b * std::log1p(-x);
+  const double log_front =
+      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
   if (x < (a + 1.0) / (a + b + 2.0))
     return std::exp(log_front) * IncompleteBetaFraction(a, b, x) / a;
   return 1.0 - std::exp(log_front) * IncompleteBetaFraction(b, a, 1.0 - x) / b;

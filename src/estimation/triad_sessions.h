@@ -6,7 +6,7 @@
 // docs/repeatability.md). A within-session sigma (ceres::Covariance of one session) says how
 // well that session's data pin its parameters down; it says nothing of how much the device
 // itself changes between sessions (power cycles, temperature, remounting). On the MIMU4444
-// array the offsets move 15 to 40 times their within-session sigma from one session to the
+// array the offsets move 2 to 40 times their within-session sigma from one session to the
 // next.
 //
 // Random-effects model, per parameter i (one at a time; the index is dropped below):
@@ -59,9 +59,9 @@ struct SessionEstimate {
 
 // tau^2 shared by one or more devices (groups), with its interval.
 struct BetweenSessionVariance {
-  double variance = 0.0;  // tau^2, Paule-Mandel, >= 0
-  double stddev = 0.0;    // tau
-  double stddev_low = 0.0;   // Q-profile interval of tau at `confidence`
+  double variance = 0.0;    // tau^2, Paule-Mandel, >= 0
+  double stddev = 0.0;      // tau
+  double stddev_low = 0.0;  // Q-profile interval of tau at `confidence`
   double stddev_high = 0.0;
   double confidence = 0.95;
   double degrees_of_freedom = 0.0;  // sum over devices of (S_d - 1)
@@ -75,8 +75,8 @@ struct RandomEffectsEstimate {
   double common = 0.0;         // mu_hat, weighted mean
   double common_stddev = 0.0;  // sqrt(Var(mu_hat))
   BetweenSessionVariance between;
-  double within_stddev = 0.0;       // sqrt(mean_s C_s): one session's own sigma
-  double new_session_stddev = 0.0;  // sqrt(tau^2 + mean C_s + Var(mu_hat)) about mu_hat
+  double within_stddev = 0.0;        // sqrt(mean_s C_s): one session's own sigma
+  double new_session_stddev = 0.0;   // sqrt(tau^2 + mean C_s + Var(mu_hat)) about mu_hat
   double interval_multiplier = 0.0;  // t_{dof}((1 + confidence) / 2)
 };
 
@@ -131,7 +131,7 @@ double StudentTQuantile(double p, double dof);
 struct TriadSessionOptions {
   double gravity_mps2 = 9.81;
   TriadOutputUnit unit = TriadOutputUnit::kCount;
-  bool offset_auto = true;     // the ADC's mid-scale for counts, 0 for physical units
+  bool offset_auto = true;      // the ADC's mid-scale for counts, 0 for physical units
   double initial_offset = 0.0;  // when !offset_auto
   NoiseFloorOptions detector;
   QuietSolveOptions solve;

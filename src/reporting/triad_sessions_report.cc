@@ -55,7 +55,8 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
   }
   out << "\nPer session: estimate (within-session sigma), each session calibrated on its own\n";
   out << StringPrintf("  %-16s %-14s", "parameter", "unit");
-  for (int s = 0; s < session_count; ++s) out << StringPrintf(" %25s", ("session " + std::to_string(s + 1)).c_str());
+  for (int s = 0; s < session_count; ++s)
+    out << StringPrintf(" %25s", ("session " + std::to_string(s + 1)).c_str());
   out << "\n";
   for (int p = 0; p < kTriadParameterCount; ++p) {
     out << StringPrintf("  %-16s %-14s", Name(p), TriadParameterUnit(p, report.unit).c_str());
@@ -74,17 +75,14 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
       session_count, first.between.degrees_of_freedom, first.between.degrees_of_freedom,
       first.interval_multiplier);
   out << StringPrintf("  %-16s %14s %10s %10s %10s %21s %9s %12s\n", "parameter", "common",
-                      "+-sigma", "stddev", "tau", "tau 95% interval", "p(tau=0)",
-                      "new_session");
+                      "+-sigma", "stddev", "tau", "tau 95% interval", "p(tau=0)", "new_session");
   for (int p = 0; p < kTriadParameterCount; ++p) {
     const RandomEffectsEstimate& e = report.combined[p];
-    out << StringPrintf("  %-16s %14.8g %10.3g %10.3g %10.3g [%9.3g, %9.3g] %9.2g %12.3g%s\n",
-                        Name(p), e.common, e.common_stddev, e.within_stddev, e.between.stddev,
-                        e.between.stddev_low, e.between.stddev_high, e.between.homogeneity_p,
-                        e.new_session_stddev,
-                        OffsetInMps2(p, e.new_session_stddev,
-                                     report.combined[kTriadGainX + p % 3].common)
-                            .c_str());
+    out << StringPrintf(
+        "  %-16s %14.8g %10.3g %10.3g %10.3g [%9.3g, %9.3g] %9.2g %12.3g%s\n", Name(p), e.common,
+        e.common_stddev, e.within_stddev, e.between.stddev, e.between.stddev_low,
+        e.between.stddev_high, e.between.homogeneity_p, e.new_session_stddev,
+        OffsetInMps2(p, e.new_session_stddev, report.combined[kTriadGainX + p % 3].common).c_str());
   }
   out << "  common: the device's value (weighted mean over sessions) and its sigma\n"
          "  stddev: WITHIN-session sigma, one session's own (mean over the sessions)\n"
@@ -147,8 +145,9 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
   json["degrees_of_freedom"] = report.combined[0].between.degrees_of_freedom;
   json["units"] = units;
   json["definitions"] = {
-      {"parameters", "the device's common value: the mean of the sessions weighted by "
-                     "1/(tau^2 + C_s)"},
+      {"parameters",
+       "the device's common value: the mean of the sessions weighted by "
+       "1/(tau^2 + C_s)"},
       {"parameters_stddev", "the sigma of that common value, sqrt(1 / sum_s 1/(tau^2 + C_s))"},
       {"stddev", kStddevDefinition},
       {"between_session_stddev", kBetweenDefinition},
@@ -212,15 +211,14 @@ std::string RepeatabilityMonteCarloTable(const RepeatabilityMonteCarloResult& re
   for (int p = 0; p < kTriadParameterCount; ++p)
     out << StringPrintf(" %s %.2g (%.2f)", Name(p), o.between_stddev[p], o.common_share[p]);
   out << "\n  coverage of the new session by the 95% interval (standard error "
-      << StringPrintf("%.1f%% on %d independent arrays):\n",
-                      100.0 * result.coverage_standard_error, o.trials - result.failed_trials);
+      << StringPrintf("%.1f%% on %d independent arrays):\n", 100.0 * result.coverage_standard_error,
+                      o.trials - result.failed_trials);
   CoverageRows(result.coverage, &out);
   out << "  device scheme's 95% interval of tau covering the true sigma, and mean tau^2 / true:\n";
   for (int kind = 0; kind < kTriadParameterKindCount; ++kind) {
-    out << StringPrintf("    %-12s %s   %.3g\n",
-                        TriadParameterKindName(static_cast<TriadParameterKind>(kind)),
-                        CoverageCell(result.tau_interval_coverage[kind]).c_str(),
-                        result.tau2_ratio[kind]);
+    out << StringPrintf(
+        "    %-12s %s   %.3g\n", TriadParameterKindName(static_cast<TriadParameterKind>(kind)),
+        CoverageCell(result.tau_interval_coverage[kind]).c_str(), result.tau2_ratio[kind]);
   }
   return out.str();
 }
@@ -259,14 +257,16 @@ std::string TriadRepeatabilityTable(const TriadRepeatabilityReport& report) {
       "(mode ml, noise-floor detector), g = %.10g m/s^2 (docs/repeatability.md)\n\n",
       device_count, session_count, report.gravity_mps2);
   for (int p = 0; p < kTriadParameterCount; ++p) {
-    out << StringPrintf("%s (%s): per session estimate (within-session sigma); device: tau "
-                        "[95%%], new-session sigma\n",
-                        Name(p), TriadParameterInfos()[p].unit);
+    out << StringPrintf(
+        "%s (%s): per session estimate (within-session sigma); device: tau "
+        "[95%%], new-session sigma\n",
+        Name(p), TriadParameterInfos()[p].unit);
     for (size_t d = 0; d < device_count; ++d) {
       out << StringPrintf("  %-6s", report.device_names[d].c_str());
       for (size_t s = 0; s < session_count; ++s) {
         const TriadMlResult& ml = report.sessions[d][s];
-        out << StringPrintf(" %24s", StringPrintf("%.7g (%.2g)", ml.parameters[p], ml.stddev[p]).c_str());
+        out << StringPrintf(" %24s",
+                            StringPrintf("%.7g (%.2g)", ml.parameters[p], ml.stddev[p]).c_str());
       }
       const RandomEffectsEstimate& e = report.per_device[d][p];
       const double gain = report.per_device[d][kTriadGainX + (p % 3)].common;
@@ -287,8 +287,10 @@ std::string TriadRepeatabilityTable(const TriadRepeatabilityReport& report) {
       "device and parameter; covered when inside the 95%% interval\n",
       session_count, session_count - 1);
   out << kSchemes;
-  out << "  claimed: device (what calibrate_imu reports). pooled and array borrow strength from the\n"
-         "  other devices, which a session shift shared by the whole array defeats: both under-cover\n"
+  out << "  claimed: device (what calibrate_imu reports). pooled and array borrow strength from "
+         "the\n"
+         "  other devices, which a session shift shared by the whole array defeats: both "
+         "under-cover\n"
          "  the offsets in the Monte Carlo (docs/repeatability.md)\n";
   CoverageRows(report.loso.coverage, &out);
   out << "  by held-out session (all kinds):";
@@ -338,12 +340,11 @@ nlohmann::json TriadRepeatabilityJson(const TriadRepeatabilityReport& report) {
   nlohmann::json array;
   for (int p = 0; p < kTriadParameterCount; ++p) {
     const ArraySessionVariance& a = report.array[p];
-    array[Name(p)] = {
-        {"between_session_stddev", std::sqrt(a.common_variance + a.device_variance)},
-        {"common_stddev", std::sqrt(a.common_variance)},
-        {"device_stddev", std::sqrt(a.device_variance)},
-        {"common_share", a.common_share},
-        {"degrees_of_freedom", a.degrees_of_freedom}};
+    array[Name(p)] = {{"between_session_stddev", std::sqrt(a.common_variance + a.device_variance)},
+                      {"common_stddev", std::sqrt(a.common_variance)},
+                      {"device_stddev", std::sqrt(a.device_variance)},
+                      {"common_share", a.common_share},
+                      {"degrees_of_freedom", a.degrees_of_freedom}};
   }
   json["array"] = array;
   json["leave_one_session_out"] = {{"coverage", CoverageJson(report.loso.coverage)},

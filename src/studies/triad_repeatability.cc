@@ -66,7 +66,7 @@ Status CheckArrayShape(const std::vector<std::vector<TriadMlResult>>& sessions, 
 
 void Count(const SessionPrediction& prediction, CoverageTable* table) {
   CoverageCount& count = (*table)[static_cast<int>(prediction.scheme)]
-                                  [static_cast<int>(TriadParameterKindOf(prediction.parameter))];
+                                 [static_cast<int>(TriadParameterKindOf(prediction.parameter))];
   ++count.total;
   count.covered += prediction.covered;
 }
@@ -155,7 +155,8 @@ Status ArrayVariances(const std::vector<std::vector<TriadMlResult>>& sessions,
                       std::array<ArraySessionVariance, kTriadParameterCount>* variances) {
   ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(sessions, 2));
   for (int p = 0; p < kTriadParameterCount; ++p)
-    ACCELCAL_RETURN_IF_ERROR(EstimateArraySessionVariance(EstimatesOf(sessions, p), &(*variances)[p]));
+    ACCELCAL_RETURN_IF_ERROR(
+        EstimateArraySessionVariance(EstimatesOf(sessions, p), &(*variances)[p]));
   return Status::Ok();
 }
 
@@ -229,8 +230,8 @@ void RunMonteCarloTrial(const RepeatabilityMonteCarloOptions& options, int trial
   std::vector<TriadParameters> common(sessions);
   for (TriadParameters& shift : common) {
     for (int p = 0; p < kTriadParameterCount; ++p)
-      shift[p] = options.between_stddev[p] * std::sqrt(options.common_share[p]) *
-                 random.StandardNormal();
+      shift[p] =
+          options.between_stddev[p] * std::sqrt(options.common_share[p]) * random.StandardNormal();
   }
   std::vector<std::vector<TriadMlResult>> training(options.devices);
   std::vector<TriadMlResult> held_out(options.devices);
@@ -249,8 +250,8 @@ void RunMonteCarloTrial(const RepeatabilityMonteCarloOptions& options, int trial
                                                   std::sqrt(1.0 - options.common_share[p]) *
                                                   random.StandardNormal();
       }
-      const std::vector<TriadPoseMean> poses = SimulateTriadPoses(
-          simulation, RandomPoseDirections(options.poses, &random), &random);
+      const std::vector<TriadPoseMean> poses =
+          SimulateTriadPoses(simulation, RandomPoseDirections(options.poses, &random), &random);
       TriadMlOptions ml;
       ml.gravity_mps2 = options.gravity_mps2;
       ml.initial = TriadStartFromPoses(poses, options.gravity_mps2);
@@ -302,7 +303,8 @@ Status RunRepeatabilityMonteCarlo(const RepeatabilityMonteCarloOptions& options,
       ++result->failed_trials;
       continue;
     }
-    for (const SessionPrediction& prediction : trial.predictions) Count(prediction, &result->coverage);
+    for (const SessionPrediction& prediction : trial.predictions)
+      Count(prediction, &result->coverage);
     for (const auto& device : trial.between) {
       for (int p = 0; p < kTriadParameterCount; ++p) {
         const double truth = options.between_stddev[p];
@@ -320,7 +322,8 @@ Status RunRepeatabilityMonteCarlo(const RepeatabilityMonteCarloOptions& options,
   for (int kind = 0; kind < kTriadParameterKindCount; ++kind)
     result->tau2_ratio[kind] = ratio_count[kind] > 0 ? ratio_sum[kind] / ratio_count[kind] : 0.0;
   const int good = options.trials - result->failed_trials;
-  result->coverage_standard_error = good > 0 ? std::sqrt(kConfidence * (1.0 - kConfidence) / good) : 0.0;
+  result->coverage_standard_error =
+      good > 0 ? std::sqrt(kConfidence * (1.0 - kConfidence) / good) : 0.0;
   return Status::Ok();
 }
 

@@ -97,7 +97,7 @@ struct RepeatabilityMonteCarloOptions {
   int devices = 8;
   int training_sessions = 2;  // S; session S + 1 is predicted
   int poses = 20;
-  int samples_per_pose = 1400;                       // ~22 s at 62.5 Hz, as mimu4444's poses
+  int samples_per_pose = 1400;                           // ~22 s at 62.5 Hz, as mimu4444's poses
   std::array<double, 3> noise_stddev{{7.5, 6.8, 10.2}};  // counts per sample, as mimu4444
   double gravity_mps2 = 9.8187;
   // Between-session standard deviation per parameter (common and own parts together) and
