@@ -71,6 +71,21 @@ Status SplitSessions(std::vector<std::string>* paths) {
   return Status::Ok();
 }
 
+// The options of every session's calibration, from the single-session mode's flags.
+Status SessionOptionsFromFlags(TriadSessionOptions* options) {
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options->unit).WithContext("--unit"));
+  options->gravity_mps2 = FLAGS_g;
+  options->offset_auto = FLAGS_initial_offset == "auto";
+  if (!options->offset_auto && !ParseFiniteNumber(FLAGS_initial_offset, &options->initial_offset)) {
+    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
+                         "' is neither auto nor a finite number (the log's unit)");
+  }
+  options->detector.window_samples = FLAGS_window;
+  options->detector.threshold_factor = FLAGS_threshold_factor;
+  options->detector.min_interval_s = FLAGS_min_interval_s;
+  return Status::Ok();
+}
+
 Status ValidateSessionFlags(const std::vector<std::string>& paths) {
   if (FLAGS_mode != "ml") {
     return Status::Error(
@@ -90,18 +105,10 @@ Status ValidateSessionFlags(const std::vector<std::string>& paths) {
         "--report, --calibration_out, --session and --reference belong to a "
         "single session");
   }
-  TriadOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit).WithContext("--unit"));
-  double offset = 0.0;
-  if (FLAGS_initial_offset != "auto" &&
-      (!ParseFiniteNumber(FLAGS_initial_offset, &offset) || std::fabs(offset) > 1e9)) {
-    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
-                         "' is neither auto nor a finite number within +-1e9 (the log's unit)");
-  }
-  if (FLAGS_window % 2 == 0) {
-    return Status::Error("--window=" + std::to_string(FLAGS_window) +
-                         " is even; the window is centred on its sample, give an odd number");
-  }
+  // --unit, --initial_offset and --window as the single-session mode reads them; the
+  // detector refuses an even window itself.
+  TriadSessionOptions options;
+  ACCELCAL_RETURN_IF_ERROR(SessionOptionsFromFlags(&options));
   return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{paths, {}});
 }
 
@@ -130,16 +137,10 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
                            "...); each session must be its own recording");
     }
   }
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit));
-  report->gravity_mps2 = FLAGS_g;
   TriadSessionOptions options;
-  options.gravity_mps2 = FLAGS_g;
-  options.unit = report->unit;
-  options.offset_auto = FLAGS_initial_offset == "auto";
-  if (!options.offset_auto) ParseFiniteNumber(FLAGS_initial_offset, &options.initial_offset);
-  options.detector.window_samples = FLAGS_window;
-  options.detector.threshold_factor = FLAGS_threshold_factor;
-  options.detector.min_interval_s = FLAGS_min_interval_s;
+  ACCELCAL_RETURN_IF_ERROR(SessionOptionsFromFlags(&options));
+  report->unit = options.unit;
+  report->gravity_mps2 = options.gravity_mps2;
   report->detector = options.detector;
   std::vector<TriadLog> logs(paths.size());
   for (size_t s = 0; s < paths.size(); ++s) {
