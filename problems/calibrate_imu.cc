@@ -282,9 +282,15 @@ Status RunFerraris(std::string* table) {
   return Status::Ok();
 }
 
+}  // namespace
+// --log=S1,S2,...: several sessions of one device (problems/calibrate_imu_sessions.cc).
+int RunCalibrateImuSessions();
+namespace {
+
 int Run(int argc, char** argv) {
   if (!InitProblem("calibrate_imu", kUsage, "problems/calibrate_imu", &argc, &argv))
     return kExitBadInput;
+  if (FLAGS_log.find(',') != std::string::npos) return RunCalibrateImuSessions();
   if (FLAGS_mode == "ferraris") {
     std::string table;
     Status status = ValidateFlags();

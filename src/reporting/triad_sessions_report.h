@@ -1,0 +1,59 @@
+#ifndef ACCELCAL_REPORTING_TRIAD_SESSIONS_REPORT_H_
+#define ACCELCAL_REPORTING_TRIAD_SESSIONS_REPORT_H_
+
+// What `calibrate_imu --log=S1,S2,... --mode=ml` prints and writes (docs/repeatability.md,
+// docs/json_sessions.md), and what triad_repeatability prints and writes. Each figure says
+// which sigma it is: `stddev` (within-session: one session's own ceres::Covariance, the mean
+// over the sessions), `between_session_stddev` (tau, how much the device itself moves between
+// sessions), `stddev_new_session` (what a new session's estimate scatters about the common
+// value). Formatting only.
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "estimation/triad_ml_calibration.h"
+#include "estimation/triad_sessions.h"
+#include "models/triad_units.h"
+#include "studies/triad_repeatability.h"
+
+namespace accelcal {
+
+struct TriadSessionReport {
+  std::string path;
+  std::string sha256;
+  TriadSessionCalibration calibration;
+};
+
+struct TriadSessionsReport {
+  double gravity_mps2 = 9.81;
+  TriadOutputUnit unit = TriadOutputUnit::kCount;
+  NoiseFloorOptions detector;
+  std::vector<TriadSessionReport> sessions;
+  TriadRandomEffects combined{};
+};
+
+std::string TriadSessionsTable(const TriadSessionsReport& report);
+nlohmann::json TriadSessionsJson(const TriadSessionsReport& report);
+
+// triad_repeatability: sessions[d][s] of an array's devices, named.
+struct TriadRepeatabilityReport {
+  double gravity_mps2 = 9.81;
+  std::vector<std::string> device_names;   // e.g. imu1
+  std::vector<std::string> session_names;  // e.g. run1
+  std::vector<std::vector<TriadMlResult>> sessions;
+  std::vector<TriadRandomEffects> per_device;  // each device's own, all sessions
+  std::array<ArraySessionVariance, kTriadParameterCount> array{};
+  LosoResult loso;
+  bool has_monte_carlo = false;
+  RepeatabilityMonteCarloResult monte_carlo;
+};
+
+std::string TriadRepeatabilityTable(const TriadRepeatabilityReport& report);
+nlohmann::json TriadRepeatabilityJson(const TriadRepeatabilityReport& report);
+std::string RepeatabilityMonteCarloTable(const RepeatabilityMonteCarloResult& result);
+nlohmann::json RepeatabilityMonteCarloJson(const RepeatabilityMonteCarloResult& result);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_REPORTING_TRIAD_SESSIONS_REPORT_H_
