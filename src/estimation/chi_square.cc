@@ -47,7 +47,53 @@ double UpperByContinuedFraction(double a, double x) {
   return std::exp(LogPrefactor(a, x)) * h;
 }
 
+// The continued fraction of the regularized incomplete beta I_x(a, b), for x < (a+1)/(a+b+2).
+double BetaContinuedFraction(double a, double b, double x) {
+  constexpr double kTiny = std::numeric_limits<double>::min() / kEpsilon;
+  double c = 1.0;
+  double d = 1.0 - (a + b) * x / (a + 1.0);
+  if (std::abs(d) < kTiny) d = kTiny;
+  d = 1.0 / d;
+  double h = d;
+  for (int m = 1; m < kMaxIterations; ++m) {
+    const double m2 = 2.0 * m;
+    double an = m * (b - m) * x / ((a + m2 - 1.0) * (a + m2));
+    d = 1.0 + an * d;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = 1.0 + an / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1.0 / d;
+    h *= d * c;
+    an = -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1.0));
+    d = 1.0 + an * d;
+    if (std::abs(d) < kTiny) d = kTiny;
+    c = 1.0 + an / c;
+    if (std::abs(c) < kTiny) c = kTiny;
+    d = 1.0 / d;
+    const double delta = d * c;
+    h *= delta;
+    if (std::abs(delta - 1.0) < kEpsilon) break;
+  }
+  return h;
+}
+
+// I_x(a, b).
+double RegularizedBeta(double a, double b, double x) {
+  if (!(x > 0.0)) return 0.0;
+  if (!(x < 1.0)) return 1.0;
+  const double log_front =
+      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
+  if (x < (a + 1.0) / (a + b + 2.0))
+    return std::exp(log_front) * BetaContinuedFraction(a, b, x) / a;
+  return 1.0 - std::exp(log_front) * BetaContinuedFraction(b, a, 1.0 - x) / b;
+}
+
 }  // namespace
+
+double FSurvival(double f, double d1, double d2) {
+  if (!(f > 0.0)) return 1.0;
+  return std::clamp(RegularizedBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f)), 0.0, 1.0);
+}
 
 double ChiSquareCdf(double x, double dof) {
   if (!(x > 0.0)) return 0.0;

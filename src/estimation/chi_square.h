@@ -17,6 +17,11 @@ double ChiSquareSurvival(double x, double dof);
 // stated noise level (too large and too small residuals are both evidence).
 double ChiSquareTwoSidedPValue(double x, double dof);
 
+// P(X > f) for X ~ F(d1, d2), through the regularized incomplete beta function
+// I_{d2 / (d2 + d1 f)}(d2 / 2, d1 / 2) (continued fraction, Lentz): the p-value of a
+// likelihood-ratio test whose noise level is estimated from the residuals (d2 of them).
+double FSurvival(double f, double d1, double d2);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_ESTIMATION_CHI_SQUARE_H_

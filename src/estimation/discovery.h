@@ -42,6 +42,7 @@
 #include "estimation/noise_analysis.h"
 #include "estimation/residual_checks.h"
 #include "estimation/trajectory.h"
+#include "estimation/verdict.h"
 #include "models/noise_model.h"
 
 namespace accelcal {
@@ -61,15 +62,6 @@ struct DiscoveryOptions {
   // below exp(3) = 20) explain the data about equally well.
   double ambiguity_delta_chi2 = 6.0;
 };
-
-// The four answers. kExplained: the baseline explains the data. kMissing: effects (or a
-// noise model) the catalogue has are missing, and the extended model explains the data.
-// kUnexplained: structure remains that no effect of the catalogue explains (with or
-// without named effects). kCannotTellApart: the named effects include one that another
-// candidate explains about equally well.
-enum class Verdict { kExplained, kMissing, kUnexplained, kCannotTellApart };
-const char* VerdictCode(
-    Verdict verdict);  // "explained", "missing", "unexplained", "cannot_tell_apart"
 
 // What the noise analysis found on one axis beyond a wrong level (which is
 // noise_variance_k among the effects).

@@ -309,6 +309,7 @@ struct ProblemState {
 
 std::vector<std::array<double, 3>> SuggestedPoses(const ProblemState& state,
                                                   const std::vector<std::array<double, 3>>& held) {
+  if (!state.options->suggest_poses) return {};
   return PoseAdvisor(state.parameters, state.effects, state.effects_estimated, state.mean_stddev,
                      state.options->gravity_mps2)
       .Suggest(held);

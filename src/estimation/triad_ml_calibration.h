@@ -77,6 +77,9 @@ struct TriadMlOptions {
   // Empty: white noise, s_k^2 / N_p. Otherwise the variance of each pose's mean per axis (the
   // log's unit squared), one entry per pose.
   std::vector<std::array<double, 3>> pose_mean_variance;
+  // On a refusal, compute the poses to add (a search over ~600 directions; discovery, which
+  // fits effects it knows to be unidentifiable, does not need them).
+  bool suggest_poses = true;
 };
 
 // The effect coefficients estimated (indices into TriadEffectCoefficientList(), ascending).

@@ -45,8 +45,10 @@ constexpr int kTriadEffectCoefficientCount =
 using TriadEffectCoefficients = std::array<double, kTriadEffectCoefficientCount>;
 
 // The registered effects' infos, in registration order.
-inline constexpr std::array<TriadEffectInfo, kTriadEffectCount> TriadEffectInfos() {
-  return triad_effect_internal::Infos(std::make_index_sequence<kTriadEffectCount>());
+inline const std::array<TriadEffectInfo, kTriadEffectCount>& TriadEffectInfos() {
+  static constexpr std::array<TriadEffectInfo, kTriadEffectCount> kInfos =
+      triad_effect_internal::Infos(std::make_index_sequence<kTriadEffectCount>());
+  return kInfos;
 }
 
 // One coefficient of the block: its effect and its full name ("offset_drift_x").
