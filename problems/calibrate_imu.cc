@@ -65,6 +65,7 @@ DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (heade
 DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
 DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
 DEFINE_bool(scale_nonlinearity, false, "Mode ml: estimate a second-order scale term per axis too (scale_nonlinearity_x/y/z, 1/(m/s^2), the spec's k2: the axis reads w + k2 w^2 for a force w along it), 12 parameters in all. Not yet written to a calibration file.");
+DEFINE_double(alpha, 0.01, "Mode ml: discovery's family-wise error rate, in (0, 0.5): a session the 9-parameter model and its noise model explain gets any verdict but explained at most this often (docs/triad-discovery.md).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
@@ -103,6 +104,10 @@ Status ValidateFlags() {
   if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml" && FLAGS_mode != "ferraris") {
     return Status::Error("--mode='" + FLAGS_mode +
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
+  }
+  if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
+    return Status::Error(
+        StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", FLAGS_alpha));
   }
   if (FLAGS_mode == "ferraris") {
     if (FLAGS_session.empty() || !FLAGS_log.empty()) {
@@ -243,7 +248,16 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   report->ml_options.scale_nonlinearity = FLAGS_scale_nonlinearity;
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log));
-  return CheckGainsMatchUnit(report->ml.parameters, report->unit).WithContext(FLAGS_log);
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckGainsMatchUnit(report->ml.parameters, report->unit).WithContext(FLAGS_log));
+  TriadDiscoveryOptions& discovery = report->discovery_options;
+  discovery.alpha = FLAGS_alpha;
+  discovery.fit.gravity_mps2 = FLAGS_g;
+  discovery.fit.initial = report->ml_options.initial;
+  discovery.unit = TriadOutputUnitName(report->unit);
+  for (int k = 0; k < 3; ++k)
+    discovery.gain_mps2_per_unit[k] = report->ml.parameters[kTriadGainX + k];
+  return DiscoverTriad(poses, discovery, &report->discovery).WithContext(FLAGS_log);
 }
 
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {

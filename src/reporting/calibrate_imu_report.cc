@@ -5,6 +5,7 @@
 
 #include "common/format.h"
 #include "models/triad.h"
+#include "reporting/triad_discovery_report.h"
 
 namespace accelcal {
 
@@ -330,6 +331,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
       ml.degrees_of_freedom, ml.chi2, ml.p_value);
   out << "Verdict: " << FitVerdict(ml) << ".\n\n";
+  out << TriadDiscoveryTable(report.discovery, report.discovery_options) << "\n";
   out << (full_solver_report ? ml.solver.full_report : ml.solver.brief_report) << "\n";
   return out.str();
 }
@@ -458,6 +460,8 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   }
   json["difference_definition"] = "(ml - imu_tk) / ml stddev";
   json["solver"] = ml.solver.brief_report;
+  json["discovery"] = TriadDiscoveryJson(report.discovery, report.discovery_options);
+  json["verdict"] = VerdictCode(report.discovery.verdict_code);
   return json;
 }
 

@@ -14,6 +14,7 @@
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/noise_floor_detector.h"
+#include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
@@ -44,6 +45,9 @@ struct CalibrateImuReport {
   TriadMlOptions ml_options;
   TriadMlResult ml;
   int ml_sample_count = 0;  // samples in the poses' means
+  // Mode ml: what the 9-parameter model misses (estimation/triad_discovery.h).
+  TriadDiscoveryOptions discovery_options;
+  TriadDiscoveryResult discovery;
 };
 
 // The SHA-256 of imu_tk's bin/test_data/xsens_acc.mat (../shared/data/imu_tk-xsens/SOURCE.txt).

@@ -1,0 +1,156 @@
+#include "reporting/triad_discovery_report.h"
+
+#include <sstream>
+
+#include "common/format.h"
+
+namespace accelcal {
+namespace {
+
+std::string Triple(const std::array<double, 3>& v) {
+  return StringPrintf("(%.3g, %.3g, %.3g)", v[0], v[1], v[2]);
+}
+
+}  // namespace
+
+std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
+                                const TriadDiscoveryOptions& options) {
+  std::ostringstream out;
+  out << StringPrintf(
+      "Discovery (alpha = %g: a session the 9-parameter model explains gets another verdict at "
+      "most that often; docs/triad-discovery.md)\n",
+      options.alpha);
+  out << "  noise of the pose means: " << result.noise_note << "\n";
+  out << StringPrintf("  baseline (9 parameters): chi2/dof = %.3g on %d dof, p = %.3g\n",
+                      result.baseline.chi2_per_dof, result.baseline.degrees_of_freedom,
+                      result.baseline.p_value);
+  out << "  candidates (F test of the chi-square each removes; Holm at alpha/2 among those "
+         "left):\n";
+  out << StringPrintf("    %-4s %-22s %13s %10s %10s %10s  %s\n", "step", "effect", "estimate",
+                      "sigma", "delta_chi2", "p", "");
+  for (const TriadCandidateScore& c : result.candidates) {
+    out << StringPrintf("    %-4d %-22s %13.4g %10.3g %10.3g %10.3g  %s\n", c.step, c.name.c_str(),
+                        c.estimate, c.stddev, c.delta_chi2, c.p_value,
+                        c.significant ? "significant" : "");
+  }
+  for (const TriadUntestable& u : result.untestable) {
+    out << "  not testable from static poses: " << u.effect << ", confounded with "
+        << u.confounded_with << " (" << u.rank_check << ")\n";
+  }
+  if (result.effects.empty()) {
+    out << "  found: none\n";
+  } else {
+    for (const TriadFoundEffect& e : result.effects) {
+      out << StringPrintf(
+          "  found: %s = %.4g +- %.2g %s (delta chi2 %.3g against the final model without it, p "
+          "= %.3g)\n",
+          e.name.c_str(), e.estimate, e.stddev, e.unit.c_str(), e.delta_chi2, e.p_value);
+    }
+  }
+  out << StringPrintf("  final model: chi2/dof = %.3g on %d dof (expected 1 +- %.2g), p = %.3g\n",
+                      result.final_fit.chi2_per_dof, result.final_fit.degrees_of_freedom,
+                      result.final_fit.chi2_per_dof_spread, result.final_fit.p_value);
+  for (const TriadRemainingCheck& check : result.checks) {
+    out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", check.name.c_str(),
+                        check.statistic, check.p_value, check.flagged ? "FLAGGED" : "");
+  }
+  if (result.pose_wander != std::array<double, 3>{}) {
+    out << "  size of what remains: a per-pose offset wander of " << Triple(result.pose_wander)
+        << " " << options.unit << " per axis\n";
+  }
+  for (const TriadAmbiguity& a : result.ambiguities) {
+    out << StringPrintf("  cannot tell apart: %s and %s (delta chi2 %.3g)\n", a.effect.c_str(),
+                        a.alternative.c_str(), a.delta_chi2);
+  }
+  const TriadCrossValidation& cv = result.cross_validation;
+  if (cv.folds > 0) {
+    out << StringPrintf(
+        "  leave-poses-out cross-validation (%d folds, %d poses): mean held-out chi2 per pose "
+        "%.3g baseline, %.3g final model (1 for a right model)\n",
+        cv.folds, cv.poses, cv.baseline, cv.final_model);
+  }
+  out << "Verdict (" << VerdictCode(result.verdict_code) << "): " << result.verdict << "\n";
+  return out.str();
+}
+
+nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
+                                  const TriadDiscoveryOptions& options) {
+  nlohmann::json json;
+  json["alpha"] = options.alpha;
+  json["verdict"] = VerdictCode(result.verdict_code);
+  json["verdict_text"] = result.verdict;
+  json["noise_model"] = result.coloured_noise ? "coloured" : "white";
+  json["noise_note"] = result.noise_note;
+  json["baseline"] = {{"chi2", result.baseline.chi2},
+                      {"dof", result.baseline.degrees_of_freedom},
+                      {"p_value", result.baseline.p_value}};
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const TriadCandidateScore& c : result.candidates) {
+    candidates.push_back({{"step", c.step},
+                          {"effect", c.name},
+                          {"estimate", c.estimate},
+                          {"stddev", c.stddev},
+                          {"delta_chi2", c.delta_chi2},
+                          {"p_value", c.p_value},
+                          {"significant", c.significant}});
+  }
+  json["candidates"] = candidates;
+  nlohmann::json effects = nlohmann::json::array();
+  for (const TriadFoundEffect& e : result.effects) {
+    effects.push_back({{"effect", e.name},
+                       {"unit", e.unit},
+                       {"estimate", e.estimate},
+                       {"stddev", e.stddev},
+                       {"delta_chi2", e.delta_chi2},
+                       {"p_value", e.p_value},
+                       {"step", e.step}});
+  }
+  json["effects"] = effects;
+  nlohmann::json untestable = nlohmann::json::array();
+  for (const TriadUntestable& u : result.untestable) {
+    untestable.push_back({{"effect", u.effect},
+                          {"confounded_with", u.confounded_with},
+                          {"rank_check", u.rank_check}});
+  }
+  json["untestable"] = untestable;
+  json["final"] = {{"chi2", result.final_fit.chi2},
+                   {"dof", result.final_fit.degrees_of_freedom},
+                   {"chi2_per_dof", result.final_fit.chi2_per_dof},
+                   {"chi2_per_dof_expected_spread", result.final_fit.chi2_per_dof_spread},
+                   {"p_value", result.final_fit.p_value}};
+  nlohmann::json checks = nlohmann::json::array();
+  for (const TriadRemainingCheck& check : result.checks) {
+    checks.push_back({{"name", check.name},
+                      {"statistic", check.statistic},
+                      {"p_value", check.p_value},
+                      {"flagged", check.flagged},
+                      {"description", check.description}});
+  }
+  json["checks"] = checks;
+  json["remaining"] = result.remaining;
+  json["pose_wander"] = result.pose_wander;
+  json["pose_wander_unit"] = options.unit;
+  nlohmann::json ambiguities = nlohmann::json::array();
+  for (const TriadAmbiguity& a : result.ambiguities) {
+    ambiguities.push_back(
+        {{"effect", a.effect}, {"alternative", a.alternative}, {"delta_chi2", a.delta_chi2}});
+  }
+  json["ambiguities"] = ambiguities;
+  const TriadCrossValidation& cv = result.cross_validation;
+  json["cross_validation"] = cv.folds > 0
+                                 ? nlohmann::json{{"folds", cv.folds},
+                                                  {"poses", cv.poses},
+                                                  {"baseline_mean_heldout_chi2", cv.baseline},
+                                                  {"final_mean_heldout_chi2", cv.final_model}}
+                                 : nlohmann::json(nullptr);
+  // Residual per pose, whitened, before (baseline) and after (final model).
+  nlohmann::json before = nlohmann::json::array();
+  nlohmann::json after = nlohmann::json::array();
+  for (const auto& r : result.baseline.whitened_residuals) before.push_back(r);
+  for (const auto& r : result.final_fit.whitened_residuals) after.push_back(r);
+  json["residuals_baseline"] = before;
+  json["residuals_final"] = after;
+  return json;
+}
+
+}  // namespace accelcal
