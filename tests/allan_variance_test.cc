@@ -1,12 +1,13 @@
 // The Allan variance, its intervals and its noise fit against simulated noise of known terms
 // (simulation/noise_process.h), Monte Carlo.
 
+#include "estimation/allan_variance.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
-#include "estimation/allan_variance.h"
 #include "simulation/noise_process.h"
 #include "simulation/random.h"
 #include "studies/allan_study.h"
@@ -26,7 +27,7 @@ NoiseProcessParameters WhiteAndWalk() {
 }
 
 constexpr long long kSamples = 20000;
-constexpr int kSeries = 400;
+constexpr int kSeries = 200;
 
 // The fraction of `hits` out of `count`, with the binomial sigma at probability p.
 double BinomialSigma(double p, int count) { return std::sqrt(p * (1.0 - p) / count); }
@@ -73,7 +74,7 @@ TEST(AllanVariance, PoolsSegmentsWithoutDifferencesAcrossThem) {
 
 // Each tau's 95% chi-square interval (with the fitted model's dominant noise setting the
 // degrees of freedom) covers the exact Allan variance of white + random walk + Gauss-Markov
-// noise about 95% of the time. Measured (400 series, 11 taus): 0.93 to 0.97 per tau.
+// noise about 95% of the time. Measured (200 series, 11 taus): 0.93 to 0.97 per tau.
 TEST(AllanVariance, IntervalsCoverTheExactAllanVariance) {
   NoiseProcessParameters parameters = WhiteAndWalk();
   parameters.markov.push_back({5e-4, 2.0});
@@ -128,20 +129,21 @@ TEST(AllanFit, RecoversWhiteAndRandomWalkWithinTheStatedConfidence) {
     ASSERT_TRUE(FitAllanNoiseWithBootstrap(AllanOptions(), bootstrap, &curve, &fit).ok());
     const double n2 = parameters.white_density * parameters.white_density;
     const double k2 = parameters.random_walk * parameters.random_walk;
-    white_covered += fit.white.low <= parameters.white_density &&
-                     parameters.white_density <= fit.white.high;
-    walk_covered +=
-        fit.random_walk.low <= parameters.random_walk && parameters.random_walk <= fit.random_walk.high;
+    white_covered +=
+        fit.white.low <= parameters.white_density && parameters.white_density <= fit.white.high;
+    walk_covered += fit.random_walk.low <= parameters.random_walk &&
+                    parameters.random_walk <= fit.random_walk.high;
     floor_covered += std::fabs(fit.bias_instability.squared_raw) <=
                      1.959964 * fit.bias_instability.squared_stddev;
     white_z2 += std::pow((fit.white.squared_raw - n2) / fit.white.squared_stddev, 2);
     walk_z2 += std::pow((fit.random_walk.squared_raw - k2) / fit.random_walk.squared_stddev, 2);
   }
   const double sigma = BinomialSigma(0.95, kFitSeries);
-  std::printf("coverage of 95%% intervals over %d series: N %.3f, K %.3f, B^2 = 0: %.3f; "
-              "mean z^2: N^2 %.2f, K^2 %.2f\n",
-              kFitSeries, 1.0 * white_covered / kFitSeries, 1.0 * walk_covered / kFitSeries,
-              1.0 * floor_covered / kFitSeries, white_z2 / kFitSeries, walk_z2 / kFitSeries);
+  std::printf(
+      "coverage of 95%% intervals over %d series: N %.3f, K %.3f, B^2 = 0: %.3f; "
+      "mean z^2: N^2 %.2f, K^2 %.2f\n",
+      kFitSeries, 1.0 * white_covered / kFitSeries, 1.0 * walk_covered / kFitSeries,
+      1.0 * floor_covered / kFitSeries, white_z2 / kFitSeries, walk_z2 / kFitSeries);
   EXPECT_NEAR(1.0 * white_covered / kFitSeries, 0.95, 4.0 * sigma);
   EXPECT_GE(1.0 * walk_covered / kFitSeries, 0.80);
   EXPECT_NEAR(1.0 * floor_covered / kFitSeries, 0.95, 4.0 * sigma);
@@ -163,7 +165,8 @@ TEST(AllanFit, PoseMeanVarianceMatchesTheSpreadOfSimulatedMeans) {
       const std::vector<double> y = SimulateNoiseProcess(parameters, kSamples, &random);
       AllanCurve curve;
       AllanNoiseFit fit;
-      ASSERT_TRUE(ComputeAllanVariance({y}, parameters.sample_period_s, AllanOptions(), &curve).ok());
+      ASSERT_TRUE(
+          ComputeAllanVariance({y}, parameters.sample_period_s, AllanOptions(), &curve).ok());
       ASSERT_TRUE(FitAllanNoise(AllanOptions(), &curve, &fit).ok());
       predicted += PoseMeanVariance(fit, duration_s);
       // Two adjacent poses at the end of the series, about a mean of 0 when white only.
@@ -179,10 +182,12 @@ TEST(AllanFit, PoseMeanVarianceMatchesTheSpreadOfSimulatedMeans) {
     }
     predicted /= count;
     observed /= count;
-    const double exact = with_walk ? NoiseProcessAllanVariance(parameters, pose_samples)
-                                   : parameters.white_density * parameters.white_density / duration_s;
+    const double exact = with_walk
+                             ? NoiseProcessAllanVariance(parameters, pose_samples)
+                             : parameters.white_density * parameters.white_density / duration_s;
     std::printf("%s: pose mean variance over %.0f s: fitted %.4g, exact %.4g, simulated %.4g\n",
-                with_walk ? "white + random walk" : "white", duration_s, predicted, exact, observed);
+                with_walk ? "white + random walk" : "white", duration_s, predicted, exact,
+                observed);
     // The simulated spread of kSeries squares has relative sigma sqrt(2 / kSeries) = 0.07.
     EXPECT_NEAR(observed / exact, 1.0, 4.0 * std::sqrt(2.0 / count));
     EXPECT_NEAR(predicted / exact, 1.0, 0.05);

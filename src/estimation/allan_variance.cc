@@ -110,7 +110,8 @@ Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
                             double sample_period_s, const AllanOptions& options,
                             AllanCurve* curve) {
   if (!(sample_period_s > 0.0) || !std::isfinite(sample_period_s))
-    return Status::Error(StringPrintf("sample period %g s is not a positive number", sample_period_s));
+    return Status::Error(
+        StringPrintf("sample period %g s is not a positive number", sample_period_s));
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
     return Status::Error(StringPrintf("confidence %g is not within (0, 1)", options.confidence));
   *curve = AllanCurve();
@@ -214,7 +215,8 @@ Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseF
       const std::array<double, 3> x = Regressors(point.tau_s);
       int dominant = 0;
       for (int j = 1; j < 3; ++j) {
-        if (std::max(0.0, coefficients[j]) * x[j] > std::max(0.0, coefficients[dominant]) * x[dominant])
+        if (std::max(0.0, coefficients[j]) * x[j] >
+            std::max(0.0, coefficients[dominant]) * x[dominant])
           dominant = j;
       }
       SetDof(static_cast<AllanNoiseKind>(dominant), *curve, options.confidence,
@@ -240,8 +242,8 @@ void SetAllanTermsFromCovariance(const AllanOptions& options, AllanNoiseFit* fit
   // The regressors carry the factors 2 ln 2 / pi and 1/3, so each coefficient is its term's
   // square.
   for (int j = 0; j < 3; ++j) {
-    *terms[j] = asked[j] ? Term(fit->coefficients[j], std::sqrt(fit->covariance[j][j]), z)
-                         : AllanTerm();
+    *terms[j] =
+        asked[j] ? Term(fit->coefficients[j], std::sqrt(fit->covariance[j][j]), z) : AllanTerm();
   }
 }
 

@@ -77,14 +77,14 @@ struct AllanPoint {
   // Filled by FitAllanNoise from the fitted model (white noise until then):
   AllanNoiseKind dominant = AllanNoiseKind::kWhite;
   double edf = 0.0;
-  double avar_low = 0.0;   // confidence interval of sigma^2 at AllanOptions::confidence
+  double avar_low = 0.0;  // confidence interval of sigma^2 at AllanOptions::confidence
   double avar_high = 0.0;
 };
 
 struct AllanCurve {
-  double sample_period_s = 0.0;                // tau0
-  std::vector<long long> segment_samples;      // n per segment
-  std::vector<AllanPoint> points;              // octave-spaced m, increasing
+  double sample_period_s = 0.0;            // tau0
+  std::vector<long long> segment_samples;  // n per segment
+  std::vector<AllanPoint> points;          // octave-spaced m, increasing
 };
 
 struct AllanOptions {
@@ -99,8 +99,7 @@ struct AllanOptions {
 // their means need not agree). Intervals from white-noise degrees of freedom. Fails, saying
 // what to do, when no segment has 4 samples or a value is not finite.
 Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
-                            double sample_period_s, const AllanOptions& options,
-                            AllanCurve* curve);
+                            double sample_period_s, const AllanOptions& options, AllanCurve* curve);
 
 // One fitted term: the coefficient of sigma^2 (N^2, B^2 or K^2), its sigma, and the term in its
 // own unit with an interval at the options' confidence (from the coefficient's, normal).
@@ -110,21 +109,21 @@ struct AllanTerm {
   double squared = 0.0;   // N^2, B^2 or K^2 (clamped at 0 when fitted negative)
   double squared_raw = 0.0;
   double squared_stddev = 0.0;
-  double value = 0.0;     // N, B or K
-  double stddev = 0.0;    // of the value, by the delta method (0 when not resolved)
-  double low = 0.0;       // interval of the value
+  double value = 0.0;   // N, B or K
+  double stddev = 0.0;  // of the value, by the delta method (0 when not resolved)
+  double low = 0.0;     // interval of the value
   double high = 0.0;
 };
 
 struct AllanNoiseFit {
-  AllanTerm white;             // N, unit/sqrt(Hz)
-  AllanTerm bias_instability;  // B, unit
-  AllanTerm random_walk;       // K, unit sqrt(Hz)
+  AllanTerm white;                       // N, unit/sqrt(Hz)
+  AllanTerm bias_instability;            // B, unit
+  AllanTerm random_walk;                 // K, unit sqrt(Hz)
   std::array<double, 3> coefficients{};  // N^2, B^2, K^2 as fitted (may be negative)
   std::string covariance_method = "weighted least squares";
-  int bootstrap_series = 0;    // when the covariance is a bootstrap's
-  double chi2 = 0.0;           // sum of w (sigma^2_hat - sigma^2_model)^2
-  int dof = 0;                 // points - fitted terms
+  int bootstrap_series = 0;  // when the covariance is a bootstrap's
+  double chi2 = 0.0;         // sum of w (sigma^2_hat - sigma^2_model)^2
+  int dof = 0;               // points - fitted terms
   // Covariance of the coefficients N^2, B^2, K^2 (rows/columns of unfitted terms are 0).
   std::array<std::array<double, 3>, 3> covariance{};
 };

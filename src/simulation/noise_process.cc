@@ -31,9 +31,9 @@ std::vector<double> SimulateNoiseProcess(const NoiseProcessParameters& parameter
 double NoiseProcessAllanVariance(const NoiseProcessParameters& parameters, long long m) {
   const double tau0 = parameters.sample_period_s;
   const double md = static_cast<double>(m);
-  double avar = parameters.white_density * parameters.white_density / (md * tau0) +
-                parameters.random_walk * parameters.random_walk * tau0 * (2.0 * md * md + 1.0) /
-                    (6.0 * md);
+  double avar =
+      parameters.white_density * parameters.white_density / (md * tau0) +
+      parameters.random_walk * parameters.random_walk * tau0 * (2.0 * md * md + 1.0) / (6.0 * md);
   for (const NoiseProcessParameters::Markov& markov : parameters.markov) {
     const double phi = std::exp(-tau0 / markov.correlation_s);
     double variance = md;  // k = 0

@@ -11,8 +11,8 @@
 //                  first-order approximation of bias instability, whose Allan deviation peaks
 //                  near tau = 1.9 T_c; a bank of equal q at geometrically spaced T_c has a flat
 //                  Allan deviation between its extreme T_c (flicker noise's).
-// The exact Allan variance (the components' add) of the sampled series at m samples per cluster (not the continuous
-// formulas, which differ at small m):
+// The exact Allan variance (the components' add) of the sampled series at m samples per cluster
+// (not the continuous formulas, which differ at small m):
 //   white:        N^2 / (m tau0)
 //   random walk:  K^2 tau0 (2 m^2 + 1) / (6 m)   (-> K^2 tau / 3)
 //   Gauss-Markov: (Var S_m - Cov(S_m, S'_m)) / m^2 with S, S' the sums of two adjacent clusters,
@@ -26,9 +26,9 @@
 namespace accelcal {
 
 struct NoiseProcessParameters {
-  double sample_period_s = 0.01;      // tau0
-  double white_density = 0.0;         // N, unit/sqrt(Hz)
-  double random_walk = 0.0;           // K, unit sqrt(Hz)
+  double sample_period_s = 0.01;  // tau0
+  double white_density = 0.0;     // N, unit/sqrt(Hz)
+  double random_walk = 0.0;       // K, unit sqrt(Hz)
   struct Markov {
     double stddev = 0.0;         // q, unit
     double correlation_s = 1.0;  // T_c
@@ -40,7 +40,8 @@ struct NoiseProcessParameters {
 std::vector<double> SimulateNoiseProcess(const NoiseProcessParameters& parameters, long long n,
                                          RandomSource* random);
 
-// The exact Allan variance (the components' add) of the simulated series at cluster size m >= 1, unit^2.
+// The exact Allan variance (the components' add) of the simulated series at cluster size m >= 1,
+// unit^2.
 double NoiseProcessAllanVariance(const NoiseProcessParameters& parameters, long long m);
 
 }  // namespace accelcal

@@ -22,8 +22,8 @@ NoiseProcessParameters AllanModelProcess(const AllanNoiseFit& fit, const AllanCu
     NoiseProcessParameters bank;
     bank.sample_period_s = curve.sample_period_s;
     bank.markov = process.markov;
-    const double floor = BiasInstabilityFactor() * BiasInstabilityFactor() *
-                         fit.bias_instability.squared;
+    const double floor =
+        BiasInstabilityFactor() * BiasInstabilityFactor() * fit.bias_instability.squared;
     const double q = std::sqrt(floor / NoiseProcessAllanVariance(bank, middle));
     for (NoiseProcessParameters::Markov& markov : process.markov) markov.stddev = q;
   }
@@ -51,9 +51,9 @@ Status FitAllanNoiseWithBootstrap(const AllanOptions& options,
     samples.push_back(refit.coefficients);
   }
   if (samples.size() < 2) {
-    return Status::Error(StringPrintf(
-        "the bootstrap could refit only %zu of %d simulated series; fit fewer terms",
-        samples.size(), bootstrap.series));
+    return Status::Error(
+        StringPrintf("the bootstrap could refit only %zu of %d simulated series; fit fewer terms",
+                     samples.size(), bootstrap.series));
   }
   std::array<double, 3> mean{};
   for (const auto& c : samples)
