@@ -47,9 +47,9 @@ DEFINE_string(segment, "",
 DEFINE_string(static, "longest",
               "Which poses of the noise-floor detector to use without --segment: longest (the "
               "longest static interval, e.g. a log's initial rest) or all (every pose, pooled).");
-DEFINE_int32(bootstrap, 100,
-             "Simulated series of the bootstrap that gives the terms' sigmas, 0 to 10000; 0: the "
-             "least-squares sigmas, which are too small (docs/noise.md).");
+DEFINE_int32(bootstrap, 1000,
+             "Simulated series of the parametric bootstrap whose test inversion gives the terms' "
+             "intervals (docs/noise.md), 100 to 20000; the 2.5% tails need several hundred.");
 DEFINE_uint64(seed, 1, "Seed of the bootstrap.");
 DEFINE_double(confidence, 0.95, "Level of the intervals, in (0, 1).");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
@@ -58,7 +58,7 @@ DEFINE_string(plot, "",
               "(tools/plot_allan.py with /usr/bin/python3 and matplotlib).");
 DEFINE_string(tools_dir, accelcal::DefaultToolsDir(ACCELCAL_TOOLS_DIR),
               "Folder of the plot scripts.");
-ACCELCAL_FLAG_RANGE(bootstrap, 0, 10000);
+ACCELCAL_FLAG_RANGE(bootstrap, 100, 20000);
 ACCELCAL_FLAG_OPEN_RANGE(confidence, 0.0, 1.0);
 
 namespace accelcal {
@@ -210,17 +210,22 @@ Status Solve(const TriadLog& log, AllanReport* report) {
   ACCELCAL_RETURN_IF_ERROR(CheckSampling(log, report));
   report->options.confidence = FLAGS_confidence;
   report->bootstrap_series = FLAGS_bootstrap;
+  // One bootstrap table serves the three axes: they share the segments and taus.
   for (int k = 0; k < 3; ++k) {
-    const std::string axis = std::string("axis ") + "xyz"[k];
     ACCELCAL_RETURN_IF_ERROR(
         ComputeAllanVariance(data[k], report->sample_period_s, report->options, &report->curves[k])
-            .WithContext(FLAGS_log + ", " + axis));
-    AllanBootstrapOptions bootstrap;
-    bootstrap.series = FLAGS_bootstrap;
-    bootstrap.seed = FLAGS_seed + k;
+            .WithContext(FLAGS_log + std::string(", axis ") + "xyz"[k]));
+  }
+  AllanBootstrapOptions bootstrap;
+  bootstrap.series = FLAGS_bootstrap;
+  bootstrap.seed = FLAGS_seed;
+  AllanBootstrapTable table;
+  ACCELCAL_RETURN_IF_ERROR(
+      MakeAllanBootstrapTable(report->options, report->curves[0], bootstrap, &table));
+  for (int k = 0; k < 3; ++k) {
     ACCELCAL_RETURN_IF_ERROR(
-        FitAllanNoiseWithBootstrap(report->options, bootstrap, &report->curves[k], &report->fits[k])
-            .WithContext(FLAGS_log + ", " + axis));
+        FitAllanNoiseWithBootstrap(report->options, table, &report->curves[k], &report->fits[k])
+            .WithContext(FLAGS_log + std::string(", axis ") + "xyz"[k]));
   }
   // Pose means: s_k^2 pooled within the poses, as the maximum-likelihood calibration weighs them.
   if (detected.ok() && !detection.intervals.empty()) {
@@ -240,7 +245,7 @@ Status Solve(const TriadLog& log, AllanReport* report) {
       pose.sample_count = interval.sample_count();
       pose.duration_s = pose.sample_count * report->sample_period_s;
       for (int k = 0; k < 3; ++k) {
-        pose.model_over_white[k] = PoseMeanVariance(report->fits[k], pose.duration_s) /
+        pose.model_over_white[k] = AllanPoseMeanVariance(FittedNoiseTerms(report->fits[k]), pose.duration_s) /
                                    (report->pooled_pose_variance[k] / pose.sample_count);
       }
       report->poses.push_back(pose);

@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <vector>
 
+#include "common/format.h"
 #include "simulation/noise_process.h"
 #include "simulation/random.h"
 #include "studies/allan_study.h"
@@ -104,49 +107,113 @@ TEST(AllanVariance, IntervalsCoverTheExactAllanVariance) {
   }
 }
 
-// The Done-when of issue 21: on white + random-walk noise of known N and K, the fit's 95%
-// intervals of N and K (and of the bias-instability coefficient, truly 0) cover the truth at
-// their stated rate, with the bootstrap covariance (studies/allan_study.h). The least squares
-// covariance alone does not (85% and 83%, see estimation/allan_variance.h). K is poorly
-// determined by 200 s (its coefficient's relative spread is 0.63 and skewed: low estimates get
-// small bootstrap sigmas), so its normal interval undercovers: measured 0.87 (bootstrap of 40)
-// for a stated 0.95; the test holds it to at least 0.80 and docs/noise.md says so.
-TEST(AllanFit, RecoversWhiteAndRandomWalkWithinTheStatedConfidence) {
-  const NoiseProcessParameters parameters = WhiteAndWalk();
-  constexpr int kFitSeries = 200;
+// Coverage of the fit's stated intervals (studies/allan_study.h) over kSeries simulated series
+// of `truth`: a term is covered when its interval (resolved: low .. high; not resolved: 0 ..
+// upper bound) holds the truth. One bootstrap table of kBootstrapSeries serves every series, as
+// one table serves the three axes of a log: the coverage measured is the one given that table,
+// which differs from the average over tables by well under the binomial sigma (the 2.5% tail of
+// 1000 series is placed to +-0.5%).
+struct Coverage {
+  std::array<int, 3> covered{};          // N, B, K
+  std::array<int, 3> resolved{};         // intervals excluding 0
+  std::array<int, 3> bound_covered{};    // of the not resolved: truth <= upper bound
+  std::array<int, 3> normal_covered{};   // value +- z sigma, for comparison (resolved only)
+  int series = 0;
+};
+
+constexpr int kBootstrapSeries = 1000;
+
+Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
+  // The curve's shape (segments and taus), which the truth's bias-instability bank and the
+  // bootstrap table are made for; every series has the same.
+  AllanCurve shape;
+  EXPECT_TRUE(ComputeAllanVariance({std::vector<double>(kSamples, 0.0)}, 0.01, AllanOptions(),
+                                   &shape)
+                  .ok());
+  const NoiseProcessParameters process = AllanModelProcess(truth, shape);
+  AllanBootstrapTable table;
   AllanBootstrapOptions bootstrap;
-  bootstrap.series = 25;
-  int white_covered = 0, walk_covered = 0, floor_covered = 0;
-  double white_z2 = 0.0, walk_z2 = 0.0;
-  for (int series = 0; series < kFitSeries; ++series) {
-    RandomSource random(1952, series);
+  bootstrap.series = kBootstrapSeries;
+  bootstrap.seed = seed + 1;
+  EXPECT_TRUE(MakeAllanBootstrapTable(AllanOptions(), shape, bootstrap, &table).ok());
+  const std::array<double, 3> true_values = {truth.white_density, truth.bias_instability,
+                                             truth.random_walk};
+  const double z = 1.959964;
+  Coverage coverage;
+  for (int series = 0; series < kSeries; ++series) {
+    RandomSource random(seed, series);
     AllanCurve curve;
     AllanNoiseFit fit;
-    ASSERT_TRUE(ComputeAllanVariance({SimulateNoiseProcess(parameters, kSamples, &random)},
-                                     parameters.sample_period_s, AllanOptions(), &curve)
+    EXPECT_TRUE(ComputeAllanVariance({SimulateNoiseProcess(process, kSamples, &random)},
+                                     process.sample_period_s, AllanOptions(), &curve)
                     .ok());
-    bootstrap.seed = 5000 + series;
-    ASSERT_TRUE(FitAllanNoiseWithBootstrap(AllanOptions(), bootstrap, &curve, &fit).ok());
-    const double n2 = parameters.white_density * parameters.white_density;
-    const double k2 = parameters.random_walk * parameters.random_walk;
-    white_covered +=
-        fit.white.low <= parameters.white_density && parameters.white_density <= fit.white.high;
-    walk_covered += fit.random_walk.low <= parameters.random_walk &&
-                    parameters.random_walk <= fit.random_walk.high;
-    floor_covered += std::fabs(fit.bias_instability.squared_raw) <=
-                     1.959964 * fit.bias_instability.squared_stddev;
-    white_z2 += std::pow((fit.white.squared_raw - n2) / fit.white.squared_stddev, 2);
-    walk_z2 += std::pow((fit.random_walk.squared_raw - k2) / fit.random_walk.squared_stddev, 2);
+    const Status status = FitAllanNoiseWithBootstrap(AllanOptions(), table, &curve, &fit);
+    EXPECT_TRUE(status.ok()) << status.message();
+    const AllanTerm* terms[3] = {&fit.white, &fit.bias_instability, &fit.random_walk};
+    for (int j = 0; j < 3; ++j) {
+      const AllanTerm& term = *terms[j];
+      const double t = true_values[j];
+      const bool inside = (term.resolved ? term.low : 0.0) <= t && t <= term.high;
+      coverage.covered[j] += inside;
+      coverage.resolved[j] += term.resolved;
+      if (!term.resolved) coverage.bound_covered[j] += t <= term.high;
+      if (term.resolved)
+        coverage.normal_covered[j] += std::fabs(term.value - t) <= z * term.stddev;
+    }
+    ++coverage.series;
   }
-  const double sigma = BinomialSigma(0.95, kFitSeries);
-  std::printf(
-      "coverage of 95%% intervals over %d series: N %.3f, K %.3f, B^2 = 0: %.3f; "
-      "mean z^2: N^2 %.2f, K^2 %.2f\n",
-      kFitSeries, 1.0 * white_covered / kFitSeries, 1.0 * walk_covered / kFitSeries,
-      1.0 * floor_covered / kFitSeries, white_z2 / kFitSeries, walk_z2 / kFitSeries);
-  EXPECT_NEAR(1.0 * white_covered / kFitSeries, 0.95, 4.0 * sigma);
-  EXPECT_GE(1.0 * walk_covered / kFitSeries, 0.80);
-  EXPECT_NEAR(1.0 * floor_covered / kFitSeries, 0.95, 4.0 * sigma);
+  const char* names[3] = {"N", "B", "K"};
+  for (int j = 0; j < 3; ++j) {
+    const int unresolved = coverage.series - coverage.resolved[j];
+    std::printf(
+        "%s = %.3g: 95%% interval covers %.3f of %d series; resolved in %d%s",
+        names[j], true_values[j], 1.0 * coverage.covered[j] / coverage.series, coverage.series,
+        coverage.resolved[j],
+        unresolved > 0 ? StringPrintf(", upper bound of the %d not resolved covers %.3f",
+                                      unresolved, 1.0 * coverage.bound_covered[j] / unresolved)
+                             .c_str()
+                       : "");
+    if (coverage.resolved[j] > 0) {
+      std::printf("; value +- 1.96 sigma of the resolved covers %.3f",
+                  1.0 * coverage.normal_covered[j] / coverage.resolved[j]);
+    }
+    std::printf("\n");
+  }
+  return coverage;
+}
+
+// The Done-when of issue 21: on white + random-walk noise of known N and K (B truly 0), the
+// fit's 95% intervals of N, K and B cover the truth at their stated rate. The least squares
+// intervals do not (N 85%, K 83%), nor did the bootstrap's sigma in a normal interval (K 86.5%:
+// K^2 is skewed, see studies/allan_study.h). Measured in docs/noise.md.
+TEST(AllanMonteCarlo, RecoversWhiteAndRandomWalkWithinTheStatedConfidence) {
+  AllanNoiseTerms truth;
+  truth.white_density = 1e-3;
+  truth.random_walk = 2e-4;
+  const Coverage coverage = MeasureCoverage(truth, 1952);
+  const double sigma = BinomialSigma(0.95, coverage.series);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
+  EXPECT_EQ(coverage.resolved[0], coverage.series);  // N is always resolved
+}
+
+// With bias instability (B = 4e-4, its floor 0.664 B = 2.7e-4 against N / sqrt(tau) = 3.2e-4
+// at 10 s) and a weak random walk (K = 3e-5, overtaking white noise only past 58 s, so often
+// not resolved): the intervals of N and B, and of K with its upper bound when not resolved,
+// cover the truth.
+TEST(AllanMonteCarlo, RecoversBiasInstabilityAndBoundsAWeakRandomWalk) {
+  AllanNoiseTerms truth;
+  truth.white_density = 1e-3;
+  truth.bias_instability = 4e-4;
+  truth.random_walk = 3e-5;
+  const Coverage coverage = MeasureCoverage(truth, 2718);
+  const double sigma = BinomialSigma(0.95, coverage.series);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
+  // The weak walk is not resolved in a good share of the series, and its bound then holds.
+  const int unresolved = coverage.series - coverage.resolved[2];
+  ASSERT_GE(unresolved, 20);
+  EXPECT_GE(1.0 * coverage.bound_covered[2] / unresolved, 0.9);
 }
 
 // The variance of a pose mean: for white noise N^2 / T against the spread of simulated T-long
@@ -168,7 +235,7 @@ TEST(AllanFit, PoseMeanVarianceMatchesTheSpreadOfSimulatedMeans) {
       ASSERT_TRUE(
           ComputeAllanVariance({y}, parameters.sample_period_s, AllanOptions(), &curve).ok());
       ASSERT_TRUE(FitAllanNoise(AllanOptions(), &curve, &fit).ok());
-      predicted += PoseMeanVariance(fit, duration_s);
+      predicted += AllanPoseMeanVariance(FittedNoiseTerms(fit), duration_s);
       // Two adjacent poses at the end of the series, about a mean of 0 when white only.
       double first = 0.0, second = 0.0;
       for (long long i = 0; i < pose_samples; ++i) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "estimation/noise_analysis.h"
 #include "estimation/noise_floor_detector.h"
 
 namespace accelcal {
@@ -14,14 +15,19 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The three coefficients' regressors at tau: sigma^2 = N^2 x0 + B^2 x1 + K^2 x2.
 std::array<double, 3> Regressors(double tau_s) {
-  return {1.0 / tau_s, BiasInstabilityFactor() * BiasInstabilityFactor(), tau_s / 3.0};
+  static const double kFloor = BiasInstabilityFactor() * BiasInstabilityFactor();
+  return {1.0 / tau_s, kFloor, tau_s / 3.0};
 }
 
-double Model(const std::array<double, 3>& coefficients, double tau_s) {
-  const std::array<double, 3> x = Regressors(tau_s);
+// The model at regressors x (negative coefficients count as 0).
+double ModelAt(const std::array<double, 3>& coefficients, const std::array<double, 3>& x) {
   double sum = 0.0;
   for (int j = 0; j < 3; ++j) sum += std::max(0.0, coefficients[j]) * x[j];
   return sum;
+}
+
+double Model(const std::array<double, 3>& coefficients, double tau_s) {
+  return ModelAt(coefficients, Regressors(tau_s));
 }
 
 void SetInterval(double confidence, AllanPoint* point) {
@@ -30,26 +36,20 @@ void SetInterval(double confidence, AllanPoint* point) {
   point->avar_high = point->edf * point->avar / ChiSquareQuantile(alpha / 2.0, point->edf);
 }
 
+// Degrees of freedom of the point at cluster size m, summed over the segments long enough.
+double PointDof(AllanNoiseKind kind, const AllanCurve& curve, long long m) {
+  double edf = 0.0;
+  for (long long n : curve.segment_samples)
+    if (4 * m <= n) edf += AllanEquivalentDof(kind, n, m);
+  return edf;
+}
+
 // The interval (a chi-square quantile by bisection, the costly part) only when asked.
 void SetDof(AllanNoiseKind kind, const AllanCurve& curve, double confidence, bool interval,
             AllanPoint* point) {
   point->dominant = kind;
-  point->edf = 0.0;
-  for (long long n : curve.segment_samples) {
-    if (4 * point->cluster_samples <= n)
-      point->edf += AllanEquivalentDof(kind, n, point->cluster_samples);
-  }
+  point->edf = PointDof(kind, curve, point->cluster_samples);
   if (interval) SetInterval(confidence, point);
-}
-
-// The inverse normal CDF at p, by bisection on erfc (only a handful of calls).
-double NormalQuantile(double p) {
-  double low = -40.0, high = 40.0;
-  for (int i = 0; i < 200; ++i) {
-    const double mid = 0.5 * (low + high);
-    (0.5 * std::erfc(-mid / std::sqrt(2.0)) < p ? low : high) = mid;
-  }
-  return 0.5 * (low + high);
 }
 
 // The term from its coefficient c = value^2 and c's sigma.
@@ -166,63 +166,180 @@ Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
   return Status::Ok();
 }
 
-Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseFit* fit) {
+namespace {
+
+// The columns (terms) the options ask for.
+std::vector<int> AskedColumns(const AllanOptions& options) {
   const std::array<bool, 3> asked = {options.fit_white, options.fit_bias_instability,
                                      options.fit_random_walk};
   std::vector<int> columns;
   for (int j = 0; j < 3; ++j)
     if (asked[j]) columns.push_back(j);
-  const int p = static_cast<int>(columns.size());
-  const int count = static_cast<int>(curve->points.size());
-  if (p == 0) return Status::Error("no noise term to fit; ask for at least one");
-  if (count < p + 1) {
+  return columns;
+}
+
+Status CheckFitSize(int terms, int points) {
+  if (terms == 0) return Status::Error("no noise term to fit; ask for at least one");
+  if (points < terms + 1) {
     return Status::Error(StringPrintf(
         "%d Allan variance points for %d noise terms; fitting needs one more point than terms: "
         "give a longer static segment or fit fewer terms",
-        count, p));
+        points, terms));
   }
-  // Start from white-noise weights on the measured values, then weigh by the model.
-  std::array<double, 3> coefficients{};
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(p, p);
-  for (int iteration = 0; iteration <= options.iterations; ++iteration) {
-    Eigen::MatrixXd a(count, p);
-    Eigen::VectorXd b(count);
-    Eigen::VectorXd w(count);
-    for (int i = 0; i < count; ++i) {
-      const AllanPoint& point = curve->points[i];
-      const std::array<double, 3> x = Regressors(point.tau_s);
-      for (int c = 0; c < p; ++c) a(i, c) = x[columns[c]];
-      b(i) = point.avar;
-      double model = iteration == 0 ? point.avar : Model(coefficients, point.tau_s);
-      if (!(model > 0.0)) model = point.avar > 0.0 ? point.avar : 1.0;
-      w(i) = point.edf / (2.0 * model * model);
+  return Status::Ok();
+}
+
+// The term that dominates the model `coefficients` at tau.
+AllanNoiseKind DominantKind(const std::array<double, 3>& coefficients, double tau_s) {
+  const std::array<double, 3> x = Regressors(tau_s);
+  int dominant = 0;
+  for (int j = 1; j < 3; ++j) {
+    if (std::max(0.0, coefficients[j]) * x[j] > std::max(0.0, coefficients[dominant]) * x[dominant])
+      dominant = j;
+  }
+  return static_cast<AllanNoiseKind>(dominant);
+}
+
+// Solves the p x p system (p <= 3) `normal` x = rhs, the columns equilibrated first (the
+// coefficients differ by orders of magnitude); false when singular.
+bool SolveSmall(int p, std::array<std::array<double, 3>, 3> normal, std::array<double, 3> rhs,
+                std::array<double, 3>* x) {
+  std::array<double, 3> scale{};
+  for (int r = 0; r < p; ++r) {
+    if (!(normal[r][r] > 0.0) || !std::isfinite(normal[r][r])) return false;
+    scale[r] = 1.0 / std::sqrt(normal[r][r]);
+  }
+  for (int r = 0; r < p; ++r) {
+    rhs[r] *= scale[r];
+    for (int c = 0; c < p; ++c) normal[r][c] *= scale[r] * scale[c];
+  }
+  // Gaussian elimination with partial pivoting on the equilibrated (unit-diagonal) matrix.
+  std::array<int, 3> order = {0, 1, 2};
+  for (int k = 0; k < p; ++k) {
+    int pivot = k;
+    for (int r = k + 1; r < p; ++r)
+      if (std::fabs(normal[order[r]][k]) > std::fabs(normal[order[pivot]][k])) pivot = r;
+    std::swap(order[k], order[pivot]);
+    const double diagonal = normal[order[k]][k];
+    if (!(std::fabs(diagonal) > 1e-12)) return false;
+    for (int r = k + 1; r < p; ++r) {
+      const double factor = normal[order[r]][k] / diagonal;
+      for (int c = k; c < p; ++c) normal[order[r]][c] -= factor * normal[order[k]][c];
+      rhs[order[r]] -= factor * rhs[order[k]];
     }
-    const Eigen::MatrixXd normal = a.transpose() * w.asDiagonal() * a;
-    const Eigen::VectorXd rhs = a.transpose() * w.asDiagonal() * b;
-    const Eigen::LDLT<Eigen::MatrixXd> solver(normal);
-    if (solver.info() != Eigen::Success || !(normal.determinant() > 0.0)) {
-      return Status::Error(
-          "the Allan variance does not determine the noise terms (singular fit); fit fewer "
-          "terms");
+  }
+  for (int k = p - 1; k >= 0; --k) {
+    double sum = rhs[order[k]];
+    for (int c = k + 1; c < p; ++c) sum -= normal[order[k]][c] * (*x)[c];
+    (*x)[k] = sum / normal[order[k]][k];
+  }
+  for (int k = 0; k < p; ++k) (*x)[k] *= scale[k];
+  return true;
+}
+
+// Weight 1 / var(sigma^2_hat) = edf / (2 model^2), model falling back on the measured value.
+double Weight(double edf, double model, double measured) {
+  if (!(model > 0.0)) model = measured > 0.0 ? measured : 1.0;
+  return edf / (2.0 * model * model);
+}
+
+const char kSingularFit[] =
+    "the Allan variance does not determine the noise terms (singular fit); fit fewer terms";
+
+}  // namespace
+
+AllanFitter::AllanFitter(const AllanOptions& options, const AllanCurve& curve)
+    : columns_(AskedColumns(options)), iterations_(options.iterations) {
+  for (const AllanPoint& point : curve.points) {
+    tau_s_.push_back(point.tau_s);
+    x_.push_back(Regressors(point.tau_s));
+    std::array<double, 3> edf;
+    for (int kind = 0; kind < 3; ++kind)
+      edf[kind] = PointDof(static_cast<AllanNoiseKind>(kind), curve, point.cluster_samples);
+    edf_.push_back(edf);
+  }
+}
+
+Status AllanFitter::Check() const {
+  if (points() > kMaxFitPoints) {
+    return Status::Error(StringPrintf("%d Allan variance points; the fit takes at most %d",
+                                      points(), kMaxFitPoints));
+  }
+  return CheckFitSize(static_cast<int>(columns_.size()), points());
+}
+
+bool AllanFitter::Fit(const double* avar, std::array<double, 3>* coefficients, int term,
+                      double fixed, std::vector<double>* weights) const {
+  std::array<int, 3> free{};
+  int p = 0;
+  for (int column : columns_)
+    if (column != term) free[p++] = column;
+  *coefficients = {0.0, 0.0, 0.0};
+  if (term >= 0) (*coefficients)[term] = fixed;
+  // The weights of the previous pass: when they repeat, so would the solution.
+  std::array<double, kMaxFitPoints> previous{};
+  std::array<double, kMaxFitPoints> current{};
+  for (int iteration = 0; iteration <= iterations_; ++iteration) {
+    bool repeated = iteration > 0;
+    for (int i = 0; i < points(); ++i) {
+      const bool first = iteration == 0;
+      const int kind = first ? 0 : static_cast<int>(DominantKind(*coefficients, tau_s_[i]));
+      current[i] = Weight(edf_[i][kind], first ? avar[i] : ModelAt(*coefficients, x_[i]), avar[i]);
+      repeated = repeated && std::fabs(current[i] - previous[i]) <= 1e-9 * previous[i];
     }
-    const Eigen::VectorXd solution = solver.solve(rhs);
-    covariance = solver.solve(Eigen::MatrixXd::Identity(p, p));
-    coefficients = {0.0, 0.0, 0.0};
-    for (int c = 0; c < p; ++c) coefficients[columns[c]] = solution(c);
-    fit->chi2 = (w.array() * (a * solution - b).array().square()).sum();
-    // The degrees of freedom of each point follow the term that dominates it in the model.
-    for (AllanPoint& point : curve->points) {
-      const std::array<double, 3> x = Regressors(point.tau_s);
-      int dominant = 0;
-      for (int j = 1; j < 3; ++j) {
-        if (std::max(0.0, coefficients[j]) * x[j] >
-            std::max(0.0, coefficients[dominant]) * x[dominant])
-          dominant = j;
+    if (repeated) break;
+    std::array<std::array<double, 3>, 3> normal{};
+    std::array<double, 3> rhs{};
+    for (int i = 0; i < points(); ++i) {
+      const std::array<double, 3>& x = x_[i];
+      const double target = avar[i] - (term >= 0 ? fixed * x[term] : 0.0);
+      for (int r = 0; r < p; ++r) {
+        rhs[r] += current[i] * x[free[r]] * target;
+        for (int c = 0; c < p; ++c) normal[r][c] += current[i] * x[free[r]] * x[free[c]];
       }
-      SetDof(static_cast<AllanNoiseKind>(dominant), *curve, options.confidence,
-             iteration == options.iterations, &point);
     }
+    std::array<double, 3> solution{};
+    if (p > 0 && !SolveSmall(p, normal, rhs, &solution)) return false;
+    for (int r = 0; r < p; ++r) (*coefficients)[free[r]] = solution[r];
+    previous = current;
   }
+  if (weights != nullptr) weights->assign(current.begin(), current.begin() + points());
+  return true;
+}
+
+Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseFit* fit) {
+  const AllanFitter fitter(options, *curve);
+  ACCELCAL_RETURN_IF_ERROR(fitter.Check());
+  const int count = fitter.points();
+  std::vector<double> avar(count), weights;
+  for (int i = 0; i < count; ++i) avar[i] = curve->points[i].avar;
+  std::array<double, 3> coefficients;
+  if (!fitter.Fit(avar.data(), &coefficients, -1, 0.0, &weights))
+    return Status::Error(kSingularFit);
+  // The fit's chi2 and least squares covariance (A^T W A)^-1 at the final weights.
+  const std::vector<int> columns = AskedColumns(options);
+  const int p = static_cast<int>(columns.size());
+  Eigen::MatrixXd a(count, p);
+  fit->chi2 = 0.0;
+  for (int i = 0; i < count; ++i) {
+    const std::array<double, 3> x = Regressors(curve->points[i].tau_s);
+    double fitted = 0.0;
+    for (int c = 0; c < p; ++c) {
+      a(i, c) = x[columns[c]];
+      fitted += coefficients[columns[c]] * x[columns[c]];
+    }
+    fit->chi2 += weights[i] * (fitted - avar[i]) * (fitted - avar[i]);
+  }
+  const Eigen::MatrixXd normal =
+      a.transpose() * Eigen::Map<const Eigen::VectorXd>(weights.data(), count).asDiagonal() * a;
+  const Eigen::LDLT<Eigen::MatrixXd> solver(normal);
+  if (solver.info() != Eigen::Success || !(normal.determinant() > 0.0))
+    return Status::Error(kSingularFit);
+  const Eigen::MatrixXd covariance = solver.solve(Eigen::MatrixXd::Identity(p, p));
+  // The degrees of freedom and interval of each point follow the term that dominates it in the
+  // model.
+  for (AllanPoint& point : curve->points)
+    SetDof(DominantKind(coefficients, point.tau_s), *curve, options.confidence, true, &point);
   fit->dof = count - p;
   fit->coefficients = coefficients;
   fit->covariance_method = "weighted least squares";
@@ -237,7 +354,7 @@ Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseF
 void SetAllanTermsFromCovariance(const AllanOptions& options, AllanNoiseFit* fit) {
   const std::array<bool, 3> asked = {options.fit_white, options.fit_bias_instability,
                                      options.fit_random_walk};
-  const double z = NormalQuantile(0.5 + options.confidence / 2.0);
+  const double z = TwoSidedNormalQuantile(1.0 - options.confidence);
   AllanTerm* terms[3] = {&fit->white, &fit->bias_instability, &fit->random_walk};
   // The regressors carry the factors 2 ln 2 / pi and 1/3, so each coefficient is its term's
   // square.
@@ -247,12 +364,27 @@ void SetAllanTermsFromCovariance(const AllanOptions& options, AllanNoiseFit* fit
   }
 }
 
-double ModelAllanVariance(const AllanNoiseFit& fit, double tau_s) {
-  return Model({fit.white.squared, fit.bias_instability.squared, fit.random_walk.squared}, tau_s);
+AllanNoiseTerms FittedNoiseTerms(const AllanNoiseFit& fit) {
+  AllanNoiseTerms terms;
+  terms.white_density = fit.white.value;
+  terms.bias_instability = fit.bias_instability.value;
+  terms.random_walk = fit.random_walk.value;
+  return terms;
 }
 
-double PoseMeanVariance(const AllanNoiseFit& fit, double duration_s) {
-  return ModelAllanVariance(fit, duration_s);
+double ModelAllanVariance(const AllanNoiseTerms& terms, double tau_s) {
+  return Model({terms.white_density * terms.white_density,
+                terms.bias_instability * terms.bias_instability,
+                terms.random_walk * terms.random_walk},
+               tau_s);
+}
+
+double ModelAllanVariance(const AllanNoiseFit& fit, double tau_s) {
+  return ModelAllanVariance(FittedNoiseTerms(fit), tau_s);
+}
+
+double AllanPoseMeanVariance(const AllanNoiseTerms& terms, double duration_s) {
+  return ModelAllanVariance(terms, duration_s);
 }
 
 }  // namespace accelcal

@@ -32,14 +32,17 @@
 //   K: acceleration random walk, unit sqrt(Hz) ((m/s^2)/sqrt(s)).
 // sigma^2 is linear in (N^2, B^2, K^2), so the fit is a weighted linear least squares in those
 // three coefficients: weight 1 / var(sigma^2_hat(tau)) = edf / (2 sigma^2_model(tau)^2),
-// iterated with the model (the measured sigma^2 in the weight would bias the fit low), and the
-// coefficients' covariance (A^T W A)^-1. That covariance treats the Allan variances at different
-// tau as independent, which they are not (the same samples enter every tau): on white + random
-// walk noise its 95% intervals covered N only 85% and K 83% of the time (400 series, 20000
-// samples). The covariance callers should state is therefore the parametric bootstrap's
-// (studies/allan_study.h), which simulates the fitted model and refits; SetAllanTermsFromCovariance
-// turns either covariance into the terms' sigmas and intervals. A coefficient fitted negative is
-// a term the data do not resolve: its value is 0 and its upper bound is stated.
+// iterated with the model (the measured sigma^2 in the weight would bias the fit low).
+//
+// Confidence of the terms. The least squares covariance (A^T W A)^-1 treats the Allan variances
+// at different tau as independent, which they are not (the same samples enter every tau): its
+// 95% intervals covered N only 85% and K 83% of the time (400 series of 20000 samples). And K^2
+// (like B^2) is poorly determined and skewed: with a correct spread, a symmetric interval still
+// misses high when the estimate falls low (86.5% for a stated 95%). The intervals callers should
+// state are therefore the parametric bootstrap's test inversion (studies/allan_study.h): the
+// values of a term for which the observed coefficient is in neither alpha/2 tail of the
+// coefficients refitted on series simulated with that value. A term whose interval reaches 0 is
+// not resolved: its value is max(0, fitted) and its upper bound is what to state.
 //
 // Variance of a mean. A pose is an average over T seconds, and the calibration weighs its mean
 // by the variance of that average. For white noise it is N^2 / T = sigma^2(T). For the other
@@ -120,8 +123,10 @@ struct AllanNoiseFit {
   AllanTerm bias_instability;            // B, unit
   AllanTerm random_walk;                 // K, unit sqrt(Hz)
   std::array<double, 3> coefficients{};  // N^2, B^2, K^2 as fitted (may be negative)
+  // "weighted least squares" (normal intervals from its covariance: too narrow, see above) or
+  // "parametric bootstrap" (test-inversion intervals, covariance of the refits).
   std::string covariance_method = "weighted least squares";
-  int bootstrap_series = 0;  // when the covariance is a bootstrap's
+  int bootstrap_series = 0;  // when the intervals are a bootstrap's
   double chi2 = 0.0;         // sum of w (sigma^2_hat - sigma^2_model)^2
   int dof = 0;               // points - fitted terms
   // Covariance of the coefficients N^2, B^2, K^2 (rows/columns of unfitted terms are 0).
@@ -132,14 +137,60 @@ struct AllanNoiseFit {
 // Fails when fewer points than terms remain.
 Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseFit* fit);
 
-// The terms' values, sigmas and intervals from fit->coefficients and fit->covariance.
+// The fit prepared once for one curve's taus and segments, to fit many vectors of Allan
+// variances of that shape exactly as FitAllanNoise fits the curve's own (the bootstrap refits
+// thousands, studies/allan_study.h): white-noise weights on the given values first, then
+// options.iterations reweightings by the model, in fixed-size arithmetic.
+class AllanFitter {
+ public:
+  AllanFitter(const AllanOptions& options, const AllanCurve& curve);
+
+  // Fails, saying what to do, when there are fewer points than terms + 1 (Fit must not be
+  // called then).
+  Status Check() const;
+
+  // The coefficients N^2, B^2, K^2 fitted to `avar` (one per point of the curve; 0 for a term
+  // not asked for); with term >= 0 (0 N^2, 1 B^2, 2 K^2) that coefficient held at `fixed` and
+  // the others fitted: the model closest to the data under that value, which the bootstrap
+  // simulates to test it. The final weights into *weights when given. False when singular.
+  bool Fit(const double* avar, std::array<double, 3>* coefficients, int term = -1,
+           double fixed = 0.0, std::vector<double>* weights = nullptr) const;
+
+  int points() const { return static_cast<int>(tau_s_.size()); }
+
+  // Octave taus of up to 2^62 samples.
+  static constexpr int kMaxFitPoints = 64;
+
+ private:
+  std::vector<int> columns_;
+  int iterations_ = 0;
+  std::vector<double> tau_s_;
+  std::vector<std::array<double, 3>> x_;    // regressors per point
+  std::vector<std::array<double, 3>> edf_;  // per point, by AllanNoiseKind
+};
+
+// The terms' values from fit->coefficients and their sigmas and normal intervals from
+// fit->covariance (the least squares intervals).
 void SetAllanTermsFromCovariance(const AllanOptions& options, AllanNoiseFit* fit);
 
-// sigma^2_model(tau) of the fitted coefficients (negative ones count as 0), unit^2.
+// One axis's noise terms in plain numbers, in the unit U of the data they were fitted to.
+struct AllanNoiseTerms {
+  double white_density = 0.0;     // N, U/sqrt(Hz)
+  double bias_instability = 0.0;  // B, U
+  double random_walk = 0.0;       // K, U sqrt(Hz)
+};
+
+// The fitted terms (a term fitted negative, or not fitted, is 0).
+AllanNoiseTerms FittedNoiseTerms(const AllanNoiseFit& fit);
+
+// sigma^2_model(tau) = N^2 / tau + (2 ln 2 / pi) B^2 + K^2 tau / 3, U^2.
+double ModelAllanVariance(const AllanNoiseTerms& terms, double tau_s);
 double ModelAllanVariance(const AllanNoiseFit& fit, double tau_s);
 
-// The variance of a T-second pose mean (see above): sigma^2_model(T), unit^2.
-double PoseMeanVariance(const AllanNoiseFit& fit, double duration_s);
+// The variance of the mean of a pose of duration_s seconds (see "Variance of a mean" above):
+// sigma^2_model(duration_s), in U^2 for terms in U (the log's unit when the segments were given
+// in it: counts^2 for counts). Per axis; duration_s > 0.
+double AllanPoseMeanVariance(const AllanNoiseTerms& terms, double duration_s);
 
 // sqrt(2 ln 2 / pi) = 0.664: the Allan deviation's floor per unit of bias instability.
 double BiasInstabilityFactor();
