@@ -34,8 +34,8 @@
 #include "studies/allan_study.h"
 
 DEFINE_string(log, "",
-              "The accelerometer log (io/imu_log.h): imu_tk's ASCII layout (t [s], x, y, z) or a "
-              "CSV *.csv with the header t_s,acc_x,acc_y,acc_z.");
+              "The accelerometer log (io/imu_log.h): imu_tk's ASCII layout (t [s], x, y, z; its "
+              "example files end in .mat) or a CSV *.csv with the header t_s,acc_x,acc_y,acc_z.");
 DEFINE_string(unit, "count", "The unit of the log's outputs: count, m/s^2 or g.");
 DEFINE_string(
     gain, "auto",
@@ -69,27 +69,13 @@ constexpr const char* kUsage =
     "triad log's static data, per axis, with intervals (docs/noise.md).\n"
     "  allan --log=FILE [--unit=count|m/s^2|g] [--gain=auto|G] [--segment=S:E,... | "
     "--static=longest|all]\n"
-    "        [--json=out.json] [--plot=allan.png]";
-
-Status ValidateFlags() {
-  if (FLAGS_log.empty()) return Status::Error("--log is required: the accelerometer log");
-  TriadOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit).WithContext("--unit"));
-  double gain = 0.0;
-  if (FLAGS_gain != "auto" && (!ParseFiniteNumber(FLAGS_gain, &gain) || !(gain > 0.0))) {
-    return Status::Error("--gain='" + FLAGS_gain +
-                         "' is neither auto nor a positive number (m/s^2 per unit of output)");
-  }
-  if (FLAGS_static != "longest" && FLAGS_static != "all")
-    return Status::Error("--static='" + FLAGS_static + "' is not longest or all");
-  if (!FLAGS_plot.empty() && FLAGS_plot.size() < 4) {
-    return Status::Error("--plot='" + FLAGS_plot + "' does not end in .png");
-  }
-  if (!FLAGS_plot.empty() && FLAGS_plot.substr(FLAGS_plot.size() - 4) != ".png")
-    return Status::Error("--plot='" + FLAGS_plot + "' does not end in .png; name a PNG file");
-  return CheckOutputPaths({{"--json", FLAGS_json}, {"--plot", FLAGS_plot}},
-                          RunInputs{{FLAGS_log}, {}});
-}
+    "        [--json=out.json] [--plot=allan.png]\n"
+    "Units: U is m/s^2 with --gain=G (m/s^2 per unit of output) or a log in m/s^2 or g, else\n"
+    "the log's own unit (count). Allan deviation in U; N (white noise density, velocity random\n"
+    "walk) in U/sqrt(Hz) (x 60 for per sqrt(hour)); B (bias instability) in U, the deviation's\n"
+    "floor being 0.664 B; K (acceleration random walk) in U sqrt(Hz) = U/sqrt(s). Each term has\n"
+    "a --confidence interval from a parametric bootstrap; one reaching 0 is 'not resolved' and\n"
+    "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 (U^2).";
 
 Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
   std::stringstream list(FLAGS_segment);
@@ -105,6 +91,31 @@ Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
     segments->emplace_back(start, end);
   }
   return Status::Ok();
+}
+
+Status ValidateFlags() {
+  if (FLAGS_log.empty()) return Status::Error("--log is required: the accelerometer log");
+  TriadOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit).WithContext("--unit"));
+  double gain = 0.0;
+  if (FLAGS_gain != "auto" && (!ParseFiniteNumber(FLAGS_gain, &gain) || !(gain > 0.0))) {
+    return Status::Error("--gain='" + FLAGS_gain +
+                         "' is neither auto nor a positive number (m/s^2 per unit of output)");
+  }
+  if (FLAGS_static != "longest" && FLAGS_static != "all")
+    return Status::Error("--static='" + FLAGS_static + "' is not longest or all");
+  if (!FLAGS_segment.empty() && !gflags::GetCommandLineFlagInfoOrDie("static").is_default) {
+    return Status::Error("--segment and --static both choose the segments; give one of the two");
+  }
+  std::vector<std::pair<double, double>> segments;
+  ACCELCAL_RETURN_IF_ERROR(ParseSegments(&segments));
+  if (!FLAGS_plot.empty() && FLAGS_plot.size() < 4) {
+    return Status::Error("--plot='" + FLAGS_plot + "' does not end in .png");
+  }
+  if (!FLAGS_plot.empty() && FLAGS_plot.substr(FLAGS_plot.size() - 4) != ".png")
+    return Status::Error("--plot='" + FLAGS_plot + "' does not end in .png; name a PNG file");
+  return CheckOutputPaths({{"--json", FLAGS_json}, {"--plot", FLAGS_plot}},
+                          RunInputs{{FLAGS_log}, {}});
 }
 
 // The samples of [first, last] as segments of the result unit, and the sample period: the

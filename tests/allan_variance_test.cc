@@ -118,6 +118,7 @@ struct Coverage {
   std::array<int, 3> resolved{};         // intervals excluding 0
   std::array<int, 3> bound_covered{};    // of the not resolved: truth <= upper bound
   std::array<int, 3> normal_covered{};   // value +- z sigma, for comparison (resolved only)
+  int chi2_rare = 0;  // series whose chi2 fewer than 5% of the bootstrap's series reach
   int series = 0;
 };
 
@@ -160,8 +161,11 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
       if (term.resolved)
         coverage.normal_covered[j] += std::fabs(term.value - t) <= z * term.stddev;
     }
+    coverage.chi2_rare += fit.chi2_bootstrap_fraction < 0.05;
     ++coverage.series;
   }
+  std::printf("chi2 reached by < 5%% of the bootstrap's series in %.3f of the series\n",
+              1.0 * coverage.chi2_rare / coverage.series);
   const char* names[3] = {"N", "B", "K"};
   for (int j = 0; j < 3; ++j) {
     const int unresolved = coverage.series - coverage.resolved[j];
@@ -195,6 +199,9 @@ TEST(AllanMonteCarlo, RecoversWhiteAndRandomWalkWithinTheStatedConfidence) {
   for (int j = 0; j < 3; ++j)
     EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
   EXPECT_EQ(coverage.resolved[0], coverage.series);  // N is always resolved
+  // The model holds, so its chi2 is rare (below 5% of the bootstrap's) about 5% of the time.
+  EXPECT_NEAR(1.0 * coverage.chi2_rare / coverage.series, 0.05,
+              3.0 * BinomialSigma(0.05, coverage.series));
 }
 
 // With bias instability (B = 4e-4, its floor 0.664 B = 2.7e-4 against N / sqrt(tau) = 3.2e-4

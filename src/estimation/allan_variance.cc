@@ -307,6 +307,17 @@ bool AllanFitter::Fit(const double* avar, std::array<double, 3>* coefficients, i
   return true;
 }
 
+double AllanFitter::Chi2(const double* avar, const std::array<double, 3>& coefficients,
+                         const std::vector<double>& weights) const {
+  double chi2 = 0.0;
+  for (int i = 0; i < points(); ++i) {
+    double fitted = 0.0;
+    for (int j = 0; j < 3; ++j) fitted += coefficients[j] * x_[i][j];
+    chi2 += weights[i] * (fitted - avar[i]) * (fitted - avar[i]);
+  }
+  return chi2;
+}
+
 Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseFit* fit) {
   const AllanFitter fitter(options, *curve);
   ACCELCAL_RETURN_IF_ERROR(fitter.Check());
@@ -319,16 +330,12 @@ Status FitAllanNoise(const AllanOptions& options, AllanCurve* curve, AllanNoiseF
   // The fit's chi2 and least squares covariance (A^T W A)^-1 at the final weights.
   const std::vector<int> columns = AskedColumns(options);
   const int p = static_cast<int>(columns.size());
+  fit->chi2 = fitter.Chi2(avar.data(), coefficients, weights);
+  fit->chi2_bootstrap_fraction = -1.0;
   Eigen::MatrixXd a(count, p);
-  fit->chi2 = 0.0;
   for (int i = 0; i < count; ++i) {
     const std::array<double, 3> x = Regressors(curve->points[i].tau_s);
-    double fitted = 0.0;
-    for (int c = 0; c < p; ++c) {
-      a(i, c) = x[columns[c]];
-      fitted += coefficients[columns[c]] * x[columns[c]];
-    }
-    fit->chi2 += weights[i] * (fitted - avar[i]) * (fitted - avar[i]);
+    for (int c = 0; c < p; ++c) a(i, c) = x[columns[c]];
   }
   const Eigen::MatrixXd normal =
       a.transpose() * Eigen::Map<const Eigen::VectorXd>(weights.data(), count).asDiagonal() * a;

@@ -116,6 +116,9 @@ struct AllanTerm {
   double stddev = 0.0;  // of the value, by the delta method (0 when not resolved)
   double low = 0.0;     // interval of the value
   double high = 0.0;
+  // The fitted coefficient is lower than the model gives even with this term at 0 (in the
+  // bootstrap's lower alpha/2 tail): the curve falls where the terms cannot; upper bound 0.
+  bool below_model = false;
 };
 
 struct AllanNoiseFit {
@@ -129,6 +132,11 @@ struct AllanNoiseFit {
   int bootstrap_series = 0;  // when the intervals are a bootstrap's
   double chi2 = 0.0;         // sum of w (sigma^2_hat - sigma^2_model)^2
   int dof = 0;               // points - fitted terms
+  // The fraction of the bootstrap's series (simulated from the fitted terms) whose chi2 is at
+  // least the data's: the taus are correlated, so chi2 does not follow chi2(dof); a small
+  // fraction says the terms do not describe the curve, and the intervals assume they do.
+  // -1 without a bootstrap.
+  double chi2_bootstrap_fraction = -1.0;
   // Covariance of the coefficients N^2, B^2, K^2 (rows/columns of unfitted terms are 0).
   std::array<std::array<double, 3>, 3> covariance{};
 };
@@ -155,6 +163,11 @@ class AllanFitter {
   // simulates to test it. The final weights into *weights when given. False when singular.
   bool Fit(const double* avar, std::array<double, 3>* coefficients, int term = -1,
            double fixed = 0.0, std::vector<double>* weights = nullptr) const;
+
+  // sum_i weights_i (sigma^2_model(tau_i) - avar_i)^2 with the coefficients as fitted (negative
+  // ones included).
+  double Chi2(const double* avar, const std::array<double, 3>& coefficients,
+              const std::vector<double>& weights) const;
 
   int points() const { return static_cast<int>(tau_s_.size()); }
 

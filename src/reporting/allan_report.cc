@@ -12,6 +12,11 @@ constexpr const char* kAxes[3] = {"x", "y", "z"};
 std::string TermLine(const char* name, const AllanTerm& term, const std::string& unit,
                      double confidence) {
   if (!term.fitted) return StringPrintf("  %-17s not fitted\n", name);
+  if (term.below_model) {
+    return StringPrintf("  %-17s not resolved: fitted %.4g, lower than the model gives with it at 0; "
+                        "%.0f%% upper bound %.4g %s\n",
+                        name, term.value, 100.0 * confidence, term.high, unit.c_str());
+  }
   if (!term.resolved) {
     return StringPrintf("  %-17s not resolved: %.4g, %.0f%% upper bound %.4g %s\n", name,
                         term.value, 100.0 * confidence, term.high, unit.c_str());
@@ -27,6 +32,7 @@ nlohmann::json TermJson(const AllanTerm& term, const std::string& unit) {
   json["stddev"] = term.stddev;
   json["low"] = term.low;
   json["high"] = term.high;
+  json["below_model"] = term.below_model;
   json["squared"] = term.squared_raw;
   json["squared_stddev"] = term.squared_stddev;
   return json;
@@ -74,9 +80,17 @@ std::string AllanTable(const AllanReport& report) {
                            p.edf, AllanNoiseKindName(p.dominant));
     }
     text += StringPrintf(
-        "  fit: chi2 %.3g on %d dof; sigmas from %s%s\n", fit.chi2, fit.dof,
+        "  fit: chi2 %.3g on %d dof; intervals from %s%s\n", fit.chi2, fit.dof,
         fit.covariance_method.c_str(),
         fit.bootstrap_series > 0 ? StringPrintf(" (%d series)", fit.bootstrap_series).c_str() : "");
+    if (fit.chi2_bootstrap_fraction >= 0.0) {
+      text += StringPrintf("  chi2 reached by %.1f%% of the series simulated from the terms%s\n",
+                           100.0 * fit.chi2_bootstrap_fraction,
+                           fit.chi2_bootstrap_fraction < 0.01
+                               ? ": the terms do not describe this curve, and the intervals "
+                                 "assume they do"
+                               : "");
+    }
     const double c = report.options.confidence;
     text += TermLine("white noise N", fit.white, u + "/sqrt(Hz)", c);
     text += TermLine("bias instability B", fit.bias_instability, u, c);
@@ -139,6 +153,9 @@ nlohmann::json AllanJson(const AllanReport& report) {
                       {"fit",
                        {{"chi2", fit.chi2},
                         {"dof", fit.dof},
+                        {"chi2_bootstrap_fraction", fit.chi2_bootstrap_fraction < 0.0
+                                                        ? nlohmann::json()
+                                                        : nlohmann::json(fit.chi2_bootstrap_fraction)},
                         {"covariance", fit.covariance_method},
                         {"bootstrap_series", fit.bootstrap_series}}},
                       {"pooled_pose_variance", report.pooled_pose_variance[k]}};

@@ -224,11 +224,15 @@ Status FitAllanNoiseWithBootstrap(const AllanOptions& options, const AllanBootst
   // covariance.
   const SimulatedSeries simulated(table, base);
   std::vector<std::array<double, 3>> refits(table.series);
-  std::vector<double> simulated_avar;
+  std::vector<double> simulated_avar, weights;
+  int chi2_at_least = 0;
   for (int s = 0; s < table.series; ++s) {
     simulated.AllanVariances(s, &simulated_avar);
-    if (!fitter.Fit(simulated_avar.data(), &refits[s])) return Status::Error(kSingularRefit);
+    if (!fitter.Fit(simulated_avar.data(), &refits[s], -1, 0.0, &weights))
+      return Status::Error(kSingularRefit);
+    chi2_at_least += fitter.Chi2(simulated_avar.data(), refits[s], weights) >= fit->chi2;
   }
+  fit->chi2_bootstrap_fraction = static_cast<double>(chi2_at_least) / table.series;
   std::array<double, 3> mean{};
   for (const std::array<double, 3>& c : refits)
     for (int j = 0; j < 3; ++j) mean[j] += c[j] / static_cast<double>(refits.size());
@@ -259,6 +263,7 @@ Status FitAllanNoiseWithBootstrap(const AllanOptions& options, const AllanBootst
     if (above_low) ACCELCAL_RETURN_IF_ERROR(Crossing(tail, alpha / 2.0, scale, &high));
     if (above_high) ACCELCAL_RETURN_IF_ERROR(Crossing(tail, 1.0 - alpha / 2.0, scale, &low));
     term.resolved = low > 0.0;
+    term.below_model = !above_low;
     term.low = std::sqrt(low);
     term.high = std::sqrt(high);
     if (!term.resolved) term.stddev = 0.0;
