@@ -256,8 +256,9 @@ Status Solve(const TriadLog& log, AllanReport* report) {
       pose.sample_count = interval.sample_count();
       pose.duration_s = pose.sample_count * report->sample_period_s;
       for (int k = 0; k < 3; ++k) {
-        pose.model_over_white[k] = AllanPoseMeanVariance(FittedNoiseTerms(report->fits[k]), pose.duration_s) /
-                                   (report->pooled_pose_variance[k] / pose.sample_count);
+        pose.model_over_white[k] =
+            AllanPoseMeanVariance(FittedNoiseTerms(report->fits[k]), pose.duration_s) /
+            (report->pooled_pose_variance[k] / pose.sample_count);
       }
       report->poses.push_back(pose);
     }

@@ -114,10 +114,10 @@ TEST(AllanVariance, IntervalsCoverTheExactAllanVariance) {
 // which differs from the average over tables by well under the binomial sigma (the 2.5% tail of
 // 1000 series is placed to +-0.5%).
 struct Coverage {
-  std::array<int, 3> covered{};          // N, B, K
-  std::array<int, 3> resolved{};         // intervals excluding 0
-  std::array<int, 3> bound_covered{};    // of the not resolved: truth <= upper bound
-  std::array<int, 3> normal_covered{};   // value +- z sigma, for comparison (resolved only)
+  std::array<int, 3> covered{};         // N, B, K
+  std::array<int, 3> resolved{};        // intervals excluding 0
+  std::array<int, 3> bound_covered{};   // of the not resolved: truth <= upper bound
+  std::array<int, 3> normal_covered{};  // value +- z sigma, for comparison (resolved only)
   int chi2_rare = 0;  // series whose chi2 fewer than 5% of the bootstrap's series reach
   int series = 0;
 };
@@ -128,9 +128,9 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
   // The curve's shape (segments and taus), which the truth's bias-instability bank and the
   // bootstrap table are made for; every series has the same.
   AllanCurve shape;
-  EXPECT_TRUE(ComputeAllanVariance({std::vector<double>(kSamples, 0.0)}, 0.01, AllanOptions(),
-                                   &shape)
-                  .ok());
+  EXPECT_TRUE(
+      ComputeAllanVariance({std::vector<double>(kSamples, 0.0)}, 0.01, AllanOptions(), &shape)
+          .ok());
   const NoiseProcessParameters process = AllanModelProcess(truth, shape);
   AllanBootstrapTable table;
   AllanBootstrapOptions bootstrap;
@@ -158,8 +158,7 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
       coverage.covered[j] += inside;
       coverage.resolved[j] += term.resolved;
       if (!term.resolved) coverage.bound_covered[j] += t <= term.high;
-      if (term.resolved)
-        coverage.normal_covered[j] += std::fabs(term.value - t) <= z * term.stddev;
+      if (term.resolved) coverage.normal_covered[j] += std::fabs(term.value - t) <= z * term.stddev;
     }
     coverage.chi2_rare += fit.chi2_bootstrap_fraction < 0.05;
     ++coverage.series;
@@ -169,14 +168,14 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
   const char* names[3] = {"N", "B", "K"};
   for (int j = 0; j < 3; ++j) {
     const int unresolved = coverage.series - coverage.resolved[j];
-    std::printf(
-        "%s = %.3g: 95%% interval covers %.3f of %d series; resolved in %d%s",
-        names[j], true_values[j], 1.0 * coverage.covered[j] / coverage.series, coverage.series,
-        coverage.resolved[j],
-        unresolved > 0 ? StringPrintf(", upper bound of the %d not resolved covers %.3f",
-                                      unresolved, 1.0 * coverage.bound_covered[j] / unresolved)
-                             .c_str()
-                       : "");
+    std::printf("%s = %.3g: 95%% interval covers %.3f of %d series; resolved in %d%s", names[j],
+                true_values[j], 1.0 * coverage.covered[j] / coverage.series, coverage.series,
+                coverage.resolved[j],
+                unresolved > 0
+                    ? StringPrintf(", upper bound of the %d not resolved covers %.3f", unresolved,
+                                   1.0 * coverage.bound_covered[j] / unresolved)
+                          .c_str()
+                    : "");
     if (coverage.resolved[j] > 0) {
       std::printf("; value +- 1.96 sigma of the resolved covers %.3f",
                   1.0 * coverage.normal_covered[j] / coverage.resolved[j]);

@@ -380,10 +380,10 @@ AllanNoiseTerms FittedNoiseTerms(const AllanNoiseFit& fit) {
 }
 
 double ModelAllanVariance(const AllanNoiseTerms& terms, double tau_s) {
-  return Model({terms.white_density * terms.white_density,
-                terms.bias_instability * terms.bias_instability,
-                terms.random_walk * terms.random_walk},
-               tau_s);
+  return Model(
+      {terms.white_density * terms.white_density, terms.bias_instability * terms.bias_instability,
+       terms.random_walk * terms.random_walk},
+      tau_s);
 }
 
 double ModelAllanVariance(const AllanNoiseFit& fit, double tau_s) {

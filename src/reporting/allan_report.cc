@@ -13,9 +13,10 @@ std::string TermLine(const char* name, const AllanTerm& term, const std::string&
                      double confidence) {
   if (!term.fitted) return StringPrintf("  %-17s not fitted\n", name);
   if (term.below_model) {
-    return StringPrintf("  %-17s not resolved: fitted %.4g, lower than the model gives with it at 0; "
-                        "%.0f%% upper bound %.4g %s\n",
-                        name, term.value, 100.0 * confidence, term.high, unit.c_str());
+    return StringPrintf(
+        "  %-17s not resolved: fitted %.4g, lower than the model gives with it at 0; "
+        "%.0f%% upper bound %.4g %s\n",
+        name, term.value, 100.0 * confidence, term.high, unit.c_str());
   }
   if (!term.resolved) {
     return StringPrintf("  %-17s not resolved: %.4g, %.0f%% upper bound %.4g %s\n", name,
@@ -27,7 +28,12 @@ std::string TermLine(const char* name, const AllanTerm& term, const std::string&
 
 nlohmann::json TermJson(const AllanTerm& term, const std::string& unit) {
   nlohmann::json json = {{"fitted", term.fitted}, {"resolved", term.resolved}, {"unit", unit}};
-  if (!term.fitted) return json;
+  if (!term.fitted) {
+    for (const char* key :
+         {"value", "stddev", "low", "high", "below_model", "squared", "squared_stddev"})
+      json[key] = nullptr;
+    return json;
+  }
   json["value"] = term.value;
   json["stddev"] = term.stddev;
   json["low"] = term.low;
@@ -120,6 +126,7 @@ std::string AllanTable(const AllanReport& report) {
 
 nlohmann::json AllanJson(const AllanReport& report) {
   nlohmann::json json;
+  json["problem"] = "allan";
   json["log"] = report.log_path;
   json["unit"] = report.unit;
   json["output_unit"] = report.output_unit;
@@ -146,19 +153,20 @@ nlohmann::json AllanJson(const AllanReport& report) {
                         {"edf", p.edf},
                         {"dominant", AllanNoiseKindName(p.dominant)}});
     }
-    axes[kAxes[k]] = {{"points", points},
-                      {"white_noise", TermJson(fit.white, report.unit + "/sqrt(Hz)")},
-                      {"bias_instability", TermJson(fit.bias_instability, report.unit)},
-                      {"random_walk", TermJson(fit.random_walk, report.unit + "*sqrt(Hz)")},
-                      {"fit",
-                       {{"chi2", fit.chi2},
-                        {"dof", fit.dof},
-                        {"chi2_bootstrap_fraction", fit.chi2_bootstrap_fraction < 0.0
-                                                        ? nlohmann::json()
-                                                        : nlohmann::json(fit.chi2_bootstrap_fraction)},
-                        {"covariance", fit.covariance_method},
-                        {"bootstrap_series", fit.bootstrap_series}}},
-                      {"pooled_pose_variance", report.pooled_pose_variance[k]}};
+    axes[kAxes[k]] = {
+        {"points", points},
+        {"white_noise", TermJson(fit.white, report.unit + "/sqrt(Hz)")},
+        {"bias_instability", TermJson(fit.bias_instability, report.unit)},
+        {"random_walk", TermJson(fit.random_walk, report.unit + "*sqrt(Hz)")},
+        {"fit",
+         {{"chi2", fit.chi2},
+          {"dof", fit.dof},
+          {"chi2_bootstrap_fraction", fit.chi2_bootstrap_fraction < 0.0
+                                          ? nlohmann::json()
+                                          : nlohmann::json(fit.chi2_bootstrap_fraction)},
+          {"covariance", fit.covariance_method},
+          {"bootstrap_series", fit.bootstrap_series}}},
+        {"pooled_pose_variance", report.pooled_pose_variance[k]}};
   }
   json["axes"] = axes;
   if (!report.poses.empty()) {

@@ -170,7 +170,8 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
   *table = AllanBootstrapTable();
   table->sample_period_s = curve.sample_period_s;
   table->segment_samples = curve.segment_samples;
-  for (const AllanPoint& point : curve.points) table->cluster_samples.push_back(point.cluster_samples);
+  for (const AllanPoint& point : curve.points)
+    table->cluster_samples.push_back(point.cluster_samples);
   table->series = bootstrap.series;
   // The three unit processes, each simulated only when its term is fitted.
   std::array<NoiseProcessParameters, 3> unit;
@@ -187,7 +188,8 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
     std::array<double, kProducts>* products = &table->products[s * points];
     for (const long long n : curve.segment_samples) {
       std::array<std::vector<double>, 3> sums;
-      for (int u = 0; u < 3; ++u) sums[u] = CumulativeSums(SimulateNoiseProcess(unit[u], n, &random));
+      for (int u = 0; u < 3; ++u)
+        sums[u] = CumulativeSums(SimulateNoiseProcess(unit[u], n, &random));
       for (size_t i = 0; i < points; ++i) {
         const long long m = curve.points[i].cluster_samples;
         if (4 * m > n) continue;
@@ -254,8 +256,7 @@ Status FitAllanNoiseWithBootstrap(const AllanOptions& options, const AllanBootst
     if (!term.fitted) continue;
     const double observed = fit->coefficients[j];
     const TailFraction tail(fitter, table, avar, j, observed);
-    const double scale = std::max({std::fabs(observed), std::sqrt(fit->covariance[j][j]),
-                                   1e-300});
+    const double scale = std::max({std::fabs(observed), std::sqrt(fit->covariance[j][j]), 1e-300});
     bool above_low = false, above_high = false;  // F(0) > alpha/2, F(0) > 1 - alpha/2
     ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(0.0, alpha / 2.0, &above_low));
     ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(0.0, 1.0 - alpha / 2.0, &above_high));
