@@ -185,6 +185,13 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
   return coverage;
 }
 
+// Each term's coverage within 3 binomial sigmas of the stated 95%.
+void ExpectStatedCoverage(const Coverage& coverage) {
+  const double sigma = BinomialSigma(0.95, coverage.series);
+  for (int j = 0; j < 3; ++j)
+    EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
+}
+
 // The Done-when of issue 21: on white + random-walk noise of known N and K (B truly 0), the
 // fit's 95% intervals of N, K and B cover the truth at their stated rate. The least squares
 // intervals do not (N 85%, K 83%), nor did the bootstrap's sigma in a normal interval (K 86.5%:
@@ -194,9 +201,7 @@ TEST(AllanMonteCarlo, RecoversWhiteAndRandomWalkWithinTheStatedConfidence) {
   truth.white_density = 1e-3;
   truth.random_walk = 2e-4;
   const Coverage coverage = MeasureCoverage(truth, 1952);
-  const double sigma = BinomialSigma(0.95, coverage.series);
-  for (int j = 0; j < 3; ++j)
-    EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
+  ExpectStatedCoverage(coverage);
   EXPECT_EQ(coverage.resolved[0], coverage.series);  // N is always resolved
   // The model holds, so its chi2 is rare (below 5% of the bootstrap's) about 5% of the time.
   EXPECT_NEAR(1.0 * coverage.chi2_rare / coverage.series, 0.05,
@@ -213,9 +218,7 @@ TEST(AllanMonteCarlo, RecoversBiasInstabilityAndBoundsAWeakRandomWalk) {
   truth.bias_instability = 4e-4;
   truth.random_walk = 3e-5;
   const Coverage coverage = MeasureCoverage(truth, 2718);
-  const double sigma = BinomialSigma(0.95, coverage.series);
-  for (int j = 0; j < 3; ++j)
-    EXPECT_NEAR(1.0 * coverage.covered[j] / coverage.series, 0.95, 3.0 * sigma) << "term " << j;
+  ExpectStatedCoverage(coverage);
   // The weak walk is not resolved in a good share of the series, and its bound then holds.
   const int unresolved = coverage.series - coverage.resolved[2];
   ASSERT_GE(unresolved, 20);
