@@ -1,0 +1,283 @@
+#include "studies/allan_study.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "common/format.h"
+#include "simulation/random.h"
+
+namespace accelcal {
+namespace {
+
+constexpr int kProducts = 6;  // ww, rr, gg, wr, wg, rg
+
+// Cumulative sums of one unit process over one segment (empty when the process is not simulated).
+std::vector<double> CumulativeSums(const std::vector<double>& y) {
+  std::vector<double> sums(y.size() + 1, 0.0);
+  for (size_t i = 0; i < y.size(); ++i) sums[i + 1] = sums[i] + y[i];
+  return sums;
+}
+
+// The Allan variances of series s of the table simulated with the model `coefficients` (the
+// quadratic form of allan_study.h).
+class SimulatedSeries {
+ public:
+  SimulatedSeries(const AllanBootstrapTable& table, const std::array<double, 3>& coefficients)
+      : table_(table), points_(table.cluster_samples.size()) {
+    const double white2 = std::max(0.0, coefficients[0]);
+    const double bank2 = table.bank_variance_per_b2 * std::max(0.0, coefficients[1]);
+    const double walk2 = std::max(0.0, coefficients[2]);
+    const double white = std::sqrt(white2), bank = std::sqrt(bank2), walk = std::sqrt(walk2);
+    factor_ = {white2, walk2, bank2, 2.0 * white * walk, 2.0 * white * bank, 2.0 * walk * bank};
+  }
+
+  void AllanVariances(int s, std::vector<double>* avar) const {
+    avar->resize(points_);
+    for (size_t i = 0; i < points_; ++i) {
+      const std::array<double, kProducts>& product = table_.products[s * points_ + i];
+      double sum = 0.0;
+      for (int k = 0; k < kProducts; ++k) sum += factor_[k] * product[k];
+      (*avar)[i] = sum;
+    }
+  }
+
+ private:
+  const AllanBootstrapTable& table_;
+  const size_t points_;
+  std::array<double, kProducts> factor_;
+};
+
+const char kSingularRefit[] =
+    "a simulated series of the Allan bootstrap could not be fitted (singular); fit fewer terms";
+
+// Whether F(c) of allan_study.h exceeds `level`: F(c) the fraction of refits of term j at or
+// below the observed coefficient when the model is the data's best fit with coefficient j held
+// at c. The count stops as soon as the answer is certain (most of the cost is the refits).
+class TailFraction {
+ public:
+  TailFraction(const AllanFitter& fitter, const AllanBootstrapTable& table,
+               const std::vector<double>& avar, int j, double observed)
+      : fitter_(fitter), table_(table), avar_(avar), j_(j), observed_(observed) {}
+
+  Status Exceeds(double c, double level, bool* exceeds) const {
+    std::array<double, 3> model;
+    if (!fitter_.Fit(avar_.data(), &model, j_, c))
+      return Status::Error("the Allan fit with one term held is singular; fit fewer terms");
+    const SimulatedSeries simulated(table_, model);
+    const double needed = level * table_.series;  // exceeds when the count is above this
+    std::vector<double> avar;
+    std::array<double, 3> refit;
+    int at_or_below = 0;
+    for (int s = 0; s < table_.series; ++s) {
+      if (at_or_below > needed || at_or_below + (table_.series - s) <= needed) break;
+      simulated.AllanVariances(s, &avar);
+      if (!fitter_.Fit(avar.data(), &refit)) return Status::Error(kSingularRefit);
+      at_or_below += refit[j_] <= observed_;
+    }
+    *exceeds = at_or_below > needed;
+    return Status::Ok();
+  }
+
+ private:
+  const AllanFitter& fitter_;
+  const AllanBootstrapTable& table_;
+  const std::vector<double>& avar_;
+  const int j_;
+  const double observed_;
+};
+
+// The c >= 0 where F(c) falls to `level` (F decreasing), given F(0) > level: doubling from
+// `scale` to bracket it, then bisection to a relative 3e-3 (0.15% of the term).
+Status Crossing(const TailFraction& tail, double level, double scale, double* c) {
+  double low = 0.0, high = scale;
+  bool exceeds = false;
+  for (int doubling = 0;; ++doubling) {
+    ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(high, level, &exceeds));
+    if (!exceeds) break;
+    if (doubling == 200) {
+      return Status::Error(
+          "the bootstrap found no upper bound for a noise term; its Allan variance points do "
+          "not constrain it: fit fewer terms");
+    }
+    low = high;
+    high *= 2.0;
+  }
+  while (high - low > 3e-3 * high) {
+    const double middle = 0.5 * (low + high);
+    ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(middle, level, &exceeds));
+    (exceeds ? low : high) = middle;
+  }
+  *c = 0.5 * (low + high);
+  return Status::Ok();
+}
+
+Status CheckTable(const AllanCurve& curve, const AllanBootstrapTable& table) {
+  bool same = table.sample_period_s == curve.sample_period_s &&
+              table.segment_samples == curve.segment_samples &&
+              table.cluster_samples.size() == curve.points.size() && table.series > 0 &&
+              table.products.size() == table.cluster_samples.size() * table.series;
+  for (size_t i = 0; same && i < curve.points.size(); ++i)
+    same = table.cluster_samples[i] == curve.points[i].cluster_samples;
+  if (!same) {
+    return Status::Error(
+        "the Allan bootstrap table was made for other segments or taus than this curve's");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::vector<NoiseProcessParameters::Markov> AllanBiasInstabilityBank(const AllanCurve& curve,
+                                                                     double* variance_per_b2) {
+  std::vector<NoiseProcessParameters::Markov> bank;
+  *variance_per_b2 = 0.0;
+  if (curve.points.empty()) return bank;
+  const double tau_max_s = curve.points.back().tau_s;
+  for (double t_c = curve.sample_period_s / 2.0; t_c <= 2.0 * tau_max_s; t_c *= 4.0)
+    bank.push_back({1.0, t_c});
+  // The bank's unit-q Allan variance at the middle cluster size, against the fitted floor's.
+  NoiseProcessParameters unit;
+  unit.sample_period_s = curve.sample_period_s;
+  unit.markov = bank;
+  const long long middle = curve.points[curve.points.size() / 2].cluster_samples;
+  *variance_per_b2 =
+      BiasInstabilityFactor() * BiasInstabilityFactor() / NoiseProcessAllanVariance(unit, middle);
+  return bank;
+}
+
+NoiseProcessParameters AllanModelProcess(const AllanNoiseTerms& terms, const AllanCurve& curve) {
+  NoiseProcessParameters process;
+  process.sample_period_s = curve.sample_period_s;
+  process.white_density = terms.white_density;
+  process.random_walk = terms.random_walk;
+  if (terms.bias_instability > 0.0) {
+    double variance_per_b2 = 0.0;
+    process.markov = AllanBiasInstabilityBank(curve, &variance_per_b2);
+    const double q = std::sqrt(variance_per_b2) * terms.bias_instability;
+    for (NoiseProcessParameters::Markov& markov : process.markov) markov.stddev = q;
+  }
+  return process;
+}
+
+Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& curve,
+                               const AllanBootstrapOptions& bootstrap, AllanBootstrapTable* table) {
+  if (bootstrap.series < 100) {
+    return Status::Error(StringPrintf(
+        "a bootstrap of %d series cannot place 2.5%% tails; give at least 100 (1000 advised)",
+        bootstrap.series));
+  }
+  *table = AllanBootstrapTable();
+  table->sample_period_s = curve.sample_period_s;
+  table->segment_samples = curve.segment_samples;
+  for (const AllanPoint& point : curve.points)
+    table->cluster_samples.push_back(point.cluster_samples);
+  table->series = bootstrap.series;
+  // The three unit processes, each simulated only when its term is fitted.
+  std::array<NoiseProcessParameters, 3> unit;
+  for (NoiseProcessParameters& process : unit) process.sample_period_s = curve.sample_period_s;
+  if (options.fit_white) unit[0].white_density = 1.0;
+  if (options.fit_random_walk) unit[1].random_walk = 1.0;
+  const std::vector<NoiseProcessParameters::Markov> bank =
+      AllanBiasInstabilityBank(curve, &table->bank_variance_per_b2);
+  if (options.fit_bias_instability) unit[2].markov = bank;
+  const size_t points = curve.points.size();
+  table->products.assign(points * bootstrap.series, {});
+  for (int s = 0; s < bootstrap.series; ++s) {
+    RandomSource random(bootstrap.seed, static_cast<uint64_t>(s));
+    std::array<double, kProducts>* products = &table->products[s * points];
+    for (const long long n : curve.segment_samples) {
+      std::array<std::vector<double>, 3> sums;
+      for (int u = 0; u < 3; ++u)
+        sums[u] = CumulativeSums(SimulateNoiseProcess(unit[u], n, &random));
+      for (size_t i = 0; i < points; ++i) {
+        const long long m = curve.points[i].cluster_samples;
+        if (4 * m > n) continue;
+        std::array<double, kProducts> total{};
+        for (long long k = 0; k + 2 * m <= n; ++k) {
+          std::array<double, 3> d;
+          for (int u = 0; u < 3; ++u) d[u] = sums[u][k + 2 * m] - 2.0 * sums[u][k + m] + sums[u][k];
+          total[0] += d[0] * d[0];
+          total[1] += d[1] * d[1];
+          total[2] += d[2] * d[2];
+          total[3] += d[0] * d[1];
+          total[4] += d[0] * d[2];
+          total[5] += d[1] * d[2];
+        }
+        const double scale = 1.0 / (2.0 * static_cast<double>(m) * static_cast<double>(m) *
+                                    static_cast<double>(curve.points[i].difference_count));
+        for (int k = 0; k < kProducts; ++k) products[i][k] += scale * total[k];
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+Status FitAllanNoiseWithBootstrap(const AllanOptions& options, const AllanBootstrapTable& table,
+                                  AllanCurve* curve, AllanNoiseFit* fit) {
+  ACCELCAL_RETURN_IF_ERROR(FitAllanNoise(options, curve, fit));
+  ACCELCAL_RETURN_IF_ERROR(CheckTable(*curve, table));
+  const AllanFitter fitter(options, *curve);
+  std::vector<double> avar;
+  for (const AllanPoint& point : curve->points) avar.push_back(point.avar);
+  std::array<double, 3> base;
+  for (int j = 0; j < 3; ++j) base[j] = std::max(0.0, fit->coefficients[j]);
+  // The spread of the refits at the fitted model: the terms' sigmas, the coefficients'
+  // covariance.
+  const SimulatedSeries simulated(table, base);
+  std::vector<std::array<double, 3>> refits(table.series);
+  std::vector<double> simulated_avar, weights;
+  int chi2_at_least = 0;
+  for (int s = 0; s < table.series; ++s) {
+    simulated.AllanVariances(s, &simulated_avar);
+    if (!fitter.Fit(simulated_avar.data(), &refits[s], -1, 0.0, &weights))
+      return Status::Error(kSingularRefit);
+    chi2_at_least += fitter.Chi2(simulated_avar.data(), refits[s], weights) >= fit->chi2;
+  }
+  fit->chi2_bootstrap_fraction = static_cast<double>(chi2_at_least) / table.series;
+  std::array<double, 3> mean{};
+  for (const std::array<double, 3>& c : refits)
+    for (int j = 0; j < 3; ++j) mean[j] += c[j] / static_cast<double>(refits.size());
+  fit->covariance = {};
+  for (const std::array<double, 3>& c : refits) {
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k)
+        fit->covariance[r][k] +=
+            (c[r] - mean[r]) * (c[k] - mean[k]) / static_cast<double>(refits.size() - 1);
+  }
+  fit->covariance_method = "parametric bootstrap";
+  fit->bootstrap_series = table.series;
+  SetAllanTermsFromCovariance(options, fit);
+  // The intervals by test inversion, in place of SetAllanTermsFromCovariance's normal ones.
+  const double alpha = 1.0 - options.confidence;
+  AllanTerm* terms[3] = {&fit->white, &fit->bias_instability, &fit->random_walk};
+  for (int j = 0; j < 3; ++j) {
+    AllanTerm& term = *terms[j];
+    if (!term.fitted) continue;
+    const double observed = fit->coefficients[j];
+    const TailFraction tail(fitter, table, avar, j, observed);
+    const double scale = std::max({std::fabs(observed), std::sqrt(fit->covariance[j][j]), 1e-300});
+    bool above_low = false, above_high = false;  // F(0) > alpha/2, F(0) > 1 - alpha/2
+    ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(0.0, alpha / 2.0, &above_low));
+    ACCELCAL_RETURN_IF_ERROR(tail.Exceeds(0.0, 1.0 - alpha / 2.0, &above_high));
+    double low = 0.0, high = 0.0;
+    if (above_low) ACCELCAL_RETURN_IF_ERROR(Crossing(tail, alpha / 2.0, scale, &high));
+    if (above_high) ACCELCAL_RETURN_IF_ERROR(Crossing(tail, 1.0 - alpha / 2.0, scale, &low));
+    term.resolved = low > 0.0;
+    term.below_model = !above_low;
+    term.low = std::sqrt(low);
+    term.high = std::sqrt(high);
+    if (!term.resolved) term.stddev = 0.0;
+  }
+  return Status::Ok();
+}
+
+Status FitAllanNoiseWithBootstrap(const AllanOptions& options,
+                                  const AllanBootstrapOptions& bootstrap, AllanCurve* curve,
+                                  AllanNoiseFit* fit) {
+  AllanBootstrapTable table;
+  ACCELCAL_RETURN_IF_ERROR(MakeAllanBootstrapTable(options, *curve, bootstrap, &table));
+  return FitAllanNoiseWithBootstrap(options, table, curve, fit);
+}
+
+}  // namespace accelcal
