@@ -34,6 +34,7 @@
 #include "estimation/noise_floor_detector.h"
 #include "estimation/triad_initial_guess.h"
 #include "estimation/triad_ml_calibration.h"
+#include "estimation/triad_pose_noise.h"
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
@@ -65,6 +66,7 @@ DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (heade
 DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
 DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
 DEFINE_bool(scale_nonlinearity, false, "Mode ml: estimate a second-order scale term per axis too (scale_nonlinearity_x/y/z, 1/(m/s^2), the spec's k2: the axis reads w + k2 w^2 for a force w along it), 12 parameters in all. Not yet written to a calibration file.");
+DEFINE_string(noise, "auto", "Mode ml: the noise model of the pose means. white: white noise of the pooled within-pose variance, s^2/N for a pose of N samples. allan: the Allan variance of the poses' own samples (N, B, K fitted per axis), a pose of T s has variance sigma^2(T) (docs/noise.md). auto: allan when white noise is rejected against it from the within-pose data at alpha/4, else white. The parameters' sigmas and the fit statistic follow it.");
 DEFINE_double(alpha, 0.01, "Mode ml: discovery's family-wise error rate, in (0, 0.5): a session the 9-parameter model and its noise model explain gets any verdict but explained at most this often (docs/triad-discovery.md).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
@@ -104,6 +106,10 @@ Status ValidateFlags() {
   if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml" && FLAGS_mode != "ferraris") {
     return Status::Error("--mode='" + FLAGS_mode +
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
+  }
+  if (FLAGS_noise != "auto" && FLAGS_noise != "white" && FLAGS_noise != "allan") {
+    return Status::Error("--noise='" + FLAGS_noise +
+                         "' is not a noise model; use --noise=auto, white or allan");
   }
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
     return Status::Error(
@@ -246,6 +252,17 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   report->ml_options.gravity_mps2 = FLAGS_g;
   report->ml_options.initial = TriadStartFromPoses(poses, FLAGS_g);
   report->ml_options.scale_nonlinearity = FLAGS_scale_nonlinearity;
+  // The coloured model of the pose means from the log's Allan variance, when the poses are long
+  // enough for one; discovery is offered it too.
+  TriadPoseNoise& pose_noise = report->pose_noise;
+  const Status allan = TriadPoseNoiseFromLog(log, report->pose_intervals, poses, &pose_noise);
+  if (FLAGS_noise == "allan") ACCELCAL_RETURN_IF_ERROR(allan.WithContext("--noise=allan"));
+  report->allan_noise =
+      allan.ok() &&
+      (FLAGS_noise == "allan" ||
+       (FLAGS_noise == "auto" && pose_noise.candidate.white_p_value < FLAGS_alpha / 4));
+  if (report->allan_noise)
+    report->ml_options.pose_mean_variance = pose_noise.candidate.pose_mean_variance;
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log));
   ACCELCAL_RETURN_IF_ERROR(
@@ -257,6 +274,7 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   discovery.unit = TriadOutputUnitName(report->unit);
   for (int k = 0; k < 3; ++k)
     discovery.gain_mps2_per_unit[k] = report->ml.parameters[kTriadGainX + k];
+  if (allan.ok()) discovery.coloured_noise = pose_noise.candidate;
   return DiscoverTriad(poses, discovery, &report->discovery).WithContext(FLAGS_log);
 }
 

@@ -197,9 +197,10 @@ def main():
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--scale_nonlinearity"] + log,
              "json"),
             ("calibrate", ["calibrate_imu", "--mode=ml"] + log, "--calibration_out"),
+            ("allan", ["allan", f"--log={xsens}", "--bootstrap=200"], "json"),
         ]
     else:
-        skipped |= {"calibrate_imu", "calibrate_imu_ml"}
+        skipped |= {"calibrate_imu", "calibrate_imu_ml", "allan"}
         print(f"no {xsens}: calibrate_imu's outputs not checked")
     if os.path.isfile(session):
         runs += [
@@ -212,6 +213,14 @@ def main():
     else:
         skipped.add("calibrate_imu_ferraris")
         print(f"no {session}: calibrate_imu --mode=ferraris's output not checked")
+    mimu = os.environ.get("ACCELCAL_MIMU4444_DATA") or os.path.join(shared, "mimu4444")
+    imu1 = [os.path.join(mimu, f"run{r}", "imu1.csv") for r in (1, 2, 3)]
+    if all(os.path.isfile(f) for f in imu1):
+        runs.append(("calibrate_imu_sessions",
+                     ["calibrate_imu", "--log=" + ",".join(imu1), "--g=9.8187", "--mode=ml"], "json"))
+    else:
+        skipped.add("calibrate_imu_sessions")
+        print(f"no {imu1[0]}: calibrate_imu's sessions output not checked")
     documented = {name for name in schemas if name != "provenance"} - skipped
     run_names = {name for name, _, _ in runs}
     errors = []

@@ -114,7 +114,14 @@ TEST(TriadReport, XsensReportHasEveryPoseResidualFigureParametersWithSigmaAndThe
             std::string::npos);
 
   // The fit in words, the provenance.
-  EXPECT_NE(html.find("does NOT explain the residuals"), std::string::npos);
+  EXPECT_NE(html.find("Allan model explains the residuals"), std::string::npos);
+  // Discovery's section: every candidate in its table, what static poses cannot test, the
+  // verdict as the JSON gives it.
+  EXPECT_NE(html.find("What the model misses (discovery)"), std::string::npos);
+  for (const auto& candidate : json["discovery"]["candidates"])
+    EXPECT_NE(html.find(candidate["effect"].get<std::string>()), std::string::npos);
+  EXPECT_NE(html.find("Not testable from static poses: gravity_error"), std::string::npos);
+  EXPECT_NE(html.find("Verdict (" + json["verdict"].get<std::string>() + ")"), std::string::npos);
   EXPECT_NE(html.find("on 29 degrees of freedom"), std::string::npos);
   EXPECT_NE(html.find("335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510"),
             std::string::npos);

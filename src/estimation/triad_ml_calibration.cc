@@ -464,6 +464,7 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   if (effects != nullptr) state.blocks.push_back(effects);
   state.mean_stddev = TypicalMeanStddev(poses, result->noise_variance);
   result->mean_stddev.resize(pose_count);
+  result->mean_stddev_from_caller = !options.pose_mean_variance.empty();
   for (int p = 0; p < pose_count; ++p) {
     std::array<double, 3>& mean_stddev = result->mean_stddev[p];
     for (int k = 0; k < 3; ++k) {

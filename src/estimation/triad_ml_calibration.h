@@ -98,6 +98,7 @@ struct TriadMlResult {
   std::vector<std::array<double, 3>> whitened_residuals;  // r_p per pose (dimensionless)
   std::array<double, 3> noise_variance{};                 // pooled s_k^2, counts^2
   std::vector<std::array<double, 3>> mean_stddev;         // sigma_p,k the residuals divide by
+  bool mean_stddev_from_caller = false;                   // options.pose_mean_variance given
   int pose_count = 0;
   double chi2 = 0.0;
   int degrees_of_freedom = 0;

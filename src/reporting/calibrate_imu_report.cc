@@ -226,20 +226,48 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
 }
 
 std::string FitVerdict(const TriadMlResult& ml) {
+  const char* model = ml.mean_stddev_from_caller ? "Allan" : "white-noise";
   if (ml.p_value >= 0.01) {
     return StringPrintf(
-        "the white-noise model explains the residuals (p = %.3g >= 0.01): the sigmas above are "
-        "the calibration's uncertainty",
-        ml.p_value);
+        "the %s model explains the residuals (p = %.3g >= 0.01): the sigmas above are the "
+        "calibration's uncertainty",
+        model, ml.p_value);
   }
   return StringPrintf(
-      "the white-noise model does NOT explain the residuals: chi2/dof = %.3g is %.1f expected "
-      "spreads above 1 (p = %.3g). The pose means scatter more than white noise of the "
-      "within-pose variance allows (noise correlated in time, drift, or a model error), so the "
-      "sigmas above understate the uncertainty (by a factor of about sqrt(chi2/dof) = %.2g "
-      "if the excess scatter were white)",
-      ml.chi2_per_dof, (ml.chi2_per_dof - 1.0) / ml.chi2_per_dof_spread, ml.p_value,
+      "the %s model does NOT explain the residuals: chi2/dof = %.3g is %.1f expected spreads "
+      "above 1 (p = %.3g). The pose means scatter more than %s allows (noise correlated in "
+      "time, drift, or a model error), so the sigmas above understate the uncertainty (by a "
+      "factor of about sqrt(chi2/dof) = %.2g if the excess scatter were white)",
+      model, ml.chi2_per_dof, (ml.chi2_per_dof - 1.0) / ml.chi2_per_dof_spread, ml.p_value,
+      ml.mean_stddev_from_caller ? "the Allan variance of the poses' samples"
+                                 : "white noise of the within-pose variance",
       std::sqrt(ml.chi2_per_dof));
+}
+
+// The noise model of the pose means in one line.
+std::string NoiseModelLine(const CalibrateImuReport& report) {
+  const TriadMlResult& ml = report.ml;
+  const char* unit = TriadOutputUnitName(report.unit);
+  if (!report.allan_noise) {
+    return StringPrintf(
+        "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, "
+        "%.4g, %.4g) %s; a pose mean of N samples has variance s^2/N (--noise)\n",
+        std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
+        std::sqrt(ml.noise_variance[2]), unit);
+  }
+  const auto& terms = report.pose_noise.terms;
+  return StringPrintf(
+      "noise model: Allan variance of the poses' samples, per axis N = (%.3g, %.3g, %.3g) "
+      "%s/sqrt(Hz), B = (%.3g, %.3g, %.3g) %s, K = (%.3g, %.3g, %.3g) %s sqrt(Hz); a pose mean "
+      "of T s has variance N^2/T + 0.441 B^2 + K^2 T/3 (docs/noise.md); white noise rejected "
+      "against it (p = %.3g; at tau = %.3g s the Allan variance is (%.3g, %.3g, %.3g) times "
+      "white noise's) (--noise)\n",
+      terms[0].white_density, terms[1].white_density, terms[2].white_density, unit,
+      terms[0].bias_instability, terms[1].bias_instability, terms[2].bias_instability, unit,
+      terms[0].random_walk, terms[1].random_walk, terms[2].random_walk, unit,
+      report.pose_noise.candidate.white_p_value, report.pose_noise.test_tau_s,
+      report.pose_noise.avar_ratio[0], report.pose_noise.avar_ratio[1],
+      report.pose_noise.avar_ratio[2]);
 }
 
 std::string PosesLine(const CalibrateImuReport& report) {
@@ -275,11 +303,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       report.ml_options.gravity_mps2);
   out << LogLine(report);
   out << PosesLine(report);
-  out << StringPrintf(
-      "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, %.4g, "
-      "%.4g) %s; a pose mean of N samples has variance s^2/N\n",
-      std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
-      std::sqrt(ml.noise_variance[2]), TriadOutputUnitName(report.unit));
+  out << NoiseModelLine(report);
   out << StringPrintf(
       "unknowns: %d parameters + 2 per pose (gravity direction); residuals: 3 per pose; "
       "%d degrees of freedom\n\n",
@@ -351,7 +375,10 @@ CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
   }
   record.gravity_mps2 = report.ml_options.gravity_mps2;
   record.noise_variance.assign(ml.noise_variance.begin(), ml.noise_variance.end());
-  record.noise_variance_from = "pooled within-pose variances";
+  record.noise_variance_from =
+      report.allan_noise ? "pooled within-pose variances per sample; the fit weighted the pose "
+                           "means by the Allan variance of their samples (docs/noise.md)"
+                         : "pooled within-pose variances";
   record.fit = {
       {"poses", ml.pose_count},       {"samples", report.ml_sample_count}, {"chi2", ml.chi2},
       {"dof", ml.degrees_of_freedom}, {"chi2_p_value", ml.p_value},        {"alpha", 0.01},
@@ -422,10 +449,26 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["chi2_per_dof_expected_spread"] = ml.chi2_per_dof_spread;
   json["p_value"] = ml.p_value;
   json["p_value_definition"] = "P(chi2_dof > chi2), chi2 = sum of squared whitened residuals";
+  nlohmann::json allan_terms = nullptr;
+  if (report.allan_noise) {
+    allan_terms = nlohmann::json::object();
+    for (int k = 0; k < 3; ++k) {
+      const AllanNoiseTerms& t = report.pose_noise.terms[k];
+      allan_terms[Axis(k)] = {{"white_density", t.white_density},
+                              {"bias_instability", t.bias_instability},
+                              {"random_walk", t.random_walk}};
+    }
+  }
   json["noise_model"] = {
+      {"kind", report.allan_noise ? "allan" : "white"},
       {"description",
-       "white noise, one variance per axis pooled over the poses; a pose mean of N samples has "
-       "variance s^2/N"},
+       report.allan_noise
+           ? "Allan variance of the poses' samples, terms N (unit/sqrt(Hz)), B (unit), K (unit "
+             "sqrt(Hz)) per axis; a pose mean of T s has variance N^2/T + 0.441 B^2 + K^2 T/3"
+           : "white noise, one variance per axis pooled over the poses; a pose mean of N "
+             "samples has variance s^2/N"},
+      {"allan_terms", allan_terms},
+      {"white_p_value", report.pose_noise.candidate.white_p_value},
       {"stddev_per_sample",
        {std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
         std::sqrt(ml.noise_variance[2])}},

@@ -16,6 +16,7 @@
 #include "estimation/noise_floor_detector.h"
 #include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
+#include "estimation/triad_pose_noise.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
 #include "models/triad_units.h"
@@ -45,6 +46,9 @@ struct CalibrateImuReport {
   TriadMlOptions ml_options;
   TriadMlResult ml;
   int ml_sample_count = 0;  // samples in the poses' means
+  // Mode ml: the Allan model of the pose means, and whether the fit uses it (else white).
+  TriadPoseNoise pose_noise;
+  bool allan_noise = false;
   // Mode ml: what the 9-parameter model misses (estimation/triad_discovery.h).
   TriadDiscoveryOptions discovery_options;
   TriadDiscoveryResult discovery;

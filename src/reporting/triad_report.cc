@@ -259,6 +259,42 @@ ReportSection FitSection(const CalibrateImuReport& report) {
   return section;
 }
 
+// Discovery on the poses (estimation/triad_discovery.h): the candidates as a table, what was
+// found, what static poses cannot test, what remains, the verdict.
+ReportSection DiscoverySection(const CalibrateImuReport& report) {
+  const TriadDiscoveryResult& d = report.discovery;
+  ReportSection section;
+  section.title = "5. What the model misses (discovery)";
+  section.paragraphs.push_back(StringPrintf(
+      "alpha = %g: a session the 9-parameter model explains gets another verdict at most that "
+      "often. Noise of the pose means: %s.",
+      report.discovery_options.alpha, d.noise_note.c_str()));
+  section.table.push_back({"step", "effect", "estimate", "sigma", "delta chi2", "p", "Holm"});
+  for (const TriadCandidateScore& c : d.candidates) {
+    section.table.push_back({StringPrintf("%d", c.step), c.name, StringPrintf("%.4g", c.estimate),
+                             StringPrintf("%.3g", c.stddev), StringPrintf("%.3g", c.delta_chi2),
+                             StringPrintf("%.3g", c.p_value), c.significant ? "significant" : "-"});
+  }
+  for (const TriadUntestable& u : d.untestable) {
+    section.paragraphs.push_back("Not testable from static poses: " + u.effect +
+                                 ", confounded with " + u.confounded_with + " (" + u.rank_check +
+                                 ").");
+  }
+  section.paragraphs.push_back(
+      StringPrintf("Final model: chi2/dof = %.3g on %d dof (expected 1 +- %.2g), p = %.3g.",
+                   d.final_fit.chi2_per_dof, d.final_fit.degrees_of_freedom,
+                   d.final_fit.chi2_per_dof_spread, d.final_fit.p_value));
+  if (d.cross_validation.folds > 0) {
+    section.paragraphs.push_back(StringPrintf(
+        "Leave-poses-out cross-validation (%d folds): mean held-out chi2 per pose %.3g for the "
+        "baseline, %.3g for the final model (1 for a right model).",
+        d.cross_validation.folds, d.cross_validation.baseline, d.cross_validation.final_model));
+  }
+  section.paragraphs.push_back("Verdict (" + std::string(VerdictCode(d.verdict_code)) +
+                               "): " + d.verdict + ".");
+  return section;
+}
+
 ReportDocument Document(const CalibrateImuReport& report, const DataSource& source,
                         const std::map<std::string, std::string>& absent) {
   const TriadMlResult& ml = report.ml;
@@ -271,12 +307,13 @@ ReportDocument Document(const CalibrateImuReport& report, const DataSource& sour
                                      ml.chi2_per_dof, ml.degrees_of_freedom, ml.p_value));
   if (!report.imu_tk_status.ok())
     doc.summary.push_back("imu_tk's rules give no answer on this log.");
-  doc.verdict = Sentence(FitVerdict(ml)) + ".";
+  doc.verdict = Sentence(FitVerdict(ml)) + ". Discovery: " + report.discovery.verdict + ".";
   doc.sections.push_back(PosesSection(report));
   doc.sections.push_back(ResidualSection(report));
   doc.sections.push_back(ParameterSection(report));
   doc.sections.push_back(FitSection(report));
-  doc.sections.push_back(ProvenanceSection(source, "5. Provenance"));
+  doc.sections.push_back(DiscoverySection(report));
+  doc.sections.push_back(ProvenanceSection(source, "6. Provenance"));
   // A figure that could not be drawn is named where it would stand, with the reason.
   int not_drawn = 0;
   for (ReportSection& section : doc.sections) {

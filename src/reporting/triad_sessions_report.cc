@@ -104,10 +104,14 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
       "docs/repeatability.md";
   json["gravity_mps2"] = report.gravity_mps2;
   json["output_unit"] = TriadOutputUnitName(report.unit);
+  nlohmann::json session_units;
+  for (int p = 0; p < kTriadParameterCount; ++p)
+    session_units[Name(p)] = TriadParameterUnit(p, report.unit);
   nlohmann::json sessions = nlohmann::json::array();
   for (const TriadSessionReport& session : report.sessions) {
     const TriadMlResult& ml = session.calibration.ml;
     sessions.push_back({{"file", session.path},
+                        {"units", session_units},
                         {"sha256", session.sha256},
                         {"poses", ml.pose_count},
                         {"samples", session.calibration.sample_count},
