@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "estimation/triad_pose_noise.h"
+#include "simulation/noise_process.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_monte_carlo.h"
 
@@ -144,6 +146,100 @@ TEST(TriadDiscovery, ReportsWhatStaticPosesCannotDetermine) {
     const double ratio = result.final_fit.parameters[kTriadGainX + k] / truth[kTriadGainX + k];
     EXPECT_NEAR(ratio, kGravity / 9.80,
                 4.0 * result.final_fit.stddev[kTriadGainX + k] / truth[kTriadGainX + k]);
+  }
+}
+
+// A log of `poses` static poses of 8 s at 100 Hz, 2 s apart, every axis's output a constant
+// plus `noise` drawn anew in each pose; the poses' intervals and means.
+void SimulatePoseLog(const NoiseProcessParameters& noise, int poses, RandomSource* random,
+                     TriadLog* log, std::vector<StaticInterval>* intervals,
+                     std::vector<TriadPoseMean>* means) {
+  constexpr int kSamples = 800;
+  *log = TriadLog();
+  intervals->clear();
+  for (int p = 0; p < poses; ++p) {
+    std::array<std::vector<double>, 3> axes;
+    for (auto& axis : axes) axis = SimulateNoiseProcess(noise, kSamples, random);
+    StaticInterval interval;
+    interval.start = static_cast<int>(log->size());
+    const double start_s = p * 10.0;
+    for (int i = 0; i < kSamples; ++i)
+      log->Add(start_s + 0.01 * i, 1000.0 + axes[0][i], 2000.0 + axes[1][i], 3000.0 + axes[2][i]);
+    interval.end = static_cast<int>(log->size()) - 1;
+    interval.start_s = start_s;
+    interval.end_s = start_s + 0.01 * (kSamples - 1);
+    interval.duration_s = interval.end_s - interval.start_s;
+    intervals->push_back(interval);
+  }
+  *means = PoseMeansOfIntervals(*log, *intervals, 2);
+}
+
+// Step 1's test of white noise against the poses' Allan variance: on white noise its p-value
+// is below a level at most that often (300 logs: at 0.1, binomial sd 0.017); on bias
+// instability it rejects at alpha/4 = 0.0025 nearly always, and the pose means' variance it
+// gives does not understate the simulated means' spread.
+TEST(TriadPoseNoise, WhiteNoiseTestHoldsItsLevelAndSeesBiasInstability) {
+  constexpr int kLogs = 300;
+  NoiseProcessParameters white;
+  white.sample_period_s = 0.01;
+  white.white_density = 0.32;  // count/sqrt(Hz): 3.2 counts per sample
+  int below_tenth = 0;
+  int below_twentieth = 0;
+  for (int l = 0; l < kLogs; ++l) {
+    RandomSource random(51, l);
+    TriadLog log;
+    std::vector<StaticInterval> intervals;
+    std::vector<TriadPoseMean> poses;
+    SimulatePoseLog(white, 30, &random, &log, &intervals, &poses);
+    TriadPoseNoise noise;
+    ASSERT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &noise).ok());
+    below_tenth += noise.candidate.white_p_value < 0.1;
+    below_twentieth += noise.candidate.white_p_value < 0.05;
+  }
+  std::printf("  white noise: p < 0.1 in %d, p < 0.05 in %d of %d logs\n", below_tenth,
+              below_twentieth, kLogs);
+  EXPECT_LE(below_tenth, kLogs * (0.1 + 3.0 * std::sqrt(0.1 * 0.9 / kLogs)));
+  EXPECT_LE(below_twentieth, kLogs * (0.05 + 3.0 * std::sqrt(0.05 * 0.95 / kLogs)));
+
+  // Bias instability as flicker noise is made (a bank of Gauss-Markov processes of equal size
+  // at correlation times spaced by 4: a flat Allan deviation between them), and a single
+  // Gauss-Markov process, which the three-term model describes worse.
+  NoiseProcessParameters flicker = white;
+  for (const double correlation_s : {0.5, 2.0, 8.0, 32.0})
+    flicker.markov.push_back({0.35, correlation_s});
+  NoiseProcessParameters markov = white;
+  markov.markov.push_back({0.6, 3.0});
+  for (const auto& [name, coloured] :
+       {std::make_pair("flicker bank", flicker), std::make_pair("one Gauss-Markov", markov)}) {
+    int rejected = 0;
+    double spread_ratio = 0.0;
+    constexpr int kColouredLogs = 40;
+    for (int l = 0; l < kColouredLogs; ++l) {
+      RandomSource random(52, l);
+      TriadLog log;
+      std::vector<StaticInterval> intervals;
+      std::vector<TriadPoseMean> poses;
+      SimulatePoseLog(coloured, 30, &random, &log, &intervals, &poses);
+      TriadPoseNoise noise;
+      ASSERT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &noise).ok());
+      rejected += noise.candidate.white_p_value < 0.0025;
+      // The means' scatter about the constant against the variance the model gives them.
+      double squares = 0.0;
+      double variance = 0.0;
+      for (size_t p = 0; p < poses.size(); ++p) {
+        squares += (poses[p].mean[0] - 1000.0) * (poses[p].mean[0] - 1000.0);
+        variance += noise.candidate.pose_mean_variance[p][0];
+      }
+      spread_ratio += squares / variance / kColouredLogs;
+    }
+    std::printf("  %s: rejected in %d of %d logs; means' scatter / model %.3f\n", name, rejected,
+                kColouredLogs, spread_ratio);
+    EXPECT_GE(rejected, kColouredLogs - 2) << name;
+    // The model extrapolates the Allan variance from taus up to a quarter of a pose to the
+    // pose's duration: conservative (it never understates the scatter by more than the ratio's
+    // standard error, about 0.05), and not by more than 2x.
+    EXPECT_LT(spread_ratio, 1.1) << name;
+    EXPECT_GT(spread_ratio, 0.5) << name;
   }
 }
 
