@@ -107,10 +107,8 @@ Status ValidateFlags() {
     return Status::Error("--mode='" + FLAGS_mode +
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
   }
-  if (FLAGS_noise != "auto" && FLAGS_noise != "white" && FLAGS_noise != "allan") {
-    return Status::Error("--noise='" + FLAGS_noise +
-                         "' is not a noise model; use --noise=auto, white or allan");
-  }
+  TriadNoiseChoice noise;
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &noise).WithContext("--noise"));
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
     return Status::Error(
         StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", FLAGS_alpha));
@@ -254,13 +252,12 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   report->ml_options.scale_nonlinearity = FLAGS_scale_nonlinearity;
   // The coloured model of the pose means from the log's Allan variance, when the poses are long
   // enough for one; discovery is offered it too.
+  TriadNoiseChoice choice = TriadNoiseChoice::kAuto;
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &choice).WithContext("--noise"));
   TriadPoseNoise& pose_noise = report->pose_noise;
-  const Status allan = TriadPoseNoiseFromLog(log, report->pose_intervals, poses, &pose_noise);
-  if (FLAGS_noise == "allan") ACCELCAL_RETURN_IF_ERROR(allan.WithContext("--noise=allan"));
-  report->allan_noise =
-      allan.ok() &&
-      (FLAGS_noise == "allan" ||
-       (FLAGS_noise == "auto" && pose_noise.candidate.white_p_value < FLAGS_alpha / 4));
+  ACCELCAL_RETURN_IF_ERROR(SelectTriadPoseNoise(log, report->pose_intervals, poses, choice,
+                                                FLAGS_alpha, &pose_noise, &report->allan_noise)
+                               .WithContext(FLAGS_log));
   if (report->allan_noise)
     report->ml_options.pose_mean_variance = pose_noise.candidate.pose_mean_variance;
   ACCELCAL_RETURN_IF_ERROR(
@@ -274,7 +271,7 @@ Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
   discovery.unit = TriadOutputUnitName(report->unit);
   for (int k = 0; k < 3; ++k)
     discovery.gain_mps2_per_unit[k] = report->ml.parameters[kTriadGainX + k];
-  if (allan.ok()) discovery.coloured_noise = pose_noise.candidate;
+  discovery.coloured_noise = pose_noise.candidate;
   return DiscoverTriad(poses, discovery, &report->discovery).WithContext(FLAGS_log);
 }
 

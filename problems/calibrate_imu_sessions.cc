@@ -40,6 +40,8 @@ DECLARE_bool(scale_nonlinearity);
 DECLARE_string(json);
 DECLARE_string(report);
 DECLARE_string(calibration_out);
+DECLARE_string(noise);
+DECLARE_double(alpha);
 
 namespace accelcal {
 namespace {
@@ -83,6 +85,9 @@ Status SessionOptionsFromFlags(TriadSessionOptions* options) {
   options->detector.window_samples = FLAGS_window;
   options->detector.threshold_factor = FLAGS_threshold_factor;
   options->detector.min_interval_s = FLAGS_min_interval_s;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseTriadNoiseChoice(FLAGS_noise, &options->noise).WithContext("--noise"));
+  options->alpha = FLAGS_alpha;
   return Status::Ok();
 }
 

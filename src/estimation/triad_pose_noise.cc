@@ -80,4 +80,31 @@ Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterv
   return Status::Ok();
 }
 
+Status ParseTriadNoiseChoice(const std::string& text, TriadNoiseChoice* choice) {
+  if (text == "auto") {
+    *choice = TriadNoiseChoice::kAuto;
+  } else if (text == "white") {
+    *choice = TriadNoiseChoice::kWhite;
+  } else if (text == "allan") {
+    *choice = TriadNoiseChoice::kAllan;
+  } else {
+    return Status::Error("'" + text + "' is not a noise model; use auto, white or allan");
+  }
+  return Status::Ok();
+}
+
+Status SelectTriadPoseNoise(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                            const std::vector<TriadPoseMean>& poses, TriadNoiseChoice choice,
+                            double alpha, TriadPoseNoise* noise, bool* use_allan) {
+  const Status allan = TriadPoseNoiseFromLog(log, intervals, poses, noise);
+  *use_allan = false;
+  if (!allan.ok()) {
+    *noise = TriadPoseNoise();
+    return choice == TriadNoiseChoice::kAllan ? allan.WithContext("--noise=allan") : Status::Ok();
+  }
+  *use_allan = choice == TriadNoiseChoice::kAllan ||
+               (choice == TriadNoiseChoice::kAuto && noise->candidate.white_p_value < alpha / 4.0);
+  return Status::Ok();
+}
+
 }  // namespace accelcal

@@ -14,6 +14,7 @@
 // three axes' p-values combined by Bonferroni (3 times the smallest, at most 1).
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "common/status.h"
@@ -36,6 +37,17 @@ struct TriadPoseNoise {
 // when the poses are too short for an Allan variance at two or more taus.
 Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterval>& intervals,
                              const std::vector<TriadPoseMean>& poses, TriadPoseNoise* noise);
+
+// Which noise model weights the pose means of a calibration (calibrate_imu --noise).
+enum class TriadNoiseChoice { kAuto, kWhite, kAllan };
+Status ParseTriadNoiseChoice(const std::string& text, TriadNoiseChoice* choice);
+
+// The Allan model when the poses allow one (noise->candidate empty otherwise), and whether the
+// calibration uses it: kAllan always (failing when the poses are too short), kAuto when white
+// noise is rejected against it at alpha/4 (discovery's share for the noise), kWhite never.
+Status SelectTriadPoseNoise(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                            const std::vector<TriadPoseMean>& poses, TriadNoiseChoice choice,
+                            double alpha, TriadPoseNoise* noise, bool* use_allan);
 
 }  // namespace accelcal
 

@@ -233,12 +233,25 @@ Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& opt
       PoseMeansOfIntervals(log, calibration->detection.intervals, 2);
   calibration->sample_count = 0;
   for (const TriadPoseMean& pose : poses) calibration->sample_count += pose.sample_count;
+  ACCELCAL_RETURN_IF_ERROR(
+      SelectTriadPoseNoise(log, calibration->detection.intervals, poses, options.noise,
+                           options.alpha, &calibration->pose_noise, &calibration->allan_noise));
   TriadMlOptions ml_options;
   ml_options.gravity_mps2 = options.gravity_mps2;
   ml_options.initial = TriadStartFromPoses(poses, options.gravity_mps2);
   ml_options.solve = options.solve;
+  if (calibration->allan_noise)
+    ml_options.pose_mean_variance = calibration->pose_noise.candidate.pose_mean_variance;
   ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, ml_options, &calibration->ml));
-  return CheckGainsMatchUnit(calibration->ml.parameters, options.unit);
+  ACCELCAL_RETURN_IF_ERROR(CheckGainsMatchUnit(calibration->ml.parameters, options.unit));
+  TriadDiscoveryOptions discovery;
+  discovery.alpha = options.alpha;
+  discovery.fit.gravity_mps2 = options.gravity_mps2;
+  discovery.fit.initial = ml_options.initial;
+  discovery.fit.solve = options.solve;
+  discovery.unit = TriadOutputUnitName(options.unit);
+  discovery.coloured_noise = calibration->pose_noise.candidate;
+  return DiscoverTriad(poses, discovery, &calibration->discovery);
 }
 
 std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>& sessions,

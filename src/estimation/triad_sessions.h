@@ -45,7 +45,9 @@
 #include "common/status.h"
 #include "common/triad_log.h"
 #include "estimation/noise_floor_detector.h"
+#include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
+#include "estimation/triad_pose_noise.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
 
@@ -135,11 +137,17 @@ struct TriadSessionOptions {
   double initial_offset = 0.0;  // when !offset_auto
   NoiseFloorOptions detector;
   QuietSolveOptions solve;
+  // The noise model of the pose means (estimation/triad_pose_noise.h) and discovery's alpha.
+  TriadNoiseChoice noise = TriadNoiseChoice::kAuto;
+  double alpha = 0.01;
 };
 
 struct TriadSessionCalibration {
   NoiseFloorDetection detection;
+  TriadPoseNoise pose_noise;
+  bool allan_noise = false;  // the fit weights the pose means by the Allan model
   TriadMlResult ml;
+  TriadDiscoveryResult discovery;
   int sample_count = 0;  // samples in the poses' means
 };
 

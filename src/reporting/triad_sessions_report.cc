@@ -121,6 +121,9 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
                         {"dof", ml.degrees_of_freedom},
                         {"chi2_per_dof", ml.chi2_per_dof},
                         {"chi2_per_dof_expected_spread", ml.chi2_per_dof_spread},
+                        {"noise_model", session.calibration.allan_noise ? "allan" : "white"},
+                        {"verdict", VerdictCode(session.calibration.discovery.verdict_code)},
+                        {"verdict_text", session.calibration.discovery.verdict},
                         {"p_value", ml.p_value}});
   }
   json["sessions"] = sessions;
