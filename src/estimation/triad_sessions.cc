@@ -251,6 +251,8 @@ Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& opt
   discovery.fit.solve = options.solve;
   discovery.unit = TriadOutputUnitName(options.unit);
   discovery.coloured_noise = calibration->pose_noise.candidate;
+  for (int k = 0; k < 3; ++k)
+    discovery.gain_mps2_per_unit[k] = calibration->ml.parameters[kTriadGainX + k];
   return DiscoverTriad(poses, discovery, &calibration->discovery);
 }
 

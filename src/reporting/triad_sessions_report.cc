@@ -46,12 +46,15 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
       "%.10g m/s^2, outputs in %s\n",
       session_count, report.gravity_mps2, TriadOutputUnitName(report.unit));
   for (int s = 0; s < session_count; ++s) {
-    const TriadMlResult& ml = report.sessions[s].calibration.ml;
+    const TriadSessionCalibration& calibration = report.sessions[s].calibration;
+    const TriadMlResult& ml = calibration.ml;
     out << StringPrintf(
-        "session %d: %s: %d poses (noise-floor detector), chi2/dof = %.3g (expected 1 +- "
-        "%.2g), p = %.3g\n",
-        s + 1, report.sessions[s].path.c_str(), ml.pose_count, ml.chi2_per_dof,
-        ml.chi2_per_dof_spread, ml.p_value);
+        "session %d: %s: %d poses (noise-floor detector), %s noise, chi2/dof = %.3g (expected 1 "
+        "+- %.2g), p = %.3g\n  discovery (%s): %s\n",
+        s + 1, report.sessions[s].path.c_str(), ml.pose_count,
+        calibration.allan_noise ? "Allan" : "white", ml.chi2_per_dof, ml.chi2_per_dof_spread,
+        ml.p_value, VerdictCode(calibration.discovery.verdict_code),
+        calibration.discovery.verdict.c_str());
   }
   out << "\nPer session: estimate (within-session sigma), each session calibrated on its own\n";
   out << StringPrintf("  %-16s %-14s", "parameter", "unit");
