@@ -77,7 +77,8 @@ double BetaContinuedFraction(double a, double b, double x) {
   return h;
 }
 
-// I_x(a, b).
+}  // namespace
+
 double RegularizedBeta(double a, double b, double x) {
   if (!(x > 0.0)) return 0.0;
   if (!(x < 1.0)) return 1.0;
@@ -88,11 +89,26 @@ double RegularizedBeta(double a, double b, double x) {
   return 1.0 - std::exp(log_front) * BetaContinuedFraction(b, a, 1.0 - x) / b;
 }
 
-}  // namespace
-
 double FSurvival(double f, double d1, double d2) {
   if (!(f > 0.0)) return 1.0;
   return std::clamp(RegularizedBeta(0.5 * d2, 0.5 * d1, d2 / (d2 + d1 * f)), 0.0, 1.0);
+}
+
+double StudentTCdf(double t, double dof) {
+  const double tail = 0.5 * RegularizedBeta(0.5 * dof, 0.5, dof / (dof + t * t));
+  return t > 0.0 ? 1.0 - tail : tail;
+}
+
+double StudentTQuantile(double p, double dof) {
+  if (p == 0.5) return 0.0;
+  if (p < 0.5) return -StudentTQuantile(1.0 - p, dof);
+  double low = 0.0, high = 1.0;
+  while (StudentTCdf(high, dof) < p) high *= 2.0;
+  for (int i = 0; i < 200 && high - low > 1e-13 * high; ++i) {
+    const double middle = 0.5 * (low + high);
+    (StudentTCdf(middle, dof) < p ? low : high) = middle;
+  }
+  return 0.5 * (low + high);
 }
 
 double ChiSquareCdf(double x, double dof) {

@@ -22,6 +22,14 @@ double ChiSquareTwoSidedPValue(double x, double dof);
 // likelihood-ratio test whose noise level is estimated from the residuals (d2 of them).
 double FSurvival(double f, double d1, double d2);
 
+// The regularized incomplete beta function I_x(a, b), a, b > 0.
+double RegularizedBeta(double a, double b, double x);
+
+// Student's t on `dof` degrees of freedom (any positive real): its CDF through I_x, and its
+// quantile by bisection (p in (0, 1)).
+double StudentTCdf(double t, double dof);
+double StudentTQuantile(double p, double dof);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_ESTIMATION_CHI_SQUARE_H_

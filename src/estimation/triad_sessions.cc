@@ -11,51 +11,6 @@
 namespace accelcal {
 namespace {
 
-// The continued fraction of the regularized incomplete beta function I_x(a, b), evaluated by
-// the modified Lentz method; converges fast for x < (a + 1) / (a + b + 2).
-double IncompleteBetaFraction(double a, double b, double x) {
-  constexpr double kTiny = 1e-300;
-  constexpr double kEpsilon = 1e-15;
-  double c = 1.0;
-  double d = 1.0 - (a + b) * x / (a + 1.0);
-  if (std::fabs(d) < kTiny) d = kTiny;
-  d = 1.0 / d;
-  double fraction = d;
-  for (int m = 1; m <= 1000; ++m) {
-    const double m2 = 2.0 * m;
-    // Even step.
-    double numerator = m * (b - m) * x / ((a + m2 - 1.0) * (a + m2));
-    d = 1.0 + numerator * d;
-    c = 1.0 + numerator / c;
-    if (std::fabs(d) < kTiny) d = kTiny;
-    if (std::fabs(c) < kTiny) c = kTiny;
-    d = 1.0 / d;
-    fraction *= d * c;
-    // Odd step.
-    numerator = -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1.0));
-    d = 1.0 + numerator * d;
-    c = 1.0 + numerator / c;
-    if (std::fabs(d) < kTiny) d = kTiny;
-    if (std::fabs(c) < kTiny) c = kTiny;
-    d = 1.0 / d;
-    const double step = d * c;
-    fraction *= step;
-    if (std::fabs(step - 1.0) < kEpsilon) break;
-  }
-  return fraction;
-}
-
-double RegularizedIncompleteBeta(double a, double b, double x) {
-  if (x <= 0.0) return 0.0;
-  if (x >= 1.0) return 1.0;
-  const double log_front =
-      std::lgamma(a + b) - std::lgamma(a) - std::lgamma(b) + a * std::log(x) + b * std::log1p(-x);
-  if (x < (a + 1.0) / (a + b + 2.0))
-    return std::exp(log_front) * IncompleteBetaFraction(a, b, x) / a;
-  return 1.0 - std::exp(log_front) * IncompleteBetaFraction(b, a, 1.0 - x) / b;
-}
-
-// Q(tau^2) summed over the groups, each with its own weighted mean.
 double QStatistic(const std::vector<std::vector<SessionEstimate>>& groups, double tau2) {
   double q = 0.0;
   for (const std::vector<SessionEstimate>& group : groups) {
@@ -95,23 +50,6 @@ double SolveQ(const std::vector<std::vector<SessionEstimate>>& groups, double ta
 }
 
 }  // namespace
-
-double StudentTCdf(double t, double dof) {
-  const double tail = 0.5 * RegularizedIncompleteBeta(0.5 * dof, 0.5, dof / (dof + t * t));
-  return t > 0.0 ? 1.0 - tail : tail;
-}
-
-double StudentTQuantile(double p, double dof) {
-  if (p == 0.5) return 0.0;
-  if (p < 0.5) return -StudentTQuantile(1.0 - p, dof);
-  double low = 0.0, high = 1.0;
-  while (StudentTCdf(high, dof) < p) high *= 2.0;
-  for (int i = 0; i < 200 && high - low > 1e-13 * high; ++i) {
-    const double middle = 0.5 * (low + high);
-    (StudentTCdf(middle, dof) < p ? low : high) = middle;
-  }
-  return 0.5 * (low + high);
-}
 
 Status EstimateBetweenSessionVariance(const std::vector<std::vector<SessionEstimate>>& groups,
                                       double confidence, BetweenSessionVariance* between) {

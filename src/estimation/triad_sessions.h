@@ -44,6 +44,7 @@
 
 #include "common/status.h"
 #include "common/triad_log.h"
+#include "estimation/chi_square.h"
 #include "estimation/noise_floor_detector.h"
 #include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
@@ -119,10 +120,6 @@ struct ArraySessionVariance {
 // variances alike.
 Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimate>>& devices,
                                     ArraySessionVariance* array);
-
-// Student t: P(T <= t) on `dof` > 0 degrees of freedom (any real dof), and its quantile.
-double StudentTCdf(double t, double dof);
-double StudentTQuantile(double p, double dof);
 
 // --- The triad's 9 parameters ---
 
