@@ -28,4 +28,15 @@ std::string RoundTripDouble(double value) {
   return StringPrintf("%.17g", value);
 }
 
+std::string JoinStrings(const std::vector<std::string>& items, const char* separator) {
+  std::string text;
+  for (size_t i = 0; i < items.size(); ++i) text += (i == 0 ? "" : separator) + items[i];
+  return text;
+}
+
+std::string FormatTriple(const std::array<double, 3>& v, const char* format) {
+  return "(" + StringPrintf(format, v[0]) + ", " + StringPrintf(format, v[1]) + ", " +
+         StringPrintf(format, v[2]) + ")";
+}
+
 }  // namespace accelcal

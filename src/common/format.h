@@ -3,11 +3,19 @@
 
 // printf-style formatting into a std::string, for tables and one-line error messages.
 
+#include <array>
 #include <string>
+#include <vector>
 
 namespace accelcal {
 
 std::string StringPrintf(const char* format, ...) __attribute__((format(printf, 1, 2)));
+
+// "a<separator>b<separator>c" ("" for none).
+std::string JoinStrings(const std::vector<std::string>& items, const char* separator = ", ");
+
+// "(x, y, z)", each value printed with `format` (one printf conversion of a double).
+std::string FormatTriple(const std::array<double, 3>& v, const char* format = "%.6g");
 
 // The shortest decimal (15 to 17 significant digits) that reads back as exactly `value`:
 // 0.64 rather than 0.64000000000000001.

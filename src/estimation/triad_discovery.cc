@@ -35,12 +35,6 @@ double ExtensionPValue(const TriadMlResult& smaller, const TriadMlResult& larger
   return FSurvival(delta / scatter, 1.0, larger.degrees_of_freedom);
 }
 
-std::string JoinNames(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 // The coefficients static poses can determine, one candidate each; and those they cannot,
 // grouped by effect.
 void SplitCandidates(std::vector<int>* testable, std::vector<std::vector<int>>* untestable) {
@@ -57,6 +51,15 @@ void SplitCandidates(std::vector<int>* testable, std::vector<std::vector<int>>* 
     }
     previous_effect = list[c].effect;
   }
+}
+
+// The poses' indices in the order they were held (by mid-time).
+std::vector<int> PosesInTimeOrder(const std::vector<TriadPoseMean>& poses) {
+  std::vector<int> order(poses.size());
+  for (size_t p = 0; p < poses.size(); ++p) order[p] = static_cast<int>(p);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return poses[a].time_s < poses[b].time_s; });
+  return order;
 }
 
 // The direction of a held-out pose fitted with the parameters and effects of `fit` held;
@@ -100,10 +103,7 @@ Status CrossValidate(const std::vector<TriadPoseMean>& poses, const TriadDiscove
                      const std::array<double, 3>& white_variance, const std::vector<int>& effects,
                      double* mean_chi2) {
   const int folds = options.cross_validation_folds;
-  std::vector<int> order(poses.size());
-  for (size_t p = 0; p < poses.size(); ++p) order[p] = static_cast<int>(p);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return poses[a].time_s < poses[b].time_s; });
+  const std::vector<int> order = PosesInTimeOrder(poses);
   double sum = 0.0;
   for (int fold = 0; fold < folds; ++fold) {
     std::vector<TriadPoseMean> training;
@@ -175,10 +175,7 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
 
   // Consecutive poses in time: a self-normalised sum of products of neighbours' residuals,
   // N(0, 1) when they are independent.
-  std::vector<int> order(poses.size());
-  for (size_t p = 0; p < poses.size(); ++p) order[p] = static_cast<int>(p);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return poses[a].time_s < poses[b].time_s; });
+  const std::vector<int> order = PosesInTimeOrder(poses);
   double products = 0.0;
   double squares = 0.0;
   double norm = 0.0;
@@ -261,7 +258,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     const Status status = Fit(poses, options, noise, group, &fit);
     entry.rank_check =
         status.ok() ? "fitted: the rank check did not flag it on these poses"
-                    : "not identifiable with the 9 parameters: " + JoinNames(fit.unidentifiable);
+                    : "not identifiable with the 9 parameters: " + JoinStrings(fit.unidentifiable);
     result->untestable.push_back(entry);
   }
 

@@ -339,8 +339,7 @@ Status CheckIdentifiable(const ProblemState& state,
   if (unidentifiable.empty()) return Status::Ok();
   result->unidentifiable = unidentifiable;
   result->suggested_directions = SuggestedPoses(state, directions);
-  std::string names;
-  for (const std::string& name : unidentifiable) names += (names.empty() ? "" : ", ") + name;
+  const std::string names = JoinStrings(unidentifiable);
   const std::string planar_hint = PlanarHint(directions);
   return Status::Error(StringPrintf(
       "the %d poses cannot determine the triad: %s not identifiable (the Jacobian of the "

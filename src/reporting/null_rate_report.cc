@@ -16,12 +16,6 @@ std::string JoinNumbers(const std::vector<double>& values) {
   return text;
 }
 
-std::string JoinNames(const std::vector<std::string>& names, const char* separator = ",") {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : separator) + name;
-  return text;
-}
-
 // What the design's tilt test is, in numbers.
 std::string DescribeTilt(const TiltSchedule& tilt) {
   switch (tilt.kind) {
@@ -150,7 +144,7 @@ void Header(const NullRateReport& report, std::string* text, nlohmann::json* jso
   const Scenario& course = report.course;
   const std::string command = StringPrintf(
       "null_rate --designs=%s --noise_factors=%s --alphas=%s --datasets=%d --seed=%llu",
-      JoinNames(options.designs).c_str(), JoinNumbers(options.noise_factors).c_str(),
+      JoinStrings(options.designs, ",").c_str(), JoinNumbers(options.noise_factors).c_str(),
       JoinNumbers(options.alphas).c_str(), options.datasets,
       static_cast<unsigned long long>(options.seed));
   *text = StringPrintf(

@@ -5,14 +5,6 @@
 #include "common/format.h"
 
 namespace accelcal {
-namespace {
-
-std::string Triple(const std::array<double, 3>& v) {
-  return StringPrintf("(%.3g, %.3g, %.3g)", v[0], v[1], v[2]);
-}
-
-}  // namespace
-
 std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                                 const TriadDiscoveryOptions& options) {
   std::ostringstream out;
@@ -55,8 +47,8 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                         check.statistic, check.p_value, check.flagged ? "FLAGGED" : "");
   }
   if (result.pose_wander != std::array<double, 3>{}) {
-    out << "  size of what remains: a per-pose offset wander of " << Triple(result.pose_wander)
-        << " " << options.unit << " per axis\n";
+    out << "  size of what remains: a per-pose offset wander of "
+        << FormatTriple(result.pose_wander, "%.3g") << " " << options.unit << " per axis\n";
   }
   for (const TriadAmbiguity& a : result.ambiguities) {
     out << StringPrintf("  cannot tell apart: %s and %s (delta chi2 %.3g)\n", a.effect.c_str(),

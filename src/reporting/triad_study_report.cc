@@ -7,17 +7,6 @@
 namespace accelcal {
 namespace {
 
-std::string Triple(const std::array<double, 3>& v, const char* format = "%.6g") {
-  return "(" + StringPrintf(format, v[0]) + ", " + StringPrintf(format, v[1]) + ", " +
-         StringPrintf(format, v[2]) + ")";
-}
-
-std::string Join(const std::vector<std::string>& names) {
-  std::string text;
-  for (const std::string& name : names) text += (text.empty() ? "" : ", ") + name;
-  return text;
-}
-
 std::string Header(const TriadStudyReport& report) {
   const TriadMonteCarloOptions& o = report.options;
   const TriadMonteCarloResult& r = report.result;
@@ -28,12 +17,12 @@ std::string Header(const TriadStudyReport& report) {
   text += StringPrintf(
       "  %d samples per pose, white noise sd %s counts per sample, g = %s m/s^2; the fit starts "
       "from angles 0, k2 0, gains and offsets at the mean of the truth's three\n",
-      o.samples_per_pose, Triple(o.noise_stddev, "%g").c_str(),
+      o.samples_per_pose, FormatTriple(o.noise_stddev, "%g").c_str(),
       RoundTripDouble(o.gravity_mps2).c_str());
   const bool k2_simulated = o.truth_scale_nonlinearity != TriadScaleNonlinearity{};
   if (k2_simulated) {
     text += StringPrintf("  simulated scale_nonlinearity %s 1/(m/s^2)%s\n",
-                         Triple(o.truth_scale_nonlinearity).c_str(),
+                         FormatTriple(o.truth_scale_nonlinearity).c_str(),
                          o.scale_nonlinearity ? "" : ", NOT in the fitted model");
   }
   return text;
@@ -41,10 +30,11 @@ std::string Header(const TriadStudyReport& report) {
 
 std::string RefusalText(const TriadMonteCarloResult& r) {
   std::string text = "\nrefused: the calibration of the first session says:\n  " + r.refusal + "\n";
-  if (!r.unidentifiable.empty()) text += "  unidentifiable: " + Join(r.unidentifiable) + "\n";
+  if (!r.unidentifiable.empty())
+    text += "  unidentifiable: " + JoinStrings(r.unidentifiable) + "\n";
   if (!r.suggested_directions.empty()) {
     text += "  poses to add (unit specific force, sensor frame, pointing up when held still):";
-    for (const auto& d : r.suggested_directions) text += " " + Triple(d, "%.2f");
+    for (const auto& d : r.suggested_directions) text += " " + FormatTriple(d, "%.2f");
     text += "\n";
   }
   text += "  (no trials run: a pose set the calibration refuses has no sigma to check)\n";
