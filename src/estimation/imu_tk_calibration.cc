@@ -12,6 +12,23 @@
 
 namespace accelcal {
 
+int ImuTkWindow(const ImuTkOptions& options) {
+  const int window = std::max(options.window_samples, 11);
+  return window % 2 == 0 ? window + 1 : window;
+}
+
+std::vector<int> ImuTkSamples(const std::vector<StaticInterval>& intervals, int interval_samples,
+                              int* used) {
+  std::vector<int> samples;
+  *used = 0;
+  for (const StaticInterval& interval : intervals) {
+    if (interval.sample_count() < interval_samples) continue;
+    ++*used;
+    for (int i = interval.start; i < interval.start + interval_samples; ++i) samples.push_back(i);
+  }
+  return samples;
+}
+
 ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& samples,
                                   const ImuTkOptions& options, std::string* brief_report) {
   ImuTkSweepEntry entry;
@@ -94,9 +111,7 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
 
 Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkResult* result) {
   *result = ImuTkResult();
-  // imu_tk's own adjustment of the window: at least 11 samples, odd.
-  int window = std::max(options.window_samples, 11);
-  if (window % 2 == 0) ++window;
+  const int window = ImuTkWindow(options);
   const int n = static_cast<int>(log.size());
   if (n <= window) {
     return Status::Error(StringPrintf(
@@ -125,14 +140,8 @@ Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkRes
     const double threshold = k * result->rest_variance_norm;
     const std::vector<StaticInterval> intervals =
         DetectStaticIntervals(log, variance_norm, window, threshold);
-    std::vector<int> samples;
     int used = 0;
-    for (const StaticInterval& interval : intervals) {
-      if (interval.sample_count() < options.interval_samples) continue;
-      ++used;
-      for (int i = interval.start; i < interval.start + options.interval_samples; ++i)
-        samples.push_back(i);
-    }
+    const std::vector<int> samples = ImuTkSamples(intervals, options.interval_samples, &used);
     ImuTkSweepEntry entry;
     std::string brief_report;
     if (used >= options.min_intervals) {

@@ -81,6 +81,15 @@ struct ImuTkResult {
 // is blind to a gain's sign; a start far from the zero-g output can end there).
 Status CalibrateImuTk(const TriadLog& log, const ImuTkOptions& options, ImuTkResult* result);
 
+// The detector's window: options.window_samples raised to at least 11 and to the next odd
+// number, as imu_tk does.
+int ImuTkWindow(const ImuTkOptions& options);
+
+// Step 2's samples: the first `interval_samples` of each interval at least that long (indices
+// into the log, in order); `used` counts those intervals.
+std::vector<int> ImuTkSamples(const std::vector<StaticInterval>& intervals, int interval_samples,
+                              int* used);
+
 // One solve of step 3 on given samples (the indices into `log`), from `options.initial`.
 ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& samples,
                                   const ImuTkOptions& options, std::string* brief_report);

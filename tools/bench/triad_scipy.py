@@ -556,6 +556,31 @@ def main():
     else:
         print("speedup total=%.2f (wall), %.2f (CPU)" % (ratio["wall", "total"],
                                                         ratio["cpu", "total"]))
+    floor = accelcal["timing"].get("floor")
+    times = max(arguments.min_ratio, 1.0)
+    if floor is not None:
+        solves = floor["solves"]
+        fastest = solves[floor["fastest_linear_solver"]]
+        print("\nfloor of any pipeline that reads this file and makes imu_tk's %d solves with "
+              "ceres::Solve (accelcal's side, this run)" % floor["solved_k"])
+        print("  %-50s %12s %12s" % ("", "wall", "CPU"))
+        rows = [("the file's %d bytes read, nothing parsed" % floor["file_bytes"],
+                 floor["read_bytes_seconds"], floor["read_bytes_cpu_seconds"])]
+        for name in sorted(solves):
+            rows.append(("the %d Ceres solves, %s" % (floor["solved_k"], name),
+                         solves[name]["seconds"], solves[name]["cpu_seconds"]))
+        rows.append(("floor: bytes + the faster solves, one core", floor["seconds"],
+                     floor["cpu_seconds"]))
+        rows.append(("floor with the solves split over two cores", floor["seconds_two_cores"],
+                     floor["read_bytes_cpu_seconds"] + 0.5 * fastest["cpu_seconds"]))
+        rows.append(("%.0fx numpy/SciPy's total needs at most" % times,
+                     scipy_median["wall", "total"] / times, scipy_median["cpu", "total"] / times))
+        for label, wall, cpu in rows:
+            print("  %-50s %12s %12s" % (label, format_seconds(wall), format_seconds(cpu)))
+        bound_wall = scipy_median["wall", "total"] / floor["seconds"]
+        bound_cpu = scipy_median["cpu", "total"] / floor["cpu_seconds"]
+        print("on one core no Ceres pipeline can beat numpy/SciPy by more than %.2fx (wall), "
+              "%.2fx (CPU) here, before parsing, detection and the ML fit" % (bound_wall, bound_cpu))
     if arguments.json:
         with open(arguments.json, "w") as stream:
             json.dump({"timing": {"%s_%s" % key: value for key, value in scipy_median.items()},
