@@ -62,15 +62,47 @@ TEST(TriadDiscovery, NullSessionsAreExplainedAtTheStatedRate) {
   constexpr int kSessions = 400;
   constexpr double kAlpha = 0.05;
   int not_explained = 0;
+  int noise_overstated = 0;
   for (int s = 0; s < kSessions; ++s) {
     TriadDiscoveryResult result;
     ASSERT_TRUE(DiscoverTriad(Simulate(Session(), 30, 41, s), Discovery(kAlpha), &result).ok());
     if (result.verdict_code != Verdict::kExplained) ++not_explained;
+    if (result.noise_overstated.flagged) ++noise_overstated;
   }
   const double rate = static_cast<double>(not_explained) / kSessions;
   std::printf("  null sessions not explained: %d of %d (%.3f, alpha %.2f)\n", not_explained,
               kSessions, rate, kAlpha);
   EXPECT_LE(rate, kAlpha + 3.0 * std::sqrt(kAlpha * (1 - kAlpha) / kSessions));
+  // The lower tail's note has alpha/4 of its own.
+  const double note_rate = static_cast<double>(noise_overstated) / kSessions;
+  const double note_alpha = kAlpha / 4.0;
+  std::printf("  null sessions noted as noise overstated: %d of %d (%.4f, alpha/4 %.4f)\n",
+              noise_overstated, kSessions, note_rate, note_alpha);
+  EXPECT_LE(note_rate, note_alpha + 3.0 * std::sqrt(note_alpha * (1 - note_alpha) / kSessions));
+}
+
+// Pose means whose stated variance is 8 times their real one (as when the within-pose
+// variance holds vibration that averages out): chi2/dof about 0.125. Nothing is missing, so
+// the verdict stays "explained", and the lower tail says the sigmas are conservative, by
+// about 2.8 (with 30 poses the note's power at alpha/4 is above 0.99).
+TEST(TriadDiscovery, NotesANoiseModelThatOverstatesThePoseMeansVariance) {
+  constexpr int kSessions = 20;
+  int noted = 0;
+  for (int s = 0; s < kSessions; ++s) {
+    std::vector<TriadPoseMean> poses = Simulate(Session(), 30, 46, s);
+    for (TriadPoseMean& pose : poses)
+      for (double& variance : pose.variance) variance *= 8.0;
+    TriadDiscoveryResult result;
+    ASSERT_TRUE(DiscoverTriad(poses, Discovery(0.01), &result).ok());
+    EXPECT_EQ(result.verdict_code, Verdict::kExplained) << result.verdict;
+    EXPECT_LT(result.noise_overstated.statistic, 0.3);
+    if (result.noise_overstated.flagged) {
+      ++noted;
+      EXPECT_NE(result.verdict.find("conservative"), std::string::npos) << result.verdict;
+    }
+  }
+  std::printf("  sessions with variance stated 8x: %d of %d noted\n", noted, kSessions);
+  EXPECT_GE(noted, kSessions - 1);
 }
 
 // An offset drifting 4.5 counts over the session on x (pose means have sigma 0.3 counts, but a

@@ -208,6 +208,23 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
   if (rejected[0]) result->pose_wander = PoseWander(fit);
 }
 
+// Step 3's other tail, beside the verdict: a chi-square too small for its degrees of freedom.
+TriadRemainingCheck CheckNoiseOverstated(const TriadMlResult& fit, double alpha) {
+  TriadRemainingCheck check;
+  check.name = "chi2_lower_tail";
+  check.statistic = fit.chi2_per_dof;
+  check.p_value = ChiSquareCdf(fit.chi2, fit.degrees_of_freedom);
+  check.flagged = check.p_value < alpha;
+  check.description = StringPrintf(
+      "the pose means scatter less than the noise model says: chi2/dof = %.3g on %d dof (p = "
+      "%.3g in the lower tail); the noise model overstates a pose mean's variance (noise "
+      "anti-correlated within a pose, or variance that averages out over a pose), so the sigmas "
+      "are conservative, by a factor of about %.2g",
+      fit.chi2_per_dof, fit.degrees_of_freedom, check.p_value,
+      1.0 / std::sqrt(std::max(fit.chi2_per_dof, 1e-12)));
+  return check;
+}
+
 }  // namespace
 
 Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscoveryOptions& options,
@@ -336,6 +353,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
 
   // 3. What remains.
   CheckWhatRemains(poses, current, options.alpha / 4.0, result);
+  result->noise_overstated = CheckNoiseOverstated(current, options.alpha / 4.0);
 
   // 5. The gain out of sample.
   if (options.cross_validation_folds >= 2 &&
@@ -396,6 +414,8 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
         result->coloured_noise ? "coloured" : "white", current.chi2_per_dof,
         current.degrees_of_freedom, current.p_value);
   }
+  if (result->noise_overstated.flagged)
+    result->verdict += "; note: " + result->noise_overstated.description;
   return Status::Ok();
 }
 

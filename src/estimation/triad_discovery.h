@@ -25,7 +25,8 @@
 //    degrees of freedom (the pose means scatter more than the noise model says), and the
 //    correlation of consecutive poses' residuals (slow wander). When flagged, the size of what
 //    remains: the per-pose offset wander omega_k that would account for the scatter (the
-//    log's unit and m/s^2).
+//    log's unit and m/s^2). The chi-square's lower tail is tested too, at alpha/4 of its own,
+//    and reported as a note beside the verdict (the sigmas are conservative), not a verdict.
 // 4. Ambiguity: each found effect swapped for every other candidate; one that fits within
 //    ambiguity_delta_chi2 (in units of the residual scatter) cannot be told apart from it.
 // 5. The gain: leave-poses-out cross-validation (poses dealt to folds in time order, so that
@@ -127,6 +128,11 @@ struct TriadDiscoveryResult {
   TriadMlResult final_fit;
   std::vector<TriadRemainingCheck> checks;
   std::vector<std::string> remaining;
+  // The chi-square's other tail ("chi2_lower_tail"), at alpha/4 and outside the verdict: pose
+  // means that scatter less than the noise model says. Nothing is missing from the model then,
+  // but the noise model overstates a pose mean's variance (noise anti-correlated within a pose,
+  // or variance that averages out), and the sigmas are conservative by about sqrt(chi2/dof).
+  TriadRemainingCheck noise_overstated;
   std::array<double, 3> pose_wander{};  // omega_k, the log's unit (0 when nothing remains)
   std::vector<TriadAmbiguity> ambiguities;
   TriadCrossValidation cross_validation;

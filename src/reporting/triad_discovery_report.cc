@@ -46,6 +46,10 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
     out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", check.name.c_str(),
                         check.statistic, check.p_value, check.flagged ? "FLAGGED" : "");
   }
+  const TriadRemainingCheck& low = result.noise_overstated;
+  out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", low.name.c_str(),
+                      low.statistic, low.p_value,
+                      low.flagged ? "NOTED (sigmas conservative; not part of the verdict)" : "");
   if (result.pose_wander != std::array<double, 3>{}) {
     out << "  size of what remains: a per-pose offset wander of "
         << FormatTriple(result.pose_wander, "%.3g") << " " << options.unit << " per axis\n";
@@ -119,6 +123,12 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
                       {"description", check.description}});
   }
   json["checks"] = checks;
+  const TriadRemainingCheck& low = result.noise_overstated;
+  json["noise_overstated"] = {{"name", low.name},
+                              {"statistic", low.statistic},
+                              {"p_value", low.p_value},
+                              {"flagged", low.flagged},
+                              {"description", low.description}};
   json["remaining"] = result.remaining;
   json["pose_wander"] = result.pose_wander;
   json["pose_wander_unit"] = options.unit;
