@@ -433,10 +433,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &linear_residual));
     result->checks = CheckResiduals(test, jacobian, linear_residual,
                                     current.landmark.empty() ? 0 : 2, final_noise, check_options);
-    std::vector<double> p_values;
-    for (const ResidualCheck& check : result->checks) p_values.push_back(check.p_value);
-    const std::vector<bool> flagged = HolmRejections(p_values, checks_alpha);
-    for (size_t c = 0; c < flagged.size(); ++c) result->checks[c].flagged = flagged[c];
+    FlagByHolm(checks_alpha, &result->checks);
     return Status::Ok();
   };
   // A step can be mimicked by several catalogue effects at once (a run bias shift, a drift

@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "common/measurements.h"
+#include "estimation/check.h"
 #include "models/noise_model.h"
 
 namespace accelcal {
@@ -35,19 +36,6 @@ namespace accelcal {
 struct ResidualChecksOptions {
   int max_harmonic = 6;
   int ljung_box_lags = 20;
-};
-
-struct ResidualCheck {
-  std::string name;  // "x: 3 theta harmonic", "y: step", "endpoint", ...
-  int axis = -1;     // 0: x, 1: y, -1: neither
-  double statistic = 0.0;
-  double dof = 0.0;
-  double p_value = 1.0;
-  bool flagged = false;     // rejected by Holm in the checks' family
-  std::string description;  // what it looks like, in numbers
-  // The shape (one raw per-sample column per coefficient, m/s^2 per unit, on this axis);
-  // empty for checks that describe no shape.
-  std::vector<std::vector<double>> shape;
 };
 
 // The whitened rows of a shape column on axis `axis` (the full linearised problem's rows).

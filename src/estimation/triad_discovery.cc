@@ -164,9 +164,10 @@ std::array<double, 3> PoseWander(const TriadMlResult& fit) {
 // Step 3: the checks of what the final model leaves, Holm at `alpha`.
 void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
                       double alpha, TriadDiscoveryResult* result) {
-  TriadRemainingCheck chi2;
+  ResidualCheck chi2;
   chi2.name = "chi2";
   chi2.statistic = fit.chi2_per_dof;
+  chi2.dof = fit.degrees_of_freedom;
   chi2.p_value = ChiSquareSurvival(fit.chi2, fit.degrees_of_freedom);
   chi2.description = StringPrintf(
       "the pose means scatter more than the noise model says: chi2/dof = %.3g on %d dof "
@@ -189,7 +190,7 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
   }
   for (const auto& r : fit.whitened_residuals)
     for (int k = 0; k < 3; ++k) norm += r[k] * r[k];
-  TriadRemainingCheck lag;
+  ResidualCheck lag;
   lag.name = "pose_lag1_correlation";
   lag.statistic = norm > 0.0 ? products / norm : 0.0;
   const double z = squares > 0.0 ? products / std::sqrt(squares) : 0.0;
@@ -200,19 +201,18 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
       lag.statistic, z, lag.p_value);
 
   result->checks = {chi2, lag};
-  const std::vector<bool> rejected = HolmRejections({chi2.p_value, lag.p_value}, alpha);
-  for (size_t i = 0; i < result->checks.size(); ++i) {
-    result->checks[i].flagged = rejected[i];
-    if (rejected[i]) result->remaining.push_back(result->checks[i].description);
-  }
-  if (rejected[0]) result->pose_wander = PoseWander(fit);
+  FlagByHolm(alpha, &result->checks);
+  for (const ResidualCheck& check : result->checks)
+    if (check.flagged) result->remaining.push_back(check.description);
+  if (result->checks[0].flagged) result->pose_wander = PoseWander(fit);
 }
 
 // Step 3's other tail, beside the verdict: a chi-square too small for its degrees of freedom.
-TriadRemainingCheck CheckNoiseOverstated(const TriadMlResult& fit, double alpha) {
-  TriadRemainingCheck check;
+ResidualCheck CheckNoiseOverstated(const TriadMlResult& fit, double alpha) {
+  ResidualCheck check;
   check.name = "chi2_lower_tail";
   check.statistic = fit.chi2_per_dof;
+  check.dof = fit.degrees_of_freedom;
   check.p_value = ChiSquareCdf(fit.chi2, fit.degrees_of_freedom);
   check.flagged = check.p_value < alpha;
   check.description = StringPrintf(

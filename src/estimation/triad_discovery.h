@@ -40,6 +40,7 @@
 
 #include "common/status.h"
 #include "common/triad_log.h"
+#include "estimation/check.h"
 #include "estimation/triad_ml_calibration.h"
 #include "estimation/verdict.h"
 
@@ -94,14 +95,6 @@ struct TriadUntestable {
   std::string rank_check;       // what the fit with it said
 };
 
-struct TriadRemainingCheck {
-  std::string name;  // "chi2", "pose_lag1_correlation"
-  double statistic = 0.0;
-  double p_value = 1.0;
-  bool flagged = false;
-  std::string description;
-};
-
 struct TriadAmbiguity {
   std::string effect;
   std::string alternative;
@@ -126,13 +119,13 @@ struct TriadDiscoveryResult {
   std::vector<TriadFoundEffect> effects;
   std::vector<TriadUntestable> untestable;
   TriadMlResult final_fit;
-  std::vector<TriadRemainingCheck> checks;
+  std::vector<ResidualCheck> checks;  // "chi2", "pose_lag1_correlation"
   std::vector<std::string> remaining;
   // The chi-square's other tail ("chi2_lower_tail"), at alpha/4 and outside the verdict: pose
   // means that scatter less than the noise model says. Nothing is missing from the model then,
   // but the noise model overstates a pose mean's variance (noise anti-correlated within a pose,
   // or variance that averages out), and the sigmas are conservative by about sqrt(chi2/dof).
-  TriadRemainingCheck noise_overstated;
+  ResidualCheck noise_overstated;
   std::array<double, 3> pose_wander{};  // omega_k, the log's unit (0 when nothing remains)
   std::vector<TriadAmbiguity> ambiguities;
   TriadCrossValidation cross_validation;

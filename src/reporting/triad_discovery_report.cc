@@ -42,11 +42,11 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
   out << StringPrintf("  final model: chi2/dof = %.3g on %d dof (expected 1 +- %.2g), p = %.3g\n",
                       result.final_fit.chi2_per_dof, result.final_fit.degrees_of_freedom,
                       result.final_fit.chi2_per_dof_spread, result.final_fit.p_value);
-  for (const TriadRemainingCheck& check : result.checks) {
+  for (const ResidualCheck& check : result.checks) {
     out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", check.name.c_str(),
                         check.statistic, check.p_value, check.flagged ? "FLAGGED" : "");
   }
-  const TriadRemainingCheck& low = result.noise_overstated;
+  const ResidualCheck& low = result.noise_overstated;
   out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", low.name.c_str(),
                       low.statistic, low.p_value,
                       low.flagged ? "NOTED (sigmas conservative; not part of the verdict)" : "");
@@ -115,7 +115,7 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
                    {"chi2_per_dof_expected_spread", result.final_fit.chi2_per_dof_spread},
                    {"p_value", result.final_fit.p_value}};
   nlohmann::json checks = nlohmann::json::array();
-  for (const TriadRemainingCheck& check : result.checks) {
+  for (const ResidualCheck& check : result.checks) {
     checks.push_back({{"name", check.name},
                       {"statistic", check.statistic},
                       {"p_value", check.p_value},
@@ -123,7 +123,7 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
                       {"description", check.description}});
   }
   json["checks"] = checks;
-  const TriadRemainingCheck& low = result.noise_overstated;
+  const ResidualCheck& low = result.noise_overstated;
   json["noise_overstated"] = {{"name", low.name},
                               {"statistic", low.statistic},
                               {"p_value", low.p_value},
