@@ -8,11 +8,14 @@
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
 // least 100; the k with the lowest final cost is kept (estimation/imu_tk_calibration.h).
 // Mode ml: the maximum-likelihood problem (estimation/triad_ml_calibration.h) on the poses of
-// the intervals imu_tk's rule chose: each interval's mean u_p against b + K^-1 T^-1 g n_p with an
-// unknown unit direction n_p per pose, whitened by white noise pooled per axis (s_k^2 / N_p),
+// --detector (the log's noise floor, or imu_tk's intervals at its chosen k): each pose's mean u_p
+// against b + K^-1 T^-1 g n_p with an unknown unit direction n_p per pose, whitened by the noise
+// model of the pose means (--noise: white, s_k^2 / N_p, or the poses' Allan variance),
 //   min 1/2 sum_p |(ubar_p - u_p) / sigma_p|^2,
-// started from imu_tk's solution; every parameter +- sigma (ceres::Covariance), the chi-square
-// fit statistic on P - 9 degrees of freedom, and the differences from imu_tk in sigma.
+// started from the poses' own spread; every parameter +- sigma (ceres::Covariance), the
+// chi-square fit statistic on P - 9 degrees of freedom, discovery, and the differences from
+// imu_tk in sigma. The sequence is estimation/triad_session_calibration.h's, which the
+// sessions path (--log=S1,S2,..., calibrate_imu_sessions.cc) runs on every session.
 //
 // Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
 // *.csv with the header t_s,acc_x,acc_y,acc_z (io/imu_log.h), in the sensor's own unit.
@@ -82,28 +85,6 @@ ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
 
 namespace accelcal {
-
-// Mode ml's options, one session's and every session's of --log=S1,S2,...
-// (problems/calibrate_imu_sessions.cc), from the flags both paths share.
-Status TriadSessionOptionsFromFlags(TriadSessionOptions* options) {
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options->unit).WithContext("--unit"));
-  options->gravity_mps2 = FLAGS_g;
-  options->offset.automatic = FLAGS_initial_offset == "auto";
-  if (!options->offset.automatic &&
-      !ParseFiniteNumber(FLAGS_initial_offset, &options->offset.value)) {
-    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
-                         "' is neither auto nor a finite number (the log's unit)");
-  }
-  options->detector.window_samples = FLAGS_window;
-  options->detector.threshold_factor = FLAGS_threshold_factor;
-  options->detector.min_interval_s = FLAGS_min_interval_s;
-  options->scale_nonlinearity = FLAGS_scale_nonlinearity;
-  ACCELCAL_RETURN_IF_ERROR(
-      ParseTriadNoiseChoice(FLAGS_noise, &options->noise).WithContext("--noise"));
-  options->alpha = FLAGS_alpha;
-  return Status::Ok();
-}
-
 namespace {
 
 constexpr char kUsage[] =
@@ -203,6 +184,31 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   return Status::Ok();
 }
 
+}  // namespace
+
+// Mode ml's options, one session's and every session's of --log=S1,S2,...
+// (problems/calibrate_imu_sessions.cc), from the flags both paths share.
+Status TriadSessionOptionsFromFlags(TriadSessionOptions* options) {
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options->unit).WithContext("--unit"));
+  options->gravity_mps2 = FLAGS_g;
+  options->offset.automatic = FLAGS_initial_offset == "auto";
+  if (!options->offset.automatic &&
+      !ParseFiniteNumber(FLAGS_initial_offset, &options->offset.value)) {
+    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
+                         "' is neither auto nor a finite number (the log's unit)");
+  }
+  options->detector.window_samples = FLAGS_window;
+  options->detector.threshold_factor = FLAGS_threshold_factor;
+  options->detector.min_interval_s = FLAGS_min_interval_s;
+  options->scale_nonlinearity = FLAGS_scale_nonlinearity;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseTriadNoiseChoice(FLAGS_noise, &options->noise).WithContext("--noise"));
+  options->alpha = FLAGS_alpha;
+  return Status::Ok();
+}
+
+namespace {
+
 // imu_tk's start: angles 0, gains 1 per unit of output (9.80665 for g), the offsets of
 // TriadStartOffset (the unit checked against the log with them).
 Status InitialGuess(const TriadLog& log, const TriadSessionOptions& options,
@@ -260,16 +266,7 @@ Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
     report->noise_floor_options = options.detector;
     ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(log, options, &session).WithContext(FLAGS_log));
   }
-  // The report keeps its own fields, which reporting/triad_report.cc and tools/bench read.
-  report->noise_floor = std::move(session.detection);
-  report->pose_intervals = std::move(session.pose_intervals);
-  report->ml_sample_count = session.sample_count;
-  report->pose_noise = std::move(session.pose_noise);
-  report->allan_noise = session.allan_noise;
-  report->ml_options = std::move(session.ml_options);
-  report->ml = std::move(session.ml);
-  report->discovery_options = std::move(session.discovery_options);
-  report->discovery = std::move(session.discovery);
+  TakeSessionCalibration(std::move(session), report);
   return Status::Ok();
 }
 

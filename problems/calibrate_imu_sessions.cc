@@ -1,10 +1,10 @@
 // calibrate_imu --log=S1,S2,... --mode=ml: several sessions of ONE device, each calibrated on
-// its own exactly as the single-session ml mode does (noise-floor detector, maximum likelihood
-// with ceres::Covariance), then combined per parameter by a random-effects model
-// (estimation/triad_sessions.h): the device's common value, the within-session sigma
-// (`stddev`), the between-session sigma (tau) with its interval, and the sigma a NEW session's
-// estimate scatters by about the common value (`stddev_new_session`), with the Student t
-// multiplier its 95% interval needs with so few sessions. docs/repeatability.md.
+// its own by the single-session ml mode's sequence (estimation/triad_session_calibration.h:
+// noise-floor detector, maximum likelihood with ceres::Covariance), then combined per parameter
+// by a random-effects model (estimation/triad_sessions.h): the device's common value, the
+// within-session sigma (`stddev`), the between-session sigma (tau) with its interval, and the
+// sigma a NEW session's estimate scatters by about the common value (`stddev_new_session`), with
+// the Student t multiplier its 95% interval needs with so few sessions. docs/repeatability.md.
 //
 //   build/bin/calibrate_imu --log=run1/imu1.csv,run2/imu1.csv,run3/imu1.csv --g=9.8187 \
 //       --mode=ml --json=imu1_sessions.json
@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "estimation/triad_session_calibration.h"
 #include "estimation/triad_sessions.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"

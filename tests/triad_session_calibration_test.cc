@@ -40,76 +40,69 @@ std::vector<StaticInterval> ImuTkIntervals(const TriadLog& log) {
 }
 
 // What `calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=ml` prints with the flags named
-// below (the same before and after this sequence was shared, 6d1a6bf).
+// (the same before and after this sequence was shared, 6d1a6bf).
 struct Printed {
+  const char* flags;
+  bool imu_tk_detector;
+  TriadNoiseChoice noise;
+  bool scale_nonlinearity;
   int poses;
   int samples;
   double offset_x;
   double offset_x_stddev;
   double gain_y;
   double chi2;
-  int dof;
-  bool allan;
+  int dof;  // 3 fewer with --scale_nonlinearity
 };
 
-void ExpectAsPrinted(const TriadSessionCalibration& calibration, const Printed& printed) {
-  const TriadMlResult& ml = calibration.ml;
-  EXPECT_EQ(ml.pose_count, printed.poses);
-  EXPECT_EQ(static_cast<int>(calibration.pose_intervals.size()), printed.poses);
-  EXPECT_EQ(calibration.sample_count, printed.samples);
-  EXPECT_EQ(calibration.allan_noise, printed.allan);
-  EXPECT_EQ(ml.mean_stddev_from_caller, printed.allan);
-  EXPECT_NEAR(ml.parameters[kTriadOffsetX], printed.offset_x, 5e-4);
-  EXPECT_NEAR(ml.stddev[kTriadOffsetX], printed.offset_x_stddev, 5e-4);
-  EXPECT_NEAR(ml.parameters[kTriadGainY], printed.gain_y, 5e-11);
-  EXPECT_NEAR(ml.chi2, printed.chi2, 5e-4);
-  EXPECT_EQ(ml.degrees_of_freedom, printed.dof);
-  // Discovery ran on the same poses: the Allan model found missing from the white one.
-  EXPECT_EQ(calibration.discovery.verdict_code, Verdict::kMissing);
-  EXPECT_EQ(calibration.discovery_options.alpha, 0.01);
-}
+constexpr TriadNoiseChoice kAuto = TriadNoiseChoice::kAuto;
+constexpr TriadNoiseChoice kWhite = TriadNoiseChoice::kWhite;
+const Printed kPrinted[] = {
+    {"", false, kAuto, false, 38, 32840, 33123.831, 0.221, 0.0024269976, 27.5893, 29},
+    {"--detector=imu_tk", true, kAuto, false, 38, 32812, 33123.835, 0.221, 0.0024269977, 27.5616,
+     29},
+    {"--noise=white", false, kWhite, false, 38, 32840, 33123.822, 0.0766, 0.0024269376, 446.593,
+     29},
+    {"--scale_nonlinearity", false, kAuto, true, 38, 32840, 33124.11, 0.618, 0.0024269932, 25.4669,
+     26},
+    {"--scale_nonlinearity --detector=imu_tk --noise=white", true, kWhite, true, 38, 32812,
+     33124.25, 0.175, 0.0024269481, 420.104, 26},
+};
 
 TEST(TriadSessionCalibration, ReproducesTheCliOnXsensWithEitherDetector) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   TriadLog log;
   ASSERT_TRUE(ReadImuLog(dir + "/xsens_acc.mat", &log).ok());
-
-  // --mode=ml: the noise-floor detector, the Allan model chosen by --noise=auto.
-  TriadSessionCalibration noise_floor;
-  ASSERT_TRUE(CalibrateTriadSession(log, XsensOptions(), &noise_floor).ok());
-  EXPECT_EQ(noise_floor.detection.intervals.size(), 38u);
-  ExpectAsPrinted(noise_floor, {38, 32840, 33123.831, 0.221, 0.0024269976, 27.5893, 29, true});
-
-  // --mode=ml --detector=imu_tk: imu_tk's intervals, no detection of its own.
-  TriadSessionCalibration imu_tk;
-  ASSERT_TRUE(
-      CalibrateTriadSessionOnIntervals(log, ImuTkIntervals(log), XsensOptions(), &imu_tk).ok());
-  EXPECT_TRUE(imu_tk.detection.intervals.empty());
-  ExpectAsPrinted(imu_tk, {38, 32812, 33123.835, 0.221, 0.0024269977, 27.5616, 29, true});
-}
-
-TEST(TriadSessionCalibration, PassesNoiseAndScaleNonlinearityAsTheCliDoes) {
-  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
-  TriadLog log;
-  ASSERT_TRUE(ReadImuLog(dir + "/xsens_acc.mat", &log).ok());
-
-  // --noise=white: the white model, whose chi2/dof of 15 discovery then rejects.
-  TriadSessionOptions white = XsensOptions();
-  white.noise = TriadNoiseChoice::kWhite;
-  TriadSessionCalibration calibration;
-  ASSERT_TRUE(CalibrateTriadSession(log, white, &calibration).ok());
-  ExpectAsPrinted(calibration, {38, 32840, 33123.822, 0.0766, 0.0024269376, 446.593, 29, false});
-
-  // --scale_nonlinearity: 3 more parameters, 3 fewer degrees of freedom.
-  TriadSessionOptions k2 = XsensOptions();
-  k2.scale_nonlinearity = true;
-  ASSERT_TRUE(CalibrateTriadSession(log, k2, &calibration).ok());
-  ExpectAsPrinted(calibration, {38, 32840, 33124.11, 0.618, 0.0024269932, 25.4669, 26, true});
-
-  // --scale_nonlinearity --detector=imu_tk --noise=white.
-  k2.noise = TriadNoiseChoice::kWhite;
-  ASSERT_TRUE(CalibrateTriadSessionOnIntervals(log, ImuTkIntervals(log), k2, &calibration).ok());
-  ExpectAsPrinted(calibration, {38, 32812, 33124.25, 0.175, 0.0024269481, 420.104, 26, false});
+  const std::vector<StaticInterval> imu_tk_intervals = ImuTkIntervals(log);
+  for (const Printed& printed : kPrinted) {
+    SCOPED_TRACE(printed.flags);
+    TriadSessionOptions options = XsensOptions();
+    options.noise = printed.noise;
+    options.scale_nonlinearity = printed.scale_nonlinearity;
+    TriadSessionCalibration calibration;
+    const Status status =
+        printed.imu_tk_detector
+            ? CalibrateTriadSessionOnIntervals(log, imu_tk_intervals, options, &calibration)
+            : CalibrateTriadSession(log, options, &calibration);
+    ASSERT_TRUE(status.ok()) << status.message();
+    // The noise-floor path keeps its detection; imu_tk's intervals come with none.
+    EXPECT_EQ(calibration.detection.intervals.size(), printed.imu_tk_detector ? 0u : 38u);
+    const TriadMlResult& ml = calibration.ml;
+    EXPECT_EQ(ml.pose_count, printed.poses);
+    EXPECT_EQ(static_cast<int>(calibration.pose_intervals.size()), printed.poses);
+    EXPECT_EQ(calibration.sample_count, printed.samples);
+    // --noise=auto takes the Allan model on this log (white noise rejected, p = 6e-88).
+    EXPECT_EQ(calibration.allan_noise, printed.noise == kAuto);
+    EXPECT_EQ(ml.mean_stddev_from_caller, printed.noise == kAuto);
+    EXPECT_NEAR(ml.parameters[kTriadOffsetX], printed.offset_x, 5e-4);
+    EXPECT_NEAR(ml.stddev[kTriadOffsetX], printed.offset_x_stddev, 5e-4);
+    EXPECT_NEAR(ml.parameters[kTriadGainY], printed.gain_y, 5e-11);
+    EXPECT_NEAR(ml.chi2, printed.chi2, 5e-4);
+    EXPECT_EQ(ml.degrees_of_freedom, printed.dof);
+    // Discovery ran on the same poses: the Allan model found missing from the white one.
+    EXPECT_EQ(calibration.discovery.verdict_code, Verdict::kMissing);
+    EXPECT_EQ(calibration.discovery_options.alpha, 0.01);
+  }
 }
 
 TEST(TriadSessionCalibration, RefusesALogWhoseUnitIsMisstated) {
