@@ -8,11 +8,14 @@
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
 // least 100; the k with the lowest final cost is kept (estimation/imu_tk_calibration.h).
 // Mode ml: the maximum-likelihood problem (estimation/triad_ml_calibration.h) on the poses of
-// the intervals imu_tk's rule chose: each interval's mean u_p against b + K^-1 T^-1 g n_p with an
-// unknown unit direction n_p per pose, whitened by white noise pooled per axis (s_k^2 / N_p),
+// --detector (the log's noise floor, or imu_tk's intervals at its chosen k): each pose's mean u_p
+// against b + K^-1 T^-1 g n_p with an unknown unit direction n_p per pose, whitened by the noise
+// model of the pose means (--noise: white, s_k^2 / N_p, or the poses' Allan variance),
 //   min 1/2 sum_p |(ubar_p - u_p) / sigma_p|^2,
-// started from imu_tk's solution; every parameter +- sigma (ceres::Covariance), the chi-square
-// fit statistic on P - 9 degrees of freedom, and the differences from imu_tk in sigma.
+// started from the poses' own spread; every parameter +- sigma (ceres::Covariance), the
+// chi-square fit statistic on P - 9 degrees of freedom, discovery, and the differences from
+// imu_tk in sigma. The sequence is estimation/triad_session_calibration.h's, which the
+// sessions path (--log=S1,S2,..., calibrate_imu_sessions.cc) runs on every session.
 //
 // Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
 // *.csv with the header t_s,acc_x,acc_y,acc_z (io/imu_log.h), in the sensor's own unit.
@@ -31,10 +34,8 @@
 #include <map>
 
 #include "estimation/imu_tk_calibration.h"
-#include "estimation/noise_floor_detector.h"
-#include "estimation/triad_initial_guess.h"
-#include "estimation/triad_ml_calibration.h"
 #include "estimation/triad_pose_noise.h"
+#include "estimation/triad_session_calibration.h"
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
@@ -183,27 +184,47 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   return Status::Ok();
 }
 
-// imu_tk's start: angles 0, gains 1 per unit of output (9.80665 for g), offsets given or, by
-// default, the output at zero specific force of an ideal sensor: 0 for a physical unit; for
-// counts, the mid-scale of the ADC, 2^(n-1) for unsigned outputs in [0, 2^n) (imu_tk's 32768
-// for its 16-bit Xsens example) or 0 for signed ones.
-Status InitialGuess(const TriadLog& log, TriadOutputUnit unit, TriadParameters* initial,
-                    std::string* offset_from) {
-  double offset = 0.0;
-  *offset_from = "--initial_offset";
-  if (FLAGS_initial_offset == "auto") {
-    *offset_from = "auto: 0 for a physical unit";
-    if (unit == TriadOutputUnit::kCount) {
-      offset = AdcMidScale(log);
-      *offset_from = offset > 0.0 ? "auto: the mid-scale of an unsigned ADC's range"
-                                  : "auto: 0, the mid-scale of a signed ADC";
-    }
-  } else {
-    ParseFiniteNumber(FLAGS_initial_offset, &offset);  // checked by ValidateFlags
+}  // namespace
+
+// Mode ml's options, one session's and every session's of --log=S1,S2,...
+// (problems/calibrate_imu_sessions.cc), from the flags both paths share.
+Status TriadSessionOptionsFromFlags(TriadSessionOptions* options) {
+  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options->unit).WithContext("--unit"));
+  options->gravity_mps2 = FLAGS_g;
+  options->offset.automatic = FLAGS_initial_offset == "auto";
+  if (!options->offset.automatic &&
+      !ParseFiniteNumber(FLAGS_initial_offset, &options->offset.value)) {
+    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
+                         "' is neither auto nor a finite number (the log's unit)");
   }
-  ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, unit, offset).WithContext(FLAGS_log));
+  options->detector.window_samples = FLAGS_window;
+  options->detector.threshold_factor = FLAGS_threshold_factor;
+  options->detector.min_interval_s = FLAGS_min_interval_s;
+  options->scale_nonlinearity = FLAGS_scale_nonlinearity;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseTriadNoiseChoice(FLAGS_noise, &options->noise).WithContext("--noise"));
+  options->alpha = FLAGS_alpha;
+  return Status::Ok();
+}
+
+namespace {
+
+// imu_tk's start: angles 0, gains 1 per unit of output (9.80665 for g), the offsets of
+// TriadStartOffset (the unit checked against the log with them).
+Status InitialGuess(const TriadLog& log, const TriadSessionOptions& options,
+                    TriadParameters* initial, std::string* offset_from) {
+  double offset = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(
+      TriadStartOffset(log, options.unit, options.offset, &offset).WithContext(FLAGS_log));
+  *offset_from = "--initial_offset";
+  if (options.offset.automatic && options.unit != TriadOutputUnit::kCount) {
+    *offset_from = "auto: 0 for a physical unit";
+  } else if (options.offset.automatic) {
+    *offset_from = offset > 0.0 ? "auto: the mid-scale of an unsigned ADC's range"
+                                : "auto: 0, the mid-scale of a signed ADC";
+  }
   *initial = TriadParametersWithOffset(offset, offset, offset);
-  if (unit == TriadOutputUnit::kG) {
+  if (options.unit == TriadOutputUnit::kG) {
     for (int k = 0; k < 3; ++k) (*initial)[kTriadGainX + k] = 9.80665;
   }
   return Status::Ok();
@@ -224,64 +245,40 @@ Status SolveImuTk(const TriadLog& log, CalibrateImuReport* report) {
   return Status::Ok();
 }
 
-// Mode ml: the poses of the chosen detector, the maximum-likelihood fit from a start taken
-// from the poses themselves, and imu_tk's answer beside it when imu_tk's rules can give one.
-Status SolveMl(const TriadLog& log, CalibrateImuReport* report) {
+// Mode ml: imu_tk's answer beside the one session's calibration
+// (estimation/triad_session_calibration.h) on the poses of the chosen detector.
+Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
+               CalibrateImuReport* report) {
   report->detector = FLAGS_detector;
   report->imu_tk_status = SolveImuTk(log, report);
+  TriadSessionCalibration session;
   if (FLAGS_detector == "imu_tk") {
     ACCELCAL_RETURN_IF_ERROR(report->imu_tk_status);
     const ImuTkResult& result = report->result;
+    std::vector<StaticInterval> used;
     for (size_t i = 0; i < result.intervals.size(); ++i) {
-      if (result.interval_used[i]) report->pose_intervals.push_back(result.intervals[i]);
+      if (result.interval_used[i]) used.push_back(result.intervals[i]);
     }
+    ACCELCAL_RETURN_IF_ERROR(
+        CalibrateTriadSessionOnIntervals(log, used, options, &session).WithContext(FLAGS_log));
   } else {
     // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode.
-    NoiseFloorOptions& options = report->noise_floor_options;
-    options.window_samples = FLAGS_window;
-    options.threshold_factor = FLAGS_threshold_factor;
-    options.min_interval_s = FLAGS_min_interval_s;
-    ACCELCAL_RETURN_IF_ERROR(DetectStaticIntervalsFromNoiseFloor(log, options, &report->noise_floor)
-                                 .WithContext(FLAGS_log));
-    report->pose_intervals = report->noise_floor.intervals;
+    report->noise_floor_options = options.detector;
+    ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(log, options, &session).WithContext(FLAGS_log));
   }
-  const std::vector<TriadPoseMean> poses = PoseMeansOfIntervals(log, report->pose_intervals, 2);
-  for (const TriadPoseMean& pose : poses) report->ml_sample_count += pose.sample_count;
-  report->ml_options.gravity_mps2 = FLAGS_g;
-  report->ml_options.initial = TriadStartFromPoses(poses, FLAGS_g);
-  report->ml_options.scale_nonlinearity = FLAGS_scale_nonlinearity;
-  // The coloured model of the pose means from the log's Allan variance, when the poses are long
-  // enough for one; discovery is offered it too.
-  TriadNoiseChoice choice = TriadNoiseChoice::kAuto;
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &choice).WithContext("--noise"));
-  TriadPoseNoise& pose_noise = report->pose_noise;
-  ACCELCAL_RETURN_IF_ERROR(SelectTriadPoseNoise(log, report->pose_intervals, poses, choice,
-                                                FLAGS_alpha, &pose_noise, &report->allan_noise)
-                               .WithContext(FLAGS_log));
-  if (report->allan_noise)
-    report->ml_options.pose_mean_variance = pose_noise.candidate.pose_mean_variance;
-  ACCELCAL_RETURN_IF_ERROR(
-      CalibrateTriadMl(poses, report->ml_options, &report->ml).WithContext(FLAGS_log));
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckGainsMatchUnit(report->ml.parameters, report->unit).WithContext(FLAGS_log));
-  TriadDiscoveryOptions& discovery = report->discovery_options;
-  discovery.alpha = FLAGS_alpha;
-  discovery.fit.gravity_mps2 = FLAGS_g;
-  discovery.fit.initial = report->ml_options.initial;
-  discovery.unit = TriadOutputUnitName(report->unit);
-  for (int k = 0; k < 3; ++k)
-    discovery.gain_mps2_per_unit[k] = report->ml.parameters[kTriadGainX + k];
-  discovery.coloured_noise = pose_noise.candidate;
-  return DiscoverTriad(poses, discovery, &report->discovery).WithContext(FLAGS_log);
+  TakeSessionCalibration(std::move(session), report);
+  return Status::Ok();
 }
 
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &report->unit).WithContext("--unit"));
+  TriadSessionOptions options;
+  ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
+  report->unit = options.unit;
   report->mode = FLAGS_mode;
   // imu_tk's start, and the unit checked against the log with its offset, once for both modes.
   ACCELCAL_RETURN_IF_ERROR(
-      InitialGuess(log, report->unit, &report->options.initial, &report->initial_offset_from));
-  return FLAGS_mode == "ml" ? SolveMl(log, report) : SolveImuTk(log, report);
+      InitialGuess(log, options, &report->options.initial, &report->initial_offset_from));
+  return FLAGS_mode == "ml" ? SolveMl(log, options, report) : SolveImuTk(log, report);
 }
 
 // Mode ferraris: imucal's closed form on its six holds, and what least squares can say.

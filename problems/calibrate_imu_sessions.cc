@@ -1,10 +1,10 @@
 // calibrate_imu --log=S1,S2,... --mode=ml: several sessions of ONE device, each calibrated on
-// its own exactly as the single-session ml mode does (noise-floor detector, maximum likelihood
-// with ceres::Covariance), then combined per parameter by a random-effects model
-// (estimation/triad_sessions.h): the device's common value, the within-session sigma
-// (`stddev`), the between-session sigma (tau) with its interval, and the sigma a NEW session's
-// estimate scatters by about the common value (`stddev_new_session`), with the Student t
-// multiplier its 95% interval needs with so few sessions. docs/repeatability.md.
+// its own by the single-session ml mode's sequence (estimation/triad_session_calibration.h:
+// noise-floor detector, maximum likelihood with ceres::Covariance), then combined per parameter
+// by a random-effects model (estimation/triad_sessions.h): the device's common value, the
+// within-session sigma (`stddev`), the between-session sigma (tau) with its interval, and the
+// sigma a NEW session's estimate scatters by about the common value (`stddev_new_session`), with
+// the Student t multiplier its 95% interval needs with so few sessions. docs/repeatability.md.
 //
 //   build/bin/calibrate_imu --log=run1/imu1.csv,run2/imu1.csv,run3/imu1.csv --g=9.8187 \
 //       --mode=ml --json=imu1_sessions.json
@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "estimation/triad_session_calibration.h"
 #include "estimation/triad_sessions.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
@@ -27,23 +28,19 @@
 
 DECLARE_string(log);
 DECLARE_string(mode);
-DECLARE_double(g);
-DECLARE_string(unit);
-DECLARE_string(initial_offset);
-DECLARE_int32(window);
 DECLARE_string(detector);
-DECLARE_double(threshold_factor);
-DECLARE_double(min_interval_s);
 DECLARE_string(session);
 DECLARE_string(reference);
 DECLARE_bool(scale_nonlinearity);
 DECLARE_string(json);
 DECLARE_string(report);
 DECLARE_string(calibration_out);
-DECLARE_string(noise);
-DECLARE_double(alpha);
 
 namespace accelcal {
+
+// problems/calibrate_imu.cc, where the flags are defined.
+Status TriadSessionOptionsFromFlags(TriadSessionOptions* options);
+
 namespace {
 
 // The sessions of --log, refused when fewer than 2, empty or repeated.
@@ -73,24 +70,6 @@ Status SplitSessions(std::vector<std::string>* paths) {
   return Status::Ok();
 }
 
-// The options of every session's calibration, from the single-session mode's flags.
-Status SessionOptionsFromFlags(TriadSessionOptions* options) {
-  ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options->unit).WithContext("--unit"));
-  options->gravity_mps2 = FLAGS_g;
-  options->offset_auto = FLAGS_initial_offset == "auto";
-  if (!options->offset_auto && !ParseFiniteNumber(FLAGS_initial_offset, &options->initial_offset)) {
-    return Status::Error("--initial_offset='" + FLAGS_initial_offset +
-                         "' is neither auto nor a finite number (the log's unit)");
-  }
-  options->detector.window_samples = FLAGS_window;
-  options->detector.threshold_factor = FLAGS_threshold_factor;
-  options->detector.min_interval_s = FLAGS_min_interval_s;
-  ACCELCAL_RETURN_IF_ERROR(
-      ParseTriadNoiseChoice(FLAGS_noise, &options->noise).WithContext("--noise"));
-  options->alpha = FLAGS_alpha;
-  return Status::Ok();
-}
-
 Status ValidateSessionFlags(const std::vector<std::string>& paths) {
   if (FLAGS_mode != "ml") {
     return Status::Error(
@@ -113,7 +92,7 @@ Status ValidateSessionFlags(const std::vector<std::string>& paths) {
   // --unit, --initial_offset and --window as the single-session mode reads them; the
   // detector refuses an even window itself.
   TriadSessionOptions options;
-  ACCELCAL_RETURN_IF_ERROR(SessionOptionsFromFlags(&options));
+  ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
   return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{paths, {}});
 }
 
@@ -122,8 +101,9 @@ Status ValidateSessionFlags(const std::vector<std::string>& paths) {
 const char* ApparentUnit(const TriadLog& log) {
   for (TriadOutputUnit unit :
        {TriadOutputUnit::kCount, TriadOutputUnit::kMps2, TriadOutputUnit::kG}) {
-    const double offset = unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
-    if (CheckOutputsMatchUnit(log, unit, offset).ok()) return TriadOutputUnitName(unit);
+    double offset = 0.0;
+    if (TriadStartOffset(log, unit, TriadOffsetStart(), &offset).ok())
+      return TriadOutputUnitName(unit);
   }
   return "none of count, m/s^2, g";
 }
@@ -142,11 +122,8 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
                            "...); each session must be its own recording");
     }
   }
-  TriadSessionOptions options;
-  ACCELCAL_RETURN_IF_ERROR(SessionOptionsFromFlags(&options));
-  report->unit = options.unit;
-  report->gravity_mps2 = options.gravity_mps2;
-  report->detector = options.detector;
+  TriadSessionOptions& options = report->options;
+  ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
   std::vector<TriadLog> logs(paths.size());
   for (size_t s = 0; s < paths.size(); ++s) {
     ACCELCAL_RETURN_IF_ERROR(ReadImuLog(paths[s], &logs[s]));

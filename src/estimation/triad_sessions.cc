@@ -6,7 +6,6 @@
 #include <string>
 
 #include "estimation/chi_square.h"
-#include "estimation/triad_initial_guess.h"
 
 namespace accelcal {
 namespace {
@@ -157,41 +156,6 @@ Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimat
   // All deviations zero: nothing was estimated, and the floor (known within variance) holds.
   array->degrees_of_freedom = denominator > 0.0 ? total * total / denominator : 1e9;
   return Status::Ok();
-}
-
-Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& options,
-                             TriadSessionCalibration* calibration) {
-  double offset = options.initial_offset;
-  if (options.offset_auto)
-    offset = options.unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
-  ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, options.unit, offset));
-  ACCELCAL_RETURN_IF_ERROR(
-      DetectStaticIntervalsFromNoiseFloor(log, options.detector, &calibration->detection));
-  const std::vector<TriadPoseMean> poses =
-      PoseMeansOfIntervals(log, calibration->detection.intervals, 2);
-  calibration->sample_count = 0;
-  for (const TriadPoseMean& pose : poses) calibration->sample_count += pose.sample_count;
-  ACCELCAL_RETURN_IF_ERROR(
-      SelectTriadPoseNoise(log, calibration->detection.intervals, poses, options.noise,
-                           options.alpha, &calibration->pose_noise, &calibration->allan_noise));
-  TriadMlOptions ml_options;
-  ml_options.gravity_mps2 = options.gravity_mps2;
-  ml_options.initial = TriadStartFromPoses(poses, options.gravity_mps2);
-  ml_options.solve = options.solve;
-  if (calibration->allan_noise)
-    ml_options.pose_mean_variance = calibration->pose_noise.candidate.pose_mean_variance;
-  ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, ml_options, &calibration->ml));
-  ACCELCAL_RETURN_IF_ERROR(CheckGainsMatchUnit(calibration->ml.parameters, options.unit));
-  TriadDiscoveryOptions discovery;
-  discovery.alpha = options.alpha;
-  discovery.fit.gravity_mps2 = options.gravity_mps2;
-  discovery.fit.initial = ml_options.initial;
-  discovery.fit.solve = options.solve;
-  discovery.unit = TriadOutputUnitName(options.unit);
-  discovery.coloured_noise = calibration->pose_noise.candidate;
-  for (int k = 0; k < 3; ++k)
-    discovery.gain_mps2_per_unit[k] = calibration->ml.parameters[kTriadGainX + k];
-  return DiscoverTriad(poses, discovery, &calibration->discovery);
 }
 
 std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>& sessions,

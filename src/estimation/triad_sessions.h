@@ -43,14 +43,10 @@
 #include <vector>
 
 #include "common/status.h"
-#include "common/triad_log.h"
 #include "estimation/chi_square.h"
-#include "estimation/noise_floor_detector.h"
-#include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
-#include "estimation/triad_pose_noise.h"
+#include "estimation/triad_session_calibration.h"
 #include "models/triad.h"
-#include "models/triad_units.h"
 
 namespace accelcal {
 
@@ -123,34 +119,9 @@ Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimat
 
 // --- The triad's 9 parameters ---
 
-// Each session's calibration as the single-session `calibrate_imu --mode=ml` does it with the
-// noise-floor detector: the log's outputs checked against the unit, the static poses from the
-// log's own noise floor, the maximum-likelihood fit started from the poses, the gains checked
-// against the unit.
-struct TriadSessionOptions {
-  double gravity_mps2 = 9.81;
-  TriadOutputUnit unit = TriadOutputUnit::kCount;
-  bool offset_auto = true;      // the ADC's mid-scale for counts, 0 for physical units
-  double initial_offset = 0.0;  // when !offset_auto
-  NoiseFloorOptions detector;
-  QuietSolveOptions solve;
-  // The noise model of the pose means (estimation/triad_pose_noise.h) and discovery's alpha.
-  TriadNoiseChoice noise = TriadNoiseChoice::kAuto;
-  double alpha = 0.01;
-};
-
-struct TriadSessionCalibration {
-  NoiseFloorDetection detection;
-  TriadPoseNoise pose_noise;
-  bool allan_noise = false;  // the fit weights the pose means by the Allan model
-  TriadMlResult ml;
-  TriadDiscoveryResult discovery;
-  int sample_count = 0;  // samples in the poses' means
-};
-
-// Fails as the single-session mode does (the caller adds the file name).
-Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& options,
-                             TriadSessionCalibration* calibration);
+// Each session is calibrated on its own by CalibrateTriadSession
+// (estimation/triad_session_calibration.h), as the single-session `calibrate_imu --mode=ml` does
+// with the noise-floor detector.
 
 // The session's estimates of parameter `index`.
 std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>& sessions,

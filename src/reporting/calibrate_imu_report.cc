@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <utility>
 
 #include "common/format.h"
 #include "models/triad.h"
@@ -25,6 +26,18 @@ constexpr int kImuTkPrintedIntervals[] = {42, 40, 39, 38, 38, 38, 38, 38, 38};
 
 const char* const kDatasheet[kTriadParameterCount] = {
     "(0.01)", "(0.01)", "(0.01)", "1/415", "1/413", "1/415", "33123", "33276", "32360"};
+
+void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report) {
+  report->noise_floor = std::move(session.detection);
+  report->pose_intervals = std::move(session.pose_intervals);
+  report->ml_sample_count = session.sample_count;
+  report->pose_noise = std::move(session.pose_noise);
+  report->allan_noise = session.allan_noise;
+  report->ml_options = std::move(session.ml_options);
+  report->ml = std::move(session.ml);
+  report->discovery_options = std::move(session.discovery_options);
+  report->discovery = std::move(session.discovery);
+}
 
 bool IsImuTkExample(const CalibrateImuReport& report) {
   return report.log_sha256 == kImuTkXsensAccSha256 && report.options.min_multiplier == 2 &&

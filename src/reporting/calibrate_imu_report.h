@@ -17,6 +17,7 @@
 #include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
 #include "estimation/triad_pose_noise.h"
+#include "estimation/triad_session_calibration.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
 #include "models/triad_units.h"
@@ -53,6 +54,10 @@ struct CalibrateImuReport {
   TriadDiscoveryOptions discovery_options;
   TriadDiscoveryResult discovery;
 };
+
+// Mode ml: one session's calibration (estimation/triad_session_calibration.h) into the fields
+// above, which this report, reporting/triad_report.cc and tools/bench/triad_bench.cc read.
+void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report);
 
 // The SHA-256 of imu_tk's bin/test_data/xsens_acc.mat (../shared/data/imu_tk-xsens/SOURCE.txt).
 constexpr char kImuTkXsensAccSha256[] =

@@ -44,7 +44,7 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
   out << StringPrintf(
       "calibrate_imu, mode ml, %d sessions of one device combined (docs/repeatability.md), g = "
       "%.10g m/s^2, outputs in %s\n",
-      session_count, report.gravity_mps2, TriadOutputUnitName(report.unit));
+      session_count, report.options.gravity_mps2, TriadOutputUnitName(report.options.unit));
   for (int s = 0; s < session_count; ++s) {
     const TriadSessionCalibration& calibration = report.sessions[s].calibration;
     const TriadMlResult& ml = calibration.ml;
@@ -62,7 +62,8 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
     out << StringPrintf(" %25s", ("session " + std::to_string(s + 1)).c_str());
   out << "\n";
   for (int p = 0; p < kTriadParameterCount; ++p) {
-    out << StringPrintf("  %-16s %-14s", Name(p), TriadParameterUnit(p, report.unit).c_str());
+    out << StringPrintf("  %-16s %-14s", Name(p),
+                        TriadParameterUnit(p, report.options.unit).c_str());
     for (const TriadSessionReport& session : report.sessions) {
       out << StringPrintf(" %25s", StringPrintf("%.8g (%.2g)", session.calibration.ml.parameters[p],
                                                 session.calibration.ml.stddev[p])
@@ -105,11 +106,11 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
   json["model"] =
       "a = T K (u - b), docs/triad.md, per session; random effects across sessions, "
       "docs/repeatability.md";
-  json["gravity_mps2"] = report.gravity_mps2;
-  json["output_unit"] = TriadOutputUnitName(report.unit);
+  json["gravity_mps2"] = report.options.gravity_mps2;
+  json["output_unit"] = TriadOutputUnitName(report.options.unit);
   nlohmann::json session_units;
   for (int p = 0; p < kTriadParameterCount; ++p)
-    session_units[Name(p)] = TriadParameterUnit(p, report.unit);
+    session_units[Name(p)] = TriadParameterUnit(p, report.options.unit);
   nlohmann::json sessions = nlohmann::json::array();
   for (const TriadSessionReport& session : report.sessions) {
     const TriadMlResult& ml = session.calibration.ml;
@@ -142,7 +143,7 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
     interval[Name(p)] = {e.between.stddev_low, e.between.stddev_high};
     p_values[Name(p)] = e.between.homogeneity_p;
     multiplier[Name(p)] = e.interval_multiplier;
-    units[Name(p)] = TriadParameterUnit(p, report.unit);
+    units[Name(p)] = TriadParameterUnit(p, report.options.unit);
   }
   json["parameters"] = parameters;
   json["parameters_stddev"] = common_stddev;

@@ -26,9 +26,7 @@ struct TriadSessionReport {
 };
 
 struct TriadSessionsReport {
-  double gravity_mps2 = 9.81;
-  TriadOutputUnit unit = TriadOutputUnit::kCount;
-  NoiseFloorOptions detector;
+  TriadSessionOptions options;  // every session's
   std::vector<TriadSessionReport> sessions;
   TriadRandomEffects combined{};
 };

@@ -1,0 +1,132 @@
+// One session's calibration (estimation/triad_session_calibration.h), the sequence behind every
+// calibrate_imu --mode=ml path: on imu_tk's Xsens log it reproduces what the CLI prints with
+// the noise-floor detector (the default), with imu_tk's intervals (--detector=imu_tk), with
+// --noise=white and with --scale_nonlinearity; and it refuses a log whose unit is misstated.
+
+#include "estimation/triad_session_calibration.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "estimation/imu_tk_calibration.h"
+#include "io/imu_log.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+// calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=ml's options (the flags' defaults).
+TriadSessionOptions XsensOptions() {
+  TriadSessionOptions options;
+  options.gravity_mps2 = 9.81744;
+  return options;
+}
+
+// imu_tk's intervals at its chosen k, the ones its cost used, as --detector=imu_tk takes them.
+std::vector<StaticInterval> ImuTkIntervals(const TriadLog& log) {
+  ImuTkOptions options;
+  options.gravity_mps2 = 9.81744;
+  options.init_rest_s = 50.0;
+  options.initial = TriadParametersWithOffset(32768.0, 32768.0, 32768.0);  // auto: mid-scale
+  ImuTkResult result;
+  EXPECT_TRUE(CalibrateImuTk(log, options, &result).ok());
+  std::vector<StaticInterval> used;
+  for (size_t i = 0; i < result.intervals.size(); ++i) {
+    if (result.interval_used[i]) used.push_back(result.intervals[i]);
+  }
+  return used;
+}
+
+// What `calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=ml` prints with the flags named
+// (the same before and after this sequence was shared, 6d1a6bf).
+struct Printed {
+  const char* flags;
+  bool imu_tk_detector;
+  TriadNoiseChoice noise;
+  bool scale_nonlinearity;
+  int poses;
+  int samples;
+  double offset_x;
+  double offset_x_stddev;
+  double gain_y;
+  double chi2;
+  int dof;  // 3 fewer with --scale_nonlinearity
+};
+
+constexpr TriadNoiseChoice kAuto = TriadNoiseChoice::kAuto;
+constexpr TriadNoiseChoice kWhite = TriadNoiseChoice::kWhite;
+const Printed kPrinted[] = {
+    {"", false, kAuto, false, 38, 32840, 33123.831, 0.221, 0.0024269976, 27.5893, 29},
+    {"--detector=imu_tk", true, kAuto, false, 38, 32812, 33123.835, 0.221, 0.0024269977, 27.5616,
+     29},
+    {"--noise=white", false, kWhite, false, 38, 32840, 33123.822, 0.0766, 0.0024269376, 446.593,
+     29},
+    {"--scale_nonlinearity", false, kAuto, true, 38, 32840, 33124.11, 0.618, 0.0024269932, 25.4669,
+     26},
+    {"--scale_nonlinearity --detector=imu_tk --noise=white", true, kWhite, true, 38, 32812,
+     33124.25, 0.175, 0.0024269481, 420.104, 26},
+};
+
+TEST(TriadSessionCalibration, ReproducesTheCliOnXsensWithEitherDetector) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  TriadLog log;
+  ASSERT_TRUE(ReadImuLog(dir + "/xsens_acc.mat", &log).ok());
+  const std::vector<StaticInterval> imu_tk_intervals = ImuTkIntervals(log);
+  for (const Printed& printed : kPrinted) {
+    SCOPED_TRACE(printed.flags);
+    TriadSessionOptions options = XsensOptions();
+    options.noise = printed.noise;
+    options.scale_nonlinearity = printed.scale_nonlinearity;
+    TriadSessionCalibration calibration;
+    const Status status =
+        printed.imu_tk_detector
+            ? CalibrateTriadSessionOnIntervals(log, imu_tk_intervals, options, &calibration)
+            : CalibrateTriadSession(log, options, &calibration);
+    ASSERT_TRUE(status.ok()) << status.message();
+    // The noise-floor path keeps its detection; imu_tk's intervals come with none.
+    EXPECT_EQ(calibration.detection.intervals.size(), printed.imu_tk_detector ? 0u : 38u);
+    const TriadMlResult& ml = calibration.ml;
+    EXPECT_EQ(ml.pose_count, printed.poses);
+    EXPECT_EQ(static_cast<int>(calibration.pose_intervals.size()), printed.poses);
+    EXPECT_EQ(calibration.sample_count, printed.samples);
+    // --noise=auto takes the Allan model on this log (white noise rejected, p = 6e-88).
+    EXPECT_EQ(calibration.allan_noise, printed.noise == kAuto);
+    EXPECT_EQ(ml.mean_stddev_from_caller, printed.noise == kAuto);
+    EXPECT_NEAR(ml.parameters[kTriadOffsetX], printed.offset_x, 5e-4);
+    EXPECT_NEAR(ml.stddev[kTriadOffsetX], printed.offset_x_stddev, 5e-4);
+    EXPECT_NEAR(ml.parameters[kTriadGainY], printed.gain_y, 5e-11);
+    EXPECT_NEAR(ml.chi2, printed.chi2, 5e-4);
+    EXPECT_EQ(ml.degrees_of_freedom, printed.dof);
+    // Discovery ran on the same poses: the Allan model found missing from the white one.
+    EXPECT_EQ(calibration.discovery.verdict_code, Verdict::kMissing);
+    EXPECT_EQ(calibration.discovery_options.alpha, 0.01);
+  }
+}
+
+TEST(TriadSessionCalibration, RefusesALogWhoseUnitIsMisstated) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  TriadLog log;
+  ASSERT_TRUE(ReadImuLog(dir + "/xsens_acc.mat", &log).ok());
+  TriadSessionOptions options = XsensOptions();
+  options.unit = TriadOutputUnit::kG;
+  TriadSessionCalibration calibration;
+  for (const bool given_intervals : {false, true}) {
+    const Status status = given_intervals ? CalibrateTriadSessionOnIntervals(
+                                                log, ImuTkIntervals(log), options, &calibration)
+                                          : CalibrateTriadSession(log, options, &calibration);
+    ASSERT_FALSE(status.ok());
+    EXPECT_NE(status.message().find("not about 1 as 1 g is in g"), std::string::npos)
+        << status.message();
+  }
+  // The start's offset of a log in counts: the 16-bit ADC's mid-scale, or the number given.
+  double offset = 0.0;
+  ASSERT_TRUE(TriadStartOffset(log, TriadOutputUnit::kCount, {}, &offset).ok());
+  EXPECT_EQ(offset, 32768.0);
+  ASSERT_TRUE(TriadStartOffset(log, TriadOutputUnit::kCount, {false, 33000.0}, &offset).ok());
+  EXPECT_EQ(offset, 33000.0);
+}
+
+}  // namespace
+}  // namespace accelcal
