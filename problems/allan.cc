@@ -90,6 +90,17 @@ Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
     }
     segments->emplace_back(start, end);
   }
+  // Samples in two segments would enter the Allan variance twice and narrow its intervals.
+  std::vector<std::pair<double, double>> sorted = *segments;
+  std::sort(sorted.begin(), sorted.end());
+  for (size_t j = 1; j < sorted.size(); ++j) {
+    if (sorted[j].first <= sorted[j - 1].second) {
+      return Status::Error(StringPrintf(
+          "--segment: %g:%g and %g:%g overlap; their common samples would count twice in the "
+          "Allan variance: give disjoint segments",
+          sorted[j - 1].first, sorted[j - 1].second, sorted[j].first, sorted[j].second));
+    }
+  }
   return Status::Ok();
 }
 
@@ -160,6 +171,10 @@ Status CheckSampling(const TriadLog& log, AllanReport* report) {
 Status Solve(const TriadLog& log, AllanReport* report) {
   TriadOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit));
+  // A log in m/s^2 said to be in counts (or the reverse) would give every term in the wrong
+  // unit; the outputs' magnitude tells, as calibrate_imu checks it.
+  const double offset = unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
+  ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, unit, offset).WithContext(FLAGS_log));
   report->output_unit = TriadOutputUnitName(unit);
   report->log_path = FLAGS_log;
   report->gain = 1.0;
@@ -311,7 +326,7 @@ int Run(int argc, char** argv) {
   DataSource source;
   std::string json_text, png;
   Status status = ValidateFlags();
-  if (status.ok()) status = ReadImuLog(FLAGS_log, &log);
+  if (status.ok()) status = ReadImuLog(FLAGS_log, &log, ImuLogSpacing::kAny);
   if (status.ok()) status = DescribeMeasuredData("", {{"log", FLAGS_log}}, &source);
   if (status.ok()) status = Solve(log, &report);
   const nlohmann::json json =

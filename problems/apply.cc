@@ -90,6 +90,10 @@ std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameter
   return csv;
 }
 
+// The largest specific force a triad sample may correct to: 10^5 g, beyond the range of shock
+// accelerometers (some 10^4 to 10^5 g), let alone of those calibrated by holding them still.
+constexpr double kMaxTriadAccelerationMps2 = 1e6;
+
 // A triad's log corrected; refused when the corrected magnitudes are not about 1 g, which an
 // accelerometer's are at rest and in ordinary motion: the log is then in another unit than
 // the calibration's, or from another sensor.
@@ -100,9 +104,22 @@ Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
   samples.reserve(log.size());
   std::vector<double> magnitude;
   magnitude.reserve(log.size());
-  for (const std::array<double, 3>& output : log.output) {
-    samples.push_back(CorrectTriad(parameters, covariance, output));
+  for (size_t j = 0; j < log.size(); ++j) {
+    samples.push_back(CorrectTriad(parameters, covariance, log.output[j]));
     magnitude.push_back(samples.back().acceleration.norm());
+    // A sample far beyond any accelerometer's range is a damaged value, not a reading: its
+    // square overflows the sigma to inf or NaN, and written out it would look like data.
+    const bool finite =
+        samples.back().acceleration.allFinite() && samples.back().covariance.diagonal().allFinite();
+    if (!finite || magnitude.back() > kMaxTriadAccelerationMps2) {
+      const std::array<double, 3>& u = log.output[j];
+      return Status::Error(StringPrintf(
+          "%s: sample %zu (t = %.9g s), output (%.6g, %.6g, %.6g) %s, corrects to |a| = %.3g "
+          "m/s^2, beyond any accelerometer's range (%g m/s^2): a damaged value; remove or "
+          "repair the sample",
+          FLAGS_in.c_str(), j + 1, log.timestamp_s[j], u[0], u[1], u[2], record.output_unit.c_str(),
+          magnitude.back(), kMaxTriadAccelerationMps2));
+    }
   }
   std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
   const double median = magnitude[magnitude.size() / 2];
@@ -148,7 +165,7 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   ACCELCAL_RETURN_IF_ERROR(
       TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
   TriadLog log;
-  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_in, &log));
+  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_in, &log, ImuLogSpacing::kAny));
   DataSource source;
   ACCELCAL_RETURN_IF_ERROR(
       DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source));

@@ -108,13 +108,28 @@ Status LoadAndCalibrate(TriadRepeatabilityReport* report, DataSource* source) {
   options.gravity_mps2 = FLAGS_g;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &options.unit).WithContext("--unit"));
   std::map<std::string, std::string> files;
+  for (const std::string& session : report->session_names) {
+    for (const std::string& device : report->device_names) {
+      files[session + "/" + device] =
+          (std::filesystem::path(FLAGS_data_dir) / session / (device + ".csv")).string();
+    }
+  }
+  ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData(FLAGS_data_dir, files, source));
+  // A session copied (or a folder linked) under two names would be two sessions that agree
+  // exactly, and the between-session spread would come out too small.
+  std::map<std::string, std::string> by_content;
+  for (const auto& [key, path] : files) {
+    const std::string& sha256 = source->files.at(key).sha256;
+    if (!by_content.emplace(sha256, path).second) {
+      return Status::Error(path + " holds the same bytes as " + by_content[sha256] + " (SHA-256 " +
+                           sha256.substr(0, 12) +
+                           "...); each log must be its own recording of its own device");
+    }
+  }
   report->sessions.assign(report->device_names.size(), {});
   for (const std::string& session : report->session_names) {
     for (size_t d = 0; d < report->device_names.size(); ++d) {
-      const std::string path =
-          (std::filesystem::path(FLAGS_data_dir) / session / (report->device_names[d] + ".csv"))
-              .string();
-      files[session + "/" + report->device_names[d]] = path;
+      const std::string& path = files.at(session + "/" + report->device_names[d]);
       TriadLog log;
       ACCELCAL_RETURN_IF_ERROR(ReadImuLog(path, &log));
       TriadSessionCalibration calibration;
@@ -123,7 +138,6 @@ Status LoadAndCalibrate(TriadRepeatabilityReport* report, DataSource* source) {
       report->sessions[d].push_back(calibration.ml);
     }
   }
-  ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData(FLAGS_data_dir, files, source));
   for (const std::vector<TriadMlResult>& device : report->sessions) {
     report->per_device.emplace_back();
     ACCELCAL_RETURN_IF_ERROR(CombineTriadSessions(device, 0.95, &report->per_device.back()));

@@ -11,9 +11,11 @@
 
 #include <gflags/gflags.h>
 
+#include <cmath>
 #include <iostream>
 #include <sstream>
 
+#include "common/format.h"
 #include "io/csv_reader.h"
 #include "io/json_file.h"
 #include "problem_support.h"
@@ -68,6 +70,9 @@ Status ParseNoise(const std::string& text, std::array<double, 3>* noise) {
   return Status::Ok();
 }
 
+constexpr double kMaxTruthAngleRad = 0.1;
+constexpr double kMaxTruthOffsetCounts = 1e9;
+
 // --truth: name=value,... over the default; `scale_nonlinearity_given` says whether any k2 was.
 Status ParseTruth(const std::string& text, TriadParameters* truth, TriadScaleNonlinearity* k2,
                   bool* scale_nonlinearity_given) {
@@ -104,6 +109,20 @@ Status ParseTruth(const std::string& text, TriadParameters* truth, TriadScaleNon
     if (!((*truth)[kTriadGainX + k] > 0.0)) {
       return Status::Error(std::string("--truth: ") + TriadParameterInfos()[kTriadGainX + k].name +
                            " must be positive ((m/s^2)/count)");
+    }
+  }
+  // The model's angles are a small non-orthogonality, and the fit starts from 0: a truth of
+  // radians would be a study of a local minimum, not of the sigma. Offsets beyond 1e9 counts
+  // put the outputs where a double's resolution nears the noise.
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    const bool angle = p < kTriadGainX;
+    const bool offset = p >= kTriadOffsetX && p <= kTriadOffsetZ;
+    const double bound = angle ? kMaxTruthAngleRad : kMaxTruthOffsetCounts;
+    if ((angle || offset) && !(std::abs((*truth)[p]) <= bound)) {
+      return Status::Error(
+          StringPrintf("--truth: %s=%g is outside [-%g, %g] %s%s", TriadParameterInfos()[p].name,
+                       (*truth)[p], bound, bound, angle ? "rad" : "counts",
+                       angle ? " (a non-orthogonality of at most 5.7 degrees)" : ""));
     }
   }
   return Status::Ok();

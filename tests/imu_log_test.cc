@@ -84,6 +84,34 @@ TEST(ImuLog, RefusesATimeAxisInMilliseconds) {
   EXPECT_NE(message.find("milliseconds"), std::string::npos) << message;
 }
 
+// 100 samples 0.01 s apart from t = 0, then 100 more `step_s` apart, from `second_start_s`.
+std::string TwoPartLog(double second_start_s, double step_s) {
+  std::string text;
+  for (int j = 0; j < 200; ++j) {
+    const double t_s = j < 100 ? 0.01 * j : second_start_s + step_s * (j - 100);
+    text += StringPrintf("%.6f 33000 33100 36400\n", t_s);
+  }
+  return text;
+}
+
+TEST(ImuLog, RefusesAGapOrARateChangeForCalibrationButNotForCorrection) {
+  const std::string joined = TwoPartLog(30.0, 0.01);
+  std::string message = Refusal(joined, kAscii);
+  EXPECT_NE(message.find("sample 101 (t = 30 s)"), std::string::npos) << message;
+  EXPECT_NE(message.find("the log has a gap"), std::string::npos) << message;
+  message = Refusal(TwoPartLog(1.0, 0.05), kAscii);
+  EXPECT_NE(message.find("the sampling rate changes within the log"), std::string::npos) << message;
+  TriadLog log;
+  EXPECT_TRUE(ParseImuLog(joined, kAscii, &log, ImuLogSpacing::kAny).ok());
+  EXPECT_EQ(log.size(), 200u);
+  // Real jitter passes: steps from 0.96 to 1.04 of the median, as in imu_tk's Xsens log.
+  std::string jitter;
+  for (int j = 0; j < 200; ++j)
+    jitter += StringPrintf("%.6f 33000 33100 36400\n", 0.01 * j + (j % 3 == 1 ? 0.0004 : 0.0));
+  const Status status = ParseImuLog(jitter, kAscii, &log);
+  EXPECT_TRUE(status.ok()) << status.message();
+}
+
 TEST(ImuLog, RefusesAFileCutShort) {
   const std::string message = Refusal("0.00 1 2 3\n0.01 1 2", kAscii);
   EXPECT_NE(message.find("line 2 has no line end"), std::string::npos) << message;

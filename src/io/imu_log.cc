@@ -109,6 +109,42 @@ bool LooksNotFinite(std::string_view cell) {
   return lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
 }
 
+// ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave. A step out
+// of the band followed by one in it is a gap (or a time stamp out of place); followed by
+// another out of it, the rate has changed.
+Status CheckEvenSpacing(const std::vector<double>& timestamp_s, double median_step_s) {
+  auto even = [&](size_t j) {
+    const double step_s = timestamp_s[j] - timestamp_s[j - 1];
+    return step_s >= 0.5 * median_step_s && step_s <= 1.5 * median_step_s;
+  };
+  for (size_t j = 1; j < timestamp_s.size(); ++j) {
+    if (even(j)) continue;
+    const double step_s = timestamp_s[j] - timestamp_s[j - 1];
+    const bool isolated = j + 1 == timestamp_s.size() || even(j + 1);
+    const char* what = !isolated ? "the sampling rate changes within the log"
+                       : step_s > median_step_s
+                           ? "the log has a gap (lost samples, or two recordings joined)"
+                           : "a time stamp out of place";
+    const char* action =
+        !isolated                ? "resample the log to one rate, or cut it where the rate changes"
+        : step_s > median_step_s ? "calibrate from the part before or after the gap, or record the "
+                                   "session again"
+                                 : "repair the time stamp";
+    return Status::Error(StringPrintf(
+        "sample %zu (t = %.9g s) follows the previous one by %.6g s, %.4g times the log's median "
+        "step of %.6g s: %s; a calibration needs evenly spaced samples (its static detector and "
+        "noise model count them): %s",
+        j + 1, timestamp_s[j], step_s, step_s / median_step_s, median_step_s, what, action));
+  }
+  return Status::Ok();
+}
+
+Status CheckSpacing(const std::vector<double>& timestamp_s, ImuLogSpacing spacing) {
+  double step_s = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(CheckLogTime(timestamp_s, "t", &step_s));
+  return spacing == ImuLogSpacing::kEven ? CheckEvenSpacing(timestamp_s, step_s) : Status::Ok();
+}
+
 }  // namespace
 
 ImuLogLayout ImuLogLayoutOf(const std::string& path) {
@@ -218,7 +254,8 @@ Status ImuLogLineParser::UnterminatedLastLine(std::string_view rest) const {
                        "line if it is complete");
 }
 
-Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log) {
+Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log,
+                   ImuLogSpacing spacing) {
   *log = TriadLog();
   ImuLogLineParser parser(layout);
   size_t begin = 0;
@@ -234,8 +271,7 @@ Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log) {
     begin = end + 1;
   }
   ACCELCAL_RETURN_IF_ERROR(parser.Finish());
-  double step_s = 0.0;
-  return CheckLogTime(log->timestamp_s, "t", &step_s);
+  return CheckSpacing(log->timestamp_s, spacing);
 }
 
 Status StreamImuLog(const std::string& path, size_t batch_samples,
@@ -263,15 +299,14 @@ Status StreamImuLog(const std::string& path, size_t batch_samples,
   return Status::Ok();
 }
 
-Status ReadImuLog(const std::string& path, TriadLog* log) {
+Status ReadImuLog(const std::string& path, TriadLog* log, ImuLogSpacing spacing) {
   *log = TriadLog();
   ACCELCAL_RETURN_IF_ERROR(StreamImuLog(path, 1 << 16, [log](const TriadLog& batch) {
     log->timestamp_s.insert(log->timestamp_s.end(), batch.timestamp_s.begin(),
                             batch.timestamp_s.end());
     log->output.insert(log->output.end(), batch.output.begin(), batch.output.end());
   }));
-  double step_s = 0.0;
-  return CheckLogTime(log->timestamp_s, "t", &step_s).WithContext(path);
+  return CheckSpacing(log->timestamp_s, spacing).WithContext(path);
 }
 
 }  // namespace accelcal

@@ -13,7 +13,9 @@
 // The outputs are kept in whatever unit the sensor gives (raw counts in imu_tk's example);
 // the calibration maps them to m/s^2. Every value must be a finite number; time must be
 // strictly increasing, and its median step that of an accelerometer log (CheckLogTime,
-// io/course_data.h), so a time axis in milliseconds is refused as such. Every line ends in
+// io/course_data.h), so a time axis in milliseconds is refused as such. A log read for
+// calibration must also be evenly sampled (ImuLogSpacing::kEven), which one correcting sample
+// by sample need not be. Every line ends in
 // '\n' (a last line without one is a file cut short). Failures say "line N: what is wrong;
 // what to do"; the callers add the file name (the Read and Stream functions add it).
 
@@ -28,6 +30,14 @@
 namespace accelcal {
 
 enum class ImuLogLayout { kWhitespace, kCsv };
+
+// What a log's time steps must satisfy beyond increasing. kEven: every step within
+// [1/2, 3/2] of the median, as real logs are (imu_tk's Xsens log: [0.9, 1.04]; mimu4444:
+// [0.98, 1.0001]). A calibration needs it: the static detector's windows and the noise model
+// count samples, so a gap inside a pose (lost samples, two recordings joined) or a change of
+// rate weighs the pose wrongly, and the result looks fine. kAny: increasing only (apply
+// corrects each sample on its own; allan checks the segments it uses).
+enum class ImuLogSpacing { kEven, kAny };
 
 // kCsv for a name ending in ".csv" (any case), kWhitespace otherwise.
 ImuLogLayout ImuLogLayoutOf(const std::string& path);
@@ -65,7 +75,8 @@ class ImuLogLineParser {
 
 // The text of a log already in memory (tests, fuzzing): samples and the line checks, then
 // CheckLogTime on the whole time axis.
-Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log);
+Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log,
+                   ImuLogSpacing spacing = ImuLogSpacing::kEven);
 
 // Streams `path` in chunks of bounded size, handing the samples over in batches of at most
 // `batch_samples`; `on_batch` sees each batch once. Memory is bounded whatever the file's
@@ -74,8 +85,10 @@ Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log);
 Status StreamImuLog(const std::string& path, size_t batch_samples,
                     const std::function<void(const TriadLog& batch)>& on_batch);
 
-// The whole log, streamed into `log`, then CheckLogTime. Failures start with the file name.
-Status ReadImuLog(const std::string& path, TriadLog* log);
+// The whole log, streamed into `log`, then CheckLogTime and `spacing`. Failures start with
+// the file name.
+Status ReadImuLog(const std::string& path, TriadLog* log,
+                  ImuLogSpacing spacing = ImuLogSpacing::kEven);
 
 }  // namespace accelcal
 
