@@ -110,6 +110,19 @@ TEST(ImuLog, RefusesAGapOrARateChangeForCalibrationButNotForCorrection) {
     jitter += StringPrintf("%.6f 33000 33100 36400\n", 0.01 * j + (j % 3 == 1 ? 0.0004 : 0.0));
   const Status status = ParseImuLog(jitter, kAscii, &log);
   EXPECT_TRUE(status.ok()) << status.message();
+  // Host time stamps that bunch (a step of 0.2 then 1.8 medians) and a few lost samples (steps
+  // of 2 to 9 medians) pass: a pose's mean and variance are those of the samples it holds.
+  std::string bunched;
+  double t_s = 0.0;
+  for (int j = 0; j < 1000; ++j) {
+    bunched += StringPrintf("%.6f 33000 33100 36400\n", t_s);
+    t_s += j % 7 == 3 ? 0.002 : j % 7 == 4 ? 0.018 : j == 500 ? 0.09 : j % 97 == 0 ? 0.02 : 0.01;
+  }
+  const Status bunched_status = ParseImuLog(bunched, kAscii, &log);
+  EXPECT_TRUE(bunched_status.ok()) << bunched_status.message();
+  // Ten lost samples are not: 11 median steps.
+  message = Refusal(TwoPartLog(1.10, 0.01), kAscii);
+  EXPECT_NE(message.find("the log has a gap"), std::string::npos) << message;
 }
 
 TEST(ImuLog, RefusesAFileCutShort) {

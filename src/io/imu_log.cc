@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -109,32 +110,47 @@ bool LooksNotFinite(std::string_view cell) {
   return lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
 }
 
-// ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave. A step out
-// of the band followed by one in it is a gap (or a time stamp out of place); followed by
-// another out of it, the rate has changed.
+// ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave: no step
+// above kMaxGapSteps median steps (a gap), and no block of consecutive steps whose median
+// step is more than kMaxRateChange from the log's (a change of rate). Jitter and a few lost
+// samples pass: a pose's mean and variance are those of the samples it holds.
+constexpr double kMaxGapSteps = 10.0;
+constexpr double kMaxRateChange = 0.05;
+constexpr size_t kMinRateBlock = 100;
+
 Status CheckEvenSpacing(const std::vector<double>& timestamp_s, double median_step_s) {
-  auto even = [&](size_t j) {
+  const size_t steps = timestamp_s.size() - 1;
+  for (size_t j = 1; j <= steps; ++j) {
     const double step_s = timestamp_s[j] - timestamp_s[j - 1];
-    return step_s >= 0.5 * median_step_s && step_s <= 1.5 * median_step_s;
-  };
-  for (size_t j = 1; j < timestamp_s.size(); ++j) {
-    if (even(j)) continue;
-    const double step_s = timestamp_s[j] - timestamp_s[j - 1];
-    const bool isolated = j + 1 == timestamp_s.size() || even(j + 1);
-    const char* what = !isolated ? "the sampling rate changes within the log"
-                       : step_s > median_step_s
-                           ? "the log has a gap (lost samples, or two recordings joined)"
-                           : "a time stamp out of place";
-    const char* action =
-        !isolated                ? "resample the log to one rate, or cut it where the rate changes"
-        : step_s > median_step_s ? "calibrate from the part before or after the gap, or record the "
-                                   "session again"
-                                 : "repair the time stamp";
+    if (step_s <= kMaxGapSteps * median_step_s) continue;
     return Status::Error(StringPrintf(
         "sample %zu (t = %.9g s) follows the previous one by %.6g s, %.4g times the log's median "
-        "step of %.6g s: %s; a calibration needs evenly spaced samples (its static detector and "
-        "noise model count them): %s",
-        j + 1, timestamp_s[j], step_s, step_s / median_step_s, median_step_s, what, action));
+        "step of %.6g s: the log has a gap (lost samples, a pause, or two recordings joined), "
+        "inside which the sensor may have moved; calibrate from the part before or after the "
+        "gap, or record the session again",
+        j + 1, timestamp_s[j], step_s, step_s / median_step_s, median_step_s));
+  }
+  // Blocks of a twentieth of the log (at least kMinRateBlock steps); the last one takes the rest.
+  const size_t block = std::max(kMinRateBlock, steps / 20);
+  std::vector<double> block_steps;
+  for (size_t first = 1; first + block / 2 <= steps + 1; first += block) {
+    const size_t last = first + block > steps + 1 - block / 2 ? steps : first + block - 1;
+    block_steps.clear();
+    for (size_t j = first; j <= last; ++j)
+      block_steps.push_back(timestamp_s[j] - timestamp_s[j - 1]);
+    auto middle = block_steps.begin() + block_steps.size() / 2;
+    std::nth_element(block_steps.begin(), middle, block_steps.end());
+    const double block_median_s = *middle;
+    if (std::abs(block_median_s - median_step_s) > kMaxRateChange * median_step_s) {
+      return Status::Error(StringPrintf(
+          "the sampling rate changes within the log: from sample %zu to %zu (t = %.9g to %.9g s) "
+          "the median step is %.6g s, against %.6g s over the log; a calibration needs one rate "
+          "(its static detector and noise model count samples): resample the log to one rate, "
+          "or cut it where the rate changes",
+          first, last + 1, timestamp_s[first - 1], timestamp_s[last], block_median_s,
+          median_step_s));
+    }
+    if (last == steps) break;
   }
   return Status::Ok();
 }
