@@ -181,20 +181,22 @@ TEST(TriadDiscovery, ReportsWhatStaticPosesCannotDetermine) {
   }
 }
 
-// A log of `poses` static poses of 8 s at 100 Hz, 2 s apart, every axis's output a constant
-// plus `noise` drawn anew in each pose; the poses' intervals and means.
+// A log of `poses` static poses at 100 Hz (the first one `first_samples` long, the
+// others `samples`; 800: 8 s), 2 s apart, every axis's output a constant plus `noise` drawn anew in
+// each pose; the poses' intervals and means.
 void SimulatePoseLog(const NoiseProcessParameters& noise, int poses, RandomSource* random,
                      TriadLog* log, std::vector<StaticInterval>* intervals,
-                     std::vector<TriadPoseMean>* means) {
-  constexpr int kSamples = 800;
+                     std::vector<TriadPoseMean>* means, int first_samples = 800,
+                     int samples = 800) {
   *log = TriadLog();
   intervals->clear();
   for (int p = 0; p < poses; ++p) {
+    const int kSamples = p == 0 ? first_samples : samples;
     std::array<std::vector<double>, 3> axes;
     for (auto& axis : axes) axis = SimulateNoiseProcess(noise, kSamples, random);
     StaticInterval interval;
     interval.start = static_cast<int>(log->size());
-    const double start_s = p * 10.0;
+    const double start_s = log->size() == 0 ? 0.0 : log->timestamp_s.back() + 2.01;
     for (int i = 0; i < kSamples; ++i)
       log->Add(start_s + 0.01 * i, 1000.0 + axes[0][i], 2000.0 + axes[1][i], 3000.0 + axes[2][i]);
     interval.end = static_cast<int>(log->size()) - 1;
@@ -232,6 +234,29 @@ TEST(TriadPoseNoise, WhiteNoiseTestHoldsItsLevelAndSeesBiasInstability) {
               below_twentieth, kLogs);
   EXPECT_LE(below_tenth, kLogs * (0.1 + 3.0 * std::sqrt(0.1 * 0.9 / kLogs)));
   EXPECT_LE(below_twentieth, kLogs * (0.05 + 3.0 * std::sqrt(0.05 * 0.95 / kLogs)));
+
+  // Poses of unequal length (one of 16 s, 29 of 4 s, as a long initial rest and quick poses
+  // give): the test's tau (1.28 s) is reached by the long pose only, and its degrees of
+  // freedom must be that pose's alone (counting every pose made p < 1e-4 common on white noise).
+  int unequal_below_twentieth = 0;
+  int unequal_below_level = 0;
+  constexpr int kUnequalLogs = 200;
+  for (int l = 0; l < kUnequalLogs; ++l) {
+    RandomSource random(53, l);
+    TriadLog log;
+    std::vector<StaticInterval> intervals;
+    std::vector<TriadPoseMean> poses;
+    SimulatePoseLog(white, 30, &random, &log, &intervals, &poses, 1600, 400);
+    TriadPoseNoise noise;
+    ASSERT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &noise).ok());
+    unequal_below_twentieth += noise.candidate.white_p_value < 0.05;
+    unequal_below_level += noise.candidate.white_p_value < 0.0025;
+  }
+  std::printf("  white noise, unequal poses: p < 0.05 in %d, p < 0.0025 in %d of %d logs\n",
+              unequal_below_twentieth, unequal_below_level, kUnequalLogs);
+  EXPECT_LE(unequal_below_twentieth,
+            kUnequalLogs * (0.05 + 3.0 * std::sqrt(0.05 * 0.95 / kUnequalLogs)));
+  EXPECT_LE(unequal_below_level, 3);
 
   // Bias instability as flicker noise is made (a bank of Gauss-Markov processes of equal size
   // at correlation times spaced by 4: a flat Allan deviation between them), and a single

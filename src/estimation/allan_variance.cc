@@ -36,19 +36,11 @@ void SetInterval(double confidence, AllanPoint* point) {
   point->avar_high = point->edf * point->avar / ChiSquareQuantile(alpha / 2.0, point->edf);
 }
 
-// Degrees of freedom of the point at cluster size m, summed over the segments long enough.
-double PointDof(AllanNoiseKind kind, const AllanCurve& curve, long long m) {
-  double edf = 0.0;
-  for (long long n : curve.segment_samples)
-    if (4 * m <= n) edf += AllanEquivalentDof(kind, n, m);
-  return edf;
-}
-
 // The interval (a chi-square quantile by bisection, the costly part) only when asked.
 void SetDof(AllanNoiseKind kind, const AllanCurve& curve, double confidence, bool interval,
             AllanPoint* point) {
   point->dominant = kind;
-  point->edf = PointDof(kind, curve, point->cluster_samples);
+  point->edf = AllanCurveDof(kind, curve, point->cluster_samples);
   if (interval) SetInterval(confidence, point);
 }
 
@@ -68,6 +60,13 @@ AllanTerm Term(double coefficient, double coefficient_stddev, double z) {
 }
 
 }  // namespace
+
+double AllanCurveDof(AllanNoiseKind kind, const AllanCurve& curve, long long m) {
+  double edf = 0.0;
+  for (long long n : curve.segment_samples)
+    if (AllanSegmentUsed(n, m)) edf += AllanEquivalentDof(kind, n, m);
+  return edf;
+}
 
 double BiasInstabilityFactor() { return std::sqrt(2.0 * std::log(2.0) / kPi); }
 
@@ -148,7 +147,7 @@ Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
     long double total = 0.0L;
     for (size_t s = 0; s < segments.size(); ++s) {
       const long long n = curve->segment_samples[s];
-      if (4 * m > n) continue;
+      if (!AllanSegmentUsed(n, m)) continue;
       const std::vector<long double>& S = sums[s];
       for (long long k = 0; k + 2 * m <= n; ++k) {
         const long double d = S[k + 2 * m] - 2.0L * S[k + m] + S[k];
@@ -255,7 +254,7 @@ AllanFitter::AllanFitter(const AllanOptions& options, const AllanCurve& curve)
     x_.push_back(Regressors(point.tau_s));
     std::array<double, 3> edf;
     for (int kind = 0; kind < 3; ++kind)
-      edf[kind] = PointDof(static_cast<AllanNoiseKind>(kind), curve, point.cluster_samples);
+      edf[kind] = AllanCurveDof(static_cast<AllanNoiseKind>(kind), curve, point.cluster_samples);
     edf_.push_back(edf);
   }
 }

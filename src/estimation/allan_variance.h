@@ -71,6 +71,15 @@ const char* AllanNoiseKindName(AllanNoiseKind kind);
 // at least 1.
 double AllanEquivalentDof(AllanNoiseKind kind, long long n, long long m);
 
+struct AllanCurve;
+
+// Whether a segment of n samples enters the point at cluster size m: at least 4 clusters.
+inline bool AllanSegmentUsed(long long n, long long m) { return 4 * m <= n; }
+
+// The degrees of freedom of `curve`'s point at cluster size m: the sum over the segments that
+// enter it (AllanSegmentUsed), as ComputeAllanVariance averages them.
+double AllanCurveDof(AllanNoiseKind kind, const AllanCurve& curve, long long m);
+
 struct AllanPoint {
   long long cluster_samples = 0;       // m
   double tau_s = 0.0;                  // m tau0

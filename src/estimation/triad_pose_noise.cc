@@ -45,11 +45,9 @@ Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterv
           median_duration_s));
     }
     const AllanPoint point = curve.points[test];
-    double edf = 0.0;
-    for (const long long n : curve.segment_samples) {
-      if (n >= 2 * point.cluster_samples)
-        edf += AllanEquivalentDof(AllanNoiseKind::kWhite, n, point.cluster_samples);
-    }
+    // The segments the point averages, and only those: a short pose does not enter a long
+    // tau's point, and counting it would make the test overconfident.
+    const double edf = AllanCurveDof(AllanNoiseKind::kWhite, curve, point.cluster_samples);
     const double expected = white[k] / static_cast<double>(point.cluster_samples);
     noise->test_tau_s = point.tau_s;
     noise->avar_ratio[k] = point.avar / expected;
