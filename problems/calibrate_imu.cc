@@ -53,7 +53,7 @@
 // clang-format off
 DEFINE_string(log, "", "The accelerometer log: imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z; any name not ending in .csv) or a CSV file *.csv with the header t_s,acc_x,acc_y,acc_z. Values in the sensor's unit (e.g. raw counts).");
 DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the poses of --detector (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result when its rules give one. ferraris: imucal's closed form on the six holds of --session, and the least squares they allow.");
-DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744).");
+DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744). Earth's surface gravity is 9.76 to 9.84 m/s^2, so 9.7 to 9.9 is accepted: the flag is in m/s^2, not in g, and a wrong g scales every gain by g_stated / g_true, which static poses cannot detect.");
 DEFINE_string(unit, "count", "The unit of the log's outputs: count (raw ADC counts, as imu_tk's example), m/s^2 or g. It sets the units of the gains ((m/s^2) per unit) and offsets (the unit); a calibration whose gains contradict it (e.g. gains near 1 from a log said to be in counts) is refused.");
 DEFINE_double(init_rest_s, 50.0, "Duration in s of the initial rest the imu_tk thresholds are scaled from (imu_tk's library default is 30; its Xsens example, and this default, 50). A rest that holds motion is refused, with the time the sensor starts moving.");
 DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in the log's unit: auto (the output of an ideal sensor at zero specific force: 0 for m/s^2 and g; for counts the ADC's mid-scale, 2^(n-1) for outputs all in [0, 2^n), else 0) or a number (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 per unit (9.80665 for --unit=g) and the angles at 0, as in imu_tk.");
@@ -74,7 +74,7 @@ DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this f
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
 
-ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_RANGE(g, 9.7, 9.9);
 ACCELCAL_FLAG_OPEN_RANGE(init_rest_s, 0.0, 1e6);
 ACCELCAL_RENAMED_FLAG(initial_bias, initial_offset);
 ACCELCAL_FLAG_RANGE(window, 11, 100001);

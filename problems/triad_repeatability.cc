@@ -33,7 +33,7 @@
 DEFINE_string(data_dir, "", "The sessions: a folder whose subfolders (e.g. run1, run2, run3; every one whose name starts with --session_prefix) each hold one log per device (imu1.csv ... imuD.csv, CSV with header t_s,acc_x,acc_y,acc_z), as ../shared/data/mimu4444.");
 DEFINE_string(session_prefix, "run", "Subfolders of --data_dir whose name starts with this are sessions, in natural order (run2 before run10).");
 DEFINE_string(device_prefix, "imu", "The logs <device_prefix><k>.csv, k = 1, 2, ... in each session: the devices.");
-DEFINE_double(g, 9.8187, "Local gravity, m/s^2 (mimu4444: Stockholm, about 9.8187).");
+DEFINE_double(g, 9.8187, "Local gravity, m/s^2 (mimu4444: Stockholm, about 9.8187). Earth's surface gravity is 9.76 to 9.84 m/s^2, so 9.7 to 9.9 is accepted: the flag is in m/s^2, not in g, and a wrong g scales every gain by g_stated / g_true, which static poses cannot detect.");
 DEFINE_string(unit, "count", "The logs' unit: count, m/s^2 or g.");
 DEFINE_int32(trials, 500, "Monte Carlo arrays simulated after the measured check (0: none), 0 to 100000.");
 DEFINE_int32(mc_devices, 8, "Monte Carlo: devices per simulated array, 2 to 64.");
@@ -41,7 +41,7 @@ DEFINE_int32(mc_training_sessions, 2, "Monte Carlo: sessions the schemes learn f
 DEFINE_uint64(seed, 1, "Monte Carlo seed; array i uses the stream (seed, i).");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 // clang-format on
-ACCELCAL_FLAG_RANGE(g, 1.0, 100.0);
+ACCELCAL_FLAG_RANGE(g, 9.7, 9.9);
 ACCELCAL_FLAG_RANGE(trials, 0, 100000);
 ACCELCAL_FLAG_RANGE(mc_devices, 2, 64);
 ACCELCAL_FLAG_RANGE(mc_training_sessions, 2, 20);

@@ -31,8 +31,8 @@ constexpr double kXsensGravity = 9.81744;
 constexpr int kHalfWindow = 50;  // of the default 101-sample window
 
 // A triad like imu_tk's Xsens unit (its calibration, issue 20), in counts.
-TriadSessionOptions XsensLikeSession() {
-  TriadSessionOptions options;
+TriadLogSimulationOptions XsensLikeSession() {
+  TriadLogSimulationOptions options;
   options.truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
   options.truth[kTriadMisalignmentYz] = 0.0033593;
   options.truth[kTriadMisalignmentZy] = -0.0089064;
@@ -153,7 +153,7 @@ TEST(NoiseFloorDetector, FindsEveryHoldOfSimulatedSessionsWithinTheirBoundaries)
 TEST(NoiseFloorDetector, IntervalMeansAreTheHoldsOutputs) {
   RandomSource random(11);
   const std::vector<TriadHold> holds = RandomHolds(20, 4.0, &random);
-  const TriadSessionOptions options = XsensLikeSession();
+  const TriadLogSimulationOptions options = XsensLikeSession();
   const TriadSession session = SimulateTriadSession(options, holds, &random);
   NoiseFloorDetection detection;
   ASSERT_TRUE(DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection).ok());
@@ -210,7 +210,7 @@ TEST(NoiseFloorDetector, RefusesALogThatNeverRests) {
   // 40 orientations passed through without stopping: the sensor turns all the time.
   RandomSource random(31);
   const std::vector<TriadHold> holds = RandomHolds(40, 0.0, &random);
-  TriadSessionOptions options = XsensLikeSession();
+  TriadLogSimulationOptions options = XsensLikeSession();
   options.turn_s = 2.0;
   const TriadSession session = SimulateTriadSession(options, holds, &random);
   NoiseFloorDetection detection;
@@ -223,7 +223,7 @@ TEST(NoiseFloorDetector, RefusesAnOutputWithoutNoise) {
   // Poses held and turned as usual, but rounded noiseless outputs: constant within each hold.
   RandomSource random(41);
   const std::vector<TriadHold> holds = RandomHolds(12, 3.0, &random);
-  TriadSessionOptions options = XsensLikeSession();
+  TriadLogSimulationOptions options = XsensLikeSession();
   options.noise_stddev = {0.0, 0.0, 0.0};
   const TriadSession session = SimulateTriadSession(options, holds, &random);
   NoiseFloorDetection detection;

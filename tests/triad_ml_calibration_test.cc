@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "estimation/triad_initial_guess.h"
 #include "models/triad.h"
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
@@ -149,6 +150,36 @@ TEST(TriadMlCalibration, RefusesPosesInAPlaneNamingTheUnidentifiableParameters) 
   EXPECT_NE(message.find("gain_x"), std::string::npos) << message;
   EXPECT_NE(message.find("offset_x"), std::string::npos) << message;
   EXPECT_NE(message.find("lie within a few degrees of a plane"), std::string::npos) << message;
+}
+
+// Poses bunched within 3 degrees of one direction, started as calibrate_imu starts (from the
+// poses themselves): refused as too weakly determined, with the pose means' spans and the poses
+// to hold, never with advice to iterate longer (the refusal once said "raise
+// --max_iterations", a flag calibrate_imu does not have).
+TEST(TriadMlCalibration, RefusesPosesBunchedAroundOneDirection) {
+  for (const double tilt : {0.05, 0.087, 0.1}) {  // rad, the cone's half-angle
+    RandomSource random(6, 0);
+    std::vector<std::array<double, 3>> directions;
+    for (int i = 0; i < 20; ++i) {
+      const double angle = 2.0 * M_PI * i / 20.0;
+      directions.push_back(
+          {tilt * std::cos(angle), tilt * std::sin(angle), std::sqrt(1.0 - tilt * tilt)});
+    }
+    const std::vector<TriadPoseMean> poses =
+        SimulateTriadPoses(SimulationOptions(), directions, &random);
+    TriadMlOptions options = MlOptions();
+    options.initial = TriadStartFromPoses(poses, kGravity);
+    TriadMlResult result;
+    const Status status = CalibrateTriadMl(poses, options, &result);
+    ASSERT_FALSE(status.ok()) << tilt;
+    const std::string& message = status.message();
+    std::printf("  %g rad: %s\n", tilt, message.c_str());
+    EXPECT_EQ(message.find("max_iterations"), std::string::npos) << message;
+    EXPECT_TRUE(message.find("too weakly") != std::string::npos ||
+                message.find("not identifiable") != std::string::npos)
+        << message;
+    EXPECT_NE(message.find(" up"), std::string::npos) << message;
+  }
 }
 
 TEST(TriadMlCalibration, RefusesFewerThanTenPoses) {

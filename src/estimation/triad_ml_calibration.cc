@@ -521,6 +521,27 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
       result->chi2 += residuals[3 * p + k] * residuals[3 * p + k];
     }
   }
+  if (!solved.ok() && !result->solver.converged) {
+    // Full rank but too weakly determined to converge: poses bunched around one direction
+    // (a cone of a few degrees) is the usual cause, and more iterations do not cure it. The
+    // pose means' ranges show it without any parameter: a set spread over the sphere spans
+    // about twice the output at 1 g on every axis.
+    std::array<double, 3> low = poses[0].mean;
+    std::array<double, 3> high = poses[0].mean;
+    for (const TriadPoseMean& pose : poses) {
+      for (int k = 0; k < 3; ++k) {
+        low[k] = std::min(low[k], pose.mean[k]);
+        high[k] = std::max(high[k], pose.mean[k]);
+      }
+    }
+    return Status::Error(StringPrintf(
+        "the maximum-likelihood solve did not converge in %d iterations: the %d poses determine "
+        "the parameters too weakly (their means span %.4g, %.4g, %.4g on x, y, z in the log's "
+        "unit; poses spread over the whole sphere span about twice the output at 1 g on every "
+        "axis); hold the sensor with each axis up and down, and in directions between",
+        result->solver.iterations - 1, pose_count, high[0] - low[0], high[1] - low[1],
+        high[2] - low[2]));
+  }
   ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the maximum-likelihood solve"));
   const int min_poses = MinPoses(parameter_count);
   if (pose_count < min_poses) {

@@ -37,7 +37,7 @@ Vector3 TurnAxis(const Vector3& from, const Vector3& to) {
 
 class SampleWriter {
  public:
-  SampleWriter(const TriadSessionOptions& options, RandomSource* random, TriadLog* log)
+  SampleWriter(const TriadLogSimulationOptions& options, RandomSource* random, TriadLog* log)
       : options_(options), random_(random), log_(log) {}
 
   void Add(const Vector3& direction) {
@@ -57,14 +57,14 @@ class SampleWriter {
   int size() const { return static_cast<int>(log_->size()); }
 
  private:
-  const TriadSessionOptions& options_;
+  const TriadLogSimulationOptions& options_;
   RandomSource* random_;
   TriadLog* log_;
 };
 
 }  // namespace
 
-TriadSession SimulateTriadSession(const TriadSessionOptions& options,
+TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
                                   const std::vector<TriadHold>& holds, RandomSource* random) {
   TriadSession session;
   SampleWriter writer(options, random, &session.log);

@@ -27,7 +27,7 @@ struct TriadHold {
   double duration_s = 0.0;            // 0: the turn passes through it without stopping
 };
 
-struct TriadSessionOptions {
+struct TriadLogSimulationOptions {
   TriadParameters truth{};
   double gravity_mps2 = 9.81;
   double rate_hz = 100.0;
@@ -48,7 +48,7 @@ struct TriadSession {
   std::vector<TriadHoldSamples> holds;  // one per TriadHold, in order
 };
 
-TriadSession SimulateTriadSession(const TriadSessionOptions& options,
+TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
                                   const std::vector<TriadHold>& holds, RandomSource* random);
 
 }  // namespace accelcal
