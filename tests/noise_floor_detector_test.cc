@@ -219,6 +219,34 @@ TEST(NoiseFloorDetector, RefusesALogThatNeverRests) {
   EXPECT_SAYS(refusal, "never rests");
 }
 
+// Turning at a steady rate the whole time (0.7 and 0.31 rad/s about two axes, with 1 m/s^2 of
+// shake): every window is alike, so the floor's shape looks like noise, and every window is
+// below ten times that floor. The run of still windows drifts through the whole sphere about
+// its own mean, so it is no pose (the probe of 2026-11-24 found one 299 s "pose" in such a
+// log, and allan gave noise terms from it).
+TEST(NoiseFloorDetector, RefusesALogThatTurnsSteadilyThroughout) {
+  RandomSource random(32);
+  const TriadParameters truth = XsensLikeSession().truth;
+  TriadLog log;
+  for (int i = 0; i < 30000; ++i) {
+    const double t_s = 0.01 * i;
+    const double theta = 0.7 * t_s;
+    const double phi = 0.31 * t_s + 0.3;
+    double force[3] = {std::cos(theta) * std::sin(phi), std::sin(theta) * std::sin(phi),
+                       std::cos(phi)};
+    for (double& f : force) f = kXsensGravity * f + random.StandardNormal();
+    double raw[3];
+    TriadRawOutput(truth.data(), force, raw);
+    log.Add(t_s, raw[0] + 3.0 * random.StandardNormal(), raw[1] + 3.0 * random.StandardNormal(),
+            raw[2] + 3.0 * random.StandardNormal());
+  }
+  NoiseFloorDetection detection;
+  const std::string refusal = Refusal(log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "never rests");
+  EXPECT_TRUE(detection.intervals.empty());
+}
+
 TEST(NoiseFloorDetector, RefusesAnOutputWithoutNoise) {
   // Poses held and turned as usual, but rounded noiseless outputs: constant within each hold.
   RandomSource random(41);
@@ -330,6 +358,7 @@ TEST_F(NoiseFloorDetectorXsens, FindsImuTksThirtyEightIntervals) {
   ASSERT_EQ(imu_tk.size(), 38u);
   ASSERT_EQ(detection.intervals.size(), 38u);
   EXPECT_TRUE(detection.short_intervals.empty());
+  EXPECT_TRUE(detection.moving_intervals.empty());
   double worst_share = 1.0;
   for (size_t p = 0; p < imu_tk.size(); ++p) {
     for (size_t q = 0; q < detection.intervals.size(); ++q) {

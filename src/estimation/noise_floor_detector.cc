@@ -225,7 +225,14 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
     int last = j;
     while (last + 1 < static_cast<int>(still.size()) && still[last + 1]) ++last;
     StaticInterval interval = IntervalOfRun(log, half, j, last);
-    if (interval.duration_s >= options.min_interval_s) {
+    bool moving = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double stddev = interval.noise_stddev[axis];
+      moving = moving || stddev * stddev > detection->threshold_variance[axis];
+    }
+    if (moving) {
+      detection->moving_intervals.push_back(interval);
+    } else if (interval.duration_s >= options.min_interval_s) {
       detection->intervals.push_back(interval);
     } else {
       detection->short_intervals.push_back(interval);
@@ -239,6 +246,14 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
   const double window_s = span_s > 0.0 ? span_s * (window - 1) / (log.size() - 1) : 0.0;
   const double hold_s = options.min_interval_s + window_s;
   const int total = found + static_cast<int>(detection->short_intervals.size());
+  if (found == 0 && detection->short_intervals.empty() && !detection->moving_intervals.empty()) {
+    return Status::Error(StringPrintf(
+        "the sensor never rests: the log's %zu quiet stretches%s drift far beyond their "
+        "windows' noise (the output turns slowly through them), so there is no static pose to "
+        "calibrate from; hold the sensor still in each pose",
+        detection->moving_intervals.size(),
+        DescribeDurations(detection->moving_intervals).c_str()));
+  }
   const std::string advice =
       total >= options.min_intervals
           ? StringPrintf(
@@ -247,10 +262,15 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
           : StringPrintf("record at least %d more poses, each held still for at least %.1f s",
                          options.min_intervals - found, hold_s);
   return Status::Error(StringPrintf(
-      "found %d static intervals of at least %g s%s and %zu shorter ones%s; the calibration needs "
-      "at least %d poses: %s",
+      "found %d static intervals of at least %g s%s and %zu shorter ones%s%s; the calibration "
+      "needs at least %d poses: %s",
       found, options.min_interval_s, DescribeDurations(detection->intervals).c_str(),
       detection->short_intervals.size(), DescribeDurations(detection->short_intervals).c_str(),
+      detection->moving_intervals.empty()
+          ? ""
+          : StringPrintf(" (and %zu quiet stretches through which the sensor turned slowly)",
+                         detection->moving_intervals.size())
+                .c_str(),
       options.min_intervals, advice.c_str()));
 }
 

@@ -82,6 +82,10 @@ struct NoiseFloorDetection {
   std::array<double, 3> floor_shape{};
   std::vector<StaticInterval> intervals;        // at least min_interval_s, in time order
   std::vector<StaticInterval> short_intervals;  // the shorter ones
+  // Runs of still windows whose output, about its own mean, varies more than the threshold
+  // allows a window on some axis: the sensor turned slowly through them (each window quiet,
+  // the run not). Not poses; a log that only has these never rests.
+  std::vector<StaticInterval> moving_intervals;
 };
 
 // Fails, in one line saying what to do, on the checks above, on an invalid option, or on a log

@@ -296,12 +296,18 @@ std::string PosesLine(const CalibrateImuReport& report) {
   return StringPrintf(
       "poses: the %d static intervals of at least %g s found from the log's own noise floor "
       "(s = %.4g, %.4g, %.4g %s per sample; still where every axis's variance over %d samples "
-      "< %g s^2; %.1f%% of the log still; %zu shorter intervals not used); each pose is the "
+      "< %g s^2; %.1f%% of the log still; %zu shorter intervals not used%s); each pose is the "
       "mean of ALL its samples (%d in all)\n",
       ml.pose_count, report.noise_floor_options.min_interval_s, d.floor_stddev[0],
       d.floor_stddev[1], d.floor_stddev[2], TriadOutputUnitName(report.unit), d.window_samples,
       report.noise_floor_options.threshold_factor, 100.0 * d.still_fraction,
-      d.short_intervals.size(), report.ml_sample_count);
+      d.short_intervals.size(),
+      d.moving_intervals.empty()
+          ? ""
+          : StringPrintf("; %zu quiet stretches not used, the output drifting through them",
+                         d.moving_intervals.size())
+                .c_str(),
+      report.ml_sample_count);
 }
 
 std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solver_report) {
@@ -410,6 +416,8 @@ nlohmann::json DetectorJson(const CalibrateImuReport& report) {
   const NoiseFloorDetection& d = report.noise_floor;
   nlohmann::json short_intervals = nlohmann::json::array();
   for (const StaticInterval& s : d.short_intervals) short_intervals.push_back(IntervalJson(s));
+  nlohmann::json moving_intervals = nlohmann::json::array();
+  for (const StaticInterval& s : d.moving_intervals) moving_intervals.push_back(IntervalJson(s));
   return {{"name", "noise_floor"},
           {"window_samples", d.window_samples},
           {"threshold_factor", report.noise_floor_options.threshold_factor},
@@ -419,7 +427,8 @@ nlohmann::json DetectorJson(const CalibrateImuReport& report) {
           {"white_false_alarm", d.white_false_alarm},
           {"still_fraction", d.still_fraction},
           {"floor_shape", d.floor_shape},
-          {"short_intervals", short_intervals}};
+          {"short_intervals", short_intervals},
+          {"moving_intervals", moving_intervals}};
 }
 
 nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
