@@ -147,7 +147,7 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   std::vector<TriadMlResult> results;
   for (const TriadSessionReport& session : report->sessions)
     results.push_back(session.calibration.ml);
-  return CombineTriadSessions(results, 0.95, &report->combined);
+  return CombineTriadSessions(results, 0.95, &report->combined).WithContext("--log");
 }
 
 }  // namespace

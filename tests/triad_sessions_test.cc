@@ -142,6 +142,37 @@ TEST(RandomEffects, RefusesOneSessionAndANonPositiveVariance) {
 
 // The two-way split: a common shift per session of 2 and a device's own of 0.5, within 0.1,
 // 8 devices x 6 sessions, 2000 arrays: both parts recovered on average.
+// Sessions that cannot be one device are refused, naming the session and the parameter: a
+// gain 1.5 times the others' (another sensor), an offset moved by 32768 counts (a log of
+// signed counts read as unsigned); a device's own session-to-session changes pass.
+TEST(CombineTriadSessions, RefusesSessionsThatAreNotOneDevice) {
+  std::vector<TriadMlResult> sessions(3);
+  for (int s = 0; s < 3; ++s) {
+    sessions[s].parameters = TriadParametersWithOffset(33000.0 + s, 33100.0 - s, 32400.0 + 2 * s);
+    for (int k = 0; k < 3; ++k) sessions[s].parameters[kTriadGainX + k] = (1.0 + 1e-3 * s) / 415.0;
+    for (int p = 0; p < kTriadParameterCount; ++p)
+      sessions[s].covariance[p][p] = p >= kTriadGainX && p < kTriadOffsetX ? 1e-14 : 0.01;
+  }
+  TriadRandomEffects combined;
+  const Status one_device = CombineTriadSessions(sessions, 0.95, &combined);
+  EXPECT_TRUE(one_device.ok()) << one_device.message();
+
+  std::vector<TriadMlResult> other_sensor = sessions;
+  other_sensor[1].parameters[kTriadGainY] *= 1.5;
+  Status status = CombineTriadSessions(other_sensor, 0.95, &combined);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("session 2 is not the same device"), std::string::npos)
+      << status.message();
+  EXPECT_NE(status.message().find("gain_y"), std::string::npos) << status.message();
+
+  std::vector<TriadMlResult> shifted = sessions;
+  shifted[2].parameters[kTriadOffsetZ] += 32768.0;
+  status = CombineTriadSessions(shifted, 0.95, &combined);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("session 3"), std::string::npos) << status.message();
+  EXPECT_NE(status.message().find("offset_z"), std::string::npos) << status.message();
+}
+
 TEST(ArraySessionVariance, SplitsTheCommonShiftFromEachDevicesOwn) {
   RandomSource random(11);
   double common = 0.0, own = 0.0;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <string>
 
+#include "common/format.h"
 #include "estimation/chi_square.h"
 
 namespace accelcal {
@@ -166,8 +167,54 @@ std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>
   return estimates;
 }
 
+namespace {
+
+// A device's gain moves by well under 1% between sessions and its offset by far less than
+// 1 m/s^2; sessions that differ by more are not one device (or not in one unit).
+constexpr double kMaxGainChange = 0.05;              // relative, from the sessions' median
+constexpr double kMaxOffsetChangeMps2 = 0.5 * 9.81;  // half of g
+
+Status CheckOneDevice(const std::vector<TriadMlResult>& sessions) {
+  for (int k = 0; k < 3; ++k) {
+    std::vector<double> gains;
+    std::vector<double> offsets;
+    for (const TriadMlResult& session : sessions) {
+      gains.push_back(session.parameters[kTriadGainX + k]);
+      offsets.push_back(session.parameters[kTriadOffsetX + k]);
+    }
+    std::vector<double> sorted = gains;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double gain = sorted[sorted.size() / 2];
+    sorted = offsets;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    const double offset = sorted[sorted.size() / 2];
+    for (size_t s = 0; s < sessions.size(); ++s) {
+      const double gain_change = std::abs(gains[s] - gain) / std::abs(gain);
+      const double offset_change_mps2 = std::abs(offsets[s] - offset) * std::abs(gain);
+      if (gain_change <= kMaxGainChange && offset_change_mps2 <= kMaxOffsetChangeMps2) continue;
+      return Status::Error(StringPrintf(
+          "session %zu is not the same device as the others: its %s is %.6g against the "
+          "sessions' median %.6g (%s), where one device's gain moves by well under 1%% and its "
+          "offset by far less than 1 m/s^2 between sessions; give sessions of one device, "
+          "logged in one unit",
+          s + 1,
+          TriadParameterInfos()[gain_change > kMaxGainChange ? kTriadGainX + k : kTriadOffsetX + k]
+              .name,
+          gain_change > kMaxGainChange ? gains[s] : offsets[s],
+          gain_change > kMaxGainChange ? gain : offset,
+          gain_change > kMaxGainChange
+              ? StringPrintf("%.3g%% apart", 100.0 * gain_change).c_str()
+              : StringPrintf("%.3g m/s^2 apart", offset_change_mps2).c_str()));
+    }
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
 Status CombineTriadSessions(const std::vector<TriadMlResult>& sessions, double confidence,
                             TriadRandomEffects* combined) {
+  ACCELCAL_RETURN_IF_ERROR(CheckOneDevice(sessions));
   for (int p = 0; p < kTriadParameterCount; ++p) {
     ACCELCAL_RETURN_IF_ERROR(
         EstimateRandomEffects(SessionEstimatesOf(sessions, p), confidence, &(*combined)[p])
