@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "common/format.h"
+#include "estimation/chi_square.h"
+#include "reporting/calibrate_imu_report.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -142,6 +144,29 @@ TEST(TriadReport, XsensReportHasEveryPoseResidualFigureParametersWithSigmaAndThe
   EXPECT_TRUE(IsCompletePng(EmbeddedPng(html, "Whitened residual per pose")));
   EXPECT_TRUE(IsCompletePng(EmbeddedPng(html, "The norm of the specific force")));
   EXPECT_EQ(html.find("not drawn"), std::string::npos);
+}
+
+// The fit's verdict on each side of the chi-square: too large (the sigmas understate), about
+// right, and too small (the sigmas are conservative, as on mimu4444 IMU 4 run 3).
+TEST(FitVerdict, NamesBothTailsOfTheChiSquare) {
+  TriadMlResult ml;
+  ml.degrees_of_freedom = 12;
+  for (const double per_dof : {5.0, 1.0, 0.195}) {
+    ml.chi2 = per_dof * ml.degrees_of_freedom;
+    ml.chi2_per_dof = per_dof;
+    ml.chi2_per_dof_spread = std::sqrt(2.0 / ml.degrees_of_freedom);
+    ml.p_value = ChiSquareSurvival(ml.chi2, ml.degrees_of_freedom);
+    const std::string verdict = FitVerdict(ml);
+    std::printf("  chi2/dof %g: %s\n", per_dof, verdict.c_str());
+    if (per_dof > 1.5) {
+      EXPECT_NE(verdict.find("understate"), std::string::npos) << verdict;
+    } else if (per_dof > 0.5) {
+      EXPECT_NE(verdict.find("explains the residuals"), std::string::npos) << verdict;
+    } else {
+      EXPECT_NE(verdict.find("conservative"), std::string::npos) << verdict;
+      EXPECT_EQ(verdict.find("explains the residuals"), std::string::npos) << verdict;
+    }
+  }
 }
 
 TEST(TriadReport, ARefusedRunWritesNoReport) {

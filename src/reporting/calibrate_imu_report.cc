@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "common/format.h"
+#include "estimation/chi_square.h"
 #include "models/triad.h"
 #include "reporting/triad_discovery_report.h"
 
@@ -240,6 +241,15 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
 
 std::string FitVerdict(const TriadMlResult& ml) {
   const char* model = ml.mean_stddev_from_caller ? "Allan" : "white-noise";
+  const double lower_tail_p = ChiSquareCdf(ml.chi2, ml.degrees_of_freedom);
+  if (ml.p_value >= 0.01 && lower_tail_p < 0.01) {
+    return StringPrintf(
+        "the residuals scatter LESS than the %s model says: chi2/dof = %.3g (P(chi2_%d < chi2) = "
+        "%.3g < 0.01); nothing is missing from the model, but a pose mean's variance is "
+        "overstated, so the sigmas above are conservative, by a factor of about %.2g",
+        model, ml.chi2_per_dof, ml.degrees_of_freedom, lower_tail_p,
+        1.0 / std::sqrt(std::max(ml.chi2_per_dof, 1e-12)));
+  }
   if (ml.p_value >= 0.01) {
     return StringPrintf(
         "the %s model explains the residuals (p = %.3g >= 0.01): the sigmas above are the "
