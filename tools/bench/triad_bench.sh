@@ -11,6 +11,8 @@
 # Builds nothing (build triad_bench first). Environment: ACCELCAL_IMU_TK_DATA (default
 # ../shared/data/imu_tk-xsens), ACCELCAL_TRIAD_REPETITIONS (default 21 per side),
 # ACCELCAL_TRIAD_MIN_RATIO (default 10), ACCELCAL_TRIAD_MALLOC_TUNING (default 1, below).
+# Prints, after the stages, the floor of any pipeline that keeps imu_tk's nine fits in Ceres
+# (the file's bytes read, nothing parsed, plus the nine solves; docs/performance.md).
 # Exit status: 0 when the estimates agree and numpy/SciPy's total time is at least
 # MIN_RATIO times accelcal's; 1 when an estimate disagrees; 3 when they agree but the ratio is
 # below MIN_RATIO; 2 when the binary, the interpreter or the data is missing.
