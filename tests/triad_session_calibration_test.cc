@@ -12,6 +12,7 @@
 
 #include "estimation/imu_tk_calibration.h"
 #include "io/imu_log.h"
+#include "models/triad_units.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -126,6 +127,28 @@ TEST(TriadSessionCalibration, RefusesALogWhoseUnitIsMisstated) {
   EXPECT_EQ(offset, 32768.0);
   ASSERT_TRUE(TriadStartOffset(log, TriadOutputUnit::kCount, {false, 33000.0}, &offset).ok());
   EXPECT_EQ(offset, 33000.0);
+}
+
+// Gains against the stated unit: all three near 1 (m/s^2)/count is a log already in m/s^2;
+// one near 1 and the others a count's is an axis the poses left at its start (imu_tk's fit
+// of poses in a plane), not a unit, and the refusal says so.
+TEST(TriadUnits, TellsALogInAnotherUnitFromAGainThePosesDidNotDetermine) {
+  TriadParameters counts = TriadParametersWithOffset(33000.0, 33000.0, 33000.0);
+  for (int k = 0; k < 3; ++k) counts[kTriadGainX + k] = 1.0 / 415.0;
+  EXPECT_TRUE(CheckGainsMatchUnit(counts, TriadOutputUnit::kCount).ok());
+  TriadParameters converted = counts;
+  for (int k = 0; k < 3; ++k) converted[kTriadGainX + k] = 1.001;
+  Status status = CheckGainsMatchUnit(converted, TriadOutputUnit::kCount);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("already converted to m/s^2"), std::string::npos)
+      << status.message();
+  TriadParameters planar = counts;
+  planar[kTriadGainY] = 0.992;
+  status = CheckGainsMatchUnit(planar, TriadOutputUnit::kCount);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("do not determine the gains"), std::string::npos)
+      << status.message();
+  EXPECT_EQ(status.message().find("converted"), std::string::npos) << status.message();
 }
 
 }  // namespace

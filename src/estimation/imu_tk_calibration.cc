@@ -96,6 +96,17 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
   while (moving + 1 < static_cast<int>(variance_norm.size()) &&
          variance_norm[moving] <= kMaxRestRatio * median)
     ++moving;
+  if (variance_norm[moving] <= kMaxRestRatio * median) {
+    // No window is above the limit: every window is as quiet as the rest's, yet the rest as a
+    // whole varies far more than its windows. The sensor turns slowly through it, and through
+    // the log.
+    return Status::Error(StringPrintf(
+        "the initial rest of %g s drifts: its variance norm is %.3g times the median of its "
+        "windows (at most %g when still), while no window of the log is louder than those of the "
+        "rest, so the sensor turns slowly through it and never rests; start the log with the "
+        "sensor still, and hold it still in each pose",
+        options.init_rest_s, result.rest_variance_norm / median, kMaxRestRatio));
+  }
   // The first window above the limit ends at the first moving sample.
   const int first_moving = std::min(moving + half, static_cast<int>(log.size()) - 1);
   const double still_s = log.timestamp_s[first_moving] - log.timestamp_s[0];

@@ -101,6 +101,28 @@ double AdcMidScale(const TriadLog& log) {
 }
 
 Status CheckGainsMatchUnit(const TriadParameters& parameters, TriadOutputUnit unit) {
+  if (unit == TriadOutputUnit::kCount) {
+    // A log already in m/s^2 or g gives every gain near 1 or g; one or two axes there, the
+    // others in counts' range, is an axis the poses did not determine (its gain left near a
+    // start of 1), not a unit.
+    int nominal = 0;
+    int undetermined = -1;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double gain = parameters[kTriadGainX + axis];
+      if (NearNominal(gain, 1.0) || NearNominal(gain, kStandardGravity)) {
+        ++nominal;
+        if (undetermined < 0) undetermined = axis;
+      }
+    }
+    if (nominal == 1 || nominal == 2) {
+      const char name = "xyz"[undetermined];
+      return Status::Error(StringPrintf(
+          "gain_%c = %.6g (m/s^2)/count while the other axes' gains are those of counts: the "
+          "poses do not determine the gains (poses all in a plane, or too few); hold the sensor "
+          "with each axis up and down (--mode=ml names what the poses cannot determine)",
+          name, parameters[kTriadGainX + undetermined]));
+    }
+  }
   for (int axis = 0; axis < 3; ++axis) {
     const double gain = parameters[kTriadGainX + axis];
     const char name = "xyz"[axis];
