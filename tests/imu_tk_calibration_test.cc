@@ -262,5 +262,36 @@ TEST(ImuTkCalibration, RefusesASessionWithTooFewPoses) {
       << status.message();
 }
 
+// A sensor turning steadily from the first sample (0.7 and 0.31 rad/s, 1 m/s^2 of shake):
+// every window is as quiet as the "rest"'s, yet the rest as a whole spans much of the sphere.
+// Refused as a rest that drifts, not with a time the sensor starts moving (once "the sensor
+// moves from t = 299.99 s", the log's end).
+TEST(ImuTkCalibration, RefusesARestTheSensorTurnsSlowlyThrough) {
+  TriadParameters truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
+  for (int k = 0; k < 3; ++k) truth[kTriadGainX + k] = 1.0 / 414.5;
+  std::mt19937_64 random(4);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  TriadLog log;
+  for (int i = 0; i < 30000; ++i) {
+    const double t_s = 0.01 * i;
+    const double theta = 0.7 * t_s;
+    const double phi = 0.31 * t_s + 0.3;
+    double force[3] = {std::cos(theta) * std::sin(phi), std::sin(theta) * std::sin(phi),
+                       std::cos(phi)};
+    for (double& f : force) f = 9.81744 * f + normal(random);
+    double raw[3];
+    TriadRawOutput(truth.data(), force, raw);
+    log.Add(t_s, raw[0] + 3.0 * normal(random), raw[1] + 3.0 * normal(random),
+            raw[2] + 3.0 * normal(random));
+  }
+  ImuTkOptions options = XsensOptions();
+  options.init_rest_s = 9.0;
+  ImuTkResult result;
+  const Status status = CalibrateImuTk(log, options, &result);
+  ASSERT_FALSE(status.ok());
+  EXPECT_NE(status.message().find("drifts"), std::string::npos) << status.message();
+  EXPECT_EQ(status.message().find("moves from"), std::string::npos) << status.message();
+}
+
 }  // namespace
 }  // namespace accelcal
