@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/format.h"
+#include "common/statistics.h"
 #include "residuals/imu_tk_residual.h"
 
 namespace accelcal {
@@ -82,9 +83,7 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
         "%d; give a longer --init_rest_s (the log must start with the sensor still)",
         options.init_rest_s, result.rest_end + 1, window));
   }
-  std::vector<double> sorted = inside;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double median = sorted[sorted.size() / 2];
+  const double median = UpperMedian(inside);
   if (!(median > 0.0)) {
     return Status::Error(StringPrintf(
         "the output is constant over the initial rest of %g s (zero variance): no noise to "

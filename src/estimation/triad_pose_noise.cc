@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "common/statistics.h"
 #include "estimation/chi_square.h"
 #include "estimation/triad_ml_calibration.h"
 
@@ -19,8 +20,7 @@ Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterv
       (log.timestamp_s.back() - log.timestamp_s.front()) / static_cast<double>(log.size() - 1);
   std::vector<double> durations;
   for (const TriadPoseMean& pose : poses) durations.push_back(pose.duration_s);
-  std::nth_element(durations.begin(), durations.begin() + durations.size() / 2, durations.end());
-  const double median_duration_s = durations[durations.size() / 2];
+  const double median_duration_s = UpperMedian(durations);
   const std::array<double, 3> white = PooledWithinPoseVariance(poses);
 
   double smallest_p = 1.0;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "common/format.h"
+#include "common/statistics.h"
 #include "estimation/chi_square.h"
 
 namespace accelcal {
@@ -182,29 +183,23 @@ Status CheckOneDevice(const std::vector<TriadMlResult>& sessions) {
       gains.push_back(session.parameters[kTriadGainX + k]);
       offsets.push_back(session.parameters[kTriadOffsetX + k]);
     }
-    std::vector<double> sorted = gains;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double gain = sorted[sorted.size() / 2];
-    sorted = offsets;
-    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-    const double offset = sorted[sorted.size() / 2];
+    const double gain = UpperMedian(gains);
+    const double offset = UpperMedian(offsets);
     for (size_t s = 0; s < sessions.size(); ++s) {
       const double gain_change = std::abs(gains[s] - gain) / std::abs(gain);
       const double offset_change_mps2 = std::abs(offsets[s] - offset) * std::abs(gain);
       if (gain_change <= kMaxGainChange && offset_change_mps2 <= kMaxOffsetChangeMps2) continue;
+      const bool gain_off = gain_change > kMaxGainChange;
       return Status::Error(StringPrintf(
           "session %zu is not the same device as the others: its %s is %.6g against the "
           "sessions' median %.6g (%s), where one device's gain moves by well under 1%% and its "
           "offset by far less than 1 m/s^2 between sessions; give sessions of one device, "
           "logged in one unit",
-          s + 1,
-          TriadParameterInfos()[gain_change > kMaxGainChange ? kTriadGainX + k : kTriadOffsetX + k]
-              .name,
-          gain_change > kMaxGainChange ? gains[s] : offsets[s],
-          gain_change > kMaxGainChange ? gain : offset,
-          gain_change > kMaxGainChange
-              ? StringPrintf("%.3g%% apart", 100.0 * gain_change).c_str()
-              : StringPrintf("%.3g m/s^2 apart", offset_change_mps2).c_str()));
+          s + 1, TriadParameterInfos()[(gain_off ? kTriadGainX : kTriadOffsetX) + k].name,
+          gain_off ? gains[s] : offsets[s], gain_off ? gain : offset,
+          (gain_off ? StringPrintf("%.3g%% apart", 100.0 * gain_change)
+                    : StringPrintf("%.3g m/s^2 apart", offset_change_mps2))
+              .c_str()));
     }
   }
   return Status::Ok();

@@ -11,6 +11,7 @@
 
 #include "common/format.h"
 #include "common/landmark_checks.h"
+#include "common/statistics.h"
 #include "io/atomic_file.h"
 #include "io/calibration_stream.h"
 #include "io/course_csv.h"
@@ -92,9 +93,7 @@ Status CheckLogTime(const std::vector<double>& timestamp_s, const std::string& n
                            " s after " + StringPrintf("%.6g", timestamp_s[j - 1]) + " s");
     }
   }
-  std::vector<double> sorted = steps;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  const double dt = sorted[sorted.size() / 2];
+  const double dt = UpperMedian(steps);
   // An accelerometer run is sampled between 1 Hz and 100 kHz; a step outside that is a time
   // axis in another unit (milliseconds read as seconds integrate to 10^8 m), not a run.
   if (dt > kMaxRunStepS || dt < kMinRunStepS) {

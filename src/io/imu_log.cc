@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "common/statistics.h"
 #include "io/course_data.h"
 #include "io/input_file.h"
 #include "io/input_text.h"
@@ -138,9 +139,7 @@ Status CheckEvenSpacing(const std::vector<double>& timestamp_s, double median_st
     block_steps.clear();
     for (size_t j = first; j <= last; ++j)
       block_steps.push_back(timestamp_s[j] - timestamp_s[j - 1]);
-    auto middle = block_steps.begin() + block_steps.size() / 2;
-    std::nth_element(block_steps.begin(), middle, block_steps.end());
-    const double block_median_s = *middle;
+    const double block_median_s = UpperMedian(block_steps);
     if (std::abs(block_median_s - median_step_s) > kMaxRateChange * median_step_s) {
       return Status::Error(StringPrintf(
           "the sampling rate changes within the log: from sample %zu to %zu (t = %.9g to %.9g s) "

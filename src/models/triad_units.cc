@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "common/format.h"
+#include "common/statistics.h"
 
 namespace accelcal {
 namespace {
@@ -60,8 +62,7 @@ Status CheckOutputsMatchUnit(const TriadLog& log, TriadOutputUnit unit, double o
   for (const std::array<double, 3>& u : log.output) {
     magnitude.push_back(std::hypot(u[0] - offset, u[1] - offset, u[2] - offset));
   }
-  std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
-  const double median = magnitude[magnitude.size() / 2];
+  const double median = UpperMedian(std::move(magnitude));
   const bool looks_mps2 = median >= 0.5 * kStandardGravity && median <= 2.0 * kStandardGravity;
   const bool looks_g = median >= 0.5 && median <= 2.0;
   const char* stated = TriadOutputUnitName(unit);
