@@ -30,16 +30,7 @@ std::vector<int> ImuTkSamples(const std::vector<StaticInterval>& intervals, int 
   return samples;
 }
 
-ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& samples,
-                                  const ImuTkOptions& options, std::string* brief_report) {
-  ImuTkSweepEntry entry;
-  entry.parameters = options.initial;
-  std::vector<std::array<double, 3>> raw;
-  raw.reserve(samples.size());
-  for (const int i : samples) raw.push_back(log.output[i]);
-  ceres::Problem problem;
-  problem.AddResidualBlock(new ImuTkBatchResidual(std::move(raw), options.gravity_mps2), nullptr,
-                           entry.parameters.data());
+ceres::Solver::Options ImuTkSolverOptions(const ImuTkOptions& options) {
   ceres::Solver::Options solver_options;
   solver_options.minimizer_type = ceres::TRUST_REGION;
   solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
@@ -51,8 +42,21 @@ ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& s
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
   solver_options.minimizer_progress_to_stdout = false;
+  return solver_options;
+}
+
+ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& samples,
+                                  const ImuTkOptions& options, std::string* brief_report) {
+  ImuTkSweepEntry entry;
+  entry.parameters = options.initial;
+  std::vector<std::array<double, 3>> raw;
+  raw.reserve(samples.size());
+  for (const int i : samples) raw.push_back(log.output[i]);
+  ceres::Problem problem;
+  problem.AddResidualBlock(new ImuTkBatchResidual(std::move(raw), options.gravity_mps2), nullptr,
+                           entry.parameters.data());
   ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
+  ceres::Solve(ImuTkSolverOptions(options), &problem, &summary);
   entry.solved = true;
   entry.cost = summary.final_cost;
   entry.initial_cost = summary.initial_cost;

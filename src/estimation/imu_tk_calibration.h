@@ -20,6 +20,8 @@
 // Step 4 compares costs of different sample sets (more intervals, more terms); it is imu_tk's
 // rule, reproduced, not endorsed (issue 20). Nothing is printed here.
 
+#include <ceres/solver.h>
+
 #include <string>
 #include <vector>
 
@@ -89,6 +91,10 @@ int ImuTkWindow(const ImuTkOptions& options);
 // into the log, in order); `used` counts those intervals.
 std::vector<int> ImuTkSamples(const std::vector<StaticInterval>& intervals, int interval_samples,
                               int* used);
+
+// Step 3's Ceres options: Levenberg-Marquardt, dense QR, the options' stopping rules, one
+// thread, silent.
+ceres::Solver::Options ImuTkSolverOptions(const ImuTkOptions& options);
 
 // One solve of step 3 on given samples (the indices into `log`), from `options.initial`.
 ImuTkSweepEntry SolveImuTkProblem(const TriadLog& log, const std::vector<int>& samples,

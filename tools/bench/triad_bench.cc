@@ -171,7 +171,8 @@ struct SolveFloor {
   double largest_cost_difference = 0.0;  // relative, against CalibrateImuTk's cost at that k
 };
 
-// One Ceres solve per solved k, as SolveImuTkProblem makes it but with `linear_solver`.
+// One Ceres solve per solved k, as SolveImuTkProblem makes it (ImuTkSolverOptions) but with
+// `linear_solver`.
 SolveFloor TimeCeresSolves(const TriadLog& log, const ImuTkOptions& options,
                            const ImuTkResult& result, ceres::LinearSolverType linear_solver,
                            int repetitions) {
@@ -187,14 +188,8 @@ SolveFloor TimeCeresSolves(const TriadLog& log, const ImuTkOptions& options,
                      options.interval_samples, &used);
     std::vector<std::array<double, 3>> raw;
     for (const int i : samples) raw.push_back(log.output[i]);
-    ceres::Solver::Options solver_options;
-    solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+    ceres::Solver::Options solver_options = ImuTkSolverOptions(options);
     solver_options.linear_solver_type = linear_solver;
-    solver_options.max_num_iterations = options.max_iterations;
-    solver_options.function_tolerance = options.function_tolerance;
-    solver_options.gradient_tolerance = options.gradient_tolerance;
-    solver_options.parameter_tolerance = options.parameter_tolerance;
-    solver_options.logging_type = ceres::SILENT;
     StageTimes times;
     double cost = 0.0;
     for (int repetition = 0; repetition < repetitions; ++repetition) {
