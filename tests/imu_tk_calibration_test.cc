@@ -13,6 +13,7 @@
 #include "common/format.h"
 #include "io/imu_log.h"
 #include "models/triad.h"
+#include "simulation/triad_log_simulator.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -267,23 +268,13 @@ TEST(ImuTkCalibration, RefusesASessionWithTooFewPoses) {
 // Refused as a rest that drifts, not with a time the sensor starts moving (once "the sensor
 // moves from t = 299.99 s", the log's end).
 TEST(ImuTkCalibration, RefusesARestTheSensorTurnsSlowlyThrough) {
-  TriadParameters truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
-  for (int k = 0; k < 3; ++k) truth[kTriadGainX + k] = 1.0 / 414.5;
-  std::mt19937_64 random(4);
-  std::normal_distribution<double> normal(0.0, 1.0);
-  TriadLog log;
-  for (int i = 0; i < 30000; ++i) {
-    const double t_s = 0.01 * i;
-    const double theta = 0.7 * t_s;
-    const double phi = 0.31 * t_s + 0.3;
-    double force[3] = {std::cos(theta) * std::sin(phi), std::sin(theta) * std::sin(phi),
-                       std::cos(phi)};
-    for (double& f : force) f = 9.81744 * f + normal(random);
-    double raw[3];
-    TriadRawOutput(truth.data(), force, raw);
-    log.Add(t_s, raw[0] + 3.0 * normal(random), raw[1] + 3.0 * normal(random),
-            raw[2] + 3.0 * normal(random));
-  }
+  TriadLogSimulationOptions simulation;
+  simulation.truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
+  for (int k = 0; k < 3; ++k) simulation.truth[kTriadGainX + k] = 1.0 / 414.5;
+  simulation.gravity_mps2 = 9.81744;
+  simulation.round_to_counts = false;
+  RandomSource random(4);
+  const TriadLog log = SimulateSteadyTurn(simulation, 300.0, 0.7, 0.31, 1.0, &random);
   ImuTkOptions options = XsensOptions();
   options.init_rest_s = 9.0;
   ImuTkResult result;

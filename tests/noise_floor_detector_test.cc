@@ -226,20 +226,9 @@ TEST(NoiseFloorDetector, RefusesALogThatNeverRests) {
 // log, and allan gave noise terms from it).
 TEST(NoiseFloorDetector, RefusesALogThatTurnsSteadilyThroughout) {
   RandomSource random(32);
-  const TriadParameters truth = XsensLikeSession().truth;
-  TriadLog log;
-  for (int i = 0; i < 30000; ++i) {
-    const double t_s = 0.01 * i;
-    const double theta = 0.7 * t_s;
-    const double phi = 0.31 * t_s + 0.3;
-    double force[3] = {std::cos(theta) * std::sin(phi), std::sin(theta) * std::sin(phi),
-                       std::cos(phi)};
-    for (double& f : force) f = kXsensGravity * f + random.StandardNormal();
-    double raw[3];
-    TriadRawOutput(truth.data(), force, raw);
-    log.Add(t_s, raw[0] + 3.0 * random.StandardNormal(), raw[1] + 3.0 * random.StandardNormal(),
-            raw[2] + 3.0 * random.StandardNormal());
-  }
+  TriadLogSimulationOptions options = XsensLikeSession();
+  options.round_to_counts = false;
+  const TriadLog log = SimulateSteadyTurn(options, 300.0, 0.7, 0.31, 1.0, &random);
   NoiseFloorDetection detection;
   const std::string refusal = Refusal(log, {}, &detection);
   ASSERT_FALSE(refusal.empty());

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -208,6 +209,29 @@ void SimulatePoseLog(const NoiseProcessParameters& noise, int poses, RandomSourc
   *means = PoseMeansOfIntervals(*log, *intervals, 2);
 }
 
+// The white-noise test's p-value on `logs` simulated logs of 30 poses (random streams
+// (seed, 0..logs-1); the first pose `first_samples` long, the others `samples`).
+std::vector<double> WhiteTestPValues(const NoiseProcessParameters& noise, int logs, uint64_t seed,
+                                     int first_samples = 800, int samples = 800) {
+  std::vector<double> p_values;
+  for (int l = 0; l < logs; ++l) {
+    RandomSource random(seed, l);
+    TriadLog log;
+    std::vector<StaticInterval> intervals;
+    std::vector<TriadPoseMean> poses;
+    SimulatePoseLog(noise, 30, &random, &log, &intervals, &poses, first_samples, samples);
+    TriadPoseNoise result;
+    EXPECT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &result).ok());
+    p_values.push_back(result.candidate.white_p_value);
+  }
+  return p_values;
+}
+
+int CountBelow(const std::vector<double>& p_values, double level) {
+  return static_cast<int>(
+      std::count_if(p_values.begin(), p_values.end(), [level](double p) { return p < level; }));
+}
+
 // Step 1's test of white noise against the poses' Allan variance: on white noise its p-value
 // is below a level at most that often (300 logs: at 0.1, binomial sd 0.017); on bias
 // instability it rejects at alpha/4 = 0.0025 nearly always, and the pose means' variance it
@@ -217,19 +241,9 @@ TEST(TriadPoseNoise, WhiteNoiseTestHoldsItsLevelAndSeesBiasInstability) {
   NoiseProcessParameters white;
   white.sample_period_s = 0.01;
   white.white_density = 0.32;  // count/sqrt(Hz): 3.2 counts per sample
-  int below_tenth = 0;
-  int below_twentieth = 0;
-  for (int l = 0; l < kLogs; ++l) {
-    RandomSource random(51, l);
-    TriadLog log;
-    std::vector<StaticInterval> intervals;
-    std::vector<TriadPoseMean> poses;
-    SimulatePoseLog(white, 30, &random, &log, &intervals, &poses);
-    TriadPoseNoise noise;
-    ASSERT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &noise).ok());
-    below_tenth += noise.candidate.white_p_value < 0.1;
-    below_twentieth += noise.candidate.white_p_value < 0.05;
-  }
+  const std::vector<double> p_values = WhiteTestPValues(white, kLogs, 51);
+  const int below_tenth = CountBelow(p_values, 0.1);
+  const int below_twentieth = CountBelow(p_values, 0.05);
   std::printf("  white noise: p < 0.1 in %d, p < 0.05 in %d of %d logs\n", below_tenth,
               below_twentieth, kLogs);
   EXPECT_LE(below_tenth, kLogs * (0.1 + 3.0 * std::sqrt(0.1 * 0.9 / kLogs)));
@@ -238,20 +252,10 @@ TEST(TriadPoseNoise, WhiteNoiseTestHoldsItsLevelAndSeesBiasInstability) {
   // Poses of unequal length (one of 16 s, 29 of 4 s, as a long initial rest and quick poses
   // give): the test's tau (1.28 s) is reached by the long pose only, and its degrees of
   // freedom must be that pose's alone (counting every pose made p < 1e-4 common on white noise).
-  int unequal_below_twentieth = 0;
-  int unequal_below_level = 0;
   constexpr int kUnequalLogs = 200;
-  for (int l = 0; l < kUnequalLogs; ++l) {
-    RandomSource random(53, l);
-    TriadLog log;
-    std::vector<StaticInterval> intervals;
-    std::vector<TriadPoseMean> poses;
-    SimulatePoseLog(white, 30, &random, &log, &intervals, &poses, 1600, 400);
-    TriadPoseNoise noise;
-    ASSERT_TRUE(TriadPoseNoiseFromLog(log, intervals, poses, &noise).ok());
-    unequal_below_twentieth += noise.candidate.white_p_value < 0.05;
-    unequal_below_level += noise.candidate.white_p_value < 0.0025;
-  }
+  const std::vector<double> unequal = WhiteTestPValues(white, kUnequalLogs, 53, 1600, 400);
+  const int unequal_below_twentieth = CountBelow(unequal, 0.05);
+  const int unequal_below_level = CountBelow(unequal, 0.0025);
   std::printf("  white noise, unequal poses: p < 0.05 in %d, p < 0.0025 in %d of %d logs\n",
               unequal_below_twentieth, unequal_below_level, kUnequalLogs);
   EXPECT_LE(unequal_below_twentieth,

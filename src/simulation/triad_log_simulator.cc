@@ -40,10 +40,12 @@ class SampleWriter {
   SampleWriter(const TriadLogSimulationOptions& options, RandomSource* random, TriadLog* log)
       : options_(options), random_(random), log_(log) {}
 
-  void Add(const Vector3& direction) {
-    const double force[3] = {options_.gravity_mps2 * direction[0],
-                             options_.gravity_mps2 * direction[1],
-                             options_.gravity_mps2 * direction[2]};
+  // `shake_mps2`: white noise of the specific force itself, per axis (a hand's tremor).
+  void Add(const Vector3& direction, double shake_mps2 = 0.0) {
+    double force[3] = {options_.gravity_mps2 * direction[0], options_.gravity_mps2 * direction[1],
+                       options_.gravity_mps2 * direction[2]};
+    if (shake_mps2 > 0.0)
+      for (double& f : force) f += shake_mps2 * random_->StandardNormal();
     double actual_raw[3];
     TriadRawOutput(options_.truth.data(), force, actual_raw);
     double measured[3];
@@ -89,6 +91,23 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     }
   }
   return session;
+}
+
+TriadLog SimulateSteadyTurn(const TriadLogSimulationOptions& options, double duration_s,
+                            double azimuth_rate_rad_s, double elevation_rate_rad_s,
+                            double shake_mps2, RandomSource* random) {
+  TriadLog log;
+  SampleWriter writer(options, random, &log);
+  const int samples = static_cast<int>(std::lround(duration_s * options.rate_hz));
+  for (int i = 0; i < samples; ++i) {
+    const double t_s = i / options.rate_hz;
+    const double azimuth = azimuth_rate_rad_s * t_s;
+    const double elevation = elevation_rate_rad_s * t_s + 0.3;
+    writer.Add({std::cos(azimuth) * std::sin(elevation), std::sin(azimuth) * std::sin(elevation),
+                std::cos(elevation)},
+               shake_mps2);
+  }
+  return log;
 }
 
 }  // namespace accelcal

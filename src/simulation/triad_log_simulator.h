@@ -51,6 +51,14 @@ struct TriadSession {
 TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
                                   const std::vector<TriadHold>& holds, RandomSource* random);
 
+// A sensor turning the whole time at constant rates, never resting: the specific force points
+// along (cos a sin e, sin a sin e, cos e), a = azimuth_rate t, e = elevation_rate t + 0.3 rad,
+// with `shake_mps2` of white force noise per axis on top (a hand) and the options' output noise.
+// What a static detector must refuse: turned slowly, every window is as quiet as any other.
+TriadLog SimulateSteadyTurn(const TriadLogSimulationOptions& options, double duration_s,
+                            double azimuth_rate_rad_s, double elevation_rate_rad_s,
+                            double shake_mps2, RandomSource* random);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_SIMULATION_TRIAD_LOG_SIMULATOR_H_
