@@ -34,8 +34,9 @@
 #include "studies/allan_study.h"
 
 DEFINE_string(log, "",
-              "The accelerometer log (io/imu_log.h): imu_tk's ASCII layout (t [s], x, y, z; its "
-              "example files end in .mat) or a CSV *.csv with the header t_s,acc_x,acc_y,acc_z.");
+              "The accelerometer log, in any layout calibrate_imu reads (docs/log-layouts.md): "
+              "imu_tk's ASCII layout (t [s], x, y, z), CSV or other text with a header, a .mat.");
+ACCELCAL_DEFINE_IMU_LOG_FLAGS();
 DEFINE_string(unit, "count", "The unit of the log's outputs: count, m/s^2 or g.");
 DEFINE_string(
     gain, "auto",
@@ -326,7 +327,16 @@ int Run(int argc, char** argv) {
   DataSource source;
   std::string json_text, png;
   Status status = ValidateFlags();
-  if (status.ok()) status = ReadImuLog(FLAGS_log, &log, ImuLogSpacing::kAny);
+  ImuLogReadOptions read_options;
+  ImuLogSource log_source;
+  if (status.ok()) status = ACCELCAL_IMU_LOG_OPTIONS(&read_options);
+  if (status.ok() && !read_options.gyroscope_path.empty())
+    status = Status::Error("--gyro_log: allan analyses the accelerometer's log (--log) alone");
+  if (status.ok())
+    status = ReadImuLog(FLAGS_log, read_options, &log, ImuLogSpacing::kAny, &log_source);
+  if (status.ok()) {
+    for (const std::string& note : log_source.notes) std::cerr << "allan: note: " << note << "\n";
+  }
   if (status.ok()) status = DescribeMeasuredData("", {{"log", FLAGS_log}}, &source);
   if (status.ok()) status = Solve(log, &report);
   const nlohmann::json json =

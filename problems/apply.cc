@@ -29,7 +29,8 @@
 
 // clang-format off
 DEFINE_string(calibration, "", "The calibration file (calibrate --calibration_out). Required.");
-DEFINE_string(in, "", "The log to correct. For a two-axis calibration: CSV with the header t,ax,ay (s, m/s^2) or .mat with t (Mx1, s) and Aerr (Mx2, m/s^2). For a triad calibration: imu_tk's whitespace layout (t [s], x, y, z) or a CSV *.csv with the header t_s,acc_x,acc_y,acc_z, in the calibration's output unit. Time must increase. Required.");
+DEFINE_string(in, "", "The log to correct. For a two-axis calibration: CSV with the header t,ax,ay (s, m/s^2) or .mat with t (Mx1, s) and Aerr (Mx2, m/s^2). For a triad calibration: any layout calibrate_imu reads (docs/log-layouts.md; --columns, --rate_hz, --time_unit as there), in the calibration's output unit. Time must increase. Required.");
+ACCELCAL_DEFINE_IMU_LOG_FLAGS();
 DEFINE_string(out, "", "The corrected CSV to write (atomically), after '#' lines of provenance: t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy (two-axis) or t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,corr_yz (triad). Required.");
 // clang-format on
 
@@ -164,8 +165,15 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   TriadOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(
       TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
+  ImuLogReadOptions read_options;
+  ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+  if (!read_options.gyroscope_path.empty())
+    return Status::Error("--gyro_log: apply corrects the accelerometer's log (--in) alone");
   TriadLog log;
-  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_in, &log, ImuLogSpacing::kAny));
+  ImuLogSource log_source;
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadImuLog(FLAGS_in, read_options, &log, ImuLogSpacing::kAny, &log_source));
+  for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   DataSource source;
   ACCELCAL_RETURN_IF_ERROR(
       DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source));

@@ -35,6 +35,10 @@ DECLARE_bool(scale_nonlinearity);
 DECLARE_string(json);
 DECLARE_string(report);
 DECLARE_string(calibration_out);
+DECLARE_string(columns);
+DECLARE_double(rate_hz);
+DECLARE_string(time_unit);
+DECLARE_string(gyro_log);
 
 namespace accelcal {
 
@@ -124,9 +128,16 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   }
   TriadSessionOptions& options = report->options;
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
+  ImuLogReadOptions read_options;
+  ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+  if (!read_options.gyroscope_path.empty()) {
+    return Status::Error(
+        "--gyro_log names one gyroscope file; with several sessions give logs that hold the "
+        "gyroscope's columns, or calibrate each session on its own");
+  }
   std::vector<TriadLog> logs(paths.size());
   for (size_t s = 0; s < paths.size(); ++s) {
-    ACCELCAL_RETURN_IF_ERROR(ReadImuLog(paths[s], &logs[s]));
+    ACCELCAL_RETURN_IF_ERROR(ReadImuLog(paths[s], read_options, &logs[s]));
     const std::string unit = ApparentUnit(logs[s]);
     const std::string first = ApparentUnit(logs[0]);
     if (unit != first) {

@@ -33,6 +33,7 @@
 #include "io/cleanup.h"
 #include "io/course_data.h"
 #include "io/csv_reader.h"
+#include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
@@ -285,6 +286,41 @@ inline const char* DefaultToolsDir(const char* source_tools_dir) {
 #define ACCELCAL_DEFINE_THETA_UNIT_FLAG() \
   DEFINE_string(theta_unit, "auto", "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span over two turns is refused as likely degrees).")
 // clang-format on
+
+// --columns, --rate_hz, --time_unit and --gyro_log: how a three-axis IMU log is read
+// (io/imu_log.h, docs/log-layouts.md), defined by every binary that reads one, with one help
+// text each; ImuLogOptionsFromFlags collects them.
+// clang-format off
+#define ACCELCAL_DEFINE_IMU_LOG_FLAGS()                                                                      \
+  DEFINE_string(columns, "", "The log's columns when their names do not say (docs/log-layouts.md): KEY:NAME pairs, keys t (time), index (sample number), ax, ay, az (accelerometer), gx, gy, gz (gyroscope); NAME a header name or a column number from 1, e.g. --columns=t:TIME,ax:ACCEL_BMI160_0_X,ay:ACCEL_BMI160_0_Y,az:ACCEL_BMI160_0_Z. In a .mat file NAME is a variable or NAME(:,K), and acc:NAME, gyr:NAME take N x 3 variables. Keys not given are chosen by name."); \
+  DEFINE_double(rate_hz, 0.0, "The log's sampling rate in Hz when it has no time column (or its sample-number column, e.g. imucal's 'samples', gives time): time = row (or sample number) / rate. 0: time from the time column."); \
+  DEFINE_string(time_unit, "", "The unit of the time column: s, ms, us or ns. Empty: the column's name states it (t_s, time_ms, timestamp [ns]) or it is inferred from the median step (1 Hz to 100 kHz), and the output says which; a Unix time is counted from the first sample."); \
+  DEFINE_string(gyro_log, "", "imu_tk's pair of files: the gyroscope's log (same layout and time stamps as the accelerometer's --log). Its samples are read and checked beside the accelerometer's.")
+// clang-format on
+
+inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
+                                     const std::string& time_unit, const std::string& gyro_log,
+                                     ImuLogReadOptions* options) {
+  std::vector<ImuColumnChoice> choices;
+  ACCELCAL_RETURN_IF_ERROR(ParseImuColumnChoices(columns, &choices));
+  if (!(rate_hz >= 0.0 && rate_hz <= 1e6)) {
+    return Status::Error(StringPrintf(
+        "--rate_hz=%g is not a sampling rate in (0, 1e6] Hz (0: time from the log's time column)",
+        rate_hz));
+  }
+  double seconds = 0.0;
+  if (!time_unit.empty() && !TimeUnitToSeconds(time_unit, &seconds))
+    return Status::Error("--time_unit='" + time_unit + "' is not a unit; use s, ms, us or ns");
+  if (!time_unit.empty() && rate_hz > 0.0)
+    return Status::Error("--time_unit and --rate_hz: give one (--rate_hz replaces the time column)");
+  options->columns = columns;
+  options->rate_hz = rate_hz;
+  options->time_unit = time_unit;
+  options->gyroscope_path = gyro_log;
+  return Status::Ok();
+}
+#define ACCELCAL_IMU_LOG_OPTIONS(options) \
+  ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, FLAGS_gyro_log, options)
 
 // --calibration_file, --run_file, --landmarks_file and --conditions_file: one file of the data,
 // overriding --data_dir's (or, without --data_dir, all four together). Defined by every binary

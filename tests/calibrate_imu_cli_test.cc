@@ -155,7 +155,7 @@ TEST(CalibrateImuCli, RefusesABadLogInOneLineAndWritesNothing) {
   const std::string json = scratch.File("o.json");
   const testing::CommandResult result =
       RunBinary("calibrate_imu", "--log=" + log + " --json=" + json);
-  ExpectBadInputContract(result, "calibrate_imu", log + ": line 2, column 3 (y)");
+  ExpectBadInputContract(result, "calibrate_imu", log + ": line 2, column 3 (ay)");
   EXPECT_FALSE(testing::PathExists(json));
 }
 

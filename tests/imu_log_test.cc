@@ -1,32 +1,30 @@
-// The triad log readers (io/imu_log.h): both layouts, streamed and whole, and their refusals.
+// The IMU log readers (io/imu_log.h, io/imu_log_format.h): every layout of
+// docs/log-layouts.md, streamed and whole, and their refusals.
 
 #include "io/imu_log.h"
 
 #include <gtest/gtest.h>
+#include <matio.h>
 
+#include <functional>
 #include <string>
 
 #include "common/format.h"
+#include "io/mat_file.h"
 #include "test_support.h"
 
 namespace accelcal {
 namespace {
 
-std::string Refusal(const std::string& text, ImuLogLayout layout) {
+std::string Refusal(const std::string& text, const ImuLogReadOptions& options = {}) {
   TriadLog log;
-  const Status status = ParseImuLog(text, layout, &log);
+  const Status status = ParseImuLog(text, options, &log);
   EXPECT_FALSE(status.ok()) << text;
   return status.message();
 }
 
-constexpr ImuLogLayout kAscii = ImuLogLayout::kWhitespace;
-constexpr ImuLogLayout kCsv = ImuLogLayout::kCsv;
-
-TEST(ImuLog, ChoosesTheLayoutByTheFileName) {
-  EXPECT_EQ(ImuLogLayoutOf("session.CSV"), kCsv);
-  EXPECT_EQ(ImuLogLayoutOf("xsens_acc.mat"), kAscii);
-  EXPECT_EQ(ImuLogLayoutOf("log.txt"), kAscii);
-}
+const ImuLogReadOptions kAscii;  // the layout is told from the text
+const ImuLogReadOptions kCsv;
 
 TEST(ImuLog, ReadsImuTksAsciiLayout) {
   TriadLog log;
@@ -51,27 +49,26 @@ TEST(ImuLog, ReadsTheCsvLayout) {
 }
 
 TEST(ImuLog, RefusesAWrongColumnCountWithTheLine) {
-  const std::string message = Refusal("0.00 1 2 3\n0.01 1 2\n", kAscii);
-  EXPECT_NE(message.find("line 2: 3 column(s), expected 4"), std::string::npos) << message;
-  const std::string commas = Refusal("0.00,1,2,3\n", kAscii);
-  EXPECT_NE(commas.find("*.csv"), std::string::npos) << commas;
-  const std::string csv = Refusal("t_s,acc_x,acc_y,acc_z\n0.00,1,2\n", kCsv);
-  EXPECT_NE(csv.find("line 2: 3 fields, expected 4"), std::string::npos) << csv;
-}
-
-TEST(ImuLog, RefusesAWrongCsvHeader) {
-  const std::string message = Refusal("t,ax,ay,az\n0,1,2,3\n", kCsv);
-  EXPECT_NE(message.find("expected 't_s,acc_x,acc_y,acc_z'"), std::string::npos) << message;
+  const std::string message =
+      Refusal("0.00 1 2 3\n0.01 1 2 3\n0.02 1 2 3\n0.03 1 2 3\n0.04 1 2 3\n0.05 1 2\n");
+  EXPECT_NE(message.find("line 6: 3 field(s), expected 4 (as line 1)"), std::string::npos)
+      << message;
+  const std::string csv = Refusal(
+      "t_s,acc_x,acc_y,acc_z\n0.00,1,2,3\n0.01,1,2,3\n0.02,1,2,3\n0.03,1,2,3\n0.04,1,2,3\n"
+      "0.05,1,2\n");
+  EXPECT_NE(csv.find("line 7: 3 field(s), expected 4 (as the header on line 1)"), std::string::npos)
+      << csv;
 }
 
 TEST(ImuLog, RefusesValuesThatAreNotFinite) {
   const std::string message = Refusal("0.00 1 2 3\n0.01 1 nan 3\n", kAscii);
-  EXPECT_NE(message.find("line 2, column 3 (y): 'nan' is not a finite number"), std::string::npos)
+  EXPECT_NE(message.find("line 2, column 3 (ay): 'nan' is not a finite number"), std::string::npos)
       << message;
   const std::string text = Refusal("0.00 1 2 3\n0.01 1 abc 3\n", kAscii);
   EXPECT_NE(text.find("'abc' is not a number"), std::string::npos) << text;
-  const std::string csv = Refusal("t_s,acc_x,acc_y,acc_z\n0,1,2,inf\n", kCsv);
-  EXPECT_NE(csv.find("not a finite number"), std::string::npos) << csv;
+  const std::string csv = Refusal("t_s,acc_x,acc_y,acc_z\n0,1,2,3\n0.01,1,2,inf\n", kCsv);
+  EXPECT_NE(csv.find("column 'acc_z' (az): 'inf' is not a finite number"), std::string::npos)
+      << csv;
 }
 
 TEST(ImuLog, RefusesTimeThatDoesNotIncrease) {
@@ -79,8 +76,8 @@ TEST(ImuLog, RefusesTimeThatDoesNotIncrease) {
   EXPECT_NE(message.find("line 3: time 0.01 s does not increase"), std::string::npos) << message;
 }
 
-TEST(ImuLog, RefusesATimeAxisInMilliseconds) {
-  const std::string message = Refusal("0 1 2 3\n10 1 2 3\n20 1 2 3\n", kAscii);
+TEST(ImuLog, RefusesATimeAxisInMillisecondsWhenTheNameSaysSeconds) {
+  const std::string message = Refusal("t_s,ax,ay,az\n0,1,2,3\n10,1,2,3\n20,1,2,3\n");
   EXPECT_NE(message.find("milliseconds"), std::string::npos) << message;
 }
 
@@ -141,7 +138,7 @@ TEST(ImuLog, NamesTheFileWhenReadingFromDisk) {
   TriadLog log;
   const Status status = ReadImuLog(path, &log);
   ASSERT_FALSE(status.ok());
-  EXPECT_EQ(status.message().rfind(path + ": line 2, column 4 (z)", 0), 0u) << status.message();
+  EXPECT_EQ(status.message().rfind(path + ": line 2, column 4 (az)", 0), 0u) << status.message();
   const Status missing = ReadImuLog(dir.File("absent.mat"), &log);
   EXPECT_FALSE(missing.ok());
 }
@@ -156,7 +153,7 @@ TEST(ImuLog, StreamsInBatchesWhatIsReadWhole) {
   ASSERT_TRUE(ReadImuLog(path, &whole).ok());
   size_t streamed = 0;
   int batches = 0;
-  const Status status = StreamImuLog(path, 64, [&](const TriadLog& batch) {
+  const Status status = StreamImuLog(path, ImuLogReadOptions(), 64, [&](const TriadLog& batch) {
     EXPECT_LE(batch.size(), 64u);
     for (size_t j = 0; j < batch.size(); ++j) {
       EXPECT_EQ(batch.output[j], whole.output[streamed + j]);
@@ -167,6 +164,322 @@ TEST(ImuLog, StreamsInBatchesWhatIsReadWhole) {
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(streamed, 1000u);
   EXPECT_EQ(batches, 16);
+}
+
+// --- The layouts users record (docs/log-layouts.md), one test each. ---
+
+// `rows` rows of a 100 Hz still sensor: t, then the accelerometer (1, 2, 9.8) and gyroscope
+// (0.01, 0.02, 0.03), written by `row`.
+std::string Rows(int rows, const std::function<std::string(int j, double t_s)>& row) {
+  std::string text;
+  for (int j = 0; j < rows; ++j) text += row(j, 0.01 * j);
+  return text;
+}
+
+TriadLog ReadOk(const std::string& text, const ImuLogReadOptions& options = {},
+                ImuLogSource* source = nullptr) {
+  TriadLog log;
+  const Status status = ParseImuLog(text, options, &log, ImuLogSpacing::kEven, source);
+  EXPECT_TRUE(status.ok()) << status.message() << "\n" << text.substr(0, 400);
+  return log;
+}
+
+void ExpectStillSensor(const TriadLog& log, int rows, double step_s, bool gyroscope) {
+  ASSERT_EQ(log.size(), static_cast<size_t>(rows));
+  EXPECT_NEAR(log.timestamp_s[1] - log.timestamp_s[0], step_s, 1e-9);
+  EXPECT_DOUBLE_EQ(log.output[rows - 1][0], 1.0);
+  EXPECT_DOUBLE_EQ(log.output[rows - 1][2], 9.8);
+  EXPECT_EQ(log.has_gyroscope(), gyroscope);
+  if (gyroscope) EXPECT_DOUBLE_EQ(log.gyroscope[rows - 1][2], 0.03);
+}
+
+bool HasNote(const ImuLogSource& source, const std::string& fragment) {
+  for (const std::string& note : source.notes) {
+    if (note.find(fragment) != std::string::npos) return true;
+  }
+  return false;
+}
+
+TEST(ImuLogLayouts, CsvWithGyroscopeColumnsAndShortNames) {
+  ImuLogSource source;
+  const TriadLog log = ReadOk(
+      "t,ax,ay,az,gx,gy,gz\n" +
+          Rows(50, [](int, double t) { return StringPrintf("%.2f,1,2,9.8,0.01,0.02,0.03\n", t); }),
+      {}, &source);
+  ExpectStillSensor(log, 50, 0.01, true);
+  EXPECT_NE(source.layout.find("gyroscope 'gx', 'gy', 'gz'"), std::string::npos) << source.layout;
+  EXPECT_TRUE(HasNote(source, "inferred from its median step 0.01 (100 Hz")) << source.layout;
+}
+
+TEST(ImuLogLayouts, ImucalNamesAndColumnOrder) {
+  // imucal writes the gyroscope first, and acc_x...gyr_z names.
+  const TriadLog log =
+      ReadOk("time_s,gyr_x,gyr_y,gyr_z,acc_x,acc_y,acc_z\n" + Rows(30, [](int, double t) {
+               return StringPrintf("%.2f,0.01,0.02,0.03,1,2,9.8\n", t);
+             }));
+  ExpectStillSensor(log, 30, 0.01, true);
+}
+
+TEST(ImuLogLayouts, SemicolonsDecimalCommasAndMetadataBeforeTheHeader) {
+  ImuLogSource source;
+  const TriadLog log =
+      ReadOk("Device;MPU-6050\nFs;100\n\nTime [ms];ACCEL_X;ACCEL_Y;ACCEL_Z\n" +
+                 Rows(40, [](int j, double) { return StringPrintf("%d;1,0;2,0;9,8\n", 10 * j); }),
+             {}, &source);
+  ExpectStillSensor(log, 40, 0.01, false);
+  ASSERT_EQ(source.metadata.size(), 2u);
+  EXPECT_EQ(source.metadata[0], "Device;MPU-6050");
+  EXPECT_TRUE(HasNote(source, "decimal comma"));
+  EXPECT_TRUE(HasNote(source, "in ms (its name says so)"));
+}
+
+TEST(ImuLogLayouts, TabsCamelCaseAndATimeInMicrosecondsInferred) {
+  ImuLogSource source;
+  const TriadLog log =
+      ReadOk("timestamp\tAccX\tAccY\tAccZ\tGyroX\tGyroY\tGyroZ\n" +
+                 Rows(60,
+                      [](int j, double) {
+                        return StringPrintf("%d\t1\t2\t9.8\t0.01\t0.02\t0.03\n", 2500 * j);
+                      }),
+             {}, &source);
+  ExpectStillSensor(log, 60, 0.0025, true);
+  EXPECT_TRUE(HasNote(source, "in us, inferred from its median step 2500 (400 Hz"))
+      << source.layout;
+}
+
+TEST(ImuLogLayouts, EurocHeaderInACommentNanosecondEpochAndStatedUnits) {
+  ImuLogSource source;
+  const TriadLog log = ReadOk(
+      "#timestamp [ns],w_RS_S_x [rad s^-1],w_RS_S_y [rad s^-1],w_RS_S_z [rad s^-1],"
+      "a_RS_S_x [m s^-2],a_RS_S_y [m s^-2],a_RS_S_z [m s^-2]\n" +
+          Rows(40,
+               [](int j, double) {
+                 return StringPrintf("%lld,0.01,0.02,0.03,1,2,9.8\n",
+                                     1403636579758555392LL + 5000000LL * j);
+               }),
+      {}, &source);
+  ExpectStillSensor(log, 40, 0.005, true);
+  EXPECT_DOUBLE_EQ(log.timestamp_s[0], 0.0);
+  EXPECT_DOUBLE_EQ(log.timestamp_s[39], 0.195);  // exact: integer nanoseconds counted as such
+  EXPECT_EQ(source.accelerometer_unit, "m/s^2");
+  EXPECT_EQ(source.gyroscope_unit, "rad/s");
+  EXPECT_TRUE(HasNote(source, "times here are from the first sample"));
+}
+
+TEST(ImuLogLayouts, UnixMillisecondsWithBleJitterAreInferredBySize) {
+  ImuLogSource source;
+  // Host stamps of a 50 Hz BLE stream: bunched by the radio's connection interval.
+  const TriadLog log =
+      ReadOk("time,x_acc,y_acc,z_acc\n" + Rows(200,
+                                               [](int j, double) {
+                                                 const long long t = 1732650000000LL + 20 * j +
+                                                                     (j % 3 == 1 ? 3 : 0);
+                                                 return StringPrintf("%lld,1,2,9.8\n", t);
+                                               }),
+             {}, &source);
+  ASSERT_EQ(log.size(), 200u);
+  EXPECT_NEAR(log.timestamp_s[198], 3.96, 1e-12);
+  EXPECT_NEAR(log.timestamp_s[199], 3.983, 1e-12);
+  EXPECT_TRUE(HasNote(source, "a Unix time in ms by its size")) << source.notes.size();
+}
+
+TEST(ImuLogLayouts, NoTimeColumnTakesTheRateOrASampleNumber) {
+  const std::string rows = "ax,ay,az\n" + Rows(30, [](int, double) { return "1,2,9.8\n"; });
+  const std::string message = Refusal(rows);
+  EXPECT_NE(message.find("give --rate_hz=R"), std::string::npos) << message;
+  ImuLogReadOptions options;
+  options.rate_hz = 50.0;
+  ExpectStillSensor(ReadOk(rows, options), 30, 0.02, false);
+  // imucal's annotated session: a text label, a sample number, raw counts.
+  const std::string imucal =
+      "part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z\n" + Rows(30, [](int j, double) {
+        return StringPrintf("x_p,%d,1,2,9.8,0.01,0.02,0.03\n", 100 + 2 * j);
+      });
+  const std::string index_message = Refusal(imucal);
+  EXPECT_NE(index_message.find("'samples' numbers the samples: give --rate_hz"), std::string::npos)
+      << index_message;
+  ExpectStillSensor(ReadOk(imucal, options), 30, 0.04, true);
+}
+
+TEST(ImuLogLayouts, ASampleNumberIsNotTakenForATime) {
+  const std::string message = Refusal(
+      "t,ax,ay,az\n" + Rows(30, [](int j, double) { return StringPrintf("%d,1,2,9.8\n", j); }));
+  EXPECT_NE(message.find("a sample number, not a time; give --rate_hz=R"), std::string::npos)
+      << message;
+}
+
+// The suggestion a refusal prints (from "--columns=" to the end of its word), followed.
+std::string SuggestedColumns(const std::string& message) {
+  const size_t start = message.find("--columns=");
+  EXPECT_NE(start, std::string::npos) << message;
+  if (start == std::string::npos) return "";
+  const size_t end = message.find_first_of(" )", start);
+  return message.substr(start + 10,
+                        end == std::string::npos ? std::string::npos : end - start - 10);
+}
+
+TEST(ImuLogLayouts, SeveralAccelerometersAreRefusedAndTheSuggestionWorks) {
+  const std::string text =
+      "TIME,ACCEL_BMI160_0_X,ACCEL_BMI160_0_Y,ACCEL_BMI160_0_Z,ACCEL_BMI160_1_X,ACCEL_BMI160_1_Y,"
+      "ACCEL_BMI160_1_Z\n" +
+      Rows(30, [](int, double t) { return StringPrintf("%.2f,1,2,9.8,5,6,7\n", t); });
+  const std::string message = Refusal(text);
+  EXPECT_NE(message.find("2 accelerometers"), std::string::npos) << message;
+  EXPECT_NE(message.find("'ACCEL_BMI160_1_X'"), std::string::npos) << message;
+  ImuLogReadOptions options;
+  options.columns = SuggestedColumns(message);
+  ExpectStillSensor(ReadOk(text, options), 30, 0.01, false);
+  options.columns = "ax:ACCEL_BMI160_1_X,ay:ACCEL_BMI160_1_Y,az:5";  // a name, or a number from 1
+  // ACCEL_BMI160_1_Z is column 7; column 5 is ACCEL_BMI160_1_X, which two roles cannot share.
+  EXPECT_NE(Refusal(text, options).find("two roles"), std::string::npos);
+  options.columns = "ax:ACCEL_BMI160_1_X,ay:ACCEL_BMI160_1_Y,az:7";
+  const TriadLog second = ReadOk(text, options);
+  ASSERT_EQ(second.size(), 30u);
+  EXPECT_DOUBLE_EQ(second.output[0][2], 7.0);
+}
+
+TEST(ImuLogLayouts, HeaderlessRowsOfSevenNeedNamesAndTheSuggestionWorks) {
+  const std::string text =
+      Rows(30, [](int, double t) { return StringPrintf("%.2f 1 2 9.8 0.01 0.02 0.03\n", t); });
+  const std::string message = Refusal(text);
+  EXPECT_NE(message.find("7 numbers per row and no header"), std::string::npos) << message;
+  ImuLogReadOptions options;
+  options.columns = SuggestedColumns(message);
+  ExpectStillSensor(ReadOk(text, options), 30, 0.01, false);
+  options.columns += ",gx:5,gy:6,gz:7";
+  ExpectStillSensor(ReadOk(text, options), 30, 0.01, true);
+}
+
+TEST(ImuLogLayouts, RostopicCsvWithTwoTimeColumnsSaysWhichItUses) {
+  ImuLogSource source;
+  const TriadLog log = ReadOk(
+      "%time,field.header.seq,field.header.stamp,field.angular_velocity.x,"
+      "field.angular_velocity.y,field.angular_velocity.z,field.linear_acceleration.x,"
+      "field.linear_acceleration.y,field.linear_acceleration.z\n" +
+          Rows(30,
+               [](int j, double) {
+                 const long long t = 1600000000000000000LL + 10000000LL * j;
+                 return StringPrintf("%lld,%d,%lld,0.01,0.02,0.03,1,2,9.8\n", t + 1000, j, t);
+               }),
+      {}, &source);
+  ExpectStillSensor(log, 30, 0.01, true);
+  EXPECT_TRUE(HasNote(source, "not 'field.header.stamp'")) << source.notes.size();
+}
+
+TEST(ImuLogLayouts, RefusesWhatIsNotAUtf8TextLogSayingWhy) {
+  EXPECT_NE(Refusal(std::string("\xFF\xFEt\0,\0", 6)).find("UTF-16"), std::string::npos);
+  EXPECT_NE(Refusal("t,ax,ay,az\r0,1,2,3\r").find("carriage return alone"), std::string::npos);
+  const std::string none = Refusal("t,ax,ay,az\nmag_x,mag_y\n");
+  EXPECT_NE(none.find("no rows of numbers"), std::string::npos) << none;
+  const std::string mag = Refusal("t,mag_x,mag_y,mag_z\n" + Rows(10, [](int, double t) {
+                                    return StringPrintf("%.2f,1,2,3\n", t);
+                                  }));
+  EXPECT_NE(mag.find("no accelerometer columns in the header"), std::string::npos) << mag;
+}
+
+TEST(ImuLogLayouts, ClassifiesTheAliasTable) {
+  struct Case {
+    const char* name;
+    ImuColumnKind kind;
+    int axis;
+  };
+  const Case cases[] = {{"t", ImuColumnKind::kTime, -1},
+                        {"Time (s)", ImuColumnKind::kTime, -1},
+                        {"timestamp_us", ImuColumnKind::kTime, -1},
+                        {"%time", ImuColumnKind::kTime, -1},
+                        {"n_samples", ImuColumnKind::kSampleIndex, -1},
+                        {"ax", ImuColumnKind::kAccelerometer, 0},
+                        {"acc_y", ImuColumnKind::kAccelerometer, 1},
+                        {"ACCEL_Z", ImuColumnKind::kAccelerometer, 2},
+                        {"accelerometer.x", ImuColumnKind::kAccelerometer, 0},
+                        {"AccY", ImuColumnKind::kAccelerometer, 1},
+                        {"acc_z_g", ImuColumnKind::kAccelerometer, 2},
+                        {"gx", ImuColumnKind::kGyroscope, 0},
+                        {"gyr_y", ImuColumnKind::kGyroscope, 1},
+                        {"gyro_z_dps", ImuColumnKind::kGyroscope, 2},
+                        {"angular_velocity.x", ImuColumnKind::kGyroscope, 0},
+                        {"mag_x", ImuColumnKind::kOther, -1},
+                        {"gravity_x", ImuColumnKind::kOther, -1},
+                        {"temperature", ImuColumnKind::kOther, -1}};
+  for (const Case& c : cases) {
+    const ImuColumnName name = ClassifyImuColumnName(c.name);
+    EXPECT_EQ(name.kind, c.kind) << c.name;
+    EXPECT_EQ(name.axis, c.axis) << c.name;
+  }
+  EXPECT_EQ(ClassifyImuColumnName("timestamp_us").time_unit, "us");
+  EXPECT_EQ(ClassifyImuColumnName("acc_z_g").value_unit, "g");
+  EXPECT_EQ(ClassifyImuColumnName("ACCEL_BMI160_1_X").device, "bmi160_1");
+}
+
+TEST(ImuLogLayouts, ImuTksPairOfFilesAndAMatFileWithNamedVariables) {
+  testing::ScratchDir dir;
+  const std::string accelerometer = dir.Write(
+      "acc.mat", Rows(30, [](int, double t) { return StringPrintf("%.2f 1 2 9.8\n", t + 0.03); }));
+  const std::string gyroscope = dir.Write("gyro.mat", Rows(30, [](int, double t) {
+                                            return StringPrintf("%.2f 0.01 0.02 0.03\n", t + 0.03);
+                                          }));
+  ImuLogReadOptions options;
+  options.gyroscope_path = gyroscope;
+  TriadLog log;
+  Status status = ReadImuLog(accelerometer, options, &log);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ExpectStillSensor(log, 30, 0.01, true);
+  // Time stamps that differ are refused, naming the sample.
+  const std::string shifted = dir.Write("shifted.mat", Rows(30, [](int, double t) {
+                                          return StringPrintf("%.2f 0.01 0.02 0.03\n", t + 0.04);
+                                        }));
+  options.gyroscope_path = shifted;
+  status = ReadImuLog(accelerometer, options, &log);
+  EXPECT_NE(status.message().find("sample 1 is at t = 0.04 s, the accelerometer's at 0.03 s"),
+            std::string::npos)
+      << status.message();
+
+  // A binary MATLAB v5 file: a time vector and N x 3 accelerometer and gyroscope matrices.
+  MatMatrix t{30, 1, {}}, acc{30, 3, {}}, gyr{3, 30, {}};  // the gyroscope stored 3 x N
+  for (int j = 0; j < 30; ++j) t.values.push_back(0.01 * j);
+  for (double value : {1.0, 2.0, 9.8}) acc.values.insert(acc.values.end(), 30, value);
+  for (int j = 0; j < 30; ++j) gyr.values.insert(gyr.values.end(), {0.01, 0.02, 0.03});
+  const std::string mat = dir.File("session.mat");
+  ASSERT_TRUE(WriteMatFile(mat, {{"t", t}, {"acc", acc}, {"gyr", gyr}}).ok());
+  ImuLogSource source;
+  status = ReadImuLog(mat, ImuLogReadOptions(), &log, ImuLogSpacing::kEven, &source);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ExpectStillSensor(log, 30, 0.01, true);
+  EXPECT_NE(source.layout.find("accelerometer acc(:,1), acc(:,2), acc(:,3)"), std::string::npos)
+      << source.layout;
+  // Version 7.3 (HDF5), as MATLAB's -v7.3 writes it: separate vectors per axis.
+  const std::string mat73 = dir.File("session73.mat");
+  mat_t* file = Mat_CreateVer(mat73.c_str(), nullptr, MAT_FT_MAT73);
+  ASSERT_NE(file, nullptr) << "libmatio was built without HDF5";
+  std::vector<double> ax(30, 1.0), ay(30, 2.0), az(30, 9.8);
+  size_t dims[2] = {30, 1};
+  for (auto [name, values] :
+       {std::make_pair("time", t.values.data()), std::make_pair("ax", ax.data()),
+        std::make_pair("ay", ay.data()), std::make_pair("az", az.data())}) {
+    matvar_t* var =
+        Mat_VarCreate(name, MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, values, MAT_F_DONT_COPY_DATA);
+    ASSERT_EQ(Mat_VarWrite(file, var, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(var);
+  }
+  Mat_Close(file);
+  status = ReadImuLog(mat73, ImuLogReadOptions(), &log, ImuLogSpacing::kEven, &source);
+  ASSERT_TRUE(status.ok()) << status.message();
+  ExpectStillSensor(log, 30, 0.01, false);
+  EXPECT_NE(source.layout.find("t = time; accelerometer ax, ay, az"), std::string::npos)
+      << source.layout;
+  // The course's two-axis file is told apart from a triad log.
+  const std::string two_axis = dir.File("ensayo.mat");
+  ASSERT_TRUE(WriteMatFile(two_axis,
+                           {{"tita", t}, {"datos", MatMatrix{30, 2, std::vector<double>(60, 1.0)}}})
+                  .ok());
+  status = ReadImuLog(two_axis, &log);
+  EXPECT_NE(
+      status.message().find("no accelerometer among the variables (tita (30x1), datos (30x2))"),
+      std::string::npos)
+      << status.message();
+  options = ImuLogReadOptions();
+  options.columns = "t:tita,ax:datos(:,1),ay:datos(:,2),az:datos(:,2)";
+  EXPECT_TRUE(ReadImuLog(two_axis, options, &log).ok());
 }
 
 }  // namespace

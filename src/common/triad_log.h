@@ -1,9 +1,9 @@
 #ifndef ACCELCAL_COMMON_TRIAD_LOG_H_
 #define ACCELCAL_COMMON_TRIAD_LOG_H_
 
-// A three-axis accelerometer log: one time stamp and three outputs per sample, in whatever
-// unit the sensor gives (raw ADC counts for imu_tk's Xsens log). The triad geometry's
-// counterpart of CalibrationTest and VehicleRun (common/measurements.h).
+// A three-axis accelerometer log (and its gyroscope's, when logged): one time stamp and three
+// outputs per sample, in whatever unit the sensor gives (raw ADC counts for imu_tk's Xsens
+// log). The triad geometry's counterpart of CalibrationTest and VehicleRun (common/measurements.h).
 
 #include <array>
 #include <cstddef>
@@ -14,8 +14,12 @@ namespace accelcal {
 struct TriadLog {
   std::vector<double> timestamp_s;
   std::vector<std::array<double, 3>> output;  // x, y, z, in the sensor's unit
+  // The gyroscope's outputs at the same time stamps, in its unit, when the log has them (a
+  // log with gyroscope columns, or imu_tk's pair of files); else empty.
+  std::vector<std::array<double, 3>> gyroscope;
 
   size_t size() const { return timestamp_s.size(); }
+  bool has_gyroscope() const { return !gyroscope.empty(); }
   void Add(double t_s, double x, double y, double z) {
     timestamp_s.push_back(t_s);
     output.push_back({x, y, z});

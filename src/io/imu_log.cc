@@ -3,27 +3,31 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <memory>
 #include <vector>
 
 #include "common/format.h"
 #include "common/statistics.h"
 #include "io/course_data.h"
+#include "io/csv_reader.h"
 #include "io/input_file.h"
 #include "io/input_text.h"
 #include "io/line_stream.h"
+#include "io/mat_file.h"
 
 namespace accelcal {
 namespace {
 
-constexpr char kCsvHeaderHint[] = "t_s,acc_x,acc_y,acc_z";
-constexpr char kWhitespaceColumns[] = "t [s], x, y, z";
 constexpr size_t kMaxLineBytes = 1 << 16;
+// The head the layout is decided from: the first lines of the file, up to this many bytes.
+constexpr size_t kHeadBytes = 1 << 18;
 
 std::string Where(long long line_number) { return "line " + std::to_string(line_number); }
 
@@ -160,85 +164,143 @@ Status CheckSpacing(const std::vector<double>& timestamp_s, ImuLogSpacing spacin
   return spacing == ImuLogSpacing::kEven ? CheckEvenSpacing(timestamp_s, step_s) : Status::Ok();
 }
 
-}  // namespace
+// The data lines of a text log, in the format DetectImuTextFormat decided.
+class ImuLogLineParser {
+ public:
+  // `reorder`: time from a sample-number column need not increase row by row; the caller
+  // orders the rows by it (ReadImuLog).
+  ImuLogLineParser(const ImuTextFormat& format, bool reorder)
+      : format_(format), reorder_(reorder && format.index_column >= 0 && format.rate_hz > 0.0) {
+    imu_tk_fast_ = format.separator == ' ' && format.field_count == 4 && format.time_column == 0 &&
+                   format.accelerometer == std::array<int, 3>{1, 2, 3} && !format.epoch &&
+                   format.time_scale_s == 1.0 && format.rate_hz == 0.0;
+  }
 
-ImuLogLayout ImuLogLayoutOf(const std::string& path) {
-  if (path.size() < 4) return ImuLogLayout::kWhitespace;
-  std::string suffix = path.substr(path.size() - 4);
-  for (char& c : suffix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return suffix == ".csv" ? ImuLogLayout::kCsv : ImuLogLayout::kWhitespace;
+  // Parses the next line (without its '\n'); *is_sample tells whether it held a sample, then
+  // in t_s(), accelerometer() and gyroscope(). Checks that time increases.
+  Status ParseLine(std::string_view line, bool* is_sample);
+  Status Finish() const {
+    if (sample_count_ == 0)
+      return Status::Error("no samples: the file has a header but no data rows");
+    return Status::Ok();
+  }
+  Status UnterminatedLastLine() const {
+    return Status::Error(Where(line_number_ + 1) +
+                         " has no line end: the file looks cut short; copy it again, or end the "
+                         "line if it is complete");
+  }
+  double t_s() const { return t_s_; }
+  const std::array<double, 3>& accelerometer() const { return accelerometer_; }
+  const std::array<double, 3>& gyroscope() const { return gyroscope_; }
+
+ private:
+  Status Cell(int column, const char* role, double* value) const;
+  Status CheckTime();
+
+  const ImuTextFormat& format_;
+  const bool reorder_;
+  bool imu_tk_fast_ = false;
+  std::vector<std::string_view> fields_;
+  long long line_number_ = 0;
+  long long sample_count_ = 0;
+  double t_s_ = 0.0;
+  double previous_t_s_ = 0.0;
+  double time_origin_ = 0.0;
+  bool integer_time_ = false;  // this row's time cell is an integer (integer_time_value_)
+  long long integer_time_value_ = 0;
+  bool integer_origin_ = false;
+  long long integer_time_origin_ = 0;
+  std::array<double, 3> accelerometer_{};
+  std::array<double, 3> gyroscope_{};
+};
+
+Status ImuLogLineParser::Cell(int column, const char* role, double* value) const {
+  const std::string_view cell = fields_[column];
+  if (!format_.decimal_comma && ParseShortDecimal(cell, value)) return Status::Ok();
+  bool parsed = false;
+  if (format_.decimal_comma) {
+    std::string copy(cell);
+    std::replace(copy.begin(), copy.end(), ',', '.');
+    parsed = ParseFiniteNumber(copy, value);
+  } else {
+    parsed = ParseFiniteNumber(cell, value);
+  }
+  if (parsed) return Status::Ok();
+  const std::string where =
+      format_.header.empty() ? StringPrintf("column %d (%s)", column + 1, role)
+                             : "column '" + EchoInput(format_.header[column]) + "' (" + role + ")";
+  return Status::Error(Where(line_number_) + ", " + where + ": '" + EchoInput(cell) + "' is " +
+                       (cell.empty()
+                            ? "empty; every sample needs a value (remove the row or fill it)"
+                        : LooksNotFinite(cell) ? "not a finite number; remove or repair the sample"
+                                               : "not a number"));
 }
-
-const char* ImuLogLayoutName(ImuLogLayout layout) {
-  return layout == ImuLogLayout::kCsv ? "CSV (t_s,acc_x,acc_y,acc_z)"
-                                      : "whitespace ASCII (t [s], x, y, z)";
-}
-
-ImuLogLineParser::ImuLogLineParser(ImuLogLayout layout)
-    : layout_(layout), csv_({{"t_s"}, {"acc_x"}, {"acc_y"}, {"acc_z"}}) {}
 
 Status ImuLogLineParser::ParseLine(std::string_view line, bool* is_sample) {
   *is_sample = false;
-  if (layout_ == ImuLogLayout::kCsv) {
-    CsvLineParser::LineKind kind;
-    ACCELCAL_RETURN_IF_ERROR(csv_.ParseLine(line, &kind));
-    line_number_ = csv_.line_number();
-    if (kind != CsvLineParser::LineKind::kRow) return Status::Ok();
-    t_s_ = csv_.number(0);
-    output_ = {csv_.number(1), csv_.number(2), csv_.number(3)};
-  } else {
-    ++line_number_;
-    if (line_number_ == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
-    const std::string_view trimmed = TrimBlanks(line);
-    if (trimmed.empty() || trimmed.front() == '#') return Status::Ok();
-    ACCELCAL_RETURN_IF_ERROR(ParseWhitespaceLine(trimmed));
-  }
-  ACCELCAL_RETURN_IF_ERROR(CheckTime());
-  ++sample_count_;
-  *is_sample = true;
-  return Status::Ok();
-}
-
-Status ImuLogLineParser::ParseWhitespaceLine(std::string_view trimmed) {
+  ++line_number_;
+  if (line_number_ < format_.first_data_line) return Status::Ok();
+  if (line_number_ == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
+  const std::string_view trimmed = TrimBlanks(line);
+  if (trimmed.empty() || trimmed.front() == '#') return Status::Ok();
   double values[4];
-  if (ReadFourShortDecimals(trimmed, values)) {
-    t_s_ = values[0];
-    output_ = {values[1], values[2], values[3]};
-    return Status::Ok();
-  }
-  // A character loop: string_view::find_first_of calls memchr once per character.
-  std::string_view fields[4];
-  size_t count = 0;
-  const char* p = trimmed.data();
-  const char* const end = p + trimmed.size();
-  while (p < end) {  // `trimmed` starts and ends with a field
-    const char* const field = p;
-    while (p < end && !IsBlank(*p)) ++p;
-    if (count < 4) fields[count] = std::string_view(field, p - field);
-    ++count;
-    while (p < end && IsBlank(*p)) ++p;
-  }
-  if (count != 4) {
-    const bool commas = trimmed.find(',') != std::string_view::npos;
-    return Status::Error(
-        Where(line_number_) + ": " + std::to_string(count) + " column(s), expected 4 (" +
-        kWhitespaceColumns + ") separated by blanks" +
-        (commas ? std::string("; a CSV log must be named *.csv and start with the header ") +
-                      kCsvHeaderHint
-                : std::string("")));
-  }
-  static const char* const kNames[4] = {"t", "x", "y", "z"};
-  for (int c = 0; c < 4; ++c) {
-    if (!ParseShortDecimal(fields[c], &values[c]) && !ParseFiniteNumber(fields[c], &values[c])) {
-      return Status::Error(Where(line_number_) + ", column " + std::to_string(c + 1) + " (" +
-                           kNames[c] + "): '" + EchoInput(fields[c]) + "' is " +
-                           (LooksNotFinite(fields[c])
-                                ? "not a finite number; remove or repair the sample"
-                                : "not a number"));
+  double raw_time = 0.0;
+  if (imu_tk_fast_ && ReadFourShortDecimals(trimmed, values)) {
+    raw_time = values[0];
+    accelerometer_ = {values[1], values[2], values[3]};
+  } else {
+    SplitImuFields(trimmed, format_.separator, &fields_);
+    if (static_cast<int>(fields_.size()) != format_.field_count) {
+      return Status::Error(
+          StringPrintf("%s: %zu field(s), expected %d (as %s)%s", Where(line_number_).c_str(),
+                       fields_.size(), format_.field_count,
+                       format_.header.empty()
+                           ? StringPrintf("line %lld", format_.first_data_line).c_str()
+                           : StringPrintf("the header on line %lld", format_.header_line).c_str(),
+                       format_.separator == ' ' && trimmed.find(',') != std::string_view::npos
+                           ? "; the rows mix separators: use one (',' or blanks) throughout"
+                           : ""));
+    }
+    static const char* const kAccelerometerRoles[3] = {"ax", "ay", "az"};
+    static const char* const kGyroscopeRoles[3] = {"gx", "gy", "gz"};
+    if (format_.time_column >= 0) {
+      ACCELCAL_RETURN_IF_ERROR(Cell(format_.time_column, "t", &raw_time));
+      // A clock in integer ns or us since 1970 has more digits than a double holds: counted
+      // from the first sample in integers, exactly.
+      const std::string_view cell = fields_[format_.time_column];
+      long long integer = 0;
+      const auto [end, error] = std::from_chars(cell.data(), cell.data() + cell.size(), integer);
+      integer_time_ = error == std::errc() && end == cell.data() + cell.size();
+      if (integer_time_) integer_time_value_ = integer;
+    }
+    if (format_.index_column >= 0 && format_.rate_hz > 0.0)
+      ACCELCAL_RETURN_IF_ERROR(Cell(format_.index_column, "sample number", &raw_time));
+    for (int k = 0; k < 3; ++k) {
+      if (format_.accelerometer[k] >= 0)
+        ACCELCAL_RETURN_IF_ERROR(
+            Cell(format_.accelerometer[k], kAccelerometerRoles[k], &accelerometer_[k]));
+      if (format_.gyroscope[k] >= 0)
+        ACCELCAL_RETURN_IF_ERROR(Cell(format_.gyroscope[k], kGyroscopeRoles[k], &gyroscope_[k]));
     }
   }
-  t_s_ = values[0];
-  output_ = {values[1], values[2], values[3]};
+  if (format_.rate_hz > 0.0) {
+    const double number = format_.index_column >= 0 ? raw_time : static_cast<double>(sample_count_);
+    t_s_ = number / format_.rate_hz;
+  } else {
+    if (sample_count_ == 0 && format_.epoch) {
+      time_origin_ = raw_time;
+      integer_origin_ = integer_time_;
+      integer_time_origin_ = integer_time_value_;
+    }
+    if (format_.epoch && integer_origin_ && integer_time_) {
+      t_s_ = static_cast<double>(integer_time_value_ - integer_time_origin_) * format_.time_scale_s;
+    } else {
+      t_s_ = (raw_time - time_origin_) * format_.time_scale_s;
+    }
+  }
+  if (!reorder_) ACCELCAL_RETURN_IF_ERROR(CheckTime());
+  ++sample_count_;
+  *is_sample = true;
   return Status::Ok();
 }
 
@@ -253,35 +315,512 @@ Status ImuLogLineParser::CheckTime() {
   return Status::Ok();
 }
 
-Status ImuLogLineParser::Finish() const {
-  if (layout_ == ImuLogLayout::kCsv) return csv_.Finish();
-  if (sample_count_ == 0) {
-    return Status::Error(std::string("no samples: expected lines of 4 numbers (") +
-                         kWhitespaceColumns + ")");
+void FillSource(const ImuTextFormat& format, ImuLogSource* source) {
+  if (source == nullptr) return;
+  source->layout = format.description;
+  source->notes.clear();
+  if (!format.time_rule.empty()) source->notes.push_back(format.time_rule);
+  source->notes.insert(source->notes.end(), format.notes.begin(), format.notes.end());
+  source->metadata = format.metadata;
+  source->accelerometer_unit = format.accelerometer_unit;
+  source->gyroscope_unit = format.gyroscope_unit;
+}
+
+// What the head's bytes say the file is not: a text log in UTF-8 with '\n' line ends.
+Status CheckTextHead(std::string_view head, size_t file_size) {
+  if (head.substr(0, 2) == "\xFF\xFE" || head.substr(0, 2) == "\xFE\xFF") {
+    return Status::Error(
+        "the file is UTF-16 text (it starts with a UTF-16 byte order mark): save or convert it "
+        "as UTF-8 (e.g. iconv -f UTF-16 -t UTF-8)");
+  }
+  if (head.find('\0') != std::string_view::npos) {
+    return Status::Error(
+        "the file holds binary data (NUL bytes in its first lines), not a text log nor a MATLAB "
+        "v5/v7.3 .mat file; export the log as CSV or text (docs/log-layouts.md)");
+  }
+  if (head.find('\n') == std::string_view::npos && head.find('\r') != std::string_view::npos &&
+      file_size > 0) {
+    return Status::Error(
+        "the lines end in a carriage return alone (classic Mac line ends), not '\\n': convert "
+        "them (e.g. tr '\\r' '\\n' < IN > OUT)");
   }
   return Status::Ok();
 }
 
-Status ImuLogLineParser::UnterminatedLastLine(std::string_view rest) const {
-  if (layout_ == ImuLogLayout::kCsv) return csv_.UnterminatedLastLine(rest);
-  return Status::Error(Where(line_number_ + 1) +
-                       " has no line end: the file looks cut short; copy it again, or end the "
-                       "line if it is complete");
+bool IsMatHeader(std::string_view head) {
+  return head.substr(0, 10) == "MATLAB 5.0" || head.substr(0, 10) == "MATLAB 7.3";
 }
 
-Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log,
-                   ImuLogSpacing spacing) {
+bool HasMatSuffix(const std::string& path) {
+  if (path.size() < 4) return false;
+  std::string suffix = path.substr(path.size() - 4);
+  for (char& c : suffix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return suffix == ".mat";
+}
+
+Status ReadHead(const std::string& path, std::string* head, bool* whole, uint64_t* size) {
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckInputFile(path, std::numeric_limits<uint64_t>::max(), "an IMU log", size));
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                       &std::fclose);
+  if (!file) return Status::Error(std::string("cannot open: ") + std::strerror(errno));
+  head->assign(kHeadBytes, '\0');
+  const size_t count = std::fread(head->data(), 1, head->size(), file.get());
+  if (count < head->size() && std::ferror(file.get()))
+    return Status::Error(std::string("cannot read: ") + std::strerror(errno));
+  head->resize(count);
+  *whole = count < kHeadBytes || std::fgetc(file.get()) == EOF;
+  return Status::Ok();
+}
+
+// A text log's lines, streamed with the format decided from its head.
+Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
+                     size_t batch_samples,
+                     const std::function<void(const TriadLog& batch)>& on_batch,
+                     ImuLogSource* source, bool reorder = false) {
+  std::string head;
+  bool whole = false;
+  uint64_t size = 0;
+  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size).WithContext(path));
+  if (IsMatHeader(head)) {
+    return Status::Error(path +
+                         ": a MATLAB .mat file is read whole, not streamed; read it with "
+                         "calibrate_imu or apply");
+  }
+  ACCELCAL_RETURN_IF_ERROR(CheckTextHead(head, size).WithContext(path));
+  ImuTextFormat format;
+  ACCELCAL_RETURN_IF_ERROR(DetectImuTextFormat(head, whole, options, &format).WithContext(path));
+  FillSource(format, source);
+  ImuLogLineParser parser(format, reorder);
+  TriadLog batch;
+  const bool gyroscope = format.gyroscope[0] >= 0;
+  const bool accelerometer = format.accelerometer[0] >= 0;
+  const size_t batch_limit = std::max<size_t>(1, batch_samples);
+  ACCELCAL_RETURN_IF_ERROR(StreamTextLines(
+      path, "an IMU log", kMaxLineBytes,
+      [&](std::string_view line) {
+        bool is_sample = false;
+        ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(line, &is_sample));
+        if (!is_sample) return Status::Ok();
+        const std::array<double, 3>& a = parser.accelerometer();
+        batch.timestamp_s.push_back(parser.t_s());
+        if (accelerometer) batch.output.push_back(a);
+        if (gyroscope) batch.gyroscope.push_back(parser.gyroscope());
+        if (batch.size() >= batch_limit) {
+          on_batch(batch);
+          batch = TriadLog();
+        }
+        return Status::Ok();
+      },
+      [&](std::string_view) { return parser.UnterminatedLastLine(); }));
+  ACCELCAL_RETURN_IF_ERROR(parser.Finish().WithContext(path));
+  if (batch.size() > 0) on_batch(batch);
+  return Status::Ok();
+}
+
+// A .mat variable named in --columns: NAME, NAME(:,K) or NAME[K].
+struct VariableColumn {
+  std::string name;
+  int column = -1;  // from 0; -1: the whole variable
+};
+
+bool ParseVariableColumn(const std::string& text, VariableColumn* result) {
+  *result = VariableColumn();
+  size_t open = text.find_first_of("([");
+  if (open == std::string::npos) {
+    result->name = text;
+    return !text.empty();
+  }
+  result->name = text.substr(0, open);
+  std::string inside = text.substr(open + 1);
+  if (inside.empty() || (inside.back() != ')' && inside.back() != ']')) return false;
+  inside.pop_back();
+  if (inside.rfind(":,", 0) == 0) inside = inside.substr(2);
+  if (inside.empty() || inside.size() > 6 || !std::all_of(inside.begin(), inside.end(), [](char c) {
+        return std::isdigit(static_cast<unsigned char>(c));
+      }))
+    return false;
+  result->column = std::stoi(inside) - 1;
+  return !result->name.empty() && result->column >= 0;
+}
+
+// The samples of one MAT variable's column (a vector's only column), as rows.
+Status VariableValues(const std::vector<std::pair<std::string, MatMatrix>>& matrices,
+                      const VariableColumn& wanted, size_t rows, std::vector<double>* values) {
+  for (const auto& [name, matrix] : matrices) {
+    if (name != wanted.name) continue;
+    // Samples along the longer dimension: N x 1 and 1 x N are both vectors.
+    const bool by_rows = matrix.rows >= matrix.cols;
+    const int length = by_rows ? matrix.rows : matrix.cols;
+    const int width = by_rows ? matrix.cols : matrix.rows;
+    const int column = wanted.column < 0 ? 0 : wanted.column;
+    if (wanted.column < 0 && width != 1) {
+      return Status::Error(
+          StringPrintf("variable '%s' is %dx%d, not a vector: name one of its "
+                       "columns, e.g. %s(:,1)",
+                       name.c_str(), matrix.rows, matrix.cols, name.c_str()));
+    }
+    if (column >= width) {
+      return Status::Error(StringPrintf("variable '%s' is %dx%d: it has no column %d", name.c_str(),
+                                        matrix.rows, matrix.cols, column + 1));
+    }
+    if (rows != 0 && static_cast<size_t>(length) != rows) {
+      return Status::Error(
+          StringPrintf("variable '%s' holds %d samples, the others %zu: the "
+                       "variables of a log must be the same length",
+                       name.c_str(), length, rows));
+    }
+    values->resize(length);
+    for (int j = 0; j < length; ++j) (*values)[j] = by_rows ? matrix(j, column) : matrix(column, j);
+    return Status::Ok();
+  }
+  return Status::Error("no variable '" + EchoInput(wanted.name) + "' in the file");
+}
+
+std::string Shape(const MatMatrix& matrix) {
+  return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
+}
+
+// A MATLAB .mat log: its variables by name (io/imu_log_format.h's aliases), or by --columns.
+Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                  ImuLogSource* source) {
+  std::vector<ImuColumnChoice> choices;
+  ACCELCAL_RETURN_IF_ERROR(ParseImuColumnChoices(options.columns, &choices));
+  MatFileReader reader;
+  ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
+  std::vector<std::string> names;
+  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
+  // Only the numeric variables are read; a text or struct variable beside them is left alone.
+  std::vector<std::pair<std::string, MatMatrix>> matrices;
+  std::vector<std::string> unread;
+  for (const std::string& name : names) {
+    MatMatrix matrix;
+    if (reader.ReadMatrix(name, &matrix).ok()) {
+      matrices.emplace_back(name, std::move(matrix));
+    } else {
+      unread.push_back(name);
+    }
+  }
+  std::string listing;
+  for (const auto& [name, matrix] : matrices)
+    listing += (listing.empty() ? "" : ", ") + name + " (" + Shape(matrix) + ")";
+  for (const std::string& name : unread)
+    listing += (listing.empty() ? "" : ", ") + name + " (not a real matrix)";
+  if (listing.empty()) listing = "none";
+
+  // role -> column of a variable
+  std::map<std::string, VariableColumn> chosen;
+  for (const ImuColumnChoice& choice : choices) {
+    VariableColumn column;
+    if (!ParseVariableColumn(choice.value, &column)) {
+      return Status::Error("--columns " + choice.key + ":" + EchoInput(choice.value) +
+                           ": give a variable, or a column of one as NAME(:,K)");
+    }
+    if (choice.key == "acc" || choice.key == "gyr") {
+      const std::string prefix = choice.key == "acc" ? "a" : "g";
+      for (int k = 0; k < 3; ++k) chosen[prefix + "xyz"[k]] = {column.name, k};
+    } else {
+      chosen[choice.key] = column;
+    }
+  }
+  auto matrix_of = [&](const std::string& name) -> const MatMatrix* {
+    for (const auto& entry : matrices) {
+      if (entry.first == name) return &entry.second;
+    }
+    return nullptr;
+  };
+  auto long_side = [](const MatMatrix& m) { return std::max(m.rows, m.cols); };
+  auto short_side = [](const MatMatrix& m) { return std::min(m.rows, m.cols); };
+  // By name: N x 3 triads and vectors per axis, a time vector, a sample number.
+  for (const char* prefix : {"a", "g"}) {
+    const ImuColumnKind kind =
+        prefix[0] == 'a' ? ImuColumnKind::kAccelerometer : ImuColumnKind::kGyroscope;
+    if (chosen.count(std::string(prefix) + "x")) continue;
+    std::vector<std::string> triads;
+    std::array<std::vector<std::string>, 3> axes;
+    for (const auto& [name, matrix] : matrices) {
+      if (short_side(matrix) == 3 && long_side(matrix) > 3 && ClassifyImuVariableName(name) == kind)
+        triads.push_back(name);
+      const ImuColumnName column = ClassifyImuColumnName(name);
+      if (short_side(matrix) == 1 && column.kind == kind) axes[column.axis].push_back(name);
+    }
+    if (triads.size() +
+                (axes[0].size() == 1 && axes[1].size() == 1 && axes[2].size() == 1 ? 1 : 0) >
+            1 ||
+        triads.size() > 1) {
+      if (kind == ImuColumnKind::kGyroscope) continue;
+      return Status::Error("several accelerometers among the variables (" + listing +
+                           "): choose one with --columns=acc:NAME (an N x 3 variable) or "
+                           "ax:NAME,ay:NAME,az:NAME");
+    }
+    if (triads.size() == 1) {
+      for (int k = 0; k < 3; ++k) chosen[std::string(prefix) + "xyz"[k]] = {triads[0], k};
+    } else if (axes[0].size() == 1 && axes[1].size() == 1 && axes[2].size() == 1) {
+      for (int k = 0; k < 3; ++k) chosen[std::string(prefix) + "xyz"[k]] = {axes[k][0], -1};
+    }
+  }
+  if (!chosen.count("t")) {
+    for (const auto& [name, matrix] : matrices) {
+      if (short_side(matrix) == 1 && ClassifyImuColumnName(name).kind == ImuColumnKind::kTime) {
+        chosen["t"] = {name, -1};
+        break;
+      }
+    }
+  }
+  if (!chosen.count("index")) {
+    for (const auto& [name, matrix] : matrices) {
+      if (short_side(matrix) == 1 &&
+          ClassifyImuColumnName(name).kind == ImuColumnKind::kSampleIndex) {
+        chosen["index"] = {name, -1};
+        break;
+      }
+    }
+  }
+  std::vector<std::string> notes;
+  // One N x 4 matrix and nothing named: imu_tk's t, x, y, z saved in binary.
+  if (!chosen.count("ax") && matrices.size() == 1 && short_side(matrices[0].second) == 4 &&
+      choices.empty()) {
+    const std::string& name = matrices[0].first;
+    chosen["t"] = {name, 0};
+    for (int k = 0; k < 3; ++k) chosen[std::string("a") + "xyz"[k]] = {name, k + 1};
+    notes.push_back("the file's one variable '" + name + "' (" + Shape(matrices[0].second) +
+                    ") read as imu_tk's columns t [s], x, y, z");
+  }
+  if (options.gyroscope_file) {
+    if (!chosen.count("gx") && chosen.count("ax"))
+      for (int k = 0; k < 3; ++k)
+        chosen[std::string("g") + "xyz"[k]] = chosen[std::string("a") + "xyz"[k]];
+    for (int k = 0; k < 3; ++k) chosen.erase(std::string("a") + "xyz"[k]);
+    if (!chosen.count("gx"))
+      return Status::Error("no gyroscope among the variables (" + listing +
+                           "): name it with --columns=gyr:NAME");
+  } else if (!chosen.count("ax")) {
+    const bool two_axis = matrix_of("Aerr") != nullptr || matrix_of("datos") != nullptr ||
+                          matrix_of("theta") != nullptr;
+    return Status::Error("no accelerometer among the variables (" + listing +
+                         "): name it with --columns=acc:NAME (an N x 3 variable), or "
+                         "ax:NAME,ay:NAME,az:NAME, or ax:NAME(:,K),...; with t:NAME for the time" +
+                         (two_axis ? std::string("; this looks like the two-axis tilt-table data "
+                                                 "(linear_ls, analyze read it)")
+                                   : std::string("")));
+  }
+  // The samples.
+  size_t rows = 0;
+  std::array<std::vector<double>, 3> accelerometer;
+  std::array<std::vector<double>, 3> gyroscope;
+  for (int k = 0; k < 3; ++k) {
+    const std::string axis(1, "xyz"[k]);
+    if (chosen.count("a" + axis)) {
+      ACCELCAL_RETURN_IF_ERROR(
+          VariableValues(matrices, chosen["a" + axis], rows, &accelerometer[k]));
+      rows = accelerometer[k].size();
+    }
+    if (chosen.count("g" + axis)) {
+      ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["g" + axis], rows, &gyroscope[k]));
+      rows = gyroscope[k].size();
+    }
+  }
+  std::vector<double> time;
+  std::string time_rule;
+  if (options.rate_hz > 0.0) {
+    std::vector<double> index;
+    if (chosen.count("index"))
+      ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["index"], rows, &index));
+    time.resize(rows);
+    for (size_t j = 0; j < rows; ++j) time[j] = (index.empty() ? j : index[j]) / options.rate_hz;
+    time_rule = StringPrintf(
+        "time = %s / %g Hz (--rate_hz)",
+        index.empty() ? "row number" : ("'" + chosen["index"].name + "'").c_str(), options.rate_hz);
+    if (chosen.count("t"))
+      notes.push_back("the time variable '" + chosen["t"].name +
+                      "' is not used (--rate_hz gives time)");
+  } else if (chosen.count("t")) {
+    ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["t"], rows, &time));
+    ImuTextFormat format;
+    const std::string label = "'" + chosen["t"].name + "'";
+    const std::vector<double> head(time.begin(),
+                                   time.begin() + std::min<size_t>(time.size(), 2000));
+    ACCELCAL_RETURN_IF_ERROR(ChooseTimeUnit(head, label,
+                                            ClassifyImuColumnName(chosen["t"].name).time_unit,
+                                            options.time_unit, false, &format));
+    time_rule = format.time_rule;
+    notes.insert(notes.end(), format.notes.begin(), format.notes.end());
+    const double origin = format.epoch ? time[0] : 0.0;
+    for (double& t : time) t = (t - origin) * format.time_scale_s;
+  } else {
+    return Status::Error("no time variable among (" + listing +
+                         "): give --rate_hz=R, the samples' rate in Hz, or name it with "
+                         "--columns=t:NAME");
+  }
   *log = TriadLog();
-  ImuLogLineParser parser(layout);
+  log->timestamp_s = std::move(time);
+  for (size_t j = 0; j < rows; ++j) {
+    if (!accelerometer[0].empty())
+      log->output.push_back({accelerometer[0][j], accelerometer[1][j], accelerometer[2][j]});
+    if (!gyroscope[0].empty())
+      log->gyroscope.push_back({gyroscope[0][j], gyroscope[1][j], gyroscope[2][j]});
+  }
+  for (size_t j = 1; j < rows; ++j) {
+    if (!(log->timestamp_s[j] > log->timestamp_s[j - 1])) {
+      return Status::Error(StringPrintf(
+          "sample %zu: time %.9g s does not increase from the previous sample's %.9g s; a log's "
+          "time must be strictly increasing",
+          j + 1, log->timestamp_s[j], log->timestamp_s[j - 1]));
+    }
+  }
+  if (source != nullptr) {
+    auto describe = [&](const char* prefix) {
+      const std::string p(prefix);
+      if (!chosen.count(p + "x")) return std::string();
+      std::string text;
+      for (int k = 0; k < 3; ++k) {
+        const VariableColumn& c = chosen[p + "xyz"[k]];
+        text += (k ? ", " : "") + c.name +
+                (c.column < 0 ? "" : "(:," + std::to_string(c.column + 1) + ")");
+      }
+      return text;
+    };
+    source->layout = "MATLAB .mat (variables: t = " +
+                     (options.rate_hz > 0.0 ? std::string("from --rate_hz") : chosen["t"].name) +
+                     (chosen.count("ax") ? "; accelerometer " + describe("a") : std::string()) +
+                     (chosen.count("gx") ? "; gyroscope " + describe("g") : std::string()) + ")";
+    source->notes.clear();
+    if (!time_rule.empty()) source->notes.push_back(time_rule);
+    source->notes.insert(source->notes.end(), notes.begin(), notes.end());
+    source->metadata.clear();
+  }
+  return Status::Ok();
+}
+
+// Rows whose time is their sample number over the rate, listed out of order (imucal's
+// annotated session lists its sections by label), put back in the order they were recorded;
+// a sample number twice is refused.
+Status OrderBySampleNumber(TriadLog* log, ImuLogSource* source) {
+  const std::vector<double>& t = log->timestamp_s;
+  if (std::is_sorted(t.begin(), t.end())) {
+    for (size_t j = 1; j < t.size(); ++j) {
+      if (t[j] == t[j - 1]) {
+        return Status::Error(
+            StringPrintf("samples %zu and %zu have one sample number (t = %.9g s): "
+                         "each row must be its own sample",
+                         j, j + 1, t[j]));
+      }
+    }
+    return Status::Ok();
+  }
+  std::vector<size_t> order(t.size());
+  for (size_t j = 0; j < order.size(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(), [&t](size_t a, size_t b) { return t[a] < t[b]; });
+  size_t runs = 1;
+  for (size_t j = 1; j < t.size(); ++j) runs += t[j] < t[j - 1] ? 1 : 0;
+  TriadLog sorted;
+  for (size_t j : order) {
+    sorted.timestamp_s.push_back(t[j]);
+    if (!log->output.empty()) sorted.output.push_back(log->output[j]);
+    if (!log->gyroscope.empty()) sorted.gyroscope.push_back(log->gyroscope[j]);
+  }
+  for (size_t j = 1; j < sorted.size(); ++j) {
+    if (sorted.timestamp_s[j] == sorted.timestamp_s[j - 1]) {
+      return Status::Error(StringPrintf(
+          "two rows have the sample number of t = %.9g s: each row must be its own sample",
+          sorted.timestamp_s[j]));
+    }
+  }
+  *log = std::move(sorted);
+  if (source != nullptr) {
+    source->notes.push_back(StringPrintf(
+        "rows put in the order of their sample numbers (the file lists them out of order, in %zu "
+        "ascending runs, as imucal's annotated session lists its sections by label)",
+        runs));
+  }
+  return Status::Ok();
+}
+
+// The whole of one file, of any layout, without the spacing check.
+Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                   ImuLogSource* source) {
+  *log = TriadLog();
+  std::string head;
+  bool whole = false;
+  uint64_t size = 0;
+  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size).WithContext(path));
+  // A MAT file by its header (v5, v7.3), or a binary .mat without one (v4).
+  if (IsMatHeader(head) || (head.find('\0') != std::string::npos && HasMatSuffix(path)))
+    return ReadMatLog(path, options, log, source).WithContext(path);
+  ACCELCAL_RETURN_IF_ERROR(StreamTextLog(
+      path, options, 1 << 16,
+      [log](const TriadLog& batch) {
+        log->timestamp_s.insert(log->timestamp_s.end(), batch.timestamp_s.begin(),
+                                batch.timestamp_s.end());
+        log->output.insert(log->output.end(), batch.output.begin(), batch.output.end());
+        log->gyroscope.insert(log->gyroscope.end(), batch.gyroscope.begin(), batch.gyroscope.end());
+      },
+      source, /*reorder=*/true));
+  return OrderBySampleNumber(log, source).WithContext(path);
+}
+
+// imu_tk's pair: the gyroscope's file must carry the accelerometer's time stamps.
+Status AddPairedGyroscope(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                          ImuLogSource* source) {
+  if (log->has_gyroscope()) {
+    return Status::Error(
+        "--gyro_log: the log already has gyroscope columns; give the gyroscope "
+        "once, in the log or in its own file");
+  }
+  ImuLogReadOptions gyroscope_options = options;
+  gyroscope_options.gyroscope_path.clear();
+  gyroscope_options.gyroscope_file = true;
+  gyroscope_options.columns.clear();
+  TriadLog gyroscope;
+  ImuLogSource gyroscope_source;
+  ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, gyroscope_options, &gyroscope, &gyroscope_source));
+  if (gyroscope.size() != log->size()) {
+    return Status::Error(StringPrintf(
+        "%s: %zu samples, the accelerometer's log %zu: imu_tk's pair of files must hold the same "
+        "time stamps, one row each",
+        path.c_str(), gyroscope.size(), log->size()));
+  }
+  for (size_t j = 0; j < log->size(); ++j) {
+    const double a = log->timestamp_s[j];
+    const double g = gyroscope.timestamp_s[j];
+    if (std::abs(a - g) > 1e-9 * std::max(1.0, std::abs(a))) {
+      return Status::Error(StringPrintf(
+          "%s: sample %zu is at t = %.9g s, the accelerometer's at %.9g s: imu_tk's pair of files "
+          "must hold the same time stamps",
+          path.c_str(), j + 1, g, a));
+    }
+  }
+  log->gyroscope = std::move(gyroscope.gyroscope);
+  if (source != nullptr) {
+    source->gyroscope_path = path;
+    source->gyroscope_unit = gyroscope_source.gyroscope_unit;
+    source->notes.push_back("gyroscope: " + path + ", " + gyroscope_source.layout +
+                            ", the same time stamps");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, TriadLog* log,
+                   ImuLogSpacing spacing, ImuLogSource* source) {
+  *log = TriadLog();
+  ACCELCAL_RETURN_IF_ERROR(CheckTextHead(text.substr(0, kHeadBytes), text.size()));
+  const std::string_view head = text.substr(0, kHeadBytes);
+  ImuTextFormat format;
+  ACCELCAL_RETURN_IF_ERROR(DetectImuTextFormat(head, head.size() == text.size(), options, &format));
+  FillSource(format, source);
+  ImuLogLineParser parser(format, false);
   size_t begin = 0;
   while (begin < text.size()) {
     const size_t end = text.find('\n', begin);
-    if (end == std::string_view::npos) return parser.UnterminatedLastLine(text.substr(begin));
+    if (end == std::string_view::npos) return parser.UnterminatedLastLine();
     bool is_sample = false;
     ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(text.substr(begin, end - begin), &is_sample));
     if (is_sample) {
-      const std::array<double, 3>& v = parser.output();
-      log->Add(parser.t_s(), v[0], v[1], v[2]);
+      log->timestamp_s.push_back(parser.t_s());
+      if (format.accelerometer[0] >= 0) log->output.push_back(parser.accelerometer());
+      if (format.gyroscope[0] >= 0) log->gyroscope.push_back(parser.gyroscope());
     }
     begin = end + 1;
   }
@@ -289,39 +828,25 @@ Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log,
   return CheckSpacing(log->timestamp_s, spacing);
 }
 
-Status StreamImuLog(const std::string& path, size_t batch_samples,
-                    const std::function<void(const TriadLog& batch)>& on_batch) {
-  ImuLogLineParser parser(ImuLogLayoutOf(path));
-  TriadLog batch;
-  const size_t batch_limit = std::max<size_t>(1, batch_samples);
-  ACCELCAL_RETURN_IF_ERROR(StreamTextLines(
-      path, "an accelerometer log", kMaxLineBytes,
-      [&](std::string_view line) {
-        bool is_sample = false;
-        ACCELCAL_RETURN_IF_ERROR(parser.ParseLine(line, &is_sample));
-        if (!is_sample) return Status::Ok();
-        const std::array<double, 3>& v = parser.output();
-        batch.Add(parser.t_s(), v[0], v[1], v[2]);
-        if (batch.size() >= batch_limit) {
-          on_batch(batch);
-          batch = TriadLog();
-        }
-        return Status::Ok();
-      },
-      [&](std::string_view rest) { return parser.UnterminatedLastLine(rest); }));
-  ACCELCAL_RETURN_IF_ERROR(parser.Finish().WithContext(path));
-  if (batch.size() > 0) on_batch(batch);
-  return Status::Ok();
+Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, size_t batch_samples,
+                    const std::function<void(const TriadLog& batch)>& on_batch,
+                    ImuLogSource* source) {
+  if (!options.gyroscope_path.empty()) {
+    return Status::Error("--gyro_log: a pair of files is read whole; this reader streams one file");
+  }
+  return StreamTextLog(path, options, batch_samples, on_batch, source);
+}
+
+Status ReadImuLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                  ImuLogSpacing spacing, ImuLogSource* source) {
+  ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, options, log, source));
+  if (!options.gyroscope_path.empty())
+    ACCELCAL_RETURN_IF_ERROR(AddPairedGyroscope(options.gyroscope_path, options, log, source));
+  return CheckSpacing(log->timestamp_s, spacing).WithContext(path);
 }
 
 Status ReadImuLog(const std::string& path, TriadLog* log, ImuLogSpacing spacing) {
-  *log = TriadLog();
-  ACCELCAL_RETURN_IF_ERROR(StreamImuLog(path, 1 << 16, [log](const TriadLog& batch) {
-    log->timestamp_s.insert(log->timestamp_s.end(), batch.timestamp_s.begin(),
-                            batch.timestamp_s.end());
-    log->output.insert(log->output.end(), batch.output.begin(), batch.output.end());
-  }));
-  return CheckSpacing(log->timestamp_s, spacing).WithContext(path);
+  return ReadImuLog(path, ImuLogReadOptions(), log, spacing, nullptr);
 }
 
 }  // namespace accelcal

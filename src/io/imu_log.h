@@ -1,35 +1,39 @@
 #ifndef ACCELCAL_IO_IMU_LOG_H_
 #define ACCELCAL_IO_IMU_LOG_H_
 
-// Readers of a three-axis accelerometer log (common/triad_log.h), in one of two layouts,
-// chosen by the file name, never guessed from the content:
+// Readers of a three-axis IMU log (common/triad_log.h) in the layouts users record
+// (docs/log-layouts.md), told from the content, never from the file's name:
 //
-//   - a name ending in ".csv": a CSV file whose header is t_s,acc_x,acc_y,acc_z
-//     (io/csv_reader.h's rules: exactly 4 fields per row, '#' comments, blank lines);
-//   - any other name: imu_tk's ASCII layout ("save -ascii" style, as its .mat example files
-//     despite their suffix): no header, 4 numbers per line separated by blanks or tabs,
-//     t [s] then x, y, z.
+//   - delimited text with a header naming the columns (',', ';' with a decimal comma or not,
+//     tab, '|', blanks), after lines of metadata or not, with or without a time column (then
+//     --rate_hz), time in s, ms, us or ns or a Unix time, the gyroscope's columns kept beside
+//     the accelerometer's (io/imu_log_format.h decides the layout and the columns);
+//   - imu_tk's ASCII layout ("save -ascii" style, as its .mat example files despite their
+//     suffix): no header, 4 numbers per line separated by blanks or tabs, t [s] then x, y, z;
+//   - a MATLAB .mat file (v5 or v7.3, io/mat_file.h) with the variables named: a time vector
+//     and an N x 3 accelerometer (and gyroscope), or one vector per axis, or one N x 4 matrix
+//     t, x, y, z;
+//   - imu_tk's pair of files (accelerometer and gyroscope, the same time stamps): the
+//     gyroscope's file given apart (ImuLogReadOptions::gyroscope_path).
 //
 // The outputs are kept in whatever unit the sensor gives (raw counts in imu_tk's example);
-// the calibration maps them to m/s^2. Every value must be a finite number; time must be
-// strictly increasing, and its median step that of an accelerometer log (CheckLogTime,
-// io/course_data.h), so a time axis in milliseconds is refused as such. A log read for
-// calibration must also be evenly sampled (ImuLogSpacing::kEven), which one correcting sample
-// by sample need not be. Every line ends in
+// the calibration maps them to m/s^2. Every value used must be a finite number; time must be
+// strictly increasing, and its median step that of an IMU log (CheckLogTime,
+// io/course_data.h). A log read for calibration must also be evenly sampled
+// (ImuLogSpacing::kEven), which one correcting sample by sample need not be. Every line ends in
 // '\n' (a last line without one is a file cut short). Failures say "line N: what is wrong;
-// what to do"; the callers add the file name (the Read and Stream functions add it).
+// what to do" and start with the file's name.
 
 #include <functional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "common/status.h"
 #include "common/triad_log.h"
-#include "io/csv_reader.h"
+#include "io/imu_log_format.h"
 
 namespace accelcal {
-
-enum class ImuLogLayout { kWhitespace, kCsv };
 
 // What a log's time steps must satisfy beyond increasing. kEven: no gap (a step above 10
 // median steps: a pause, lost seconds, two recordings joined, inside which the sensor may have
@@ -41,54 +45,38 @@ enum class ImuLogLayout { kWhitespace, kCsv };
 // (apply corrects each sample on its own; allan checks the segments it uses).
 enum class ImuLogSpacing { kEven, kAny };
 
-// kCsv for a name ending in ".csv" (any case), kWhitespace otherwise.
-ImuLogLayout ImuLogLayoutOf(const std::string& path);
-const char* ImuLogLayoutName(ImuLogLayout layout);
-
-// One line at a time, so that the whole and the streamed readers accept the same files.
-class ImuLogLineParser {
- public:
-  explicit ImuLogLineParser(ImuLogLayout layout);
-
-  // Parses the next line (without its '\n'); *is_sample tells whether it held a sample,
-  // then in t_s() and output(). Checks that time increases from the previous sample.
-  Status ParseLine(std::string_view line, bool* is_sample);
-  // After the last line: fails when the file held no sample (or, as CSV, no header).
-  Status Finish() const;
-  // The refusal of a last line without '\n'.
-  Status UnterminatedLastLine(std::string_view rest) const;
-
-  double t_s() const { return t_s_; }
-  const std::array<double, 3>& output() const { return output_; }
-  long long line_number() const { return line_number_; }
-
- private:
-  Status ParseWhitespaceLine(std::string_view trimmed);
-  Status CheckTime();
-
-  ImuLogLayout layout_;
-  CsvLineParser csv_;
-  long long line_number_ = 0;
-  long long sample_count_ = 0;
-  double t_s_ = 0.0;
-  double previous_t_s_ = 0.0;
-  std::array<double, 3> output_{};
+// How a log was read, for the report: the layout in one line, what the reader chose and why
+// (each note a sentence to print), the metadata lines it skipped, the units the names state.
+struct ImuLogSource {
+  std::string layout;  // "whitespace ASCII (t [s], x, y, z)", "CSV (header ...)"
+  std::vector<std::string> notes;
+  std::vector<std::string> metadata;
+  std::string accelerometer_unit;  // stated by the columns' names, else ""
+  std::string gyroscope_unit;
+  std::string gyroscope_path;  // the paired file, when the gyroscope came from one
 };
 
-// The text of a log already in memory (tests, fuzzing): samples and the line checks, then
-// CheckLogTime on the whole time axis.
-Status ParseImuLog(std::string_view text, ImuLogLayout layout, TriadLog* log,
-                   ImuLogSpacing spacing = ImuLogSpacing::kEven);
+// The text of a log already in memory (tests, fuzzing): the layout from the text, samples and
+// the line checks, then CheckLogTime on the whole time axis. `source` may be null.
+Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, TriadLog* log,
+                   ImuLogSpacing spacing = ImuLogSpacing::kEven, ImuLogSource* source = nullptr);
 
-// Streams `path` in chunks of bounded size, handing the samples over in batches of at most
-// `batch_samples`; `on_batch` sees each batch once. Memory is bounded whatever the file's
-// size. Failures start with the file name. The median step is not checked here (it needs
-// the whole axis); ReadImuLog checks it.
-Status StreamImuLog(const std::string& path, size_t batch_samples,
-                    const std::function<void(const TriadLog& batch)>& on_batch);
+// Streams a text log `path` in chunks of bounded size, handing the samples over in batches of
+// at most `batch_samples`; `on_batch` sees each batch once. Memory is bounded whatever the
+// file's size. Failures start with the file name. The median step is not checked here (it
+// needs the whole axis); ReadImuLog checks it. A .mat file or a paired gyroscope file is
+// refused here (ReadImuLog reads them whole).
+Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, size_t batch_samples,
+                    const std::function<void(const TriadLog& batch)>& on_batch,
+                    ImuLogSource* source = nullptr);
 
-// The whole log, streamed into `log`, then CheckLogTime and `spacing`. Failures start with
-// the file name.
+// The whole log (a text log streamed, a .mat file through io/mat_file.h, the paired gyroscope
+// file when options.gyroscope_path is set), then CheckLogTime and `spacing`. Failures start
+// with the file name. `source` may be null.
+Status ReadImuLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                  ImuLogSpacing spacing = ImuLogSpacing::kEven, ImuLogSource* source = nullptr);
+
+// The same with no option stated.
 Status ReadImuLog(const std::string& path, TriadLog* log,
                   ImuLogSpacing spacing = ImuLogSpacing::kEven);
 

@@ -50,9 +50,12 @@ namespace {
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
 
 std::string LogLine(const CalibrateImuReport& report) {
-  return StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s, outputs in %s (--unit)\n",
-                      report.sample_count, report.first_t_s, report.last_t_s,
-                      report.log_layout.c_str(), TriadOutputUnitName(report.unit));
+  std::string text =
+      StringPrintf("log: %zu samples, t = %.10g .. %.10g s, %s, outputs in %s (--unit)\n",
+                   report.sample_count, report.first_t_s, report.last_t_s,
+                   report.log_layout.c_str(), TriadOutputUnitName(report.unit));
+  for (const std::string& note : report.log_notes) text += "  read: " + note + "\n";
+  return text;
 }
 
 // An interval as both modes write it; each mode adds its own fields.
@@ -68,7 +71,10 @@ nlohmann::json LogJson(const CalibrateImuReport& report) {
           {"unit", TriadOutputUnitName(report.unit)},
           {"samples", report.sample_count},
           {"first_t_s", report.first_t_s},
-          {"last_t_s", report.last_t_s}};
+          {"last_t_s", report.last_t_s},
+          {"read_notes", report.log_notes},
+          {"metadata", report.log_metadata},
+          {"gyroscope_samples", report.gyroscope_samples}};
 }
 
 }  // namespace

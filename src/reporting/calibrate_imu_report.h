@@ -26,7 +26,10 @@ namespace accelcal {
 
 struct CalibrateImuReport {
   std::string log_path;
-  std::string log_layout;                          // ImuLogLayoutName
+  std::string log_layout;                          // ImuLogSource::layout
+  std::vector<std::string> log_notes;              // what the reader chose, to be printed
+  std::vector<std::string> log_metadata;           // lines before the header, skipped
+  size_t gyroscope_samples = 0;                    // read beside the accelerometer's, or 0
   std::string log_sha256;                          // to recognise imu_tk's example log
   TriadOutputUnit unit = TriadOutputUnit::kCount;  // the log's, as the user stated it
   size_t sample_count = 0;

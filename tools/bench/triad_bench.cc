@@ -115,8 +115,11 @@ Status RunPipeline(PipelineOutput* out, Timings* timings) {
   report = CalibrateImuReport();
   report.options = ImuTkOptionsFromFlags();
   const Stamp start = Now();
-  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_log, &out->log));
+  ImuLogSource log_source;
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadImuLog(FLAGS_log, ImuLogReadOptions(), &out->log, ImuLogSpacing::kEven, &log_source));
   const Stamp read = Now();
+  report.log_layout = log_source.layout;
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateImuTk(out->log, report.options, &report.result).WithContext(FLAGS_log));
   const Stamp imu_tk = Now();
@@ -268,7 +271,6 @@ int Run(int argc, char** argv) {
   Status status = HashInputFile(FLAGS_log, &file);
   if (!status.ok()) return fail(status);
   report.log_path = FLAGS_log;
-  report.log_layout = ImuLogLayoutName(ImuLogLayoutOf(FLAGS_log));
   report.log_sha256 = file.sha256;
   report.sample_count = out.log.size();
   report.first_t_s = out.log.timestamp_s.front();
