@@ -55,6 +55,7 @@
 // On a refusal the detection holds what was found, for the caller to show.
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "common/status.h"
@@ -70,7 +71,14 @@ struct NoiseFloorOptions {
   int min_intervals = 10;        // fewer is a refusal; 0 accepts any number
 };
 
+inline constexpr char kGlobalFloorRule[] = "global_floor";
+inline constexpr char kPoseFloorsRule[] = "pose_floors";
+
 struct NoiseFloorDetection {
+  // Which rule chose the poses: kGlobalFloorRule, or kPoseFloorsRule when the first refused
+  // (rule_reason: its refusal).
+  std::string rule;
+  std::string rule_reason;
   int window_samples = 0;
   std::array<double, 3> floor_variance{};      // s_k^2, the log's unit squared
   std::array<double, 3> floor_stddev{};        // s_k
