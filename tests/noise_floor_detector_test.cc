@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -359,6 +360,19 @@ TEST(NoiseFloorDetector, RefusesBadOptionsAndALogShorterThanTheWindow) {
   std::string refusal = Refusal(session.log, options, &detection);
   ASSERT_FALSE(refusal.empty());
   EXPECT_SAYS(refusal, "within white noise's own spread");
+  // The factor it suggests is accepted (issue 30, item 3: "%.3g" once printed the minimum
+  // rounded, 1.82 for 1.8197..., itself refused; now rounded up), for every window.
+  for (const int window : {11, 31, 101, 301}) {
+    options.window_samples = window;
+    const std::string message = Refusal(session.log, options, &detection);
+    const size_t at = message.find("use at least ");
+    ASSERT_NE(at, std::string::npos) << message;
+    NoiseFloorOptions suggested = options;
+    suggested.threshold_factor = std::strtod(message.c_str() + at + 13, nullptr);
+    const Status again = DetectStaticIntervalsFromNoiseFloor(session.log, suggested, &detection);
+    EXPECT_EQ(again.message().find("within white noise's own spread"), std::string::npos)
+        << window << ": " << again.message();
+  }
   options = NoiseFloorOptions();
   options.window_samples = 100;
   EXPECT_FALSE(DetectStaticIntervalsFromNoiseFloor(session.log, options, &detection).ok());

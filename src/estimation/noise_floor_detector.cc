@@ -80,8 +80,9 @@ Status CheckOptions(const NoiseFloorOptions& options) {
   if (!(factor >= minimum) || !std::isfinite(factor)) {
     return Status::Error(StringPrintf(
         "a threshold factor of %g times the noise floor is within white noise's own spread over "
-        "%d samples (crossed by still windows with probability %.2g); use at least %.3g",
-        factor, window, ChiSquareSurvival(factor * dof, dof), minimum));
+        "%d samples (crossed by still windows with probability %.2g); use at least %.2f",
+        factor, window, ChiSquareSurvival(factor * dof, dof),
+        std::ceil(minimum * 100.0) / 100.0));
   }
   if (!(options.min_interval_s >= 0.0) || !std::isfinite(options.min_interval_s)) {
     return Status::Error(StringPrintf("the minimum interval duration of %g s must be 0 s or more",
