@@ -112,7 +112,7 @@ std::string ShortestRest(const TriadLog& log, int window) {
 // one: a rest of one window passes whatever it holds (its only window is itself), so the check
 // could not tell a log that moves from its first sample from one that starts still.
 std::string LongestPassingRest(const TriadLog& log, const std::vector<double>& variance_norm,
-                               int window, int failing_end) {
+                               int window, int failing_end, int last_still) {
   double median = 0.0;
   double norm = 0.0;
   const int shortest = 2 * window - 1;
@@ -127,15 +127,18 @@ std::string LongestPassingRest(const TriadLog& log, const std::vector<double>& v
       high = middle;
     }
   }
+  // No further than the last sample before the first loud window, when the check allows that
+  // far: the check tolerates the first tenths of a second of motion, the advice does not.
   const double t0 = log.timestamp_s.front();
-  double value = std::floor((log.timestamp_s[low] - t0) * 100.0) / 100.0;
+  const int end = std::min(low, std::max(last_still, 2 * window - 2));
+  double value = std::floor((log.timestamp_s[end] - t0) * 100.0) / 100.0;
   for (; value > 0.0; value -= 0.01) {
     const std::string printed = StringPrintf("%.2f", value);
     const double parsed = std::strtod(printed.c_str(), nullptr);
     if (!(parsed > 0.0)) break;
-    const int end = InitialRestEnd(log, parsed);
-    if (end < low) break;
-    if (RestPasses(log, variance_norm, window, end, &median, &norm)) return printed;
+    const int selected = InitialRestEnd(log, parsed);
+    if (selected < shortest - 1) break;
+    if (RestPasses(log, variance_norm, window, selected, &median, &norm)) return printed;
   }
   return "";
 }
@@ -178,7 +181,8 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
   // time (the motion's onset raises the rest's variance before a window crosses the limit, and
   // the limit moves with the rest's own median) but the longest rest the same check accepts.
   const int first_moving = std::min(moving + half, static_cast<int>(log.size()) - 1);
-  const std::string longest = LongestPassingRest(log, variance_norm, window, result.rest_end);
+  const std::string longest =
+      LongestPassingRest(log, variance_norm, window, result.rest_end, first_moving - 1);
   const int shortest_rest = 2 * window - 1;
   const std::string advice =
       longest.empty()
@@ -187,7 +191,8 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
                 "windows), so imu_tk's thresholds cannot be scaled from it; start the log with "
                 "the sensor still, or use mode ml's noise-floor detector, which needs no rest",
                 shortest_rest)
-          : "give --init_rest_s=" + longest + ", the longest initial rest this check accepts";
+          : "give --init_rest_s=" + longest +
+                ", the longest initial rest before the motion that this check accepts";
   return Status::Error(StringPrintf(
       "the initial rest of %g s is not at rest: its variance norm is %.3g times the median of "
       "its windows (at most %g when still), and the sensor moves from t = %.6g s; %s",
