@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <random>
 #include <string>
 
@@ -282,6 +285,112 @@ TEST(ImuTkCalibration, RefusesARestTheSensorTurnsSlowlyThrough) {
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("drifts"), std::string::npos) << status.message();
   EXPECT_EQ(status.message().find("moves from"), std::string::npos) << status.message();
+}
+
+// A session whose rest lasts `rest_s`, then 16 poses of 4 s with turns of 1.5 s, at `rate_hz`,
+// 3 counts of noise (SimulateTriadSession: the turns start and end slowly, as a hand's do).
+// Over the last `creep_s` of the rest the output creeps by 6 counts/s on every axis and stays
+// where it got to (the hand starts to tilt the sensor before turning it: each 1 s window adds
+// 3 counts^2 to the noise's 9, below the check's limit of twice the median, while the rest as a
+// whole varies far more). The first `cut_s` are dropped (0.75 s of a log without rest: it
+// then starts mid-turn).
+TriadLog RestThenPoses(double rest_s, double rate_hz, uint64_t seed, double creep_s = 0.0,
+                       double cut_s = 0.0) {
+  TriadLogSimulationOptions simulation;
+  simulation.truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
+  for (int k = 0; k < 3; ++k) simulation.truth[kTriadGainX + k] = 1.0 / 414.5;
+  simulation.gravity_mps2 = 9.81744;
+  simulation.rate_hz = rate_hz;
+  RandomSource random(seed);
+  const std::vector<std::array<double, 3>> directions = PoseDirections(17);
+  std::vector<TriadHold> holds;
+  for (size_t p = 0; p < directions.size(); ++p)
+    holds.push_back({directions[p], p == 0 ? rest_s : 4.0});
+  const TriadLog whole = SimulateTriadSession(simulation, holds, &random).log;
+  TriadLog log;
+  const double creep_start_s = rest_s - creep_s;
+  for (size_t i = static_cast<size_t>(std::lround(cut_s * rate_hz)); i < whole.size(); ++i) {
+    const double t_s = whole.timestamp_s[i];
+    const double creep =
+        creep_s > 0.0 ? 6.0 * creep_s * std::clamp((t_s - creep_start_s) / creep_s, 0.0, 1.0) : 0.0;
+    log.Add(t_s, whole.output[i][0] + creep, whole.output[i][1] + creep,
+            whole.output[i][2] + creep);
+  }
+  return log;
+}
+
+// The value of "--init_rest_s=V" in `message`, or a negative number when it suggests none.
+double SuggestedRest(const std::string& message) {
+  const std::string flag = "--init_rest_s=";
+  const size_t at = message.find(flag);
+  if (at == std::string::npos) return -1.0;
+  return std::strtod(message.c_str() + at + flag.size(), nullptr);
+}
+
+// Issue 30, item 3: every "give --init_rest_s=V" of the rest check is followed, as a user
+// would, by parsing V from the message and running again; the outcome must be a success or a
+// different refusal, never the same advice again (once: "moves from t = 25.0077 s; give 25 or
+// less", and with 25 the same; or 50 -> "give 6", 6 -> "give 0 or less" for motion at 5.3 s).
+// Before the fix the 5.3 s rest's first suggestion, 5, was itself refused with "give 4 or less".
+TEST(ImuTkCalibration, EverySuggestedInitialRestIsAcceptedByTheRestCheck) {
+  struct Case {
+    double rest_s;
+    double creep_s;  // the rest's still part ends creep_s before rest_s
+    double rate_hz;
+    double init_rest_s;
+  };
+  for (const Case& c : {Case{5.3, 0.0, 100.0, 50.0}, Case{5.3, 3.0, 100.0, 50.0},
+                        Case{5.3, 3.0, 100.0, 6.0}, Case{25.0077, 5.0, 62.5, 50.0},
+                        Case{25.0077, 0.0, 62.5, 25.0}, Case{2.5, 0.0, 100.0, 30.0}}) {
+    const TriadLog log = RestThenPoses(c.rest_s, c.rate_hz, 5, c.creep_s);
+    ImuTkOptions options = XsensOptions();
+    options.init_rest_s = c.init_rest_s;
+    ImuTkResult result;
+    Status status = CalibrateImuTk(log, options, &result);
+    std::string previous;
+    int suggestions = 0;
+    while (!status.ok() && SuggestedRest(status.message()) > 0.0) {
+      std::printf("[ advice    ] %s\n", status.message().c_str());
+      ASSERT_LT(++suggestions, 3) << status.message();
+      EXPECT_NE(status.message(), previous);
+      previous = status.message();
+      options.init_rest_s = SuggestedRest(status.message());
+      // The suggestion ends near where the rest stops being still: the check tolerates the
+      // first tenths of a second of a turn that starts slowly, and a part of the creep.
+      EXPECT_LE(options.init_rest_s, c.rest_s + 0.2) << status.message();
+      EXPECT_GE(options.init_rest_s, c.rest_s - c.creep_s - 0.5) << status.message();
+      status = CalibrateImuTk(log, options, &result);
+      EXPECT_EQ(status.message().find("is not at rest"), std::string::npos)
+          << "rest " << c.rest_s << " s, suggested " << options.init_rest_s
+          << " s refused again: " << status.message();
+    }
+    EXPECT_GE(suggestions, c.init_rest_s > c.rest_s ? 1 : 0) << c.rest_s;
+    if (!status.ok()) std::printf("[ then      ] %s\n", status.message().c_str());
+  }
+}
+
+// A log that moves within its first window has no rest to suggest: the message says so and
+// names the detector that needs none, instead of "give --init_rest_s=0 or less".
+TEST(ImuTkCalibration, SaysNoRestPassesWhenTheLogMovesAtOnce) {
+  const TriadLog log = RestThenPoses(0.0, 100.0, 6, 0.0, 0.75);
+  ImuTkOptions options = XsensOptions();
+  options.init_rest_s = 6.0;
+  ImuTkResult result;
+  const Status status = CalibrateImuTk(log, options, &result);
+  ASSERT_FALSE(status.ok());
+  EXPECT_LT(SuggestedRest(status.message()), 0.0) << status.message();
+  EXPECT_NE(status.message().find("no initial rest of this log passes"), std::string::npos)
+      << status.message();
+  EXPECT_NE(status.message().find("noise-floor detector"), std::string::npos) << status.message();
+  // A rest shorter than one window: the suggested minimum holds one window.
+  options.init_rest_s = 0.3;
+  const Status too_short = CalibrateImuTk(RestThenPoses(8.0, 100.0, 7), options, &result);
+  ASSERT_FALSE(too_short.ok());
+  ASSERT_GT(SuggestedRest(too_short.message()), 0.0) << too_short.message();
+  options.init_rest_s = SuggestedRest(too_short.message());
+  const Status again = CalibrateImuTk(RestThenPoses(8.0, 100.0, 7), options, &result);
+  EXPECT_EQ(again.message().find("fewer than the static detector's window"), std::string::npos)
+      << again.message();
 }
 
 }  // namespace

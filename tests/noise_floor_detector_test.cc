@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -236,24 +237,91 @@ TEST(NoiseFloorDetector, RefusesALogThatTurnsSteadilyThroughout) {
   EXPECT_TRUE(detection.intervals.empty());
 }
 
-TEST(NoiseFloorDetector, RefusesAnOutputWithoutNoise) {
-  // Poses held and turned as usual, but rounded noiseless outputs: constant within each hold.
+// An axis constant through the motion too (stuck, or saturated the whole log) is refused; an
+// output constant only while still (noise far below one count, then rounded) is quantisation,
+// and its poses are found (issue 30, item 2: once refused as "constant to its last digit").
+TEST(NoiseFloorDetector, RefusesAStuckAxisButNotAnOutputConstantOnlyWhileStill) {
+  TriadLog stuck = SimulateSession(12, 3.0, 42).log;
+  for (std::array<double, 3>& sample : stuck.output) sample[1] = 65535.0;
+  NoiseFloorDetection detection;
+  const std::string refusal = Refusal(stuck, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  EXPECT_SAYS(refusal, "axis y is constant through the motion too");
+
   RandomSource random(41);
   const std::vector<TriadHold> holds = RandomHolds(12, 3.0, &random);
   TriadLogSimulationOptions options = XsensLikeSession();
   options.noise_stddev = {0.0, 0.0, 0.0};
   const TriadSession session = SimulateTriadSession(options, holds, &random);
-  NoiseFloorDetection detection;
-  std::string refusal = Refusal(session.log, {}, &detection);
-  ASSERT_FALSE(refusal.empty());
-  EXPECT_SAYS(refusal, "constant to its last digit");
+  const Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(detection.intervals.size(), holds.size());
+  EXPECT_EQ(detection.rule, kPoseFloorsRule);
+}
 
-  // One axis stuck, the others noisy.
-  TriadLog stuck = SimulateSession(12, 3.0, 42).log;
-  for (std::array<double, 3>& sample : stuck.output) sample[1] = 65535.0;
-  refusal = Refusal(stuck, {}, &detection);
-  ASSERT_FALSE(refusal.empty());
-  EXPECT_SAYS(refusal, "axis y is constant");
+// Issue 30, item 2: sessions the single white floor refused, each of 16 holds of 4 s; the
+// default detector must find every hold, inside its true samples. `Expect` runs the check and
+// prints the rule that chose the poses.
+void ExpectEveryHoldFound(const char* name, const TriadLogSimulationOptions& options,
+                          const std::vector<TriadHold>& holds, RandomSource* random) {
+  const TriadSession session = SimulateTriadSession(options, holds, random);
+  NoiseFloorDetection detection;
+  const Status status = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
+  ASSERT_TRUE(status.ok()) << name << ": " << status.message();
+  ASSERT_EQ(detection.intervals.size(), session.holds.size()) << name;
+  for (size_t p = 0; p < session.holds.size(); ++p) {
+    EXPECT_GE(detection.intervals[p].start, session.holds[p].start) << name << " pose " << p;
+    EXPECT_LE(detection.intervals[p].end, session.holds[p].end) << name << " pose " << p;
+    // Most of the hold: the run of still centres, half a window in from each end, less 0.5 s.
+    EXPECT_GE(detection.intervals[p].sample_count(),
+              session.holds[p].end - session.holds[p].start + 1 - 2 * kHalfWindow - 50)
+        << name << " pose " << p;
+  }
+  std::printf("[ %-9s ] rule %s, %zu holds found, floor %.3g %.3g %.3g%s%s\n", name,
+              detection.rule.c_str(), detection.intervals.size(), detection.floor_stddev[0],
+              detection.floor_stddev[1], detection.floor_stddev[2],
+              detection.rule_reason.empty() ? "" : "; the single floor said: ",
+              detection.rule_reason.c_str());
+}
+
+// Coarse quantisation: noise of a quarter count, rounded to counts (a 12-bit consumer sensor):
+// most windows of a hold are constant or flip between two values. Fine: noise of 4 counts.
+TEST(NoiseFloorDetector, FindsEveryHoldOfCoarselyAndFinelyQuantisedSessions) {
+  for (const double noise : {0.25, 4.0}) {
+    for (uint64_t seed = 81; seed <= 83; ++seed) {
+      RandomSource random(seed);
+      TriadLogSimulationOptions options = XsensLikeSession();
+      options.noise_stddev = {noise, noise, noise};
+      ExpectEveryHoldFound(noise < 1.0 ? "coarse" : "fine", options, RandomHolds(16, 4.0, &random),
+                           &random);
+    }
+  }
+}
+
+// A vibration floor: a sinusoid of 5, 12 or 30 Hz and 6 counts on every axis, with 1 count of
+// noise: the quiet windows' variance is nearly all at one frequency, not white.
+TEST(NoiseFloorDetector, FindsEveryHoldOfASessionWithAVibrationFloor) {
+  for (const double hz : {5.0, 12.0, 30.0}) {
+    RandomSource random(90 + static_cast<uint64_t>(hz));
+    TriadLogSimulationOptions options = XsensLikeSession();
+    options.noise_stddev = {1.0, 1.0, 1.0};
+    options.vibration_counts = {6.0, 6.0, 6.0};
+    options.vibration_hz = hz;
+    ExpectEveryHoldFound("vibration", options, RandomHolds(16, 4.0, &random), &random);
+  }
+}
+
+// The noise differs from pose to pose by 4 times in standard deviation (16 in variance): 1, 2
+// and 4 times 1.5 counts, in turn.
+TEST(NoiseFloorDetector, FindsEveryHoldWhenTheNoiseDiffersFourfoldBetweenPoses) {
+  for (uint64_t seed = 101; seed <= 103; ++seed) {
+    RandomSource random(seed);
+    std::vector<TriadHold> holds = RandomHolds(16, 4.0, &random);
+    for (size_t p = 0; p < holds.size(); ++p) holds[p].noise_scale = std::pow(2.0, p % 3);
+    TriadLogSimulationOptions options = XsensLikeSession();
+    options.noise_stddev = {1.5, 1.5, 1.5};
+    ExpectEveryHoldFound("per pose", options, holds, &random);
+  }
 }
 
 TEST(NoiseFloorDetector, RefusesTooFewPosesSayingHowManyAndWhatToAdd) {
@@ -292,6 +360,19 @@ TEST(NoiseFloorDetector, RefusesBadOptionsAndALogShorterThanTheWindow) {
   std::string refusal = Refusal(session.log, options, &detection);
   ASSERT_FALSE(refusal.empty());
   EXPECT_SAYS(refusal, "within white noise's own spread");
+  // The factor it suggests is accepted (issue 30, item 3: "%.3g" once printed the minimum
+  // rounded, 1.82 for 1.8197..., itself refused; now rounded up), for every window.
+  for (const int window : {11, 31, 101, 301}) {
+    options.window_samples = window;
+    const std::string message = Refusal(session.log, options, &detection);
+    const size_t at = message.find("use at least ");
+    ASSERT_NE(at, std::string::npos) << message;
+    NoiseFloorOptions suggested = options;
+    suggested.threshold_factor = std::strtod(message.c_str() + at + 13, nullptr);
+    const Status again = DetectStaticIntervalsFromNoiseFloor(session.log, suggested, &detection);
+    EXPECT_EQ(again.message().find("within white noise's own spread"), std::string::npos)
+        << window << ": " << again.message();
+  }
   options = NoiseFloorOptions();
   options.window_samples = 100;
   EXPECT_FALSE(DetectStaticIntervalsFromNoiseFloor(session.log, options, &detection).ok());

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <utility>
 
@@ -76,25 +77,91 @@ namespace {
 // multiplier) even k = 2 would let motion through.
 constexpr double kMaxRestRatio = 2.0;
 
+// The rule on the rest of samples 0..rest_end: its variance norm at most kMaxRestRatio times the
+// median norm of the windows inside it. `median` gets that median (0 when no window fits).
+bool RestPasses(const TriadLog& log, const std::vector<double>& variance_norm, int window,
+                int rest_end, double* median, double* rest_norm) {
+  const int half = window / 2;
+  *median = 0.0;
+  *rest_norm = 0.0;
+  std::vector<double> inside;
+  for (int i = half; i + half <= rest_end; ++i) inside.push_back(variance_norm[i]);
+  if (inside.empty()) return false;
+  *median = UpperMedian(inside);
+  const std::array<double, 3> v = IntervalVariance(log, 0, rest_end);
+  *rest_norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return *median > 0.0 && *rest_norm <= kMaxRestRatio * *median;
+}
+
+// The shortest --init_rest_s whose rest holds one window: rounded up to 0.01 s, then checked
+// by parsing the printed value back, as the flag would be.
+std::string ShortestRest(const TriadLog& log, int window) {
+  const double t0 = log.timestamp_s.front();
+  double value = std::ceil((log.timestamp_s[window - 1] - t0) * 100.0) / 100.0;
+  for (int step = 0; step < 1000; ++step, value += 0.01) {
+    const std::string printed = StringPrintf("%.2f", value);
+    if (InitialRestEnd(log, std::strtod(printed.c_str(), nullptr)) >= window - 1) return printed;
+  }
+  return StringPrintf("%.2f", log.timestamp_s.back() - t0);
+}
+
+// The longest --init_rest_s that the rest check accepts, as printed ("" when none does): the
+// boundary found by bisection over the check itself between a rest of two windows and
+// `failing_end`, then written with 0.01 s digits rounded down and parsed back, and lowered by
+// 0.01 s until the rest that the printed value selects passes the same check. Two windows, not
+// one: a rest of one window passes whatever it holds (its only window is itself), so the check
+// could not tell a log that moves from its first sample from one that starts still.
+std::string LongestPassingRest(const TriadLog& log, const std::vector<double>& variance_norm,
+                               int window, int failing_end, int last_still) {
+  double median = 0.0;
+  double norm = 0.0;
+  const int shortest = 2 * window - 1;
+  int low = shortest - 1;
+  if (low >= failing_end || !RestPasses(log, variance_norm, window, low, &median, &norm)) return "";
+  int high = failing_end;
+  while (high - low > 1) {
+    const int middle = low + (high - low) / 2;
+    if (RestPasses(log, variance_norm, window, middle, &median, &norm)) {
+      low = middle;
+    } else {
+      high = middle;
+    }
+  }
+  // No further than the last sample before the first loud window, when the check allows that
+  // far: the check tolerates the first tenths of a second of motion, the advice does not.
+  const double t0 = log.timestamp_s.front();
+  const int end = std::min(low, std::max(last_still, 2 * window - 2));
+  double value = std::floor((log.timestamp_s[end] - t0) * 100.0) / 100.0;
+  for (; value > 0.0; value -= 0.01) {
+    const std::string printed = StringPrintf("%.2f", value);
+    const double parsed = std::strtod(printed.c_str(), nullptr);
+    if (!(parsed > 0.0)) break;
+    const int selected = InitialRestEnd(log, parsed);
+    if (selected < shortest - 1) break;
+    if (RestPasses(log, variance_norm, window, selected, &median, &norm)) return printed;
+  }
+  return "";
+}
+
 Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance_norm, int window,
                         const ImuTkOptions& options, const ImuTkResult& result) {
   const int half = window / 2;
-  std::vector<double> inside;
-  for (int i = half; i + half <= result.rest_end; ++i) inside.push_back(variance_norm[i]);
-  if (inside.empty()) {
+  double median = 0.0;
+  double rest_norm = 0.0;
+  if (RestPasses(log, variance_norm, window, result.rest_end, &median, &rest_norm))
+    return Status::Ok();
+  if (result.rest_end + 1 < window) {
     return Status::Error(StringPrintf(
         "the initial rest of %g s holds %d samples, fewer than the static detector's window of "
-        "%d; give a longer --init_rest_s (the log must start with the sensor still)",
-        options.init_rest_s, result.rest_end + 1, window));
+        "%d; give --init_rest_s=%s or more (the log must start with the sensor still)",
+        options.init_rest_s, result.rest_end + 1, window, ShortestRest(log, window).c_str()));
   }
-  const double median = UpperMedian(inside);
   if (!(median > 0.0)) {
     return Status::Error(StringPrintf(
         "the output is constant over the initial rest of %g s (zero variance): no noise to "
         "scale the thresholds from; is the log a real sensor's?",
         options.init_rest_s));
   }
-  if (result.rest_variance_norm <= kMaxRestRatio * median) return Status::Ok();
   int moving = half;
   while (moving + 1 < static_cast<int>(variance_norm.size()) &&
          variance_norm[moving] <= kMaxRestRatio * median)
@@ -108,17 +175,29 @@ Status CheckInitialRest(const TriadLog& log, const std::vector<double>& variance
         "windows (at most %g when still), while no window of the log is louder than those of the "
         "rest, so the sensor turns slowly through it and never rests; start the log with the "
         "sensor still, and hold it still in each pose",
-        options.init_rest_s, result.rest_variance_norm / median, kMaxRestRatio));
+        options.init_rest_s, rest_norm / median, kMaxRestRatio));
   }
-  // The first window above the limit ends at the first moving sample.
+  // The first window above the limit ends at the first moving sample. The advice is not that
+  // time (the motion's onset raises the rest's variance before a window crosses the limit, and
+  // the limit moves with the rest's own median) but the longest rest the same check accepts.
   const int first_moving = std::min(moving + half, static_cast<int>(log.size()) - 1);
-  const double still_s = log.timestamp_s[first_moving] - log.timestamp_s[0];
+  const std::string longest =
+      LongestPassingRest(log, variance_norm, window, result.rest_end, first_moving - 1);
+  const int shortest_rest = 2 * window - 1;
+  const std::string advice =
+      longest.empty()
+          ? StringPrintf(
+                "no initial rest of this log passes the check (not even its first %d samples, two "
+                "windows), so imu_tk's thresholds cannot be scaled from it; start the log with "
+                "the sensor still, or use mode ml's noise-floor detector, which needs no rest",
+                shortest_rest)
+          : "give --init_rest_s=" + longest +
+                ", the longest initial rest before the motion that this check accepts";
   return Status::Error(StringPrintf(
       "the initial rest of %g s is not at rest: its variance norm is %.3g times the median of "
-      "its windows (at most %g when still), and the sensor moves from t = %.6g s; give "
-      "--init_rest_s=%.0f or less, the time the log starts still",
-      options.init_rest_s, result.rest_variance_norm / median, kMaxRestRatio,
-      log.timestamp_s[first_moving], std::floor(still_s)));
+      "its windows (at most %g when still), and the sensor moves from t = %.6g s; %s",
+      options.init_rest_s, rest_norm / median, kMaxRestRatio, log.timestamp_s[first_moving],
+      advice.c_str()));
 }
 
 }  // namespace

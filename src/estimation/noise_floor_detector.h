@@ -41,7 +41,7 @@
 // sample of an interval is at least h samples away from any motion the window saw, so a pose
 // held T s gives an interval of about T - w / rate.
 //
-// Checks, each a refusal naming what to do:
+// Checks, each a refusal naming what to do (the first rule's; see the second rule below):
 //   - an axis whose floor is zero (output constant to its last digit over 5 % of the windows:
 //     stuck, saturated, or noise below the resolution): no threshold can be set from it;
 //   - the still windows must look like noise: for white noise, quantile_0.1(V_k) / median(V_k)
@@ -53,8 +53,38 @@
 //     maximum-likelihood fit's minimum, estimation/triad_ml_calibration.h); the message says how
 //     many were found, how long they are, and whether to hold poses longer or add poses.
 // On a refusal the detection holds what was found, for the caller to show.
+//
+// A second rule, a floor per pose (issue 30, item 2), for the sessions the single floor above
+// refuses or thins: a quantised sensor whose noise is below one step (most windows of a pose
+// constant: zero floor, and a shape far from white), and a session whose noise differs from
+// pose to pose (the louder poses above 10 times the quietest floor are dropped as motion).
+//   - r_k = q_k^2 / 12, q_k the output's step (the smallest nonzero change between samples):
+//     no floor is set below it, so constant windows are quantisation, not a zero floor;
+//   - f_k = max(quantile_0.05(V_k) / c(0.05), r_k), the quietest windows' floor; candidate
+//     windows are below P m f_k on every axis, P = 16 (poses up to 4 times apart in noise
+//     standard deviation);
+//   - each run of candidates gets its own floor F_k = max(median of its V_k / c(0.5), r_k),
+//     twice (the second on the windows the first kept), and its still windows are those below
+//     m F_k (never above P m f_k); intervals, moving runs and the counts as above, each run
+//     against its own threshold;
+//   - the shape check on every still window's max(V_k, r_k) over its run's threshold.
+//   False alarms: within a run, as the single floor (white noise crosses m F with probability
+//   2e-148); a pose whose noise is above P times the quietest pose's is lost (a refusal or one
+//   pose fewer, never a wrong pose). A window of two values one step q apart has V <= q^2/4
+//   (w/(w-1)), below m r = 0.83 q^2: a still quantised window is never called moving.
+//   Misses: a pose's own floor replaces s in the single floor's bounds (steps below 6 F^(1/2),
+//   ramps below 10 F^(1/2) go unseen), and no floor is below r, so with q = 1 count steps
+//   below 1.7 counts; a run that is motion all through passes only if every window of it is
+//   below P m f and it stays, about its own mean, within its own threshold: the moving-run and
+//   shape checks refuse the never-resting and steadily turning logs as before (tests).
+// The single floor is used unless it refuses or the per-pose floors find more intervals;
+// `rule` says which chose the poses and `rule_reason` why. When neither finds enough poses the
+// message gives both refusals and what the per-pose rule saw. Before either, an axis constant
+// through the motion too (zero variance over most windows in which another axis moves above
+// P m f, or over the whole log) is refused as stuck or saturated.
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include "common/status.h"
@@ -70,7 +100,14 @@ struct NoiseFloorOptions {
   int min_intervals = 10;        // fewer is a refusal; 0 accepts any number
 };
 
+inline constexpr char kGlobalFloorRule[] = "global_floor";
+inline constexpr char kPoseFloorsRule[] = "pose_floors";
+
 struct NoiseFloorDetection {
+  // Which rule chose the poses: kGlobalFloorRule, or kPoseFloorsRule when the first refused
+  // (rule_reason: its refusal).
+  std::string rule;
+  std::string rule_reason;
   int window_samples = 0;
   std::array<double, 3> floor_variance{};      // s_k^2, the log's unit squared
   std::array<double, 3> floor_stddev{};        // s_k

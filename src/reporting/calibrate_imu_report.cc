@@ -312,7 +312,7 @@ std::string PosesLine(const CalibrateImuReport& report) {
   return StringPrintf(
       "poses: the %d static intervals of at least %g s found from the log's own noise floor "
       "(s = %.4g, %.4g, %.4g %s per sample; still where every axis's variance over %d samples "
-      "< %g s^2; %.1f%% of the log still; %zu shorter intervals not used%s); each pose is the "
+      "< %g s^2; %.1f%% of the log still; %zu shorter intervals not used%s%s); each pose is the "
       "mean of ALL its samples (%d in all)\n",
       ml.pose_count, report.noise_floor_options.min_interval_s, d.floor_stddev[0],
       d.floor_stddev[1], d.floor_stddev[2], TriadOutputUnitName(report.unit), d.window_samples,
@@ -323,6 +323,9 @@ std::string PosesLine(const CalibrateImuReport& report) {
           : StringPrintf("; %zu quiet stretches not used, the output drifting through them",
                          d.moving_intervals.size())
                 .c_str(),
+      d.rule == kPoseFloorsRule
+          ? ("; rule: a floor per pose, s the quietest's, as " + d.rule_reason).c_str()
+          : "",
       report.ml_sample_count);
 }
 
@@ -435,6 +438,8 @@ nlohmann::json DetectorJson(const CalibrateImuReport& report) {
   nlohmann::json moving_intervals = nlohmann::json::array();
   for (const StaticInterval& s : d.moving_intervals) moving_intervals.push_back(IntervalJson(s));
   return {{"name", "noise_floor"},
+          {"rule", d.rule},
+          {"rule_reason", d.rule_reason},
           {"window_samples", d.window_samples},
           {"threshold_factor", report.noise_floor_options.threshold_factor},
           {"min_interval_s", report.noise_floor_options.min_interval_s},

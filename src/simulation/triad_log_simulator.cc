@@ -38,7 +38,12 @@ Vector3 TurnAxis(const Vector3& from, const Vector3& to) {
 class SampleWriter {
  public:
   SampleWriter(const TriadLogSimulationOptions& options, RandomSource* random, TriadLog* log)
-      : options_(options), random_(random), log_(log) {}
+      : options_(options), random_(random), log_(log) {
+    if (options_.vibration_hz > 0.0)
+      for (double& phase : vibration_phase_) phase = 2.0 * M_PI * random_->Uniform();
+  }
+  // The factor on the options' noise for the samples that follow.
+  void SetNoiseScale(double scale) { noise_scale_ = scale; }
 
   // `shake_mps2`: white noise of the specific force itself, per axis (a hand's tremor).
   void Add(const Vector3& direction, double shake_mps2 = 0.0) {
@@ -49,11 +54,17 @@ class SampleWriter {
     double actual_raw[3];
     TriadRawOutput(options_.truth.data(), force, actual_raw);
     double measured[3];
+    const double elapsed_s = static_cast<double>(log_->size()) / options_.rate_hz;
     for (int k = 0; k < 3; ++k) {
-      measured[k] = actual_raw[k] + options_.noise_stddev[k] * random_->StandardNormal();
+      measured[k] =
+          actual_raw[k] + noise_scale_ * options_.noise_stddev[k] * random_->StandardNormal();
+      if (options_.vibration_hz > 0.0) {
+        measured[k] += options_.vibration_counts[k] *
+                       std::sin(2.0 * M_PI * options_.vibration_hz * elapsed_s + vibration_phase_[k]);
+      }
       if (options_.round_to_counts) measured[k] = std::round(measured[k]);
     }
-    const double t_s = options_.start_s + static_cast<double>(log_->size()) / options_.rate_hz;
+    const double t_s = options_.start_s + elapsed_s;
     log_->Add(t_s, measured[0], measured[1], measured[2]);
   }
   int size() const { return static_cast<int>(log_->size()); }
@@ -62,6 +73,8 @@ class SampleWriter {
   const TriadLogSimulationOptions& options_;
   RandomSource* random_;
   TriadLog* log_;
+  double noise_scale_ = 1.0;
+  std::array<double, 3> vibration_phase_{};
 };
 
 }  // namespace
@@ -76,6 +89,7 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     TriadHoldSamples samples;
     samples.start = writer.size();
     const int hold_samples = static_cast<int>(std::lround(holds[p].duration_s * options.rate_hz));
+    writer.SetNoiseScale(holds[p].noise_scale);
     for (int i = 0; i < hold_samples; ++i) writer.Add(direction);
     samples.end = writer.size() - 1;
     session.holds.push_back(samples);

@@ -10,7 +10,9 @@
 // about n_p x n_p+1 by the angle between them times (1 - cos(pi tau / turn_s)) / 2, tau the time
 // into the turn, so it starts and ends at rest, as a hand does, and the first samples of a turn
 // differ from the hold by little (the hardest boundaries for a detector). The triad outputs
-// u = K^-1 T^-1 a + b (TriadRawOutput), plus noise, rounded to whole counts when asked (an ADC).
+// u = K^-1 T^-1 a + b (TriadRawOutput), plus noise (scaled per hold, and carried through the
+// turn that follows it) and vibration, rounded to whole counts when asked (an ADC; a noise below
+// one count then leaves most windows of a hold constant, as on 12-bit consumer sensors).
 // The log starts with the first hold: no initial rest unless the caller makes it long.
 
 #include <array>
@@ -25,6 +27,7 @@ namespace accelcal {
 struct TriadHold {
   std::array<double, 3> direction{};  // unit vector of the specific force
   double duration_s = 0.0;            // 0: the turn passes through it without stopping
+  double noise_scale = 1.0;           // the output noise of this hold is noise_stddev times it
 };
 
 struct TriadLogSimulationOptions {
@@ -35,6 +38,11 @@ struct TriadLogSimulationOptions {
   std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in counts
   bool round_to_counts = true;
   double start_s = 0.0;  // time stamp of the first sample
+  // Narrow-band vibration on every sample (a motor, a fan, a table that rings), in counts per
+  // axis: vibration_counts[k] sin(2 pi f t + phase_k), f = vibration_hz, the phases drawn once
+  // per log. Quiet windows are then not white: most of their variance sits at one frequency.
+  std::array<double, 3> vibration_counts{{0.0, 0.0, 0.0}};
+  double vibration_hz = 0.0;
 };
 
 // The true samples of a hold, inclusive (end < start for a hold of no samples).
