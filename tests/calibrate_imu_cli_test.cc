@@ -517,17 +517,19 @@ TEST(CalibrateImuCli, ModeMlEstimatesTheSecondOrderScaleTermsWithTheirSigma) {
 namespace accelcal {
 namespace {
 
-// Issue 30, item 5: a planar-ish session (10 holds turned about x, each tilted towards +-x by
-// at most 0.3 rad, after the rest with z up) determines gain_x poorly; the run says so on the
-// console, in the JSON and in the calibration file, with the reason and the poses that would
-// determine it, writes the parameters all the same, and apply names them once.
+// Issue 30, item 5: a session of 10 holds, each axis up and down and 45-degree tilts in the
+// x-z and y-z planes but almost none in the x-y plane (|n_x n_y| <= 0.02), determines
+// misalignment_yz (which couples x and y) poorly; the run says so on the console, in the JSON and
+// in the calibration file, with the reason and the poses that would determine it, writes the
+// parameters all the same, and apply names them once.
 TEST(CalibrateImuCli, ModeMlNamesPoorlyDeterminedParametersAndApplyPrintsThemOnce) {
-  std::vector<std::array<double, 3>> directions;
-  const double tilts[] = {0.3, -0.25, 0.2, -0.3, 0.1, -0.15, 0.25, -0.1, 0.3, -0.2};
-  for (int p = 0; p < 10; ++p) {
-    const double angle = 2.0 * M_PI * (p + 0.5) / 10.0;
-    directions.push_back({std::sin(tilts[p]), std::cos(tilts[p]) * std::cos(angle),
-                          std::cos(tilts[p]) * std::sin(angle)});
+  const double h = std::sqrt(0.5);
+  std::vector<std::array<double, 3>> directions = {
+      {1, 0, 0},  {-1, 0, 0},   {0, 1, 0},  {0, -1, 0},   {0, 0, 1},
+      {0, 0, -1}, {h, 0.02, h}, {-h, 0, h}, {0.02, h, h}, {0, -h, h}};
+  for (auto& n : directions) {
+    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& v : n) v /= norm;
   }
   testing::ScratchDir scratch;
   const std::string log = scratch.Write("planar.txt", SessionLog(directions));
@@ -545,25 +547,27 @@ TEST(CalibrateImuCli, ModeMlNamesPoorlyDeterminedParametersAndApplyPrintsThemOnc
     EXPECT_FALSE(entry["reason"].get<std::string>().empty());
     EXPECT_NE(entry["suggestion"].get<std::string>().find("poses with"), std::string::npos);
   }
-  ASSERT_NE(std::find(named.begin(), named.end(), "gain_x"), named.end())
+  ASSERT_NE(std::find(named.begin(), named.end(), "misalignment_yz"), named.end())
       << json["poorly_determined"].dump(1);
   EXPECT_EQ(file["poorly_determined"], json["poorly_determined"]);
-  EXPECT_TRUE(file["parameters"].contains("gain_x"));  // written, not refused
+  EXPECT_TRUE(file["parameters"].contains("misalignment_yz"));  // written, not refused
   const std::string& out = calibrated.stdout_text;
   EXPECT_NE(out.find("Poorly determined (estimated and written"), std::string::npos) << out;
-  EXPECT_NE(out.find("  gain_x = "), std::string::npos) << out;
-  EXPECT_NE(out.find("poses with the x axis near +g or -g"), std::string::npos) << out;
+  EXPECT_NE(out.find("  misalignment_yz = "), std::string::npos) << out;
+  EXPECT_NE(out.find("would be determined by poses with gravity between +-x and +-y"),
+            std::string::npos)
+      << out;
 
-  const std::string in = scratch.Write("run.csv", "t_s,acc_x,acc_y,acc_z\n0.01,32768,32768,36839\n");
-  const testing::CommandResult applied =
-      RunBinary("apply", "--calibration=" + cal + " --in=" + in + " --out=" +
-                             scratch.File("corrected.csv"));
+  const std::string in = scratch.Write(
+      "run.csv", "t_s,acc_x,acc_y,acc_z\n0.01,32768,32768,36839\n0.02,32768,32768,36839\n");
+  const testing::CommandResult applied = RunBinary(
+      "apply", "--calibration=" + cal + " --in=" + in + " --out=" + scratch.File("corrected.csv"));
   ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
   const std::string& said = applied.stdout_text;
   const size_t first = said.find("poorly determined by the calibration's poses");
   ASSERT_NE(first, std::string::npos) << said;
   EXPECT_EQ(said.find("poorly determined", first + 1), std::string::npos) << said;
-  EXPECT_NE(said.find("gain_x", first), std::string::npos) << said;
+  EXPECT_NE(said.find("misalignment_yz", first), std::string::npos) << said;
 }
 
 std::string Mimu4444Dir() {
@@ -573,8 +577,7 @@ std::string Mimu4444Dir() {
 
 int CountOf(const std::string& text, const std::string& what) {
   int count = 0;
-  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1))
-    ++count;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++count;
   return count;
 }
 
@@ -648,7 +651,7 @@ TEST(OneVerdict, TableJsonAndHtmlAgreeInEveryModeAndNoiseOption) {
       EXPECT_NE(run.stdout_text.find("Fit: " + description), std::string::npos);
       EXPECT_NE(html.find(description.substr(1)), std::string::npos);
       EXPECT_NE(description.find(json["noise_model"]["kind"] == "allan" ? "Allan variance"
-                                                                          : "white noise"),
+                                                                        : "white noise"),
                 std::string::npos)
           << description;
       for (const std::string& phrase : judged) {

@@ -63,7 +63,8 @@ TEST(CalibrationFile, PoorlyDeterminedRoundTripsAndIsOptional) {
         {"sigma", 0.02},
         {"threshold", 0.001},
         {"sigma_over_threshold", true},
-        {"correlated_with", nlohmann::json::array({{{"parameter", "bias_y"}, {"correlation", 0.995}}})},
+        {"correlated_with",
+         nlohmann::json::array({{{"parameter", "bias_y"}, {"correlation", 0.995}}})},
         {"suggestion", "poses with the y axis near +g or -g"}}});
   const nlohmann::json json = CalibrationJson(written);
   CalibrationRecord read;

@@ -206,19 +206,31 @@ TEST(TriadDiscovery, ListsCandidatesTheDegreesOfFreedomCannotTestAsNotTestable) 
 }
 
 // Issue 30, item 5: which parameters a session determines too loosely to vouch for
-// (estimation/triad_determination.h). A planar-ish session of 10 poses, turned about x with
-// small tilts towards it, names the parameters the x axis's readings set and says which poses
-// would determine them; a session of 30 poses spread over the sphere names none.
-// 10 poses turned about x, each tilted towards +x or -x by up to 0.3 rad: the x axis never
-// reads more than 0.3 g.
+// (estimation/triad_determination.h). Two sessions of 10 poses: one turned about x with tilts
+// of at most 0.3 rad towards it (x never near +-g: its gain and offset are named), one with each
+// axis up and down and 45-degree tilts in the x-z and y-z planes but almost none in the x-y
+// plane (|n_x n_y| <= 0.02: misalignment_yz, which couples x and y, is named); each says which
+// poses would determine it. A session of 30 poses spread over the sphere names none.
 std::vector<std::array<double, 3>> PlanarIshDirections() {
   std::vector<std::array<double, 3>> directions;
   const double tilts[] = {0.3, -0.25, 0.2, -0.3, 0.1, -0.15, 0.25, -0.1, 0.3, -0.2};
   for (int p = 0; p < 10; ++p) {
     const double angle = 2.0 * M_PI * p / 10.0;
     const double tilt = tilts[p];
-    directions.push_back({std::sin(tilt), std::cos(tilt) * std::cos(angle),
-                          std::cos(tilt) * std::sin(angle)});
+    directions.push_back(
+        {std::sin(tilt), std::cos(tilt) * std::cos(angle), std::cos(tilt) * std::sin(angle)});
+  }
+  return directions;
+}
+
+std::vector<std::array<double, 3>> FewXyDirections() {
+  const double h = std::sqrt(0.5);
+  std::vector<std::array<double, 3>> directions = {
+      {1, 0, 0},  {-1, 0, 0},   {0, 1, 0},  {0, -1, 0},   {0, 0, 1},
+      {0, 0, -1}, {h, 0.02, h}, {-h, 0, h}, {0.02, h, h}, {0, -h, h}};
+  for (auto& n : directions) {
+    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    for (double& v : n) v /= norm;
   }
   return directions;
 }
@@ -230,40 +242,52 @@ const TriadPoorlyDetermined* Named(const std::vector<TriadPoorlyDetermined>& lis
   return nullptr;
 }
 
-TEST(TriadDetermination, APlanarIshTenPoseSessionNamesWhatTheXAxisSets) {
+std::vector<TriadPoorlyDetermined> PoorlyDetermined(
+    const std::vector<std::array<double, 3>>& directions, TriadMlResult* ml) {
   RandomSource random(30, 5);
-  const std::vector<TriadPoseMean> poses =
-      SimulateTriadPoses(Session(), PlanarIshDirections(), &random);
-  TriadMlResult ml;
-  ASSERT_TRUE(CalibrateTriadMl(poses, Discovery(0.01).fit, &ml).ok());
-  const std::vector<TriadPoorlyDetermined> list = PoorlyDeterminedTriadParameters(ml, "count");
+  const std::vector<TriadPoseMean> poses = SimulateTriadPoses(Session(), directions, &random);
+  EXPECT_TRUE(CalibrateTriadMl(poses, Discovery(0.01).fit, ml).ok());
+  const std::vector<TriadPoorlyDetermined> list = PoorlyDeterminedTriadParameters(*ml, "count");
   for (const TriadPoorlyDetermined& entry : list) {
     std::printf("  %s = %.4g +- %.3g: %s\n    %s\n", entry.parameter.c_str(),
-                ml.parameters[entry.index], entry.sigma, entry.reason.c_str(),
+                ml->parameters[entry.index], entry.sigma, entry.reason.c_str(),
                 entry.suggestion.c_str());
-  }
-  // gain_x: x never near +-g, so its gain is poorly seen; the suggestion says so.
-  const TriadPoorlyDetermined* gain = Named(list, "gain_x");
-  ASSERT_NE(gain, nullptr);
-  EXPECT_TRUE(gain->sigma_over_threshold);
-  EXPECT_GT(gain->sigma, gain->threshold);
-  EXPECT_NE(gain->suggestion.find("x axis near +g or -g"), std::string::npos) << gain->suggestion;
-  // The angles that couple x to y and z: seen through n_x n_y and n_x n_z, which stay small.
-  const TriadPoorlyDetermined* angle = Named(list, "misalignment_yz");
-  ASSERT_NE(angle, nullptr);
-  EXPECT_NE(angle->suggestion.find("between +-x and +-y"), std::string::npos)
-      << angle->suggestion;
-  // y and z are turned through +-g: their gains are determined.
-  EXPECT_EQ(Named(list, "gain_y"), nullptr);
-  EXPECT_EQ(Named(list, "gain_z"), nullptr);
-  // Every entry says why: a sigma over its threshold, or a correlation beyond 0.99.
-  for (const TriadPoorlyDetermined& entry : list) {
+    // Every entry says why: a sigma over its threshold, or a correlation beyond 0.99.
     EXPECT_TRUE(entry.sigma_over_threshold || !entry.correlated_with.empty()) << entry.parameter;
     EXPECT_EQ(entry.sigma_over_threshold, entry.sigma > entry.threshold) << entry.parameter;
     for (const TriadCorrelatedParameter& other : entry.correlated_with)
       EXPECT_GT(std::fabs(other.correlation), 0.99) << entry.parameter << " " << other.parameter;
     EXPECT_FALSE(entry.reason.empty());
   }
+  return list;
+}
+
+TEST(TriadDetermination, APlanarIshTenPoseSessionNamesWhatTheXAxisSets) {
+  TriadMlResult ml;
+  const std::vector<TriadPoorlyDetermined> list = PoorlyDetermined(PlanarIshDirections(), &ml);
+  const TriadPoorlyDetermined* gain = Named(list, "gain_x");
+  ASSERT_NE(gain, nullptr);
+  EXPECT_TRUE(gain->sigma_over_threshold);
+  EXPECT_NE(gain->suggestion.find("x axis near +g or -g"), std::string::npos) << gain->suggestion;
+  const TriadPoorlyDetermined* offset = Named(list, "offset_x");
+  ASSERT_NE(offset, nullptr);
+  EXPECT_NE(offset->suggestion.find("x axis near +g AND near -g"), std::string::npos);
+  // y and z are turned through +-g: their gains are determined.
+  EXPECT_EQ(Named(list, "gain_y"), nullptr);
+  EXPECT_EQ(Named(list, "gain_z"), nullptr);
+}
+
+TEST(TriadDetermination, TenPosesWithoutTheXyPlaneNameTheAngleCouplingXAndY) {
+  TriadMlResult ml;
+  const std::vector<TriadPoorlyDetermined> list = PoorlyDetermined(FewXyDirections(), &ml);
+  const TriadPoorlyDetermined* angle = Named(list, "misalignment_yz");
+  ASSERT_NE(angle, nullptr);
+  EXPECT_TRUE(angle->sigma_over_threshold);
+  EXPECT_NE(angle->suggestion.find("between +-x and +-y (tilted 45 degrees in the x-y plane"),
+            std::string::npos)
+      << angle->suggestion;
+  // Each axis is held up and down: no gain is named.
+  for (const char* gain : {"gain_x", "gain_y", "gain_z"}) EXPECT_EQ(Named(list, gain), nullptr);
 }
 
 TEST(TriadDetermination, ThirtyPosesOverTheSphereNameNothing) {

@@ -177,8 +177,7 @@ TEST(FitDescription, SaysWhatTheVerdictImpliesForTheSigmasOnBothTails) {
     EXPECT_NE(description.find("weighted by white noise"), std::string::npos) << description;
     EXPECT_EQ(description.find("explain"), std::string::npos) << description;
     EXPECT_EQ(description.find("understate") != std::string::npos, per_dof > 1.5) << description;
-    EXPECT_EQ(description.find("conservative") != std::string::npos, per_dof < 0.5)
-        << description;
+    EXPECT_EQ(description.find("conservative") != std::string::npos, per_dof < 0.5) << description;
   }
 }
 

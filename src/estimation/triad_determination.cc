@@ -80,7 +80,8 @@ std::vector<TriadPoorlyDetermined> PoorlyDeterminedTriadParameters(
       if (q == p) continue;
       const double scale = ml.stddev[p] * ml.stddev[q];
       const double rho = scale > 0.0 ? ml.covariance[p][q] / scale : 0.0;
-      if (std::fabs(rho) > options.correlation) entry.correlated_with.push_back({infos[q].name, rho});
+      if (std::fabs(rho) > options.correlation)
+        entry.correlated_with.push_back({infos[q].name, rho});
     }
     if (!entry.sigma_over_threshold && entry.correlated_with.empty()) continue;
     if (entry.sigma_over_threshold) {
@@ -93,9 +94,9 @@ std::vector<TriadPoorlyDetermined> PoorlyDeterminedTriadParameters(
         with += StringPrintf("%s%s (%+.4f)", with.empty() ? "" : ", ", other.parameter.c_str(),
                              other.correlation);
       }
-      entry.reason += StringPrintf("%scorrelation beyond +-%g with %s",
-                                   entry.reason.empty() ? "" : "; ", options.correlation,
-                                   with.c_str());
+      entry.reason +=
+          StringPrintf("%scorrelation beyond +-%g with %s", entry.reason.empty() ? "" : "; ",
+                       options.correlation, with.c_str());
     }
     entry.suggestion = Suggestion(ml, p);
     list.push_back(entry);

@@ -29,10 +29,10 @@
 namespace accelcal {
 
 struct TriadDeterminationOptions {
-  double angle_sigma_rad = 1e-3;         // misalignment angles
-  double gain_relative_sigma = 1e-3;     // sigma / |gain|
-  double offset_noise_fraction = 0.1;    // sigma / s_k, s_k one sample's noise on axis k
-  double correlation = 0.99;             // |rho| beyond which two parameters are confounded
+  double angle_sigma_rad = 1e-3;       // misalignment angles
+  double gain_relative_sigma = 1e-3;   // sigma / |gain|
+  double offset_noise_fraction = 0.1;  // sigma / s_k, s_k one sample's noise on axis k
+  double correlation = 0.99;           // |rho| beyond which two parameters are confounded
 };
 
 struct TriadCorrelatedParameter {
@@ -41,10 +41,10 @@ struct TriadCorrelatedParameter {
 };
 
 struct TriadPoorlyDetermined {
-  int index = 0;          // models/triad.h's block order
-  std::string parameter;  // its name
-  std::string reason;     // in words: the sigma against its threshold, and/or the correlations
-  double sigma = 0.0;     // the parameter's unit
+  int index = 0;           // models/triad.h's block order
+  std::string parameter;   // its name
+  std::string reason;      // in words: the sigma against its threshold, and/or the correlations
+  double sigma = 0.0;      // the parameter's unit
   double threshold = 0.0;  // the sigma threshold, the parameter's unit
   bool sigma_over_threshold = false;
   std::vector<TriadCorrelatedParameter> correlated_with;  // |rho| > options.correlation

@@ -234,10 +234,11 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   return json;
 }
 
-// The optional list of poorly determined parameters: absent (files written before it), null
-// (not assessed: a two-axis calibration), or a list of objects whose `parameter` names one of the file's parameters.
 namespace {
 
+// The optional list of poorly determined parameters: absent (files written before it), null
+// (not assessed: a two-axis calibration), or a list of objects whose `parameter` names one of the
+// file's parameters.
 Status ReadPoorlyDetermined(const nlohmann::json& json, CalibrationRecord* parsed) {
   if (!json.contains("poorly_determined") || json["poorly_determined"].is_null())
     return Status::Ok();

@@ -59,8 +59,8 @@ struct CalibrationRecord {
   // correlated_with, suggestion}; null when not assessed (a two-axis calibration, or a file
   // written before the key existed, which the reader accepts), an empty array when none.
   nlohmann::json poorly_determined = nullptr;
-  std::string created_utc;                        // ISO 8601, set by the writer
-  DataSource source;  // the tilt test it was computed from (written, not read back)
+  std::string created_utc;  // ISO 8601, set by the writer
+  DataSource source;        // the tilt test it was computed from (written, not read back)
   // Read back only: the writer's version and command line.
   std::string written_by_version;
   std::string written_by_command_line;

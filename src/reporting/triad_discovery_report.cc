@@ -16,7 +16,8 @@ std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
       "ceres::Covariance's under that noise model, not scaled by chi2/dof",
       ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
       ml.degrees_of_freedom, ml.p_value,
-      allan_noise ? "the Allan variance of their samples" : "white noise of the within-pose variance");
+      allan_noise ? "the Allan variance of their samples"
+                  : "white noise of the within-pose variance");
   const TriadMlResult& final_fit = discovery.final_fit;
   if (allan_noise != discovery.coloured_noise) {
     text += StringPrintf(
@@ -42,8 +43,7 @@ std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
 }
 
 std::string VerdictLine(const TriadDiscoveryResult& discovery) {
-  return std::string("Verdict (") + VerdictCode(discovery.verdict_code) + "): " +
-         discovery.verdict;
+  return std::string("Verdict (") + VerdictCode(discovery.verdict_code) + "): " + discovery.verdict;
 }
 
 std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,

@@ -255,8 +255,8 @@ ReportSection FitSection(const CalibrateImuReport& report) {
       StringPrintf("%d degrees of freedom: 3 residuals per pose, less 9 parameters and 2 "
                    "direction angles per pose.",
                    ml.degrees_of_freedom));
-  section.paragraphs.push_back(
-      Sentence(FitDescription(ml, report.allan_noise, report.discovery)) + ".");
+  section.paragraphs.push_back(Sentence(FitDescription(ml, report.allan_noise, report.discovery)) +
+                               ".");
   section.figure = kNormFigure;
   section.figure_caption = StringPrintf(
       "The norm of the specific force corrected by this calibration over the log, with g = "

@@ -49,8 +49,8 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
   for (int s = 0; s < session_count; ++s) {
     const TriadSessionCalibration& calibration = report.sessions[s].calibration;
     const TriadMlResult& ml = calibration.ml;
-    out << StringPrintf("session %d: %s: %d poses (noise-floor detector)\n  fit: %s\n  %s\n",
-                        s + 1, report.sessions[s].path.c_str(), ml.pose_count,
+    out << StringPrintf("session %d: %s: %d poses (noise-floor detector)\n  fit: %s\n  %s\n", s + 1,
+                        report.sessions[s].path.c_str(), ml.pose_count,
                         FitDescription(ml, calibration.allan_noise, calibration.discovery).c_str(),
                         VerdictLine(calibration.discovery).c_str());
   }
@@ -126,9 +126,8 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
                         {"noise_model", session.calibration.allan_noise ? "allan" : "white"},
                         {"verdict", VerdictCode(session.calibration.discovery.verdict_code)},
                         {"verdict_text", session.calibration.discovery.verdict},
-                        {"fit_description",
-                         FitDescription(ml, session.calibration.allan_noise,
-                                        session.calibration.discovery)},
+                        {"fit_description", FitDescription(ml, session.calibration.allan_noise,
+                                                           session.calibration.discovery)},
                         {"p_value", ml.p_value}});
   }
   json["sessions"] = sessions;
