@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "simulation/triad_simulator.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -523,14 +524,7 @@ namespace {
 // in the calibration file, with the reason and the poses that would determine it, writes the
 // parameters all the same, and apply names them once.
 TEST(CalibrateImuCli, ModeMlNamesPoorlyDeterminedParametersAndApplyPrintsThemOnce) {
-  const double h = std::sqrt(0.5);
-  std::vector<std::array<double, 3>> directions = {
-      {1, 0, 0},  {-1, 0, 0},   {0, 1, 0},  {0, -1, 0},   {0, 0, 1},
-      {0, 0, -1}, {h, 0.02, h}, {-h, 0, h}, {0.02, h, h}, {0, -h, h}};
-  for (auto& n : directions) {
-    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (double& v : n) v /= norm;
-  }
+  const std::vector<std::array<double, 3>> directions = SixPosesAndTiltsAwayFromXy(0.02);
   testing::ScratchDir scratch;
   const std::string log = scratch.Write("planar.txt", SessionLog(directions));
   const std::string cal = scratch.File("cal.json");

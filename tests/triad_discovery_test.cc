@@ -223,18 +223,6 @@ std::vector<std::array<double, 3>> PlanarIshDirections() {
   return directions;
 }
 
-std::vector<std::array<double, 3>> FewXyDirections() {
-  const double h = std::sqrt(0.5);
-  std::vector<std::array<double, 3>> directions = {
-      {1, 0, 0},  {-1, 0, 0},   {0, 1, 0},  {0, -1, 0},   {0, 0, 1},
-      {0, 0, -1}, {h, 0.02, h}, {-h, 0, h}, {0.02, h, h}, {0, -h, h}};
-  for (auto& n : directions) {
-    const double norm = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    for (double& v : n) v /= norm;
-  }
-  return directions;
-}
-
 const TriadPoorlyDetermined* Named(const std::vector<TriadPoorlyDetermined>& list,
                                    const std::string& name) {
   for (const TriadPoorlyDetermined& entry : list)
@@ -262,16 +250,20 @@ std::vector<TriadPoorlyDetermined> PoorlyDetermined(
   return list;
 }
 
+// `name` is in `list`, its sigma over its threshold, and its suggestion says `poses`.
+void ExpectNamed(const std::vector<TriadPoorlyDetermined>& list, const std::string& name,
+                 const std::string& poses) {
+  const TriadPoorlyDetermined* entry = Named(list, name);
+  ASSERT_NE(entry, nullptr) << name;
+  EXPECT_TRUE(entry->sigma_over_threshold) << name;
+  EXPECT_NE(entry->suggestion.find(poses), std::string::npos) << entry->suggestion;
+}
+
 TEST(TriadDetermination, APlanarIshTenPoseSessionNamesWhatTheXAxisSets) {
   TriadMlResult ml;
   const std::vector<TriadPoorlyDetermined> list = PoorlyDetermined(PlanarIshDirections(), &ml);
-  const TriadPoorlyDetermined* gain = Named(list, "gain_x");
-  ASSERT_NE(gain, nullptr);
-  EXPECT_TRUE(gain->sigma_over_threshold);
-  EXPECT_NE(gain->suggestion.find("x axis near +g or -g"), std::string::npos) << gain->suggestion;
-  const TriadPoorlyDetermined* offset = Named(list, "offset_x");
-  ASSERT_NE(offset, nullptr);
-  EXPECT_NE(offset->suggestion.find("x axis near +g AND near -g"), std::string::npos);
+  ExpectNamed(list, "gain_x", "x axis near +g or -g");
+  ExpectNamed(list, "offset_x", "x axis near +g AND near -g");
   // y and z are turned through +-g: their gains are determined.
   EXPECT_EQ(Named(list, "gain_y"), nullptr);
   EXPECT_EQ(Named(list, "gain_z"), nullptr);
@@ -279,13 +271,9 @@ TEST(TriadDetermination, APlanarIshTenPoseSessionNamesWhatTheXAxisSets) {
 
 TEST(TriadDetermination, TenPosesWithoutTheXyPlaneNameTheAngleCouplingXAndY) {
   TriadMlResult ml;
-  const std::vector<TriadPoorlyDetermined> list = PoorlyDetermined(FewXyDirections(), &ml);
-  const TriadPoorlyDetermined* angle = Named(list, "misalignment_yz");
-  ASSERT_NE(angle, nullptr);
-  EXPECT_TRUE(angle->sigma_over_threshold);
-  EXPECT_NE(angle->suggestion.find("between +-x and +-y (tilted 45 degrees in the x-y plane"),
-            std::string::npos)
-      << angle->suggestion;
+  const std::vector<TriadPoorlyDetermined> list =
+      PoorlyDetermined(SixPosesAndTiltsAwayFromXy(0.02), &ml);
+  ExpectNamed(list, "misalignment_yz", "between +-x and +-y (tilted 45 degrees in the x-y plane");
   // Each axis is held up and down: no gain is named.
   for (const char* gain : {"gain_x", "gain_y", "gain_z"}) EXPECT_EQ(Named(list, gain), nullptr);
 }
