@@ -158,6 +158,18 @@ Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
   return Status::Ok();
 }
 
+// The parameters the calibration file names as poorly determined (docs/calibration.md), in
+// one line, or "" when it names none or predates the key.
+std::string PoorlyDeterminedLine(const CalibrationRecord& record) {
+  if (!record.poorly_determined.is_array() || record.poorly_determined.empty()) return "";
+  std::string names;
+  for (const nlohmann::json& entry : record.poorly_determined)
+    names += (names.empty() ? "" : ", ") + entry["parameter"].get<std::string>();
+  return "  poorly determined by the calibration's poses (its poorly_determined says why and "
+         "which poses would determine them): " +
+         names + "\n";
+}
+
 // The triad path of Run: its own log layout and output columns.
 Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   TriadParameters parameters;
@@ -181,7 +193,7 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   ACCELCAL_RETURN_IF_ERROR(
       CorrectTriadLog(log, parameters, covariance, record, source, &csv, summary));
   ACCELCAL_RETURN_IF_ERROR(WriteOutputFiles({{FLAGS_out, csv}}));
-  *summary = WithDataLine(source, *summary);
+  *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record));
   return Status::Ok();
 }
 

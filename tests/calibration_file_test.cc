@@ -52,6 +52,49 @@ TEST(CalibrationFile, ReadsBackWhatItWroteToTheLastBit) {
   EXPECT_EQ(read.IndexOf("scale_y"), 3);
 }
 
+// Issue 30, item 5: the poorly determined parameters round-trip; a file without the key (written
+// before it) or with null (not assessed) is read as not assessed; an entry that names no
+// parameter of the file is refused.
+TEST(CalibrationFile, PoorlyDeterminedRoundTripsAndIsOptional) {
+  CalibrationRecord written = ExampleRecord();
+  written.poorly_determined = nlohmann::json::array(
+      {{{"parameter", "scale_y"},
+        {"reason", "sigma 0.02 > 0.001"},
+        {"sigma", 0.02},
+        {"threshold", 0.001},
+        {"sigma_over_threshold", true},
+        {"correlated_with",
+         nlohmann::json::array({{{"parameter", "bias_y"}, {"correlation", 0.995}}})},
+        {"suggestion", "poses with the y axis near +g or -g"}}});
+  const nlohmann::json json = CalibrationJson(written);
+  CalibrationRecord read;
+  Status status = ParseCalibration(json.dump(2), "cal.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.poorly_determined, written.poorly_determined);
+
+  nlohmann::json without = json;
+  without.erase("poorly_determined");
+  status = ParseCalibration(without.dump(), "cal.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_TRUE(read.poorly_determined.is_null());
+  const nlohmann::json none = CalibrationJson(ExampleRecord());
+  EXPECT_TRUE(none["poorly_determined"].is_null());
+  status = ParseCalibration(none.dump(), "cal.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_TRUE(read.poorly_determined.is_null());
+
+  for (const nlohmann::json& bad :
+       {nlohmann::json("scale_y"), nlohmann::json::array({{{"parameter", "gain_q"}}}),
+        nlohmann::json::array({{{"reason", "no name"}}})}) {
+    nlohmann::json damaged = json;
+    damaged["poorly_determined"] = bad;
+    status = ParseCalibration(damaged.dump(), "cal.json", &read);
+    ASSERT_FALSE(status.ok()) << bad.dump();
+    EXPECT_EQ(status.message().rfind("cal.json: ", 0), 0u) << status.message();
+    EXPECT_NE(status.message().find("poorly_determined"), std::string::npos) << status.message();
+  }
+}
+
 // Each damaged file is refused with a message naming what is wrong.
 TEST(CalibrationFile, RefusesWhatDoesNotSayWhatItClaims) {
   const nlohmann::json good = CalibrationJson(ExampleRecord());

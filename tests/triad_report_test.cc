@@ -15,6 +15,7 @@
 #include "common/format.h"
 #include "estimation/chi_square.h"
 #include "reporting/calibrate_imu_report.h"
+#include "reporting/triad_discovery_report.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -115,14 +116,17 @@ TEST(TriadReport, XsensReportHasEveryPoseResidualFigureParametersWithSigmaAndThe
   EXPECT_NE(html.find(">1/414.459</td><td class=\"words\" data-label=\"datasheet\">1/415</td>"),
             std::string::npos);
 
-  // The fit in words, the provenance.
-  EXPECT_NE(html.find("Allan model explains the residuals"), std::string::npos);
+  // The fit described with the noise model that weighted it (not judged: the verdict is
+  // discovery's), the provenance.
+  EXPECT_NE(html.find("the pose means weighted by the Allan variance of their samples"),
+            std::string::npos);
+  EXPECT_EQ(html.find("under white noise"), std::string::npos);
   // Discovery's section: every candidate in its table, what static poses cannot test, the
   // verdict as the JSON gives it.
   EXPECT_NE(html.find("What the model misses (discovery)"), std::string::npos);
   for (const auto& candidate : json["discovery"]["candidates"])
     EXPECT_NE(html.find(candidate["effect"].get<std::string>()), std::string::npos);
-  EXPECT_NE(html.find("Not testable from static poses: gravity_error"), std::string::npos);
+  EXPECT_NE(html.find("gravity_error: not testable from static poses"), std::string::npos);
   EXPECT_NE(html.find("Verdict (" + json["verdict"].get<std::string>() + ")"), std::string::npos);
   EXPECT_NE(html.find("on 29 degrees of freedom"), std::string::npos);
   EXPECT_NE(html.find("335a234736ff4dd8741118283d5d4cd389ac54b04d00e6cd8d48ca3e532b7510"),
@@ -146,9 +150,10 @@ TEST(TriadReport, XsensReportHasEveryPoseResidualFigureParametersWithSigmaAndThe
   EXPECT_EQ(html.find("not drawn"), std::string::npos);
 }
 
-// The fit's verdict on each side of the chi-square: too large (the sigmas understate), about
-// right, and too small (the sigmas are conservative, as on mimu4444 IMU 4 run 3).
-TEST(FitVerdict, NamesBothTailsOfTheChiSquare) {
+// The fit described on each side of the chi-square, consistent with the one verdict: too large
+// and flagged by discovery (the sigmas understate), about right (nothing added), and too small
+// and noted (the sigmas are conservative, as on mimu4444 IMU 4 run 3). It never judges.
+TEST(FitDescription, SaysWhatTheVerdictImpliesForTheSigmasOnBothTails) {
   TriadMlResult ml;
   ml.degrees_of_freedom = 12;
   for (const double per_dof : {5.0, 1.0, 0.195}) {
@@ -156,16 +161,23 @@ TEST(FitVerdict, NamesBothTailsOfTheChiSquare) {
     ml.chi2_per_dof = per_dof;
     ml.chi2_per_dof_spread = std::sqrt(2.0 / ml.degrees_of_freedom);
     ml.p_value = ChiSquareSurvival(ml.chi2, ml.degrees_of_freedom);
-    const std::string verdict = FitVerdict(ml);
-    std::printf("  chi2/dof %g: %s\n", per_dof, verdict.c_str());
-    if (per_dof > 1.5) {
-      EXPECT_NE(verdict.find("understate"), std::string::npos) << verdict;
-    } else if (per_dof > 0.5) {
-      EXPECT_NE(verdict.find("explains the residuals"), std::string::npos) << verdict;
-    } else {
-      EXPECT_NE(verdict.find("conservative"), std::string::npos) << verdict;
-      EXPECT_EQ(verdict.find("explains the residuals"), std::string::npos) << verdict;
-    }
+    TriadDiscoveryResult discovery;
+    discovery.final_fit = ml;
+    ResidualCheck chi2;
+    chi2.name = "chi2";
+    chi2.flagged = per_dof > 1.5;
+    discovery.checks = {chi2};
+    discovery.verdict_code = chi2.flagged ? Verdict::kUnexplained : Verdict::kExplained;
+    discovery.noise_overstated.flagged = per_dof < 0.5;
+    const std::string description = FitDescription(ml, false, discovery);
+    std::printf("  chi2/dof %g: %s\n", per_dof, description.c_str());
+    EXPECT_NE(description.find(StringPrintf("on 12 degrees of freedom, chi2/dof = %.4g", per_dof)),
+              std::string::npos)
+        << description;
+    EXPECT_NE(description.find("weighted by white noise"), std::string::npos) << description;
+    EXPECT_EQ(description.find("explain"), std::string::npos) << description;
+    EXPECT_EQ(description.find("understate") != std::string::npos, per_dof > 1.5) << description;
+    EXPECT_EQ(description.find("conservative") != std::string::npos, per_dof < 0.5) << description;
   }
 }
 

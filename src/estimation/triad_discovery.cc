@@ -195,10 +195,21 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
   lag.statistic = norm > 0.0 ? products / norm : 0.0;
   const double z = squares > 0.0 ? products / std::sqrt(squares) : 0.0;
   lag.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
-  lag.description = StringPrintf(
-      "consecutive poses' residuals are correlated: r = %.2f (z = %.2f, p = %.3g), the offsets "
-      "wander slowly from pose to pose",
-      lag.statistic, z, lag.p_value);
+  // What the correlation found, by its sign: alike neighbours are a slow wander; alternating
+  // ones are not (something that flips between consecutive poses: the order the orientations
+  // were held in, a hysteresis, an effect of the pose's direction the model lacks).
+  lag.description =
+      lag.statistic >= 0.0
+          ? StringPrintf(
+                "consecutive poses' residuals are alike: lag-1 correlation r = %+.2f (z = %.2f, "
+                "p = %.3g), the offsets wander slowly from pose to pose",
+                lag.statistic, z, lag.p_value)
+          : StringPrintf(
+                "consecutive poses' residuals alternate in sign: lag-1 correlation r = %+.2f "
+                "(z = %.2f, p = %.3g), not a slow wander but something that flips from one pose "
+                "to the next (the order the orientations were held in, hysteresis, or an effect "
+                "of the pose's direction the model lacks)",
+                lag.statistic, z, lag.p_value);
 
   result->checks = {chi2, lag};
   FlagByHolm(alpha, &result->checks);
@@ -276,6 +287,8 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     entry.rank_check =
         status.ok() ? "fitted: the rank check did not flag it on these poses"
                     : "not identifiable with the 9 parameters: " + JoinStrings(fit.unidentifiable);
+    entry.reason = std::string("not testable from static poses: confounded with ") +
+                   info.confounded_with + " (" + entry.rank_check + ")";
     result->untestable.push_back(entry);
   }
 
@@ -283,15 +296,41 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   TriadMlResult current = result->baseline;
   std::vector<int> left = testable;
   for (int step = 1; step <= options.max_effects && !left.empty(); ++step) {
-    std::vector<double> p_values;
+    // A candidate whose fit would leave no degree of freedom, or that cannot be fitted, is
+    // not tested: it is listed as not testable, with why, rather than scored 0 +- 0, p = 1.
+    const int dof_left = current.degrees_of_freedom - 1;
     std::vector<TriadMlResult> fits(left.size());
-    std::vector<bool> fitted(left.size(), false);
+    std::vector<int> tested;
+    std::vector<TriadMlResult> tested_fits;
     for (size_t i = 0; i < left.size(); ++i) {
+      TriadUntestable entry;
+      entry.effect = coefficients[left[i]].name;
+      if (dof_left < 1) {
+        entry.reason = StringPrintf(
+            "not testable with the degrees of freedom left: the fit with it would leave %d (%d "
+            "poses, 9 parameters, %zu effects, 2 direction angles per pose), and its F test "
+            "needs at least 1",
+            dof_left, current.pose_count, model.size() + 1);
+        result->untestable.push_back(entry);
+        continue;
+      }
       std::vector<int> extended = model;
       extended.push_back(left[i]);
-      fitted[i] = Fit(poses, options, noise, extended, &fits[i]).ok();
-      p_values.push_back(fitted[i] ? ExtensionPValue(current, fits[i]) : 1.0);
+      const Status status = Fit(poses, options, noise, extended, &fits[i]);
+      if (!status.ok()) {
+        entry.reason = "not testable: the fit with it fails (" + status.message() + ")";
+        result->untestable.push_back(entry);
+        continue;
+      }
+      tested.push_back(left[i]);
+      tested_fits.push_back(fits[i]);
     }
+    left = tested;
+    if (left.empty()) break;
+    std::vector<double> p_values;
+    std::vector<bool> fitted(left.size(), true);
+    fits = tested_fits;
+    for (size_t i = 0; i < left.size(); ++i) p_values.push_back(ExtensionPValue(current, fits[i]));
     const std::vector<bool> rejected = HolmRejections(p_values, options.alpha / 2.0);
     int best = -1;
     for (size_t i = 0; i < left.size(); ++i) {

@@ -20,10 +20,13 @@
 //    understates the variance makes effects harder to name, not easier; Holm among those
 //    left; the strongest rejected is added; repeat. Effects static poses cannot determine
 //    (gravity_error, cross_axis) are fitted once to show it: the rank check names what absorbs
-//    them, and they are reported as untestable with that name.
+//    them, and they are reported as untestable with that name. A candidate whose fit would
+//    leave no degree of freedom (a session of 10 poses or fewer), or whose fit fails, is not
+//    tested either, and is listed as not testable with why.
 // 3. What the final model leaves, alpha/4, Holm: the chi-square of the fit against its
 //    degrees of freedom (the pose means scatter more than the noise model says), and the
-//    correlation of consecutive poses' residuals (slow wander). When flagged, the size of what
+//    correlation of consecutive poses' residuals, either sign (positive: a slow wander;
+//    negative: residuals that alternate from pose to pose). When flagged, the size of what
 //    remains: the per-pose offset wander omega_k that would account for the scatter (the
 //    log's unit and m/s^2). The chi-square's lower tail is tested too, at alpha/4 of its own,
 //    and reported as a note beside the verdict (the sigmas are conservative), not a verdict.
@@ -88,11 +91,14 @@ struct TriadFoundEffect {
   int step = 0;             // forward step that added it
 };
 
-// An effect static poses cannot determine, and what the rank check found absorbing it.
+// An effect discovery did not test, and why: one static poses cannot determine (with what
+// the rank check found absorbing it), or a candidate coefficient the poses left no degree of
+// freedom to test, or whose fit failed (confounded_with and rank_check empty then).
 struct TriadUntestable {
-  std::string effect;
+  std::string effect;           // the effect, or the candidate coefficient
   std::string confounded_with;  // the registration's statement
   std::string rank_check;       // what the fit with it said
+  std::string reason;           // why it is not tested, in words
 };
 
 struct TriadAmbiguity {

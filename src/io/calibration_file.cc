@@ -229,9 +229,35 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
                          {"noise_variance", noise},
                          {"fit", record.fit},
                          {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}};
+  json["poorly_determined"] = record.poorly_determined;
   AddProvenanceJson(record.source, &json);
   return json;
 }
+
+namespace {
+
+// The optional list of poorly determined parameters: absent (files written before it), null
+// (not assessed: a two-axis calibration), or a list of objects whose `parameter` names one of the
+// file's parameters.
+Status ReadPoorlyDetermined(const nlohmann::json& json, CalibrationRecord* parsed) {
+  if (!json.contains("poorly_determined") || json["poorly_determined"].is_null())
+    return Status::Ok();
+  const nlohmann::json& list = json["poorly_determined"];
+  if (!list.is_array())
+    return Status::Error("\"poorly_determined\" must be a list of {parameter, reason, ...}");
+  for (const nlohmann::json& entry : list) {
+    if (!entry.is_object() || !entry.contains("parameter") || !entry["parameter"].is_string() ||
+        parsed->IndexOf(entry["parameter"].get<std::string>()) < 0) {
+      return Status::Error(
+          "\"poorly_determined\" holds an entry that does not name a parameter of the file: " +
+          entry.dump());
+    }
+  }
+  parsed->poorly_determined = list;
+  return Status::Ok();
+}
+
+}  // namespace
 
 Status ParseCalibration(const std::string& text, const std::string& path,
                         CalibrationRecord* record) {
@@ -278,6 +304,7 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   }
   parsed.noise_variance_from = noise.value("from", "");
   parsed.fit = json.value("fit", nlohmann::json::object());
+  ACCELCAL_RETURN_IF_ERROR(in_file(ReadPoorlyDetermined(json, &parsed)));
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");
   parsed.written_by_command_line = json.value("command_line", "");

@@ -13,12 +13,14 @@
 //    "parameters": {"bias_x": 0.0767, ...}, "units": {"bias_x": "m/s^2", ...},
 //    "stddev": {...}, "covariance": [[...], ...]   (parameter_order's order),
 //    "noise_variance": {"x": 0.25, "y": 0.64, "unit": "(m/s^2)^2", "from": "datos.txt"},
-//    "fit": {...}, "created_utc": "...", and the provenance keys (io/provenance.h)}
+//    "fit": {...}, "poorly_determined": [...] or null, "created_utc": "...", and the
+//    provenance keys (io/provenance.h)}
 //
 // The reader refuses, in one line naming the file and the key, a file of another format or
 // a newer version, a parameter missing or unknown, a unit other than the model's, a
 // covariance that is not symmetric positive semi-definite with positive variances, and any
-// non-finite number: a calibration applied with a wrong unit or a broken covariance would
+// non-finite number, and a `poorly_determined` that is not a list of objects each naming a
+// parameter of the file: a calibration applied with a wrong unit or a broken covariance would
 // give confident wrong answers downstream.
 
 #include <Eigen/Core>
@@ -52,8 +54,13 @@ struct CalibrationRecord {
   std::vector<double> noise_variance;
   std::string noise_variance_from;
   nlohmann::json fit = nlohmann::json::object();  // samples, chi-square, verdict
-  std::string created_utc;                        // ISO 8601, set by the writer
-  DataSource source;  // the tilt test it was computed from (written, not read back)
+  // The parameters the data determine too loosely to vouch for (a triad's:
+  // estimation/triad_determination.h), each {parameter, reason, sigma, threshold,
+  // correlated_with, suggestion}; null when not assessed (a two-axis calibration, or a file
+  // written before the key existed, which the reader accepts), an empty array when none.
+  nlohmann::json poorly_determined = nullptr;
+  std::string created_utc;  // ISO 8601, set by the writer
+  DataSource source;        // the tilt test it was computed from (written, not read back)
   // Read back only: the writer's version and command line.
   std::string written_by_version;
   std::string written_by_command_line;

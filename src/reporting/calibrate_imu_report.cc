@@ -38,6 +38,46 @@ void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport*
   report->ml = std::move(session.ml);
   report->discovery_options = std::move(session.discovery_options);
   report->discovery = std::move(session.discovery);
+  report->poorly_determined =
+      PoorlyDeterminedTriadParameters(report->ml, TriadOutputUnitName(report->unit));
+}
+
+nlohmann::json PoorlyDeterminedJson(const std::vector<TriadPoorlyDetermined>& list) {
+  nlohmann::json json = nlohmann::json::array();
+  for (const TriadPoorlyDetermined& entry : list) {
+    nlohmann::json correlated = nlohmann::json::array();
+    for (const TriadCorrelatedParameter& other : entry.correlated_with)
+      correlated.push_back({{"parameter", other.parameter}, {"correlation", other.correlation}});
+    json.push_back({{"parameter", entry.parameter},
+                    {"reason", entry.reason},
+                    {"sigma", entry.sigma},
+                    {"threshold", entry.threshold},
+                    {"sigma_over_threshold", entry.sigma_over_threshold},
+                    {"correlated_with", correlated},
+                    {"suggestion", entry.suggestion}});
+  }
+  return json;
+}
+
+std::string PoorlyDeterminedTable(const CalibrateImuReport& report) {
+  const TriadDeterminationOptions thresholds;
+  if (report.poorly_determined.empty()) {
+    return StringPrintf(
+        "Poorly determined: none (every sigma within its threshold: angles %g rad, gains %g of "
+        "the gain, offsets %g x the axis's per-sample noise; no |correlation| > %g)\n",
+        thresholds.angle_sigma_rad, thresholds.gain_relative_sigma,
+        thresholds.offset_noise_fraction, thresholds.correlation);
+  }
+  std::string text = StringPrintf(
+      "Poorly determined (estimated and written, but these poses do not vouch for them; "
+      "--calibration_out names them too): %s\n",
+      PoorlyDeterminedNames(report.poorly_determined).c_str());
+  for (const TriadPoorlyDetermined& entry : report.poorly_determined) {
+    text += StringPrintf("  %s = %.6g +- %.3g: %s\n    would be determined by %s\n",
+                         entry.parameter.c_str(), report.ml.parameters[entry.index], entry.sigma,
+                         entry.reason.c_str(), entry.suggestion.c_str());
+  }
+  return text;
 }
 
 bool IsImuTkExample(const CalibrateImuReport& report) {
@@ -245,34 +285,6 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   return json;
 }
 
-std::string FitVerdict(const TriadMlResult& ml) {
-  const char* model = ml.mean_stddev_from_caller ? "Allan" : "white-noise";
-  const double lower_tail_p = ChiSquareCdf(ml.chi2, ml.degrees_of_freedom);
-  if (ml.p_value >= 0.01 && lower_tail_p < 0.01) {
-    return StringPrintf(
-        "the residuals scatter LESS than the %s model says: chi2/dof = %.3g (P(chi2_%d < chi2) = "
-        "%.3g < 0.01); nothing is missing from the model, but a pose mean's variance is "
-        "overstated, so the sigmas above are conservative, by a factor of about %.2g",
-        model, ml.chi2_per_dof, ml.degrees_of_freedom, lower_tail_p,
-        1.0 / std::sqrt(std::max(ml.chi2_per_dof, 1e-12)));
-  }
-  if (ml.p_value >= 0.01) {
-    return StringPrintf(
-        "the %s model explains the residuals (p = %.3g >= 0.01): the sigmas above are the "
-        "calibration's uncertainty",
-        model, ml.p_value);
-  }
-  return StringPrintf(
-      "the %s model does NOT explain the residuals: chi2/dof = %.3g is %.1f expected spreads "
-      "above 1 (p = %.3g). The pose means scatter more than %s allows (noise correlated in "
-      "time, drift, or a model error), so the sigmas above understate the uncertainty (by a "
-      "factor of about sqrt(chi2/dof) = %.2g if the excess scatter were white)",
-      model, ml.chi2_per_dof, (ml.chi2_per_dof - 1.0) / ml.chi2_per_dof_spread, ml.p_value,
-      ml.mean_stddev_from_caller ? "the Allan variance of the poses' samples"
-                                 : "white noise of the within-pose variance",
-      std::sqrt(ml.chi2_per_dof));
-}
-
 // The noise model of the pose means in one line.
 std::string NoiseModelLine(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
@@ -387,12 +399,8 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
                         1.0 / imu_tk[kTriadGainY], 1.0 / imu_tk[kTriadGainZ]);
   }
   out << "\n\n";
-  out << StringPrintf(
-      "Fit: chi2 = %.6g on %d degrees of freedom, chi2/dof = %.4g (expected 1 +- %.3g), "
-      "p = P(chi2_%d > %.6g) = %.3g\n",
-      ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
-      ml.degrees_of_freedom, ml.chi2, ml.p_value);
-  out << "Verdict: " << FitVerdict(ml) << ".\n\n";
+  out << PoorlyDeterminedTable(report) << "\n";
+  out << "Fit: " << FitDescription(ml, report.allan_noise, report.discovery) << ".\n\n";
   out << TriadDiscoveryTable(report.discovery, report.discovery_options) << "\n";
   out << (full_solver_report ? ml.solver.full_report : ml.solver.brief_report) << "\n";
   return out.str();
@@ -417,10 +425,18 @@ CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
       report.allan_noise ? "pooled within-pose variances per sample; the fit weighted the pose "
                            "means by the Allan variance of their samples (docs/noise.md)"
                          : "pooled within-pose variances";
-  record.fit = {
-      {"poses", ml.pose_count},       {"samples", report.ml_sample_count}, {"chi2", ml.chi2},
-      {"dof", ml.degrees_of_freedom}, {"chi2_p_value", ml.p_value},        {"alpha", 0.01},
-      {"verdict", FitVerdict(ml)}};
+  const TriadDiscoveryResult& discovery = report.discovery;
+  record.fit = {{"poses", ml.pose_count},
+                {"samples", report.ml_sample_count},
+                {"chi2", ml.chi2},
+                {"dof", ml.degrees_of_freedom},
+                {"chi2_p_value", ml.p_value},
+                {"noise_model", report.allan_noise ? "allan" : "white"},
+                {"description", FitDescription(ml, report.allan_noise, discovery)},
+                {"alpha", report.discovery_options.alpha},
+                {"verdict_code", VerdictCode(discovery.verdict_code)},
+                {"verdict", discovery.verdict}};
+  record.poorly_determined = PoorlyDeterminedJson(report.poorly_determined);
   record.source = source;
   return record;
 }
@@ -516,7 +532,8 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
        {std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
         std::sqrt(ml.noise_variance[2])}},
       {"unit", TriadOutputUnitName(report.unit)}};
-  json["fit_verdict"] = FitVerdict(ml);
+  json["fit_description"] = FitDescription(ml, report.allan_noise, report.discovery);
+  json["poorly_determined"] = PoorlyDeterminedJson(report.poorly_determined);
   nlohmann::json intervals = nlohmann::json::array();
   for (size_t pose = 0; pose < report.pose_intervals.size(); ++pose) {
     nlohmann::json item = IntervalJson(report.pose_intervals[pose]);
@@ -548,6 +565,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["solver"] = ml.solver.brief_report;
   json["discovery"] = TriadDiscoveryJson(report.discovery, report.discovery_options);
   json["verdict"] = VerdictCode(report.discovery.verdict_code);
+  json["verdict_text"] = report.discovery.verdict;
   return json;
 }
 

@@ -5,8 +5,9 @@
 // parameters with their units (beside imu_tk's printed values and the datasheet's when the
 // log is imu_tk's own Xsens example, recognised by its SHA-256), the static intervals. In ml mode:
 // the maximum-likelihood parameters ± sigma beside imu_tk's and their difference in sigma, the
-// covariance and the fit statistic. The text and the JSON come from the same numbers. Formatting
-// only.
+// covariance, the parameters the poses determine poorly, the fit statistic described and
+// discovery's verdict, the run's one verdict. The text and the JSON come from the same numbers.
+// Formatting only.
 
 #include <nlohmann/json.hpp>
 #include <string>
@@ -14,6 +15,7 @@
 #include "common/triad_log.h"
 #include "estimation/imu_tk_calibration.h"
 #include "estimation/noise_floor_detector.h"
+#include "estimation/triad_determination.h"
 #include "estimation/triad_discovery.h"
 #include "estimation/triad_ml_calibration.h"
 #include "estimation/triad_pose_noise.h"
@@ -56,6 +58,9 @@ struct CalibrateImuReport {
   // Mode ml: what the 9-parameter model misses (estimation/triad_discovery.h).
   TriadDiscoveryOptions discovery_options;
   TriadDiscoveryResult discovery;
+  // Mode ml: the parameters these poses determine too loosely to vouch for
+  // (estimation/triad_determination.h), filled by TakeSessionCalibration.
+  std::vector<TriadPoorlyDetermined> poorly_determined;
 };
 
 // Mode ml: one session's calibration (estimation/triad_session_calibration.h) into the fields
@@ -73,9 +78,12 @@ extern const char* const kImuTkPrinted[kTriadParameterCount];
 extern const char* const kDatasheet[kTriadParameterCount];
 bool IsImuTkExample(const CalibrateImuReport& report);
 
-// Mode ml: the poses' detector in one line, and the fit statistic's verdict in words.
+// Mode ml: the poses' detector in one line.
 std::string PosesLine(const CalibrateImuReport& report);
-std::string FitVerdict(const TriadMlResult& ml);
+// Mode ml: the poorly determined parameters, as the table lists them (a line "none" when
+// there are none), and as the JSON's and the calibration file's `poorly_determined` array.
+std::string PoorlyDeterminedTable(const CalibrateImuReport& report);
+nlohmann::json PoorlyDeterminedJson(const std::vector<TriadPoorlyDetermined>& list);
 
 std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report);
 // Mode ml's result as a calibration file's record (io/calibration_file.h, geometry triad).

@@ -1,10 +1,51 @@
 #include "reporting/triad_discovery_report.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "common/format.h"
 
 namespace accelcal {
+
+std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
+                           const TriadDiscoveryResult& discovery) {
+  std::string text = StringPrintf(
+      "chi2 = %.6g on %d degrees of freedom, chi2/dof = %.4g (expected 1 +- %.3g), p = "
+      "P(chi2_%d > chi2) = %.3g; the pose means weighted by %s; the sigmas are "
+      "ceres::Covariance's under that noise model, not scaled by chi2/dof",
+      ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
+      ml.degrees_of_freedom, ml.p_value,
+      allan_noise ? "the Allan variance of their samples"
+                  : "white noise of the within-pose variance");
+  const TriadMlResult& final_fit = discovery.final_fit;
+  if (allan_noise != discovery.coloured_noise) {
+    text += StringPrintf(
+        "; discovery weighted them by %s instead (its noise line), and the verdict is about that "
+        "noise model",
+        discovery.coloured_noise ? "the coloured (Allan) model" : "white noise");
+  } else if (discovery.noise_overstated.flagged) {
+    text += StringPrintf(
+        "; the pose means scatter less than that noise model says (noted with the verdict), so "
+        "the sigmas are conservative, by a factor of about %.2g",
+        1.0 / std::sqrt(std::max(final_fit.chi2_per_dof, 1e-12)));
+  } else if (discovery.verdict_code == Verdict::kUnexplained && !discovery.checks.empty() &&
+             discovery.checks[0].flagged) {
+    text += StringPrintf(
+        "; the verdict finds the pose means scatter more than it allows, so the sigmas "
+        "understate the uncertainty, by a factor of about sqrt(chi2/dof) = %.2g were the "
+        "excess scatter white",
+        std::sqrt(std::max(final_fit.chi2_per_dof, 0.0)));
+  } else if (!discovery.effects.empty()) {
+    text += "; they are the 9-parameter model's, without the effects the verdict names";
+  }
+  return text;
+}
+
+std::string VerdictLine(const TriadDiscoveryResult& discovery) {
+  return std::string("Verdict (") + VerdictCode(discovery.verdict_code) + "): " + discovery.verdict;
+}
+
 std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                                 const TriadDiscoveryOptions& options) {
   std::ostringstream out;
@@ -25,10 +66,8 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                         c.estimate, c.stddev, c.delta_chi2, c.p_value,
                         c.significant ? "significant" : "");
   }
-  for (const TriadUntestable& u : result.untestable) {
-    out << "  not testable from static poses: " << u.effect << ", confounded with "
-        << u.confounded_with << " (" << u.rank_check << ")\n";
-  }
+  for (const TriadUntestable& u : result.untestable)
+    out << "  " << u.effect << ": " << u.reason << "\n";
   if (result.effects.empty()) {
     out << "  found: none\n";
   } else {
@@ -65,7 +104,7 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
         "%.3g baseline, %.3g final model (1 for a right model)\n",
         cv.folds, cv.poses, cv.baseline, cv.final_model);
   }
-  out << "Verdict (" << VerdictCode(result.verdict_code) << "): " << result.verdict << "\n";
+  out << VerdictLine(result) << "\n";
   return out.str();
 }
 
@@ -106,7 +145,8 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   for (const TriadUntestable& u : result.untestable) {
     untestable.push_back({{"effect", u.effect},
                           {"confounded_with", u.confounded_with},
-                          {"rank_check", u.rank_check}});
+                          {"rank_check", u.rank_check},
+                          {"reason", u.reason}});
   }
   json["untestable"] = untestable;
   json["final"] = {{"chi2", result.final_fit.chi2},

@@ -11,6 +11,20 @@
 
 namespace accelcal {
 
+// The fit of the calibration (the parameters' sigmas) described, never judged: chi2, dof, p,
+// chi2/dof, the noise model that weighted the pose means (allan_noise: the Allan variance of
+// their samples, else white), that the sigmas are not scaled, and what the one verdict,
+// discovery's, implies for them (conservative when the chi-square's lower tail is noted;
+// understated by about sqrt(chi2/dof) when the verdict finds excess scatter; discovery's
+// noise model when it differs from the fit's). It cannot contradict the verdict: it states
+// none.
+std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
+                           const TriadDiscoveryResult& discovery);
+
+// The one verdict of a run, "Verdict (code): sentence", as the table, the HTML report and the
+// calibration file give it.
+std::string VerdictLine(const TriadDiscoveryResult& discovery);
+
 std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                                 const TriadDiscoveryOptions& options);
 nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,

@@ -16,6 +16,7 @@
 #include "io/json_file.h"
 #include "models/triad.h"
 #include "reporting/report_document.h"
+#include "reporting/triad_discovery_report.h"
 
 namespace accelcal {
 namespace {
@@ -157,12 +158,14 @@ ReportSection ResidualSection(const CalibrateImuReport& report) {
     for (double value : r) outside += std::fabs(value) > kResidualBand ? 1 : 0;
   const int count = 3 * static_cast<int>(ml.whitened_residuals.size());
   section.paragraphs.push_back(StringPrintf(
-      "Each pose's mean minus the model's prediction, divided by its standard deviation (the "
-      "pooled per-axis noise over the square root of the pose's sample count). Each pose's "
-      "fitted gravity direction absorbs two of its three residuals' freedom, so under white "
-      "noise the squares sum to about the %d degrees of freedom and a value beyond +-%g is "
-      "rarer still than for a unit normal. Here %d of the %d values lie outside +-%g, and the "
-      "squares sum to %.4g.",
+      "Each pose's mean minus the model's prediction, divided by its standard deviation under "
+      "the noise model that weighted the fit (%s). Each pose's fitted gravity direction absorbs "
+      "two of its three residuals' freedom, so when that noise model holds the squares sum to "
+      "about the %d degrees of freedom and a value beyond +-%g is rarer still than for a unit "
+      "normal. Here %d of the %d values lie outside +-%g, and the squares sum to %.4g.",
+      report.allan_noise ? "the Allan variance of the pose's samples at its duration"
+                         : "white noise: the pooled per-axis noise over the square root of the "
+                           "pose's sample count",
       ml.degrees_of_freedom, kResidualBand, outside, count, kResidualBand, ml.chi2));
   section.table.push_back({"pose", "r x", "r y", "r z", "|r|^2"});
   for (size_t p = 0; p < ml.whitened_residuals.size(); ++p) {
@@ -187,7 +190,8 @@ ReportSection ParameterSection(const CalibrateImuReport& report) {
   section.title = "3. The parameters";
   section.paragraphs.push_back(
       "Model a = T K (u - b) (docs/triad.md): T the non-orthogonality angles, K the gains, b "
-      "the offsets; sigma from ceres::Covariance, true only as far as the fit below holds.");
+      "the offsets; sigma from ceres::Covariance, true only as far as the verdict finds the "
+      "model and its noise model right (section 4).");
   if (with_imu_tk) {
     section.paragraphs.push_back(StringPrintf(
         "imu_tk: its own rules on this log (threshold k = %d of its sweep), beside the maximum "
@@ -237,6 +241,9 @@ ReportSection ParameterSection(const CalibrateImuReport& report) {
     }
     section.paragraphs.push_back(line + ".");
   }
+  std::string poorly = PoorlyDeterminedTable(report);
+  while (!poorly.empty() && poorly.back() == '\n') poorly.pop_back();
+  section.paragraphs.push_back(poorly);
   return section;
 }
 
@@ -244,13 +251,12 @@ ReportSection FitSection(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
   ReportSection section;
   section.title = "4. The fit";
-  section.paragraphs.push_back(StringPrintf(
-      "chi2 = %.6g on %d degrees of freedom (3 residuals per pose, less 9 parameters and 2 "
-      "direction angles per pose): chi2/dof = %.4g, expected 1 +- %.3g; p = P(chi2_%d > %.6g) "
-      "= %.3g.",
-      ml.chi2, ml.degrees_of_freedom, ml.chi2_per_dof, ml.chi2_per_dof_spread,
-      ml.degrees_of_freedom, ml.chi2, ml.p_value));
-  section.paragraphs.push_back(Sentence(FitVerdict(ml)) + ".");
+  section.paragraphs.push_back(
+      StringPrintf("%d degrees of freedom: 3 residuals per pose, less 9 parameters and 2 "
+                   "direction angles per pose.",
+                   ml.degrees_of_freedom));
+  section.paragraphs.push_back(Sentence(FitDescription(ml, report.allan_noise, report.discovery)) +
+                               ".");
   section.figure = kNormFigure;
   section.figure_caption = StringPrintf(
       "The norm of the specific force corrected by this calibration over the log, with g = "
@@ -275,11 +281,8 @@ ReportSection DiscoverySection(const CalibrateImuReport& report) {
                              StringPrintf("%.3g", c.stddev), StringPrintf("%.3g", c.delta_chi2),
                              StringPrintf("%.3g", c.p_value), c.significant ? "significant" : "-"});
   }
-  for (const TriadUntestable& u : d.untestable) {
-    section.paragraphs.push_back("Not testable from static poses: " + u.effect +
-                                 ", confounded with " + u.confounded_with + " (" + u.rank_check +
-                                 ").");
-  }
+  for (const TriadUntestable& u : d.untestable)
+    section.paragraphs.push_back(u.effect + ": " + u.reason + ".");
   section.paragraphs.push_back(
       StringPrintf("Final model: chi2/dof = %.3g on %d dof (expected 1 +- %.2g), p = %.3g.",
                    d.final_fit.chi2_per_dof, d.final_fit.degrees_of_freedom,
@@ -290,8 +293,7 @@ ReportSection DiscoverySection(const CalibrateImuReport& report) {
         "baseline, %.3g for the final model (1 for a right model).",
         d.cross_validation.folds, d.cross_validation.baseline, d.cross_validation.final_model));
   }
-  section.paragraphs.push_back("Verdict (" + std::string(VerdictCode(d.verdict_code)) +
-                               "): " + d.verdict + ".");
+  section.paragraphs.push_back(VerdictLine(d) + ".");
   return section;
 }
 
@@ -307,7 +309,11 @@ ReportDocument Document(const CalibrateImuReport& report, const DataSource& sour
                                      ml.chi2_per_dof, ml.degrees_of_freedom, ml.p_value));
   if (!report.imu_tk_status.ok())
     doc.summary.push_back("imu_tk's rules give no answer on this log.");
-  doc.verdict = Sentence(FitVerdict(ml)) + ". Discovery: " + report.discovery.verdict + ".";
+  doc.verdict = VerdictLine(report.discovery) + ".";
+  if (!report.poorly_determined.empty()) {
+    doc.summary.push_back("Poorly determined by these poses: " +
+                          PoorlyDeterminedNames(report.poorly_determined) + " (section 3).");
+  }
   doc.sections.push_back(PosesSection(report));
   doc.sections.push_back(ResidualSection(report));
   doc.sections.push_back(ParameterSection(report));

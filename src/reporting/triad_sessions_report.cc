@@ -5,6 +5,7 @@
 
 #include "common/format.h"
 #include "models/triad.h"
+#include "reporting/triad_discovery_report.h"
 
 namespace accelcal {
 namespace {
@@ -48,13 +49,10 @@ std::string TriadSessionsTable(const TriadSessionsReport& report) {
   for (int s = 0; s < session_count; ++s) {
     const TriadSessionCalibration& calibration = report.sessions[s].calibration;
     const TriadMlResult& ml = calibration.ml;
-    out << StringPrintf(
-        "session %d: %s: %d poses (noise-floor detector), %s noise, chi2/dof = %.3g (expected 1 "
-        "+- %.2g), p = %.3g\n  discovery (%s): %s\n",
-        s + 1, report.sessions[s].path.c_str(), ml.pose_count,
-        calibration.allan_noise ? "Allan" : "white", ml.chi2_per_dof, ml.chi2_per_dof_spread,
-        ml.p_value, VerdictCode(calibration.discovery.verdict_code),
-        calibration.discovery.verdict.c_str());
+    out << StringPrintf("session %d: %s: %d poses (noise-floor detector)\n  fit: %s\n  %s\n", s + 1,
+                        report.sessions[s].path.c_str(), ml.pose_count,
+                        FitDescription(ml, calibration.allan_noise, calibration.discovery).c_str(),
+                        VerdictLine(calibration.discovery).c_str());
   }
   out << "\nPer session: estimate (within-session sigma), each session calibrated on its own\n";
   out << StringPrintf("  %-16s %-14s", "parameter", "unit");
@@ -128,6 +126,8 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
                         {"noise_model", session.calibration.allan_noise ? "allan" : "white"},
                         {"verdict", VerdictCode(session.calibration.discovery.verdict_code)},
                         {"verdict_text", session.calibration.discovery.verdict},
+                        {"fit_description", FitDescription(ml, session.calibration.allan_noise,
+                                                           session.calibration.discovery)},
                         {"p_value", ml.p_value}});
   }
   json["sessions"] = sessions;

@@ -35,6 +35,17 @@ std::vector<std::array<double, 3>> SixPoseDirections() {
   return {{{1, 0, 0}}, {{-1, 0, 0}}, {{0, 1, 0}}, {{0, -1, 0}}, {{0, 0, 1}}, {{0, 0, -1}}};
 }
 
+std::vector<std::array<double, 3>> SixPosesAndTiltsAwayFromXy(double leak) {
+  const double h = std::sqrt(0.5);
+  std::vector<std::array<double, 3>> directions = SixPoseDirections();
+  for (const std::array<double, 3>& tilt : std::vector<std::array<double, 3>>{
+           {{h, leak, h}}, {{-h, 0.0, h}}, {{leak, h, h}}, {{0.0, -h, h}}}) {
+    const double norm = std::sqrt(tilt[0] * tilt[0] + tilt[1] * tilt[1] + tilt[2] * tilt[2]);
+    directions.push_back({{tilt[0] / norm, tilt[1] / norm, tilt[2] / norm}});
+  }
+  return directions;
+}
+
 std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& options,
                                               const std::vector<std::array<double, 3>>& directions,
                                               RandomSource* random) {

@@ -44,6 +44,11 @@ std::vector<std::array<double, 3>> PlanarPoseDirections(int count, int axis);
 // The six directions +x, -x, +y, -y, +z, -z: each axis up and down once (imucal's six holds).
 std::vector<std::array<double, 3>> SixPoseDirections();
 
+// SixPoseDirections and four 45-degree tilts, two in the x-z plane and two in the y-z plane,
+// each leaning `leak` towards the x-y plane before normalising (|n_x n_y| <= about leak / 1.4):
+// ten poses that see misalignment_yz, which couples x and y, only through `leak`.
+std::vector<std::array<double, 3>> SixPosesAndTiltsAwayFromXy(double leak);
+
 // One pose per direction (unit vectors), with its samples' mean and sample variance.
 std::vector<TriadPoseMean> SimulateTriadPoses(const TriadSimulationOptions& options,
                                               const std::vector<std::array<double, 3>>& directions,
