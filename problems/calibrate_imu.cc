@@ -61,7 +61,7 @@ DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in 
 DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
-DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/noise_floor_detector.h); imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
+DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/noise_floor_detector.h); when it finds too few poses, imu_tk's intervals are used if its rules give them (said so in the output). imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
 DEFINE_double(threshold_factor, 10.0, "Detector noise_floor: a window is still when its variance is below this times the noise floor's on every axis (white noise crosses 10 with probability 2e-148 at 101 samples; motion reaches 100 to 100000).");
 DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals shorter than this (s) are listed apart and not used.");
 DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (header part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z; raw counts; the six holds and three turns labelled in part), docs/imucal.md.");
@@ -281,6 +281,19 @@ Status SolveImuTk(const TriadLog& log, CalibrateImuReport* report) {
   return Status::Ok();
 }
 
+std::string WithoutPrefix(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : text;
+}
+
+// The intervals imu_tk's calibration used at its chosen k.
+std::vector<StaticInterval> UsedImuTkIntervals(const ImuTkResult& result) {
+  std::vector<StaticInterval> used;
+  for (size_t i = 0; i < result.intervals.size(); ++i) {
+    if (result.interval_used[i]) used.push_back(result.intervals[i]);
+  }
+  return used;
+}
+
 // Mode ml: imu_tk's answer beside the one session's calibration
 // (estimation/triad_session_calibration.h) on the poses of the chosen detector.
 Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
@@ -290,17 +303,23 @@ Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
   TriadSessionCalibration session;
   if (FLAGS_detector == "imu_tk") {
     ACCELCAL_RETURN_IF_ERROR(report->imu_tk_status);
-    const ImuTkResult& result = report->result;
-    std::vector<StaticInterval> used;
-    for (size_t i = 0; i < result.intervals.size(); ++i) {
-      if (result.interval_used[i]) used.push_back(result.intervals[i]);
-    }
     ACCELCAL_RETURN_IF_ERROR(
-        CalibrateTriadSessionOnIntervals(log, used, options, &session).WithContext(FLAGS_log));
+        CalibrateTriadSessionOnIntervals(log, UsedImuTkIntervals(report->result), options, &session)
+            .WithContext(FLAGS_log));
   } else {
-    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode.
+    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode; a
+    // refusal of the noise floor's falls back on imu_tk's intervals when its rules gave them.
     report->noise_floor_options = options.detector;
-    ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(log, options, &session).WithContext(FLAGS_log));
+    const std::vector<StaticInterval> imu_tk_intervals =
+        report->imu_tk_status.ok() ? UsedImuTkIntervals(report->result)
+                                   : std::vector<StaticInterval>();
+    ACCELCAL_RETURN_IF_ERROR(
+        CalibrateTriadSessionWithFallback(
+            log, options, report->imu_tk_status.ok() ? &imu_tk_intervals : nullptr,
+            WithoutPrefix(report->imu_tk_status.message(), FLAGS_log + ": "), &session,
+            &report->detector_fallback_reason)
+            .WithContext(FLAGS_log));
+    if (!report->detector_fallback_reason.empty()) report->detector = "imu_tk";
   }
   TakeSessionCalibration(std::move(session), report);
   return Status::Ok();

@@ -7,12 +7,18 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "estimation/imu_tk_calibration.h"
+#include "estimation/noise_floor_detector.h"
 #include "io/imu_log.h"
 #include "models/triad_units.h"
+#include "simulation/random.h"
+#include "simulation/triad_log_simulator.h"
+#include "simulation/triad_simulator.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -149,6 +155,63 @@ TEST(TriadUnits, TellsALogInAnotherUnitFromAGainThePosesDidNotDetermine) {
   EXPECT_NE(status.message().find("do not determine the gains"), std::string::npos)
       << status.message();
   EXPECT_EQ(status.message().find("converted"), std::string::npos) << status.message();
+}
+
+
+// A session whose poses are 40 times noisier than others (the unit set down on a running
+// machine between hand-held poses, and for its initial rest): the noise floor's detector, which
+// takes poses within 16 times the quietest one's noise, finds too few; imu_tk's, scaled from the
+// noisy rest, finds them all. The default then stands on imu_tk's intervals and says so, and
+// the calibration recovers the truth; with no fallback the refusal gives both detectors' words.
+TEST(TriadSessionCalibration, FallsBackOnImuTksIntervalsWhenTheNoiseFloorRefuses) {
+  TriadLogSimulationOptions simulation;
+  simulation.truth = TriadParametersWithOffset(33124.2, 33275.2, 32364.4);
+  simulation.truth[kTriadMisalignmentYz] = 0.0033593;
+  simulation.truth[kTriadGainX] = 1.0 / 414.459;
+  simulation.truth[kTriadGainY] = 1.0 / 412.01;
+  simulation.truth[kTriadGainZ] = 1.0 / 414.649;
+  simulation.gravity_mps2 = 9.81744;
+  RandomSource random(2026);
+  std::vector<TriadHold> holds = {{{0.0, 0.0, 1.0}, 52.0, 40.0}};
+  while (holds.size() < 24) {
+    const std::array<double, 3> d = RandomPoseDirections(1, &random).front();
+    const std::array<double, 3>& last = holds.back().direction;
+    if (d[0] * last[0] + d[1] * last[1] + d[2] * last[2] > std::cos(40.0 * M_PI / 180.0)) continue;
+    holds.push_back({d, 4.0, holds.size() % 3 == 0 ? 1.0 : 40.0});
+  }
+  const TriadLog log = SimulateTriadSession(simulation, holds, &random).log;
+  TriadSessionOptions options = XsensOptions();
+  NoiseFloorDetection detection;
+  ASSERT_FALSE(DetectStaticIntervalsFromNoiseFloor(log, options.detector, &detection).ok())
+      << "the noise floor's detector must refuse this session for the test to mean anything";
+  const std::vector<StaticInterval> imu_tk = ImuTkIntervals(log);
+  ASSERT_GE(imu_tk.size(), 20u);
+
+  TriadSessionCalibration calibration;
+  std::string fallback_reason;
+  const Status status = CalibrateTriadSessionWithFallback(log, options, &imu_tk, "", &calibration,
+                                                          &fallback_reason);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_FALSE(fallback_reason.empty());
+  EXPECT_EQ(calibration.ml.pose_count, static_cast<int>(imu_tk.size()));
+  for (int p : {kTriadGainX, kTriadGainY, kTriadGainZ, kTriadOffsetX, kTriadOffsetY, kTriadOffsetZ,
+                kTriadMisalignmentYz}) {
+    EXPECT_LT(std::abs(calibration.ml.parameters[p] - simulation.truth[p]),
+              4.0 * calibration.ml.stddev[p])
+        << TriadParameterInfos()[p].name;
+  }
+
+  const Status refused = CalibrateTriadSessionWithFallback(
+      log, options, nullptr, "the sensor moves from t = 1.5 s", &calibration, &fallback_reason);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("no static detector finds the poses. The noise floor's "
+                                   "(--threshold_factor, --min_interval_s): "),
+            std::string::npos)
+      << refused.message();
+  EXPECT_NE(refused.message().find("imu_tk's, the fallback (--init_rest_s, --window, "
+                                   "--min_intervals): the sensor moves from t = 1.5 s"),
+            std::string::npos)
+      << refused.message();
 }
 
 }  // namespace

@@ -58,6 +58,30 @@ Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& opt
   return CalibrateOnPoses(log, calibration->detection.intervals, options, calibration);
 }
 
+Status CalibrateTriadSessionWithFallback(const TriadLog& log, const TriadSessionOptions& options,
+                                         const std::vector<StaticInterval>* fallback_intervals,
+                                         const std::string& fallback_refusal,
+                                         TriadSessionCalibration* calibration,
+                                         std::string* fallback_reason) {
+  fallback_reason->clear();
+  double offset = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(TriadStartOffset(log, options.unit, options.offset, &offset));
+  const Status detected =
+      DetectStaticIntervalsFromNoiseFloor(log, options.detector, &calibration->detection);
+  if (detected.ok()) {
+    return CalibrateOnPoses(log, calibration->detection.intervals, options, calibration);
+  }
+  if (fallback_intervals == nullptr) {
+    return Status::Error(
+        "no static detector finds the poses. The noise floor's (--threshold_factor, "
+        "--min_interval_s): " +
+        detected.message() + ". imu_tk's, the fallback (--init_rest_s, --window, --min_intervals): " +
+        fallback_refusal);
+  }
+  *fallback_reason = detected.message();
+  return CalibrateOnPoses(log, *fallback_intervals, options, calibration);
+}
+
 Status CalibrateTriadSessionOnIntervals(const TriadLog& log,
                                         const std::vector<StaticInterval>& intervals,
                                         const TriadSessionOptions& options,

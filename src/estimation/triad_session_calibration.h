@@ -81,6 +81,18 @@ struct TriadSessionCalibration {
 Status CalibrateTriadSession(const TriadLog& log, const TriadSessionOptions& options,
                              TriadSessionCalibration* calibration);
 
+// The default detector with its fallback: the noise floor's poses, or, when that detector
+// refuses and another detector's intervals are at hand (`fallback_intervals`: imu_tk's at its
+// chosen k, or null when its rules gave none), those, with the noise floor's refusal in
+// `*fallback_reason` (empty when not used). A session refused only when neither finds enough
+// poses: the message gives both refusals, with the flags that set each detector
+// (`fallback_refusal`: why the other gave none).
+Status CalibrateTriadSessionWithFallback(const TriadLog& log, const TriadSessionOptions& options,
+                                         const std::vector<StaticInterval>* fallback_intervals,
+                                         const std::string& fallback_refusal,
+                                         TriadSessionCalibration* calibration,
+                                         std::string* fallback_reason);
+
 // The same sequence on the poses of `intervals`, found by the caller's detector (options.detector
 // is not used; calibration->detection stays empty).
 Status CalibrateTriadSessionOnIntervals(const TriadLog& log,

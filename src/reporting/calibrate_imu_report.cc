@@ -315,10 +315,15 @@ std::string PosesLine(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
   if (report.detector == "imu_tk") {
     return StringPrintf(
-        "poses: the %d static intervals of at least %d samples that imu_tk's detector finds at "
-        "its chosen k = %d; each pose is the mean of ALL its samples (%d in all)\n",
-        ml.pose_count, report.options.interval_samples, report.result.best().multiplier,
-        report.ml_sample_count);
+               "poses: the %d static intervals of at least %d samples that imu_tk's detector "
+               "finds at its chosen k = %d; each pose is the mean of ALL its samples (%d in all)\n",
+               ml.pose_count, report.options.interval_samples, report.result.best().multiplier,
+               report.ml_sample_count) +
+           (report.detector_fallback_reason.empty()
+                ? ""
+                : "  (imu_tk's detector stood in for the default, the noise floor's, which "
+                  "refused: " +
+                      report.detector_fallback_reason + ")\n");
   }
   const NoiseFloorDetection& d = report.noise_floor;
   return StringPrintf(
@@ -444,6 +449,9 @@ CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
 nlohmann::json DetectorJson(const CalibrateImuReport& report) {
   if (report.detector == "imu_tk") {
     return {{"name", "imu_tk"},
+            {"fallback_from_noise_floor", report.detector_fallback_reason.empty()
+                                              ? nlohmann::json(nullptr)
+                                              : nlohmann::json(report.detector_fallback_reason)},
             {"chosen_k", report.result.best().multiplier},
             {"window_samples", report.options.window_samples},
             {"interval_samples", report.options.interval_samples}};

@@ -45,6 +45,8 @@ struct CalibrateImuReport {
   // Mode ml: the poses of the detector ("noise_floor" or "imu_tk"), the maximum-likelihood
   // fit, and imu_tk's result beside it when its rules gave one (imu_tk_status says why not).
   std::string detector = "noise_floor";
+  // Set when the noise floor's detector refused (its message) and imu_tk's intervals stood in.
+  std::string detector_fallback_reason;
   NoiseFloorOptions noise_floor_options;
   NoiseFloorDetection noise_floor;
   std::vector<StaticInterval> pose_intervals;  // one per pose of the fit
