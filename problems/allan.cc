@@ -4,7 +4,7 @@
 // Per axis, the overlapping Allan variance sigma^2(tau) of the static segments at octave cluster
 // times with chi-square intervals, and the fit
 //   sigma^2(tau) = N^2 / tau + (2 ln 2 / pi) B^2 + K^2 tau / 3
-// (white noise N, bias instability B, random walk K; estimation/allan_variance.h) with sigmas
+// (white noise N, bias instability B, random walk K; estimation/statistics/allan_variance.h) with sigmas
 // from a parametric bootstrap (studies/allan_study.h). With the log's poses known, the variance
 // of each pose mean from the model over white noise's, the chi2/dof that a calibration
 // weighted by white noise should expect.
@@ -22,8 +22,8 @@
 #include <sstream>
 
 #include "common/format.h"
-#include "estimation/allan_variance.h"
-#include "estimation/noise_floor_detector.h"
+#include "estimation/statistics/allan_variance.h"
+#include "estimation/triad/noise_floor_detector.h"
 #include "io/cleanup.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"

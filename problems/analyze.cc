@@ -14,9 +14,9 @@
 
 #include <iostream>
 
-#include "estimation/ceres_linear_ls.h"
-#include "estimation/error_budget.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
+#include "estimation/tilt_table/error_budget.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/atomic_file.h"
 #include "problem_support.h"
 #include "reporting/analyze_report.h"

@@ -1,5 +1,5 @@
 // apply: a calibration file applied to a new log, written as corrected accelerations with the
-// calibration's uncertainty of each (estimation/calibration_correction.h). The calibration's
+// calibration's uncertainty of each (estimation/tilt_table/calibration_correction.h). The calibration's
 // geometry decides the log's layout:
 //
 //   two_axis (calibrate's): a CSV with the header t,ax,ay (s, m/s^2) or a .mat with t and
@@ -20,7 +20,7 @@
 #include <iostream>
 #include <vector>
 
-#include "estimation/calibration_correction.h"
+#include "estimation/tilt_table/calibration_correction.h"
 #include "io/calibration_file.h"
 #include "io/course_data.h"
 #include "io/imu_log.h"

@@ -18,7 +18,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/calibration_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"

@@ -6,15 +6,15 @@
 // that of an initial rest, for k = 2..10; for each k the 9 parameters of
 //   a = T K (u - b)     (docs/triad.md: 3 non-orthogonality angles, 3 gains, 3 biases)
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
-// least 100; the k with the lowest final cost is kept (estimation/imu_tk_calibration.h).
-// Mode ml: the maximum-likelihood problem (estimation/triad_ml_calibration.h) on the poses of
+// least 100; the k with the lowest final cost is kept (estimation/triad/imu_tk_calibration.h).
+// Mode ml: the maximum-likelihood problem (estimation/triad/triad_ml_calibration.h) on the poses of
 // --detector (the log's noise floor, or imu_tk's intervals at its chosen k): each pose's mean u_p
 // against b + K^-1 T^-1 g n_p with an unknown unit direction n_p per pose, whitened by the noise
 // model of the pose means (--noise: white, s_k^2 / N_p, or the poses' Allan variance),
 //   min 1/2 sum_p |(ubar_p - u_p) / sigma_p|^2,
 // started from the poses' own spread; every parameter +- sigma (ceres::Covariance), the
 // chi-square fit statistic on P - 9 degrees of freedom, discovery, and the differences from
-// imu_tk in sigma. The sequence is estimation/triad_session_calibration.h's, which the
+// imu_tk in sigma. The sequence is estimation/triad/triad_session_calibration.h's, which the
 // sessions path (--log=S1,S2,..., calibrate_imu_sessions.cc) runs on every session.
 //
 // Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
@@ -33,9 +33,9 @@
 #include <iostream>
 #include <map>
 
-#include "estimation/imu_tk_calibration.h"
-#include "estimation/triad_pose_noise.h"
-#include "estimation/triad_session_calibration.h"
+#include "estimation/triad/imu_tk_calibration.h"
+#include "estimation/triad/triad_pose_noise.h"
+#include "estimation/triad/triad_session_calibration.h"
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
@@ -61,7 +61,7 @@ DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in 
 DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
-DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/noise_floor_detector.h); when it finds too few poses, imu_tk's intervals are used if its rules give them (said so in the output). imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
+DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/triad/noise_floor_detector.h); when it finds too few poses, imu_tk's intervals are used if its rules give them (said so in the output). imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
 DEFINE_double(threshold_factor, 10.0, "Detector noise_floor: a window is still when its variance is below this times the noise floor's on every axis (white noise crosses 10 with probability 2e-148 at 101 samples; motion reaches 100 to 100000).");
 DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals shorter than this (s) are listed apart and not used.");
 DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (header part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z; raw counts; the six holds and three turns labelled in part), docs/imucal.md.");
@@ -295,7 +295,7 @@ std::vector<StaticInterval> UsedImuTkIntervals(const ImuTkResult& result) {
 }
 
 // Mode ml: imu_tk's answer beside the one session's calibration
-// (estimation/triad_session_calibration.h) on the poses of the chosen detector.
+// (estimation/triad/triad_session_calibration.h) on the poses of the chosen detector.
 Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
                CalibrateImuReport* report) {
   report->detector = FLAGS_detector;

@@ -1,7 +1,7 @@
 // calibrate_imu --log=S1,S2,... --mode=ml: several sessions of ONE device, each calibrated on
-// its own by the single-session ml mode's sequence (estimation/triad_session_calibration.h:
+// its own by the single-session ml mode's sequence (estimation/triad/triad_session_calibration.h:
 // noise-floor detector, maximum likelihood with ceres::Covariance), then combined per parameter
-// by a random-effects model (estimation/triad_sessions.h): the device's common value, the
+// by a random-effects model (estimation/triad/triad_sessions.h): the device's common value, the
 // within-session sigma (`stddev`), the between-session sigma (tau) with its interval, and the
 // sigma a NEW session's estimate scatters by about the common value (`stddev_new_session`), with
 // the Student t multiplier its 95% interval needs with so few sessions. docs/repeatability.md.
@@ -17,8 +17,8 @@
 #include <set>
 #include <sstream>
 
-#include "estimation/triad_session_calibration.h"
-#include "estimation/triad_sessions.h"
+#include "estimation/triad/triad_session_calibration.h"
+#include "estimation/triad/triad_sessions.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"

@@ -14,7 +14,7 @@
 
 #include <iostream>
 
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"

@@ -14,8 +14,8 @@
 #include <cmath>
 #include <iostream>
 
-#include "estimation/joint_estimator.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "io/json_file.h"

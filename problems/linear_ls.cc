@@ -18,7 +18,7 @@
 //
 //   build/bin/linear_ls --data_dir=../shared/data/tp2-2018 --json=linear_ls.json
 
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 
 #include <gflags/gflags.h>
 
@@ -26,7 +26,7 @@
 #include <limits>
 #include <optional>
 
-#include "estimation/ceres_linear_ls.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
 #include "io/calibration_stream.h"
 #include "io/course_data.h"
 #include "io/json_file.h"

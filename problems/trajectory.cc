@@ -14,16 +14,16 @@
 //
 //   build/bin/trajectory --data_dir=../shared/data/tp2-2018 --json=t.json --path_csv=path.csv
 
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/trajectory.h"
 
 #include <gflags/gflags.h>
 
 #include <cmath>
 #include <iostream>
 
-#include "estimation/error_budget.h"
-#include "estimation/landmark_decision.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/error_budget.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/atomic_file.h"
 #include "io/calibration_file.h"
 #include "io/course_data.h"

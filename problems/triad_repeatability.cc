@@ -1,7 +1,7 @@
 // triad_repeatability: how much do an array's triads move between sessions, and does the
 // new-session sigma cover a session it has not seen? Every device of every session is
 // calibrated on its own (the single-session `calibrate_imu --mode=ml`), then per parameter:
-// each device's between-session sigma tau (random effects, estimation/triad_sessions.h), the
+// each device's between-session sigma tau (random effects, estimation/triad/triad_sessions.h), the
 // array's two-way split into a shift common to all devices and each device's own, and a
 // leave-one-session-out check of three ways to predict a session (device, pooled, array;
 // studies/triad_repeatability.h), with coverage per parameter kind. Then (--trials > 0) the
@@ -21,7 +21,7 @@
 #include <filesystem>
 #include <iostream>
 
-#include "estimation/triad_sessions.h"
+#include "estimation/triad/triad_sessions.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"

@@ -1,7 +1,7 @@
 // The Allan variance, its intervals and its noise fit against simulated noise of known terms
 // (simulation/noise_process.h), Monte Carlo.
 
-#include "estimation/allan_variance.h"
+#include "estimation/statistics/allan_variance.h"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // The calibration file (io/calibration_file.h): written and read back unchanged, refused in
 // one line when it does not say what it claims; and the correction apply makes with it
-// (estimation/calibration_correction.h): the inverse of the model, with a sigma that matches
+// (estimation/tilt_table/calibration_correction.h): the inverse of the model, with a sigma that matches
 // the spread of corrections made with calibrations from independent tilt tests.
 
 #include "io/calibration_file.h"
@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <string>
 
-#include "estimation/calibration_correction.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/calibration_correction.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "models/effects.h"
 #include "simulation/simulator.h"
 #include "test_support.h"

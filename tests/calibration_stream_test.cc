@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "common/format.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/course_csv.h"
 #include "io/course_data.h"
 #include "io/csv_reader.h"

@@ -7,11 +7,11 @@
 
 #include <cmath>
 
-#include "estimation/ceres_linear_ls.h"
-#include "estimation/error_budget.h"
-#include "estimation/landmark_decision.h"
-#include "estimation/linear_ls.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
+#include "estimation/tilt_table/error_budget.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "io/course_csv.h"
 #include "io/run_conditions.h"
 #include "models/tilt_table.h"

@@ -2,7 +2,7 @@
 // 3 sigma of the truth; pairs are both found; a wrong stated noise is reported as noise
 // only; and null data give a false-discovery rate within alpha plus its Monte Carlo error.
 
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 
 #include <gtest/gtest.h>
 
@@ -11,9 +11,9 @@
 #include <cstdio>
 #include <map>
 
-#include "estimation/joint_estimator.h"
-#include "estimation/linear_ls.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "io/course_data.h"
 #include "io/run_conditions.h"
 #include "io/scenario_json.h"

@@ -2,7 +2,7 @@
 // between imucal's and accelcal's conventions, and the least-squares counterpart with sigma:
 // what six holds determine, and Monte Carlo agreement of the sigma where the model holds.
 
-#include "estimation/ferraris_calibration.h"
+#include "estimation/triad/ferraris_calibration.h"
 
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
@@ -14,7 +14,7 @@
 #include <string>
 
 #include "common/ferraris_session.h"
-#include "estimation/ferraris_least_squares.h"
+#include "estimation/triad/ferraris_least_squares.h"
 #include "io/imucal_session.h"
 #include "models/imucal_convention.h"
 #include "models/triad.h"

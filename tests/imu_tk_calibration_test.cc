@@ -1,7 +1,7 @@
-// imu_tk's accelerometer calibration (estimation/imu_tk_calibration.h) against what imu_tk
+// imu_tk's accelerometer calibration (estimation/triad/imu_tk_calibration.h) against what imu_tk
 // printed on its own Xsens log (issue 20), and on simulated triads whose truth is known.
 
-#include "estimation/imu_tk_calibration.h"
+#include "estimation/triad/imu_tk_calibration.h"
 
 #include <gtest/gtest.h>
 

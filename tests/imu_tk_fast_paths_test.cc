@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "common/triad_log.h"
-#include "estimation/static_intervals.h"
+#include "estimation/triad/static_intervals.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "models/triad.h"

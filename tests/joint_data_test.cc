@@ -1,19 +1,19 @@
-// The joint problem's supporting modules: the data prepared once (estimation/joint_data.h),
-// the identifiability check (estimation/identifiability.h), discovery's score test
-// (estimation/score_test.h), effects by name (models/effect_names.h) and the robust loss's
-// names (estimation/joint_estimator.h).
+// The joint problem's supporting modules: the data prepared once (estimation/tilt_table/joint_data.h),
+// the identifiability check (estimation/solver/identifiability.h), discovery's score test
+// (estimation/tilt_table/score_test.h), effects by name (models/effect_names.h) and the robust loss's
+// names (estimation/tilt_table/joint_estimator.h).
 
-#include "estimation/joint_data.h"
+#include "estimation/tilt_table/joint_data.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <set>
 
-#include "estimation/identifiability.h"
-#include "estimation/joint_estimator.h"
-#include "estimation/linear_ls.h"
-#include "estimation/score_test.h"
+#include "estimation/solver/identifiability.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/score_test.h"
 #include "io/scenario_json.h"
 #include "models/effect_names.h"
 #include "models/tilt_table.h"

@@ -14,9 +14,9 @@
 #include <sstream>
 #include <string>
 
-#include "estimation/joint_estimator.h"
-#include "estimation/linear_ls.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "io/scenario_json.h"
 #include "models/tilt_table.h"
 #include "residuals/calibration_residual.h"

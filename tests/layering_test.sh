@@ -39,5 +39,40 @@ for dir in "$src"/*/; do
     esac
   done < <(grep -rnE '^#include "[a-z_]+/' "$dir" --include='*.h' --include='*.cc' --include='*.in')
 done
+# Inside estimation/, the same rule one level down: the shared statistics and solver helpers,
+# the discovery procedure over them, and a room per sensor geometry, which may not include one
+# another's files (the gyroscope's poses are the accelerometer triad's, so it may use triad/).
+declare -A estimation_may_use=(
+  [statistics]=""
+  [solver]="statistics"
+  [discovery]="statistics solver"
+  [tilt_table]="statistics solver discovery"
+  [triad]="statistics solver discovery"
+  [gyroscope]="statistics solver discovery triad"
+)
+for file in "$src"/estimation/*.h "$src"/estimation/*.cc; do
+  [ -e "$file" ] || continue
+  echo "layering: ${file#"$src"/} is in no room of estimation/ (statistics, solver, discovery, tilt_table, triad, gyroscope)" >&2
+  status=1
+done
+for dir in "$src"/estimation/*/; do
+  room=$(basename "$dir")
+  if [ -z "${estimation_may_use[$room]+set}" ]; then
+    echo "layering: src/estimation/$room is a room docs/architecture.md and this test do not know" >&2
+    status=1
+    continue
+  fi
+  while IFS=: read -r file line include; do
+    target=$(sed -E 's/.*#include "estimation\/([a-z_]+)\/.*/\1/' <<<"$include")
+    [ "$target" = "$room" ] && continue
+    case " ${estimation_may_use[$room]} " in
+      *" $target "*) ;;
+      *)
+        echo "layering: ${file#"$src"/}:$line: src/estimation/$room may not include estimation/$target/ (it may use: ${estimation_may_use[$room]:-nothing of estimation/})" >&2
+        status=1
+        ;;
+    esac
+  done < <(grep -rnE '^#include "estimation/[a-z_]+/' "$dir" --include='*.h' --include='*.cc')
+done
 [ $status = 0 ] && echo "layering: every include of src/ points inward"
 exit $status

@@ -2,7 +2,7 @@
 // sigma, the reported sigma matches the Monte Carlo spread, and a design that cannot
 // separate bias from scale is refused with a reason.
 
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 
 #include <gtest/gtest.h>
 
@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "estimation/ceres_linear_ls.h"
-#include "estimation/chi_square.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
+#include "estimation/statistics/chi_square.h"
 #include "models/tilt_table.h"
 #include "simulation/random.h"
 #include "simulation/simulator.h"

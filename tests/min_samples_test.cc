@@ -15,9 +15,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "estimation/landmark_decision.h"
-#include "estimation/linear_ls.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "io/course_data.h"
 #include "io/scenario_json.h"
 #include "models/tilt_table.h"

@@ -1,8 +1,8 @@
 // The static detector with thresholds from the log's own noise floor
-// (estimation/noise_floor_detector.h): on simulated sessions whose holds are known, beside
+// (estimation/triad/noise_floor_detector.h): on simulated sessions whose holds are known, beside
 // imu_tk's detector where that one fails, on imu_tk's own Xsens log, and its refusals.
 
-#include "estimation/noise_floor_detector.h"
+#include "estimation/triad/noise_floor_detector.h"
 
 #include <gtest/gtest.h>
 
@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "estimation/chi_square.h"
-#include "estimation/imu_tk_calibration.h"
-#include "estimation/static_intervals.h"
-#include "estimation/triad_ml_calibration.h"
+#include "estimation/statistics/chi_square.h"
+#include "estimation/triad/imu_tk_calibration.h"
+#include "estimation/triad/static_intervals.h"
+#include "estimation/triad/triad_ml_calibration.h"
 #include "io/imu_log.h"
 #include "models/triad.h"
 #include "simulation/random.h"

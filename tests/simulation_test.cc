@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "common/format.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
 #include "io/run_conditions.h"

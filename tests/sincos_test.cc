@@ -29,7 +29,7 @@
 #include <vector>
 
 #include "common/cpu_features.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "simulation/simulator.h"
 
 namespace accelcal {

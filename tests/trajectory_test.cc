@@ -2,7 +2,7 @@
 // calculations, and the total checked by Monte Carlo over simulated calibrations and
 // runs (empirical covariance within 10%, 95% ellipse coverage 95% +- 2%).
 
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/trajectory.h"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +11,10 @@
 #include <cstdio>
 #include <vector>
 
-#include "estimation/chi_square.h"
-#include "estimation/error_budget.h"
-#include "estimation/landmark_decision.h"
-#include "estimation/linear_ls.h"
+#include "estimation/statistics/chi_square.h"
+#include "estimation/tilt_table/error_budget.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "models/dead_reckoning.h"
 #include "models/tilt_table.h"
 #include "simulation/random.h"

@@ -1,11 +1,11 @@
-// Discovery on triads (estimation/triad_discovery.h) on simulated sessions whose truth is
+// Discovery on triads (estimation/triad/triad_discovery.h) on simulated sessions whose truth is
 // known: nothing found on null sessions at the stated rate, each registered effect found and
 // recovered within its sigma, a cause outside the model called unexplained with its size,
 // the effects static poses cannot determine reported as such (and the candidates too few poses
 // leave no degree of freedom to test), the parameters a session determines poorly, and the
 // same procedure on imu_tk's Xsens log.
 
-#include "estimation/triad_discovery.h"
+#include "estimation/triad/triad_discovery.h"
 
 #include <gtest/gtest.h>
 
@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "estimation/triad_determination.h"
-#include "estimation/triad_pose_noise.h"
+#include "estimation/triad/triad_determination.h"
+#include "estimation/triad/triad_pose_noise.h"
 #include "simulation/noise_process.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_monte_carlo.h"
@@ -206,7 +206,7 @@ TEST(TriadDiscovery, ListsCandidatesTheDegreesOfFreedomCannotTestAsNotTestable) 
 }
 
 // Issue 30, item 5: which parameters a session determines too loosely to vouch for
-// (estimation/triad_determination.h). Two sessions of 10 poses: one turned about x with tilts
+// (estimation/triad/triad_determination.h). Two sessions of 10 poses: one turned about x with tilts
 // of at most 0.3 rad towards it (x never near +-g: its gain and offset are named), one with each
 // axis up and down and 45-degree tilts in the x-z and y-z planes but almost none in the x-y
 // plane (|n_x n_y| <= 0.02: misalignment_yz, which couples x and y, is named); each says which

@@ -1,9 +1,9 @@
-// The maximum-likelihood triad calibration (estimation/triad_ml_calibration.h) on simulated
+// The maximum-likelihood triad calibration (estimation/triad/triad_ml_calibration.h) on simulated
 // static poses (simulation/triad_simulator.h) whose truth and noise are known: the truth
 // within 3 sigma, the reported sigma against a Monte Carlo spread, and the refusals of pose
 // sets that cannot determine the triad.
 
-#include "estimation/triad_ml_calibration.h"
+#include "estimation/triad/triad_ml_calibration.h"
 
 #include <ceres/gradient_checker.h>
 #include <ceres/sphere_manifold.h>
@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "estimation/triad_initial_guess.h"
+#include "estimation/triad/triad_initial_guess.h"
 #include "models/triad.h"
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"

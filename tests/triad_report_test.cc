@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/format.h"
-#include "estimation/chi_square.h"
+#include "estimation/statistics/chi_square.h"
 #include "reporting/calibrate_imu_report.h"
 #include "reporting/triad_discovery_report.h"
 #include "test_support.h"

@@ -1,9 +1,9 @@
-// One session's calibration (estimation/triad_session_calibration.h), the sequence behind every
+// One session's calibration (estimation/triad/triad_session_calibration.h), the sequence behind every
 // calibrate_imu --mode=ml path: on imu_tk's Xsens log it reproduces what the CLI prints with
 // the noise-floor detector (the default), with imu_tk's intervals (--detector=imu_tk), with
 // --noise=white and with --scale_nonlinearity; and it refuses a log whose unit is misstated.
 
-#include "estimation/triad_session_calibration.h"
+#include "estimation/triad/triad_session_calibration.h"
 
 #include <gtest/gtest.h>
 
@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "estimation/imu_tk_calibration.h"
-#include "estimation/noise_floor_detector.h"
+#include "estimation/triad/imu_tk_calibration.h"
+#include "estimation/triad/noise_floor_detector.h"
 #include "io/imu_log.h"
 #include "models/triad_units.h"
 #include "simulation/random.h"

@@ -1,10 +1,10 @@
-// Repeatability across sessions (estimation/triad_sessions.h, studies/triad_repeatability.h):
+// Repeatability across sessions (estimation/triad/triad_sessions.h, studies/triad_repeatability.h):
 // the random-effects estimator on simulated sessions of known between-session sigma (tau
 // recovered, its interval's coverage, a new session's coverage), the Student t quantiles it
 // needs, the leave-one-session-out check on mimu4444 runs 1-3 reproduced, and a Monte Carlo
 // through the triad simulator and the ML calibration.
 
-#include "estimation/triad_sessions.h"
+#include "estimation/triad/triad_sessions.h"
 
 #include <gtest/gtest.h>
 

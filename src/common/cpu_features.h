@@ -2,7 +2,7 @@
 #define ACCELCAL_COMMON_CPU_FEATURES_H_
 
 // Hand-made function multiversioning for the few vectorized loops (common/sincos.cc, the
-// baseline's block sums in estimation/linear_ls.cc). The build targets plain x86-64
+// baseline's block sums in estimation/tilt_table/linear_ls.cc). The build targets plain x86-64
 // (SSE2), so that the binaries run on any x86-64 machine; a loop that gains from wider
 // vectors is compiled a second time with ACCELCAL_TARGET_AVX2_FMA, and the caller picks
 // that version when CpuHasAvx2Fma():

@@ -28,7 +28,7 @@ struct TriadLog {
 
 // One static pose of a triad: the mean and the sample variance (divided by N - 1) per axis of
 // its N samples, in the log's unit. What the maximum-likelihood calibration fits
-// (estimation/triad_ml_calibration.h) and what the triad simulator produces.
+// (estimation/triad/triad_ml_calibration.h) and what the triad simulator produces.
 struct TriadPoseMean {
   std::array<double, 3> mean{};
   std::array<double, 3> variance{};

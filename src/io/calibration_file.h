@@ -55,7 +55,7 @@ struct CalibrationRecord {
   std::string noise_variance_from;
   nlohmann::json fit = nlohmann::json::object();  // samples, chi-square, verdict
   // The parameters the data determine too loosely to vouch for (a triad's:
-  // estimation/triad_determination.h), each {parameter, reason, sigma, threshold,
+  // estimation/triad/triad_determination.h), each {parameter, reason, sigma, threshold,
   // correlated_with, suggestion}; null when not assessed (a two-axis calibration, or a file
   // written before the key existed, which the reader accepts), an empty array when none.
   nlohmann::json poorly_determined = nullptr;
@@ -94,7 +94,7 @@ Status ParseCalibration(const std::string& text, const std::string& path,
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record);
 
 // A two-axis calibration's parameters and covariance in parameter_order's order (bias_x,
-// scale_x, bias_y, scale_y: the baseline's, estimation/baseline_parameters.h); fails, naming
+// scale_x, bias_y, scale_y: the baseline's, estimation/tilt_table/baseline_parameters.h); fails, naming
 // `path`, for another geometry.
 Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
                        Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance);

@@ -20,7 +20,7 @@ constexpr double kCourseGravityMps2 = 9.8;
 
 // The force from the sine and cosine of the true angle, for callers that compute them in
 // batches (common/sincos.h). T may also be a vector of doubles (GCC's vector extension), as
-// in the closed-form estimator's block loop (estimation/linear_ls_accumulator.cc).
+// in the closed-form estimator's block loop (estimation/tilt_table/linear_ls_accumulator.cc).
 template <typename T>
 inline void TiltTableSpecificForceFromSinCos(const T& sin_theta_true, const T& cos_theta_true,
                                              double gravity_mps2, T* specific_force_x,

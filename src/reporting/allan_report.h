@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "estimation/allan_variance.h"
+#include "estimation/statistics/allan_variance.h"
 
 namespace accelcal {
 

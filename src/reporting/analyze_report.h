@@ -14,7 +14,7 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 #include "io/provenance.h"
 #include "reporting/linear_ls_report.h"
 #include "reporting/report_document.h"

@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "common/format.h"
-#include "estimation/chi_square.h"
+#include "estimation/statistics/chi_square.h"
 #include "models/triad.h"
 #include "reporting/triad_discovery_report.h"
 

@@ -13,13 +13,13 @@
 #include <string>
 
 #include "common/triad_log.h"
-#include "estimation/imu_tk_calibration.h"
-#include "estimation/noise_floor_detector.h"
-#include "estimation/triad_determination.h"
-#include "estimation/triad_discovery.h"
-#include "estimation/triad_ml_calibration.h"
-#include "estimation/triad_pose_noise.h"
-#include "estimation/triad_session_calibration.h"
+#include "estimation/triad/imu_tk_calibration.h"
+#include "estimation/triad/noise_floor_detector.h"
+#include "estimation/triad/triad_determination.h"
+#include "estimation/triad/triad_discovery.h"
+#include "estimation/triad/triad_ml_calibration.h"
+#include "estimation/triad/triad_pose_noise.h"
+#include "estimation/triad/triad_session_calibration.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
 #include "models/triad_units.h"
@@ -57,15 +57,15 @@ struct CalibrateImuReport {
   // Mode ml: the Allan model of the pose means, and whether the fit uses it (else white).
   TriadPoseNoise pose_noise;
   bool allan_noise = false;
-  // Mode ml: what the 9-parameter model misses (estimation/triad_discovery.h).
+  // Mode ml: what the 9-parameter model misses (estimation/triad/triad_discovery.h).
   TriadDiscoveryOptions discovery_options;
   TriadDiscoveryResult discovery;
   // Mode ml: the parameters these poses determine too loosely to vouch for
-  // (estimation/triad_determination.h), filled by TakeSessionCalibration.
+  // (estimation/triad/triad_determination.h), filled by TakeSessionCalibration.
   std::vector<TriadPoorlyDetermined> poorly_determined;
 };
 
-// Mode ml: one session's calibration (estimation/triad_session_calibration.h) into the fields
+// Mode ml: one session's calibration (estimation/triad/triad_session_calibration.h) into the fields
 // above, which this report, reporting/triad_report.cc and tools/bench/triad_bench.cc read.
 void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report);
 

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "estimation/baseline_parameters.h"
+#include "estimation/tilt_table/baseline_parameters.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
 

@@ -5,7 +5,7 @@
 #include <iterator>
 
 #include "common/format.h"
-#include "estimation/parameter_estimate.h"
+#include "estimation/tilt_table/parameter_estimate.h"
 #include "reporting/estimate_json.h"
 
 namespace accelcal {

@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 
 namespace accelcal {
 

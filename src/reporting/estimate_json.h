@@ -20,9 +20,9 @@
 #include <string>
 #include <vector>
 
-#include "estimation/landmark_decision.h"
-#include "estimation/parameter_estimate.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/parameter_estimate.h"
+#include "estimation/tilt_table/trajectory.h"
 
 namespace accelcal {
 

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "common/ferraris_session.h"
-#include "estimation/ferraris_calibration.h"
-#include "estimation/ferraris_least_squares.h"
+#include "estimation/triad/ferraris_calibration.h"
+#include "estimation/triad/ferraris_least_squares.h"
 #include "models/imucal_convention.h"
 
 namespace accelcal {

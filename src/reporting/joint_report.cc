@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common/format.h"
-#include "estimation/parameter_estimate.h"
+#include "estimation/tilt_table/parameter_estimate.h"
 #include "reporting/estimate_json.h"
 
 namespace accelcal {

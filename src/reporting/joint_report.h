@@ -8,10 +8,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "estimation/baseline_parameters.h"
-#include "estimation/joint_estimator.h"
-#include "estimation/landmark_decision.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/baseline_parameters.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/trajectory.h"
 
 namespace accelcal {
 

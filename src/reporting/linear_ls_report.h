@@ -11,8 +11,8 @@
 #include <optional>
 #include <string>
 
-#include "estimation/baseline_parameters.h"
-#include "estimation/ceres_linear_ls.h"
+#include "estimation/tilt_table/baseline_parameters.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
 #include "models/effects.h"
 
 namespace accelcal {

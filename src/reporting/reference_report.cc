@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "common/format.h"
-#include "estimation/baseline_parameters.h"
+#include "estimation/tilt_table/baseline_parameters.h"
 #include "models/tilt_table.h"
 
 namespace accelcal {

@@ -1,13 +1,13 @@
 #ifndef ACCELCAL_REPORTING_TRIAD_DISCOVERY_REPORT_H_
 #define ACCELCAL_REPORTING_TRIAD_DISCOVERY_REPORT_H_
 
-// What discovery on a triad found (estimation/triad_discovery.h), as a table a person reads
+// What discovery on a triad found (estimation/triad/triad_discovery.h), as a table a person reads
 // and as the JSON object `discovery` of calibrate_imu's ml mode (docs/json.md).
 
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "estimation/triad_discovery.h"
+#include "estimation/triad/triad_discovery.h"
 
 namespace accelcal {
 

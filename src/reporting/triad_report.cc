@@ -265,7 +265,7 @@ ReportSection FitSection(const CalibrateImuReport& report) {
   return section;
 }
 
-// Discovery on the poses (estimation/triad_discovery.h): the candidates as a table, what was
+// Discovery on the poses (estimation/triad/triad_discovery.h): the candidates as a table, what was
 // found, what static poses cannot test, what remains, the verdict.
 ReportSection DiscoverySection(const CalibrateImuReport& report) {
   const TriadDiscoveryResult& d = report.discovery;

@@ -10,7 +10,7 @@
 //   - the parameters +- sigma beside imu_tk's (when its rules gave an answer) and, for imu_tk's
 //     own Xsens log (recognised by its SHA-256), beside imu_tk's printed values and the
 //     datasheet's;
-//   - the parameters these poses determine poorly (estimation/triad_determination.h);
+//   - the parameters these poses determine poorly (estimation/triad/triad_determination.h);
 //   - the fit statistic described (chi2, dof, p, the noise model that weighted it), and the
 //     run's one verdict, discovery's, in the verdict box and its section;
 //   - the norm of the calibrated specific force over the log, the poses shaded;

@@ -12,8 +12,8 @@
 #include <string>
 #include <vector>
 
-#include "estimation/triad_ml_calibration.h"
-#include "estimation/triad_sessions.h"
+#include "estimation/triad/triad_ml_calibration.h"
+#include "estimation/triad/triad_sessions.h"
 #include "models/triad_units.h"
 #include "studies/triad_repeatability.h"
 

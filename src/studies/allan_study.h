@@ -1,7 +1,7 @@
 #ifndef ACCELCAL_STUDIES_ALLAN_STUDY_H_
 #define ACCELCAL_STUDIES_ALLAN_STUDY_H_
 
-// The confidence intervals of the Allan noise fit (estimation/allan_variance.h) by parametric
+// The confidence intervals of the Allan noise fit (estimation/statistics/allan_variance.h) by parametric
 // bootstrap, inverted as a test.
 //
 // Why not the fit's covariance, nor the bootstrap's spread with a normal interval: the Allan
@@ -39,7 +39,7 @@
 #include <vector>
 
 #include "common/status.h"
-#include "estimation/allan_variance.h"
+#include "estimation/statistics/allan_variance.h"
 #include "simulation/noise_process.h"
 
 namespace accelcal {

@@ -3,8 +3,8 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-#include "estimation/linear_ls.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "simulation/monte_carlo.h"
 
 namespace accelcal {

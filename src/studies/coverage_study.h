@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "common/progress.h"
-#include "estimation/baseline_parameters.h"
+#include "estimation/tilt_table/baseline_parameters.h"
 #include "models/effects.h"
 #include "simulation/scenario.h"
 

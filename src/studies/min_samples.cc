@@ -6,9 +6,9 @@
 #include <cmath>
 #include <functional>
 
-#include "estimation/baseline_parameters.h"
-#include "estimation/landmark_decision.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/baseline_parameters.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "models/tilt_table.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"

@@ -27,7 +27,7 @@
 #include "common/measurements.h"
 #include "common/progress.h"
 #include "common/status.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "simulation/scenario.h"
 
 namespace accelcal {

@@ -5,7 +5,7 @@
 #include <cstring>
 
 #include "common/format.h"
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 #include "models/effects.h"
 #include "simulation/monte_carlo.h"
 

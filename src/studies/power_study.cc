@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "estimation/discovery.h"
-#include "estimation/joint_estimator.h"
+#include "estimation/tilt_table/discovery.h"
+#include "estimation/tilt_table/joint_estimator.h"
 #include "simulation/monte_carlo.h"
 
 namespace accelcal {

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "common/format.h"
-#include "estimation/triad_ml_calibration.h"
+#include "estimation/triad/triad_ml_calibration.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/triad_simulator.h"

@@ -4,7 +4,7 @@
 // Is the maximum-likelihood triad calibration's reported uncertainty right (issue 20, 5)?
 // A fixed pose set (the covariance is conditional on the poses) is simulated `trials` times
 // with fresh white noise (simulation/triad_simulator.h) and calibrated each time
-// (estimation/triad_ml_calibration.h). Per parameter, over the N trials that succeed:
+// (estimation/triad/triad_ml_calibration.h). Per parameter, over the N trials that succeed:
 //
 //   spread        the standard deviation of the estimates (the Monte Carlo truth about sigma)
 //   mean sigma    the mean of the reported sigma

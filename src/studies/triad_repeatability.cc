@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "estimation/triad_initial_guess.h"
+#include "estimation/triad/triad_initial_guess.h"
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/triad_simulator.h"

@@ -1,10 +1,10 @@
 #ifndef ACCELCAL_STUDIES_TRIAD_REPEATABILITY_H_
 #define ACCELCAL_STUDIES_TRIAD_REPEATABILITY_H_
 
-// Does the new-session sigma of estimation/triad_sessions.h cover new sessions as claimed
+// Does the new-session sigma of estimation/triad/triad_sessions.h cover new sessions as claimed
 // (issue 21, item 3)? Two checks, the same three schemes in both:
 //
-//   device  each device's own tau^2 (estimation/triad_sessions.h), t on S - 1 dof: what
+//   device  each device's own tau^2 (estimation/triad/triad_sessions.h), t on S - 1 dof: what
 //           `calibrate_imu --log=S1,S2,...` reports for one device;
 //   pooled  tau^2 shared by the array's devices as if their sessions were independent,
 //           t on D (S - 1) dof;
@@ -21,7 +21,7 @@
 // 2. Monte Carlo: an array of D simulated triads whose parameters move between sessions by
 //    known amounts (a common part shared by every device and a device's own part, per
 //    parameter), each session simulated as static poses (simulation/triad_simulator.h) and
-//    calibrated (estimation/triad_ml_calibration.h); the schemes predict session S + 1 from
+//    calibrated (estimation/triad/triad_ml_calibration.h); the schemes predict session S + 1 from
 //    sessions 1..S. Also whether the device scheme's interval of tau covers the device's true
 //    between-session sigma (common and own parts together), and the mean of tau^2 estimated
 //    over its truth. Coverage's standard error is given on `trials` independent arrays
@@ -33,8 +33,8 @@
 #include <vector>
 
 #include "common/status.h"
-#include "estimation/triad_ml_calibration.h"
-#include "estimation/triad_sessions.h"
+#include "estimation/triad/triad_ml_calibration.h"
+#include "estimation/triad/triad_sessions.h"
 #include "models/triad.h"
 
 namespace accelcal {

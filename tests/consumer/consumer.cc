@@ -2,7 +2,7 @@
 // course's setting, fit the baseline, print bias_x.
 #include <cstdio>
 
-#include "accelcal/estimation/linear_ls.h"
+#include "accelcal/estimation/tilt_table/linear_ls.h"
 #include "accelcal/io/scenario_json.h"
 
 int main() {

@@ -12,9 +12,9 @@
 #include <sstream>
 #include <string>
 
-#include "estimation/discovery.h"
-#include "estimation/joint_estimator.h"
-#include "estimation/trajectory.h"
+#include "estimation/tilt_table/discovery.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/trajectory.h"
 #include "io/scenario_json.h"
 #include "models/sensor_model.h"
 #include "residuals/compressed_calibration_residual.h"

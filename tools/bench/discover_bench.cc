@@ -6,7 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "estimation/discovery.h"
+#include "estimation/tilt_table/discovery.h"
 #include "io/scenario_json.h"
 
 namespace accelcal {

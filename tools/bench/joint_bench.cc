@@ -1,6 +1,6 @@
 // The joint nonlinear solve with covariance on course-sized data (the tp2-2018 scenario:
 // 20001 tilt samples, a 6000-sample run), for several effect sets; the baseline as a
-// per-sample Ceres problem (estimation/ceres_linear_ls.h, the cross-check of the closed
+// per-sample Ceres problem (estimation/tilt_table/ceres_linear_ls.h, the cross-check of the closed
 // form); and one evaluation of the endpoint residual with its Jacobian (cost per run sample).
 //
 //   build/bin/joint_bench --benchmark_min_time=2
@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <memory>
 
-#include "estimation/ceres_linear_ls.h"
-#include "estimation/joint_estimator.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
+#include "estimation/tilt_table/joint_estimator.h"
 #include "io/scenario_json.h"
 #include "models/tilt_table.h"
 #include "residuals/endpoint_residual.h"

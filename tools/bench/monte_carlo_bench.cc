@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "common/sincos.h"
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/scenario_json.h"
 #include "studies/coverage_study.h"
 

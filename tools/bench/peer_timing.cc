@@ -3,12 +3,12 @@
 // std::chrono::steady_clock, each solve a researcher would otherwise write in numpy/SciPy:
 //
 //   baseline_closed_form  bias and scale per axis from streaming sufficient statistics
-//                         (estimation/linear_ls.h), with sigma^2 (A^T A)^-1
+//                         (estimation/tilt_table/linear_ls.h), with sigma^2 (A^T A)^-1
 //   baseline_ceres        the same problem as whitened Ceres residuals and ceres::Covariance
-//                         (estimation/ceres_linear_ls.h)
+//                         (estimation/tilt_table/ceres_linear_ls.h)
 //   joint                 bias and scale plus --effects, every tilt-test sample through the
 //                         spec's full model and the run's endpoint tied to --landmark, with
-//                         ceres::Covariance (estimation/joint_estimator.h, SolveJoint)
+//                         ceres::Covariance (estimation/tilt_table/joint_estimator.h, SolveJoint)
 //
 // Each time is the median over at most --repetitions solves; loading the files is outside
 // the clock. The JSON holds the times and every estimate (values, sigmas, covariance,
@@ -29,10 +29,10 @@
 #include <string>
 #include <vector>
 
-#include "estimation/ceres_linear_ls.h"
-#include "estimation/joint_estimator.h"
-#include "estimation/linear_ls.h"
-#include "estimation/parameter_estimate.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/linear_ls.h"
+#include "estimation/tilt_table/parameter_estimate.h"
 #include "io/atomic_file.h"
 #include "io/course_data.h"
 #include "models/tilt_table.h"

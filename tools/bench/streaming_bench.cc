@@ -45,7 +45,7 @@
 #include <thread>
 #include <vector>
 
-#include "estimation/linear_ls.h"
+#include "estimation/tilt_table/linear_ls.h"
 #include "io/calibration_stream.h"
 #include "simulation/simulator.h"
 

@@ -3,12 +3,12 @@
 // times, in-process, each stage timed with std::chrono::steady_clock:
 //
 //   read    the log, parsed and checked (io/imu_log.h, ReadImuLog)
-//   imu_tk  imu_tk's calibration (estimation/imu_tk_calibration.h, CalibrateImuTk): the
+//   imu_tk  imu_tk's calibration (estimation/triad/imu_tk_calibration.h, CalibrateImuTk): the
 //           initial rest's variance, the sliding variance norm, the static intervals for
 //           k = 2..10 and one Levenberg-Marquardt solve of 1/2 sum (g - |T K (u - b)|)^2 per k
 //   ml      the poses of the chosen k's intervals and the maximum-likelihood fit with unknown
 //           gravity directions, its rank checks and ceres::Covariance
-//           (estimation/triad_ml_calibration.h, PoseMeansOfIntervals + CalibrateTriadMl)
+//           (estimation/triad/triad_ml_calibration.h, PoseMeansOfIntervals + CalibrateTriadMl)
 //   total   read + imu_tk + ml of the same repetition
 //
 // and, apart, `detect`: the detector's share of imu_tk (the rest's variance, the sliding
@@ -42,9 +42,9 @@
 #include <string>
 #include <vector>
 
-#include "estimation/imu_tk_calibration.h"
-#include "estimation/static_intervals.h"
-#include "estimation/triad_ml_calibration.h"
+#include "estimation/triad/imu_tk_calibration.h"
+#include "estimation/triad/static_intervals.h"
+#include "estimation/triad/triad_ml_calibration.h"
 #include "io/atomic_file.h"
 #include "io/imu_log.h"
 #include "io/provenance.h"

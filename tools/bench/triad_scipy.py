@@ -59,12 +59,12 @@ PARAMETER_NAMES = [
 ]
 YZ, ZY, ZX, GX, GY, GZ, BX, BY, BZ = range(9)
 
-# imu_tk's rules (estimation/imu_tk_calibration.h).
+# imu_tk's rules (estimation/triad/imu_tk_calibration.h).
 WINDOW_SAMPLES = 101
 INTERVAL_SAMPLES = 100
 MIN_INTERVALS = 12
 MULTIPLIERS = range(2, 11)
-# accelcal's rank tolerance (estimation/triad_ml_calibration.h).
+# accelcal's rank tolerance (estimation/triad/triad_ml_calibration.h).
 RANK_TOLERANCE = 1e-4
 
 # Agreement with accelcal.

@@ -1,0 +1,34 @@
+#ifndef ACCELCAL_ESTIMATION_DISCOVERY_CHECK_H_
+#define ACCELCAL_ESTIMATION_DISCOVERY_CHECK_H_
+
+// A check of what a fitted model leaves, one type for every sensor geometry: a statistic of
+// the whitened residuals, its p-value under "the model and its noise model are right", a
+// sentence, and (for a shape) the columns that describe it. The tilt table's checks are in
+// estimation/tilt_table/residual_checks.h, the triad's in estimation/triad/triad_discovery.cc; each discovery
+// procedure flags its family by Holm at its share of alpha (FlagByHolm).
+
+#include <string>
+#include <vector>
+
+namespace accelcal {
+
+struct ResidualCheck {
+  std::string name;  // "x: 3 theta harmonic", "y: step", "endpoint", "chi2", ...
+  int axis = -1;     // the axis the check looks at (0: x, 1: y, ...), -1: none or every one
+  double statistic = 0.0;
+  double dof = 0.0;  // of the statistic's reference distribution, 0 when it has none
+  double p_value = 1.0;
+  bool flagged = false;     // rejected by Holm in the checks' family
+  std::string description;  // what it looks like, in numbers
+  // The shape (one raw per-sample column per coefficient, m/s^2 per unit, on this axis);
+  // empty for checks that describe no shape.
+  std::vector<std::vector<double>> shape;
+};
+
+// Holm's step-down at `alpha` over the checks' p-values: sets every check's `flagged`.
+// Returns the number flagged.
+int FlagByHolm(double alpha, std::vector<ResidualCheck>* checks);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_DISCOVERY_CHECK_H_

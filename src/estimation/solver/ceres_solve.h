@@ -1,0 +1,28 @@
+#ifndef ACCELCAL_ESTIMATION_SOLVER_CERES_SOLVE_H_
+#define ACCELCAL_ESTIMATION_SOLVER_CERES_SOLVE_H_
+
+// The one way the estimators run Ceres: Levenberg-Marquardt with dense QR, tight
+// tolerances (these problems are small and well scaled, and the comparisons with closed
+// forms are limited by rounding, not by stopping early), and no logging.
+
+#include <ceres/ceres.h>
+
+#include "common/status.h"
+#include "estimation/solver/solver_report.h"
+
+namespace accelcal {
+
+struct QuietSolveOptions {
+  int max_iterations = 100;
+  int num_threads = 1;
+  double tolerance = 1e-14;                  // function, gradient and parameter tolerance
+  double initial_trust_region_radius = 1e4;  // Ceres' default
+};
+
+// Fills `report` whatever happens; fails with Ceres' message when it did not converge.
+Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
+                    SolverReport* report);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_SOLVER_CERES_SOLVE_H_

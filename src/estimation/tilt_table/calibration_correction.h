@@ -1,0 +1,51 @@
+#ifndef ACCELCAL_ESTIMATION_TILT_TABLE_CALIBRATION_CORRECTION_H_
+#define ACCELCAL_ESTIMATION_TILT_TABLE_CALIBRATION_CORRECTION_H_
+
+// Applying a baseline calibration to new outputs: the inverse of the measurement model
+// (spec/error-model.md, models/sensor_model.h) per axis k,
+//
+//   a_k = (m_k - bias_k) / (1 + scale_k),
+//
+// and the covariance of (a_x, a_y) that the calibration's own uncertainty gives, to first
+// order: J C J^T with C the parameters' covariance (kBaselineParameters' order) and
+//
+//   d a_k / d bias_k = -1 / (1 + scale_k),   d a_k / d scale_k = -a_k / (1 + scale_k).
+//
+// The sensor's white noise is not in it: it is the uncertainty of the correction, shared by
+// every sample (a bias error moves them all alike), not the sample-to-sample scatter.
+
+#include <Eigen/Core>
+#include <array>
+
+#include "estimation/tilt_table/baseline_parameters.h"
+#include "models/triad.h"
+
+namespace accelcal {
+
+struct CorrectedSample {
+  Eigen::Vector2d acceleration = Eigen::Vector2d::Zero();  // m/s^2, (x, y)
+  Eigen::Matrix2d covariance = Eigen::Matrix2d::Zero();    // (m/s^2)^2
+};
+
+// `parameters` and `covariance` in kBaselineParameters' order; 1 + scale_k must be positive
+// (a calibration file's reader and the estimators guarantee it for any real sensor).
+CorrectedSample CorrectBaseline(const Eigen::Vector4d& parameters,
+                                const Eigen::Matrix4d& covariance, double measured_x,
+                                double measured_y);
+
+// A triad's correction a = T K (u - b) (models/triad.h) of one output u (in the calibration's
+// output unit), and the covariance of a that the parameters' covariance (9x9, block order)
+// gives, to first order, J C J^T with J = d a / d parameters (automatic differentiation of
+// TriadSpecificForce itself, so the correction and its Jacobian cannot disagree). As for the
+// baseline, it is shared by every sample and excludes the sensor's noise.
+struct CorrectedTriadSample {
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();  // m/s^2
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();    // (m/s^2)^2
+};
+CorrectedTriadSample CorrectTriad(const TriadParameters& parameters,
+                                  const Eigen::MatrixXd& covariance,
+                                  const std::array<double, 3>& output);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_TILT_TABLE_CALIBRATION_CORRECTION_H_

@@ -1,0 +1,200 @@
+#ifndef ACCELCAL_ESTIMATION_TILT_TABLE_DISCOVERY_H_
+#define ACCELCAL_ESTIMATION_TILT_TABLE_DISCOVERY_H_
+
+// Does the baseline explain the data; if not, what is missing, is it in the catalogue,
+// and can the data tell the candidates apart? Three families of tests share alpha (Holm
+// within each, Bonferroni across), so that on null data any verdict but "explained" comes
+// with probability at most alpha (docs/discovery.md measures it). In order:
+//
+// 1. Noise, alpha/4 (estimation/statistics/noise_analysis.h, docs/noise-models.md): per axis, from
+//    local differences of the baseline's residuals, outliers (set aside by index), heavy
+//    tails, the level and the AR(1) correlation. What it finds is the noise model of every
+//    fit after it (models/noise_model.h): whitening, the samples set aside, the run's
+//    endpoint covariance. With outliers or correlation the baseline is refitted under it
+//    before the run is tied to a landmark.
+// 2. Effects, alpha/2: forward selection (score every candidate by the chi-square it would
+//    remove, Holm among those left, add the strongest, refit in Ceres, re-decide the
+//    landmark tie), then backward elimination against the grown model, alternating until
+//    neither changes the model.
+// 3. Checks of what the final model leaves, alpha/4 (estimation/tilt_table/residual_checks.h): theta
+//    harmonics, a curved trend, a step, lag-1 correlation, a portmanteau, the endpoint.
+//    Flagged shapes (and a baseline step that explains by BIC as much as every named
+//    effect) are nuisance columns: an effect they explain is dropped. What remains is
+//    described strongest first, each shape only if it stands once those before it are
+//    allowed for.
+// 4. Ambiguity: each effect swapped for every other candidate, and for theta-harmonic
+//    shapes outside the catalogue; alternatives that fit about as well are reported with
+//    what would separate them.
+// 5. Heavy tails: the final model refitted with a Huber loss, sandwich covariance.
+// 6. The gain: delta chi2 and BIC per effect, the endpoint and landmark posterior before
+//    and after, k-fold cross-validation against its null value. Then the verdict.
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "common/measurements.h"
+#include "common/status.h"
+#include "estimation/tilt_table/baseline_parameters.h"
+#include "estimation/statistics/diagnostics.h"
+#include "estimation/tilt_table/joint_estimator.h"
+#include "estimation/tilt_table/landmark_decision.h"
+#include "estimation/statistics/noise_analysis.h"
+#include "estimation/tilt_table/residual_checks.h"
+#include "estimation/tilt_table/trajectory.h"
+#include "estimation/discovery/verdict.h"
+#include "models/noise_model.h"
+
+namespace accelcal {
+
+struct DiscoveryOptions {
+  // The whole procedure's family-wise error rate: a null dataset gets any verdict but
+  // "explained" with probability at most alpha (docs/discovery.md measures it).
+  double alpha = 0.01;
+  double gravity_mps2 = 9.8;
+  int theta_bins = 36;
+  int ljung_box_lags = 20;
+  int cross_validation_folds = 5;  // 0: skip
+  int max_effects = 6;
+  int num_threads = 1;
+  int max_harmonic = 6;  // the residual checks' theta harmonics
+  // Two candidates whose models' chi-squares differ by less than this (a likelihood ratio
+  // below exp(3) = 20) explain the data about equally well.
+  double ambiguity_delta_chi2 = 6.0;
+};
+
+// What the noise analysis found on one axis beyond a wrong level (which is
+// noise_variance_k among the effects).
+struct NoiseFinding {
+  enum class Kind { kCorrelation, kOutliers, kHeavyTails };
+  Kind kind = Kind::kCorrelation;
+  int axis = 0;
+  double estimate = 0.0;  // the correlation, the outlier count, or the excess kurtosis
+  double stddev = 0.0;    // the correlation's (0 for the others)
+  double p_value = 1.0;
+  std::vector<int> samples;  // kOutliers: the samples set aside
+  std::string description;
+};
+const char* NoiseFindingName(NoiseFinding::Kind kind);  // "noise_correlation", ...
+
+// Effects of the final model that another candidate would replace at about the same fit.
+struct Ambiguity {
+  Parameter effect;  // in the final model
+  double effect_estimate = 0.0;
+  double effect_stddev = 0.0;
+  struct Alternative {
+    Parameter effect;
+    double estimate = 0.0;  // in the model with it instead (a shape: its amplitude)
+    double stddev = 0.0;
+    double delta_chi2 = 0.0;  // its model's chi-square minus the final model's
+    // Not empty: the alternative is a shape outside the catalogue ("x: 3-theta harmonic"),
+    // not `effect`.
+    std::string shape;
+    std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
+    std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
+  };
+  std::vector<Alternative> alternatives;
+  std::string separation;  // what would tell them apart
+};
+
+struct AxisDiagnostics {
+  NoiseLevelTest noise;
+  bool noise_flagged = false;
+  double chi2 = 0.0;  // baseline residuals against the stated variance
+  int dof = 0;
+  WhitenessTest whiteness;
+  NormalityTest normality;
+  std::vector<ResidualBin> bins;      // baseline residual against theta
+  std::vector<double> bin_signature;  // extended minus baseline prediction, per bin
+};
+
+struct CandidateScore {
+  int step = 0;
+  Parameter effect;
+  double delta_chi2 = 0.0;
+  double p_value = 1.0;
+  bool significant = false;  // rejected by Holm at this step
+};
+
+// An effect of the final model. Every figure is against the final model: delta_chi2 is the
+// chi-square the final model gains over the same model without this effect (same landmark
+// tie), p_value its chi-square(1) tail, bic_change the BIC of the final model minus that of
+// the model without it. The figures at the moment forward selection added it are kept as
+// history (selection_step, selection_delta_chi2, selection_p_value).
+struct DiscoveredEffect {
+  Parameter effect;
+  double estimate = 0.0;  // in the final model (noise_variance_k: the variance ratio)
+  double stddev = 0.0;
+  double p_value = 1.0;
+  double delta_chi2 = 0.0;  // noise_variance_k: z^2 of its noise-level test
+  double bic_change = 0.0;  // negative: the effect pays for its parameter
+  int selection_step = 0;   // forward step that added it (0: the noise tests)
+  double selection_delta_chi2 = 0.0;
+  double selection_p_value = 1.0;
+};
+
+// One change of the model, in order: forward selection adds an effect, backward elimination
+// drops one that the grown model no longer needs (tested against the model of that moment).
+struct SelectionEvent {
+  // kDropped: the grown model no longer needs it; kDroppedForShape: not needed once the
+  // structure the residual checks found (outside the catalogue) is allowed for.
+  enum class Kind { kAdded, kDropped, kDroppedForShape };
+  Kind kind = Kind::kAdded;
+  Parameter effect;
+  double delta_chi2 = 0.0;  // what it removed when added, or what it still removed when dropped
+  double p_value = 1.0;
+  std::string landmark;  // the landmark the run was tied to when it happened
+};
+
+struct CrossValidation {
+  int folds = 0;
+  // Mean whitened squared prediction error of the held-out samples (1 for a right model).
+  double baseline = 0.0;
+  double extended = 0.0;
+  // What the extended model's figure would be if the model and its noise model were right:
+  // 1 + p / (rows (1 - 1/folds)) for p parameters seen by the test, and its spread
+  // sqrt(2 / rows); z = (extended - null_mean) / null_stddev.
+  double null_mean = 1.0;
+  double null_stddev = 0.0;
+  double z = 0.0;
+};
+
+struct DiscoveryResult {
+  Verdict verdict_code = Verdict::kExplained;
+  BaselineFit baseline;
+  std::array<AxisDiagnostics, 2> axes;
+  std::array<double, 2> noise_variance_used{};  // stated, or estimated when flagged
+  std::array<NoiseAnalysis, 2> noise_analysis;  // of the baseline's residuals
+  std::array<AxisNoise, 2> noise_model;         // the noise model of the final fit
+  std::vector<NoiseFinding> noise_findings;
+  bool robust_fit = false;  // heavy tails: the final estimates are Huber's, sandwich covariance
+  DeadReckoningResult baseline_trajectory;
+  LandmarkDecision baseline_decision;
+  std::string tied_landmark;  // the landmark the run is tied to in step 3 (or empty)
+  std::string landmark_note;
+  JointResult baseline_joint;  // no effect, run tied
+  std::vector<CandidateScore> candidates;
+  std::vector<DiscoveredEffect> effects;
+  std::vector<SelectionEvent> history;
+  JointResult extended;
+  DeadReckoningResult extended_trajectory;
+  LandmarkDecision extended_decision;
+  CrossValidation cross_validation;
+  // The checks of what the final model leaves (Holm within their share of alpha), and the
+  // flagged ones' descriptions.
+  std::vector<ResidualCheck> checks;
+  std::vector<std::string> remaining;
+  std::vector<Ambiguity> ambiguities;
+  // The final model's tilt-test residuals (m/s^2, measured minus predicted), per axis, in
+  // sample order, for the plots of what remains against theta and against time.
+  std::array<std::vector<double>, 2> final_residuals;
+  std::string verdict;  // the verdict line, in words
+};
+
+Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,
+                const std::vector<Landmark>& landmarks, const DiscoveryOptions& options,
+                DiscoveryResult* result);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_TILT_TABLE_DISCOVERY_H_

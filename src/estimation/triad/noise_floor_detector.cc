@@ -1,0 +1,475 @@
+#include "estimation/triad/noise_floor_detector.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "common/format.h"
+#include "estimation/statistics/chi_square.h"
+
+namespace accelcal {
+namespace {
+
+// The assumption and checks of the header, in one place.
+constexpr double kFloorQuantile = 0.05;       // provisional floor from this quantile of V
+constexpr double kMinStillFraction = 0.10;    // the assumption: this much of the log is still
+constexpr double kShapeLowQuantile = 0.10;    // the shape check compares this quantile ...
+constexpr double kMinFloorShape = 0.5;        // ... to the median, relative to white noise's
+constexpr double kMaxWhiteFalseAlarm = 1e-6;  // per window and axis, for the factor's minimum
+// The second rule: a pose's floor may be up to this many times the quietest windows' (poses
+// whose noise differs by 4 times in standard deviation, as vibration or a hand's grip makes).
+constexpr double kPoseFloorSpread = 16.0;
+
+const char kAxisNames[] = "xyz";
+
+// The element of rank round(q (n - 1)) in increasing order; `values` is reordered.
+double Quantile(std::vector<double>* values, double q) {
+  const size_t rank = static_cast<size_t>(q * (values->size() - 1) + 0.5);
+  std::nth_element(values->begin(), values->begin() + rank, values->end());
+  return (*values)[rank];
+}
+
+std::vector<double> Column(const std::vector<std::array<double, 3>>& variances, int axis,
+                           const std::vector<bool>* keep) {
+  std::vector<double> column;
+  column.reserve(variances.size());
+  for (size_t j = 0; j < variances.size(); ++j) {
+    if (keep == nullptr || (*keep)[j]) column.push_back(variances[j][axis]);
+  }
+  return column;
+}
+
+std::vector<bool> StillWindows(const std::vector<std::array<double, 3>>& variances,
+                               const std::array<double, 3>& threshold) {
+  std::vector<bool> still(variances.size());
+  for (size_t j = 0; j < variances.size(); ++j) {
+    still[j] = variances[j][0] < threshold[0] && variances[j][1] < threshold[1] &&
+               variances[j][2] < threshold[2];
+  }
+  return still;
+}
+
+Status ZeroFloor(int axis, int window) {
+  return Status::Error(StringPrintf(
+      "axis %c is constant to its last digit over much of the log (%d-sample windows of zero "
+      "variance): stuck, saturated, or noise below the output's resolution, so there is no "
+      "noise floor to set a still threshold from; check that axis of the sensor",
+      kAxisNames[axis], window));
+}
+
+// " (2.8 to 51.4 s, median 7.8 s)", or nothing for no intervals.
+std::string DescribeDurations(const std::vector<StaticInterval>& intervals) {
+  if (intervals.empty()) return "";
+  std::vector<double> durations;
+  for (const StaticInterval& interval : intervals) durations.push_back(interval.duration_s);
+  const double median = Quantile(&durations, 0.5);
+  const auto [shortest, longest] = std::minmax_element(durations.begin(), durations.end());
+  return StringPrintf(" (%.1f to %.1f s, median %.1f s)", *shortest, *longest, median);
+}
+
+Status CheckOptions(const NoiseFloorOptions& options) {
+  const int window = options.window_samples;
+  if (window < 3 || window % 2 == 0) {
+    return Status::Error(StringPrintf(
+        "the static detector's window of %d samples must be odd and at least 3", window));
+  }
+  const double dof = window - 1;
+  const double factor = options.threshold_factor;
+  const double minimum = ChiSquareQuantile(1.0 - kMaxWhiteFalseAlarm, dof) / dof;
+  if (!(factor >= minimum) || !std::isfinite(factor)) {
+    return Status::Error(StringPrintf(
+        "a threshold factor of %g times the noise floor is within white noise's own spread over "
+        "%d samples (crossed by still windows with probability %.2g); use at least %.2f",
+        factor, window, ChiSquareSurvival(factor * dof, dof),
+        std::ceil(minimum * 100.0) / 100.0));
+  }
+  if (!(options.min_interval_s >= 0.0) || !std::isfinite(options.min_interval_s)) {
+    return Status::Error(StringPrintf("the minimum interval duration of %g s must be 0 s or more",
+                                      options.min_interval_s));
+  }
+  if (options.min_intervals < 0) {
+    return Status::Error(
+        StringPrintf("the minimum interval count %d must be 0 or more", options.min_intervals));
+  }
+  return Status::Ok();
+}
+
+// The run of still centres [first, last] (window indices) as an interval of samples.
+StaticInterval IntervalOfRun(const TriadLog& log, int half, int first, int last) {
+  StaticInterval interval;
+  interval.start = first + half;
+  interval.end = last + half;
+  DescribeInterval(log, &interval);
+  return interval;
+}
+
+}  // namespace
+
+std::vector<std::array<double, 3>> WindowVariances(const TriadLog& log, int window) {
+  const int n = static_cast<int>(log.size());
+  if (n < window) return {};
+  const int count = n - window + 1;
+  std::vector<std::array<double, 3>> variances(count);
+  for (int axis = 0; axis < 3; ++axis) {
+    double reference = 0.0;
+    double sum = 0.0;
+    double sum_squares = 0.0;
+    for (int j = 0; j < count; ++j) {
+      if (j % window == 0) {
+        // Deviations from a sample of the window keep sum_squares - sum^2 / w free of the
+        // cancellation a large offset (32768 counts) would cause.
+        reference = log.output[j][axis];
+        sum = 0.0;
+        sum_squares = 0.0;
+        for (int i = j; i < j + window; ++i) {
+          const double deviation = log.output[i][axis] - reference;
+          sum += deviation;
+          sum_squares += deviation * deviation;
+        }
+      } else {
+        const double leaving = log.output[j - 1][axis] - reference;
+        const double entering = log.output[j + window - 1][axis] - reference;
+        sum += entering - leaving;
+        sum_squares += entering * entering - leaving * leaving;
+      }
+      variances[j][axis] = std::max(0.0, (sum_squares - sum * sum / window) / (window - 1));
+    }
+  }
+  return variances;
+}
+
+namespace {
+
+// The runs of still windows as intervals: moving when the run's output varies, about its own
+// mean, more than its threshold (thresholds[j], per window) allows on some axis; else used or
+// short by duration.
+void SortRuns(const TriadLog& log, const NoiseFloorOptions& options, int half,
+              const std::vector<bool>& still,
+              const std::vector<std::array<double, 3>>& thresholds,
+              NoiseFloorDetection* detection) {
+  for (int j = 0; j < static_cast<int>(still.size());) {
+    if (!still[j]) {
+      ++j;
+      continue;
+    }
+    int last = j;
+    while (last + 1 < static_cast<int>(still.size()) && still[last + 1]) ++last;
+    StaticInterval interval = IntervalOfRun(log, half, j, last);
+    bool moving = false;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double stddev = interval.noise_stddev[axis];
+      moving = moving || stddev * stddev > thresholds[j][axis];
+    }
+    if (moving) {
+      detection->moving_intervals.push_back(interval);
+    } else if (interval.duration_s >= options.min_interval_s) {
+      detection->intervals.push_back(interval);
+    } else {
+      detection->short_intervals.push_back(interval);
+    }
+    j = last + 1;
+  }
+}
+
+Status CountIntervals(const TriadLog& log, const NoiseFloorOptions& options,
+                      NoiseFloorDetection* detection);
+
+// c(q) of the header: chi2_{w-1}'s quantile q over w - 1.
+double WhiteQuantile(double q, int window) {
+  return ChiSquareQuantile(q, window - 1) / (window - 1);
+}
+
+// The shape check on one axis: quantile_0.1 / median of `values` over white noise's, stored in
+// *shape; a refusal naming `whose` windows below kMinFloorShape.
+Status CheckShape(std::vector<double> values, int axis, double white_shape, const char* whose,
+                  double* shape) {
+  const double median = Quantile(&values, 0.5);
+  const double low = Quantile(&values, kShapeLowQuantile);
+  *shape = median > 0.0 ? low / median / white_shape : 0.0;
+  if (*shape >= kMinFloorShape) return Status::Ok();
+  return Status::Error(StringPrintf(
+      "the quietest windows of %s do not look like sensor noise (on axis %c their %.0f%% quantile "
+      "of variance is %.2f of their median, white noise gives %.2f): the sensor never rests; "
+      "hold it still in each pose",
+      whose, kAxisNames[axis], 100 * kShapeLowQuantile, *shape * white_shape, white_shape));
+}
+
+// The rule of the header's first part: one noise floor for the whole log.
+Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
+                       const std::vector<std::array<double, 3>>& variances,
+                       NoiseFloorDetection* detection) {
+  const int window = options.window_samples;
+  const int half = window / 2;
+  const double dof = window - 1;
+  const double factor = options.threshold_factor;
+  auto white_quantile = [dof](double q) { return ChiSquareQuantile(q, dof) / dof; };
+
+  std::array<double, 3> provisional_threshold{};
+  for (int axis = 0; axis < 3; ++axis) {
+    std::vector<double> column = Column(variances, axis, nullptr);
+    provisional_threshold[axis] =
+        factor * Quantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile);
+    if (!(provisional_threshold[axis] > 0.0)) return ZeroFloor(axis, window);
+  }
+  std::vector<bool> still = StillWindows(variances, provisional_threshold);
+  const bool any_still = std::find(still.begin(), still.end(), true) != still.end();
+  if (any_still) {
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<double> column = Column(variances, axis, &still);
+      detection->floor_variance[axis] = Quantile(&column, 0.5) / white_quantile(0.5);
+      if (!(detection->floor_variance[axis] > 0.0)) return ZeroFloor(axis, window);
+      detection->floor_stddev[axis] = std::sqrt(detection->floor_variance[axis]);
+      detection->threshold_variance[axis] = factor * detection->floor_variance[axis];
+    }
+    still = StillWindows(variances, detection->threshold_variance);
+  }
+  const long still_count = std::count(still.begin(), still.end(), true);
+  detection->still_fraction = static_cast<double>(still_count) / still.size();
+
+  if (still_count > 0) {
+    const double white_shape = white_quantile(kShapeLowQuantile) / white_quantile(0.5);
+    std::array<Status, 3> shape;
+    for (int axis = 0; axis < 3; ++axis) {
+      shape[axis] = CheckShape(Column(variances, axis, &still), axis, white_shape, "the log",
+                               &detection->floor_shape[axis]);
+    }
+    for (const Status& status : shape) ACCELCAL_RETURN_IF_ERROR(status);
+  }
+  if (detection->still_fraction < kMinStillFraction) {
+    return Status::Error(StringPrintf(
+        "only %.1f%% of the log's %d-sample windows are still (below %g times the noise floor on "
+        "every axis); the noise floor can only be told from motion when at least %.0f%% are: "
+        "hold the sensor still in each pose",
+        100 * detection->still_fraction, window, factor, 100 * kMinStillFraction));
+  }
+
+  const std::vector<std::array<double, 3>> thresholds(still.size(),
+                                                      detection->threshold_variance);
+  SortRuns(log, options, half, still, thresholds, detection);
+  return CountIntervals(log, options, detection);
+}
+
+Status CountIntervals(const TriadLog& log, const NoiseFloorOptions& options,
+                      NoiseFloorDetection* detection) {
+  const int window = options.window_samples;
+  const int found = static_cast<int>(detection->intervals.size());
+  if (found >= options.min_intervals) return Status::Ok();
+  const double span_s = log.timestamp_s.back() - log.timestamp_s.front();
+  const double window_s = span_s > 0.0 ? span_s * (window - 1) / (log.size() - 1) : 0.0;
+  const double hold_s = options.min_interval_s + window_s;
+  const int total = found + static_cast<int>(detection->short_intervals.size());
+  if (found == 0 && detection->short_intervals.empty() && !detection->moving_intervals.empty()) {
+    return Status::Error(StringPrintf(
+        "the sensor never rests: the log's %zu quiet stretches%s drift far beyond their "
+        "windows' noise (the output turns slowly through them), so there is no static pose to "
+        "calibrate from; hold the sensor still in each pose",
+        detection->moving_intervals.size(),
+        DescribeDurations(detection->moving_intervals).c_str()));
+  }
+  const std::string advice =
+      total >= options.min_intervals
+          ? StringPrintf(
+                "hold each pose still for at least %.1f s (%g s plus the %d-sample window)", hold_s,
+                options.min_interval_s, window)
+          : StringPrintf("record at least %d more poses, each held still for at least %.1f s",
+                         options.min_intervals - found, hold_s);
+  return Status::Error(StringPrintf(
+      "found %d static intervals of at least %g s%s and %zu shorter ones%s%s; the calibration "
+      "needs at least %d poses: %s",
+      found, options.min_interval_s, DescribeDurations(detection->intervals).c_str(),
+      detection->short_intervals.size(), DescribeDurations(detection->short_intervals).c_str(),
+      detection->moving_intervals.empty()
+          ? ""
+          : StringPrintf(" (and %zu quiet stretches through which the sensor turned slowly)",
+                         detection->moving_intervals.size())
+                .c_str(),
+      options.min_intervals, advice.c_str()));
+}
+
+// The output's step on each axis: the smallest nonzero change between consecutive samples
+// (1 for counts, 16 for a 12-bit sensor left-aligned in 16 bits; tiny for a float log). 0 for an
+// axis constant over the whole log.
+std::array<double, 3> OutputSteps(const TriadLog& log) {
+  std::array<double, 3> step{};
+  for (size_t i = 1; i < log.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double change = std::abs(log.output[i][k] - log.output[i - 1][k]);
+      if (change > 0.0 && (step[k] == 0.0 || change < step[k])) step[k] = change;
+    }
+  }
+  return step;
+}
+
+// A stuck or saturated axis is constant through the motion too: over the windows where another
+// axis moves (above `loud` there), it has zero variance in more than half. A quantised axis is
+// constant only while still (a turn that leaves an axis's share of gravity unchanged is a turn
+// about that axis, and a session turns about every axis).
+int StuckAxis(const std::vector<std::array<double, 3>>& variances,
+              const std::array<double, 3>& step, const std::array<double, 3>& loud) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (step[axis] == 0.0) return axis;
+    long moving = 0;
+    long constant = 0;
+    for (const std::array<double, 3>& v : variances) {
+      bool other_moves = false;
+      for (int other = 0; other < 3; ++other)
+        other_moves = other_moves || (other != axis && v[other] > loud[other]);
+      if (!other_moves) continue;
+      ++moving;
+      if (v[axis] == 0.0) ++constant;
+    }
+    if (moving > 0 && 2 * constant > moving) return axis;
+  }
+  return -1;
+}
+
+// The rule of the header's second part: a floor per pose, each at most kPoseFloorSpread times
+// the quietest windows' floor, none below the output's step.
+Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
+                     const std::vector<std::array<double, 3>>& variances,
+                     const std::array<double, 3>& step, NoiseFloorDetection* detection) {
+  const int half = options.window_samples / 2;
+  const double factor = options.threshold_factor;
+  auto white_quantile = [&options](double q) { return WhiteQuantile(q, options.window_samples); };
+  std::array<double, 3> resolution{};
+  std::array<double, 3> loose{};
+  for (int axis = 0; axis < 3; ++axis) {
+    resolution[axis] = step[axis] * step[axis] / 12.0;
+    std::vector<double> column = Column(variances, axis, nullptr);
+    detection->floor_variance[axis] = std::max(
+        Quantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile), resolution[axis]);
+    detection->floor_stddev[axis] = std::sqrt(detection->floor_variance[axis]);
+    loose[axis] = factor * kPoseFloorSpread * detection->floor_variance[axis];
+    detection->threshold_variance[axis] = loose[axis];
+  }
+  const std::vector<bool> candidate = StillWindows(variances, loose);
+  const int count = static_cast<int>(variances.size());
+  std::vector<bool> still(count, false);
+  std::vector<std::array<double, 3>> thresholds(count, loose);
+  // Each candidate run: its own floor from the median of its windows (twice: the second on the
+  // windows the first kept), and only the windows below factor times it are still.
+  for (int j = 0; j < count;) {
+    if (!candidate[j]) {
+      ++j;
+      continue;
+    }
+    int last = j;
+    while (last + 1 < count && candidate[last + 1]) ++last;
+    std::vector<bool> keep(count, false);
+    for (int i = j; i <= last; ++i) keep[i] = true;
+    std::array<double, 3> threshold = loose;
+    for (int pass = 0; pass < 2; ++pass) {
+      for (int axis = 0; axis < 3; ++axis) {
+        std::vector<double> run;
+        for (int i = j; i <= last; ++i)
+          if (keep[i]) run.push_back(variances[i][axis]);
+        if (run.empty()) break;
+        const double floor = std::max(Quantile(&run, 0.5) / white_quantile(0.5), resolution[axis]);
+        threshold[axis] = std::min(loose[axis], factor * floor);
+      }
+      for (int i = j; i <= last; ++i)
+        keep[i] = keep[i] && variances[i][0] < threshold[0] && variances[i][1] < threshold[1] &&
+                  variances[i][2] < threshold[2];
+    }
+    for (int i = j; i <= last; ++i) {
+      still[i] = keep[i];
+      thresholds[i] = threshold;
+    }
+    j = last + 1;
+  }
+  const long still_count = std::count(still.begin(), still.end(), true);
+  detection->still_fraction = static_cast<double>(still_count) / count;
+  // The shape check on each window's variance over its own pose's floor, at least the step's.
+  if (still_count > 0) {
+    const double white_shape = white_quantile(kShapeLowQuantile) / white_quantile(0.5);
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<double> ratio;
+      for (int i = 0; i < count; ++i) {
+        if (still[i])
+          ratio.push_back(std::max(variances[i][axis], resolution[axis]) / thresholds[i][axis]);
+      }
+      ACCELCAL_RETURN_IF_ERROR(CheckShape(std::move(ratio), axis, white_shape, "each stretch",
+                                          &detection->floor_shape[axis]));
+    }
+  }
+  if (detection->still_fraction < kMinStillFraction) {
+    return Status::Error(StringPrintf(
+        "only %.1f%% of the windows are still below their own stretch's floor (%g times it, at "
+        "most %g times the quietest windows' s = %.3g, %.3g, %.3g): hold the sensor still in each "
+        "pose",
+        100 * detection->still_fraction, factor, kPoseFloorSpread, detection->floor_stddev[0],
+        detection->floor_stddev[1], detection->floor_stddev[2]));
+  }
+  SortRuns(log, options, half, still, thresholds, detection);
+  return CountIntervals(log, options, detection);
+}
+
+}  // namespace
+
+Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloorOptions& options,
+                                           NoiseFloorDetection* detection) {
+  *detection = NoiseFloorDetection();
+  ACCELCAL_RETURN_IF_ERROR(CheckOptions(options));
+  const int window = options.window_samples;
+  const double dof = window - 1;
+  const double factor = options.threshold_factor;
+  detection->window_samples = window;
+  detection->white_false_alarm = ChiSquareSurvival(factor * dof, dof);
+  if (static_cast<int>(log.size()) < window) {
+    return Status::Error(StringPrintf(
+        "the log has %zu samples, fewer than the static detector's window of %d: record a longer "
+        "session or use a shorter window",
+        log.size(), window));
+  }
+  const std::vector<std::array<double, 3>> variances = WindowVariances(log, window);
+  const std::array<double, 3> step = OutputSteps(log);
+  NoiseFloorDetection pose_floors = *detection;
+  pose_floors.rule = kPoseFloorsRule;
+  const Status per_pose = PoseFloorRule(log, options, variances, step, &pose_floors);
+  const int stuck = StuckAxis(variances, step, pose_floors.threshold_variance);
+  if (stuck >= 0) {
+    return Status::Error(StringPrintf(
+        "axis %c is constant through the motion too (zero variance over most %d-sample windows "
+        "in which another axis moves, or over the whole log): stuck or saturated, not noise "
+        "below the output's resolution; check that axis of the sensor",
+        kAxisNames[stuck], window));
+  }
+  detection->rule = kGlobalFloorRule;
+  const Status global = GlobalFloorRule(log, options, variances, detection);
+  // The single floor unless it refuses or drops poses that their own floors find (the louder
+  // poses of a session whose noise differs from pose to pose).
+  if (global.ok() && !(per_pose.ok() && pose_floors.intervals.size() > detection->intervals.size()))
+    return global;
+  if (per_pose.ok()) {
+    pose_floors.rule_reason =
+        global.ok() ? StringPrintf("one noise floor for the log found %zu poses, a floor per pose "
+                                   "%zu: the others are louder than %g times the quietest",
+                                   detection->intervals.size(), pose_floors.intervals.size(),
+                                   options.threshold_factor)
+                    : global.message();
+    *detection = std::move(pose_floors);
+    return per_pose;
+  }
+  // Neither rule: keep what the one that found more intervals saw, for the caller to show.
+  const std::string per_pose_rule = StringPrintf(
+      "a floor per pose (up to %g times the quietest windows', at least the output's step)",
+      kPoseFloorSpread);
+  std::string message =
+      global.message() == per_pose.message()
+          ? "neither one noise floor for the log nor " + per_pose_rule + " finds the poses: " +
+                global.message()
+          : "one noise floor for the log: " + global.message() + "; " + per_pose_rule + ": " +
+                per_pose.message();
+  message += StringPrintf(
+      " (seen with a floor per pose: s = %.3g, %.3g, %.3g at the quietest, %.1f%% of the "
+      "windows still, %zu intervals of at least %g s, %zu shorter; the thresholds scale with "
+      "--threshold_factor, %g now, and --min_interval_s sets the shortest pose)",
+      pose_floors.floor_stddev[0], pose_floors.floor_stddev[1], pose_floors.floor_stddev[2],
+      100 * pose_floors.still_fraction, pose_floors.intervals.size(), options.min_interval_s,
+      pose_floors.short_intervals.size(), factor);
+  if (pose_floors.intervals.size() > detection->intervals.size()) *detection = std::move(pose_floors);
+  return Status::Error(message);
+}
+
+}  // namespace accelcal

@@ -1,0 +1,108 @@
+#include "estimation/triad/triad_pose_noise.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/format.h"
+#include "common/statistics.h"
+#include "estimation/statistics/chi_square.h"
+#include "estimation/triad/triad_ml_calibration.h"
+
+namespace accelcal {
+
+Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                             const std::vector<TriadPoseMean>& poses, TriadPoseNoise* noise) {
+  *noise = TriadPoseNoise();
+  if (intervals.size() != poses.size() || poses.empty())
+    return Status::Error("the coloured noise model needs one interval per pose");
+  if (log.size() < 2) return Status::Error("the log is too short for an Allan variance");
+  const double sample_period_s =
+      (log.timestamp_s.back() - log.timestamp_s.front()) / static_cast<double>(log.size() - 1);
+  std::vector<double> durations;
+  for (const TriadPoseMean& pose : poses) durations.push_back(pose.duration_s);
+  const double median_duration_s = UpperMedian(durations);
+  const std::array<double, 3> white = PooledWithinPoseVariance(poses);
+
+  double smallest_p = 1.0;
+  for (int k = 0; k < 3; ++k) {
+    std::vector<std::vector<double>> segments;
+    for (const StaticInterval& interval : intervals) {
+      std::vector<double> samples;
+      for (int i = interval.start; i <= interval.end; ++i) samples.push_back(log.output[i][k]);
+      segments.push_back(std::move(samples));
+    }
+    AllanOptions options;
+    AllanCurve curve;
+    ACCELCAL_RETURN_IF_ERROR(ComputeAllanVariance(segments, sample_period_s, options, &curve)
+                                 .WithContext(StringPrintf("axis %c's poses", "xyz"[k])));
+    // The test point before the fit: the fit fills each point's edf by the noise it finds.
+    int test = -1;
+    for (size_t i = 0; i < curve.points.size(); ++i)
+      if (curve.points[i].tau_s <= 0.5 * median_duration_s) test = static_cast<int>(i);
+    if (test < 0) {
+      return Status::Error(StringPrintf(
+          "the poses (median %.3g s) are too short for the Allan variance of their noise",
+          median_duration_s));
+    }
+    const AllanPoint point = curve.points[test];
+    // The segments the point averages, and only those: a short pose does not enter a long
+    // tau's point, and counting it would make the test overconfident.
+    const double edf = AllanCurveDof(AllanNoiseKind::kWhite, curve, point.cluster_samples);
+    const double expected = white[k] / static_cast<double>(point.cluster_samples);
+    noise->test_tau_s = point.tau_s;
+    noise->avar_ratio[k] = point.avar / expected;
+    noise->white_p_value[k] = ChiSquareSurvival(edf * noise->avar_ratio[k], edf);
+    smallest_p = std::min(smallest_p, noise->white_p_value[k]);
+
+    AllanNoiseFit fit;
+    ACCELCAL_RETURN_IF_ERROR(FitAllanNoise(options, &curve, &fit)
+                                 .WithContext(StringPrintf("axis %c's poses", "xyz"[k])));
+    noise->terms[k] = FittedNoiseTerms(fit);
+  }
+  TriadNoiseCandidate& candidate = noise->candidate;
+  candidate.white_p_value = std::min(1.0, 3.0 * smallest_p);
+  for (const TriadPoseMean& pose : poses) {
+    std::array<double, 3> variance;
+    for (int k = 0; k < 3; ++k) {
+      variance[k] =
+          AllanPoseMeanVariance(noise->terms[k], std::max(pose.duration_s, sample_period_s));
+      // Never below what white noise of the pose's own samples gives.
+      variance[k] = std::max(variance[k], white[k] / pose.sample_count);
+    }
+    candidate.pose_mean_variance.push_back(variance);
+  }
+  candidate.description = StringPrintf(
+      "Allan variance of the poses' samples (terms N, B, K fitted per axis; a pose mean of T s "
+      "has variance sigma^2(T)); at tau = %.3g s it is (%.3g, %.3g, %.3g) times white noise's",
+      noise->test_tau_s, noise->avar_ratio[0], noise->avar_ratio[1], noise->avar_ratio[2]);
+  return Status::Ok();
+}
+
+Status ParseTriadNoiseChoice(const std::string& text, TriadNoiseChoice* choice) {
+  if (text == "auto") {
+    *choice = TriadNoiseChoice::kAuto;
+  } else if (text == "white") {
+    *choice = TriadNoiseChoice::kWhite;
+  } else if (text == "allan") {
+    *choice = TriadNoiseChoice::kAllan;
+  } else {
+    return Status::Error("'" + text + "' is not a noise model; use auto, white or allan");
+  }
+  return Status::Ok();
+}
+
+Status SelectTriadPoseNoise(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                            const std::vector<TriadPoseMean>& poses, TriadNoiseChoice choice,
+                            double alpha, TriadPoseNoise* noise, bool* use_allan) {
+  const Status allan = TriadPoseNoiseFromLog(log, intervals, poses, noise);
+  *use_allan = false;
+  if (!allan.ok()) {
+    *noise = TriadPoseNoise();
+    return choice == TriadNoiseChoice::kAllan ? allan.WithContext("--noise=allan") : Status::Ok();
+  }
+  *use_allan = choice == TriadNoiseChoice::kAllan ||
+               (choice == TriadNoiseChoice::kAuto && noise->candidate.white_p_value < alpha / 4.0);
+  return Status::Ok();
+}
+
+}  // namespace accelcal
