@@ -234,6 +234,23 @@ TEST(GyroscopeIntegration, AConstantRateGivesTheExactRotation) {
   for (int i = 0; i < 9; ++i) EXPECT_NEAR(rotation[i], expected[i], 1e-10) << i;
 }
 
+TEST(GyroscopeIntegration, IsExactForARateRisingLinearlyAboutOneAxis) {
+  // w(t) = 0.4 t rad/s^2 about a fixed axis for 3 s: the rotation is by 0.2 t^2 = 1.8 rad. About
+  // a fixed axis imu_tk's step adds dt (w0 + w1) / 2, exact for a linear rate (the middle rate
+  // taken as the later one's, say, would add dt (w0 + 5 w1) / 6 and turn 0.02 rad too far).
+  const std::array<double, 3> axis = {-0.48, 0.6, 0.64};
+  const double dt = 0.01;
+  double rotation[9];
+  IntegrateAngularRate(
+      301,
+      [&](int j, double* rate) {
+        for (int k = 0; k < 3; ++k) rate[k] = 0.4 * j * dt * axis[k];
+      },
+      std::vector<double>(300, dt), rotation);
+  const std::array<double, 9> expected = AxisAngle(axis, 1.8);
+  EXPECT_LT(AngleBetweenRotations(rotation, expected.data()), 1e-10);
+}
+
 TEST(GyroscopeIntegration, IsTheTrapezoidRuleForAVaryingRate) {
   // A turn by `total` about a fixed axis in `duration`, with the rate of a hand,
   // w(t) = total pi / (2 duration) sin(pi t / duration), 0 at both ends. imu_tk's step takes the
