@@ -89,7 +89,7 @@ TEST_F(ImuTkGyroscopeXsens, ReproducesImuTksPrintedResidual) {
 }
 
 TEST_F(ImuTkGyroscopeXsens, ReproducesImuTksPrintedMisalignmentMatrix) {
-  const char* printed[9] = {"1",         "0.00593634", "0.00111101", "0.00808812", "1",
+  const char* printed[9] = {"1",          "0.00593634", "0.00111101", "0.00808812", "1",
                             "-0.0535569", "0.0253067",  "-0.0025513", "1"};
   const std::array<double, 9> matrix = result_->misalignment_matrix();
   for (int i = 0; i < 9; ++i) EXPECT_EQ(Printed(matrix[i]), printed[i]) << "element " << i;
@@ -199,9 +199,8 @@ TEST(GyroscopeModel, CompilesForCeresJets) {
 std::array<double, 9> AxisAngle(const std::array<double, 3>& axis, double angle) {
   const double c = std::cos(angle), s = std::sin(angle), v = 1.0 - c;
   const double x = axis[0], y = axis[1], z = axis[2];
-  return {c + x * x * v,     x * y * v - z * s, x * z * v + y * s,
-          y * x * v + z * s, c + y * y * v,     y * z * v - x * s,
-          z * x * v - y * s, z * y * v + x * s, c + z * z * v};
+  return {c + x * x * v,     x * y * v - z * s, x * z * v + y * s, y * x * v + z * s, c + y * y * v,
+          y * z * v - x * s, z * x * v - y * s, z * y * v + x * s, c + z * z * v};
 }
 
 // The angle of the rotation between two rotation matrices (row-major): |vee(A^T B)| = sin(angle).
@@ -265,8 +264,7 @@ TEST(GyroscopeIntegration, IsTheTrapezoidRuleForAVaryingRate) {
     IntegrateAngularRate(
         steps_count + 1,
         [&](int j, double* rate) {
-          const double speed =
-              total * M_PI / (2.0 * duration) * std::sin(M_PI * j * dt / duration);
+          const double speed = total * M_PI / (2.0 * duration) * std::sin(M_PI * j * dt / duration);
           for (int k = 0; k < 3; ++k) rate[k] = speed * axis[k];
         },
         std::vector<double>(steps_count, dt), rotation);
@@ -492,8 +490,7 @@ TEST(ImuTkGyroscopeCalibration, RecoversNoiseFreeGyroscopeErrors) {
 // 4e-4 rad/s), about the Xsens unit's.
 TEST(ImuTkGyroscopeCalibration, RecoversTheGyroscopeAfterImuTksAccelerometerCalibration) {
   const GyroscopeParameters truth = GyroscopeTruth();
-  const GyroscopeSession session =
-      SimulateGyroscopeSession(truth, 24, 50.0, 3.0, 2.0, 3.0, 2.0, 3);
+  const GyroscopeSession session = SimulateGyroscopeSession(truth, 24, 50.0, 3.0, 2.0, 3.0, 2.0, 3);
   ImuTkOptions accelerometer_options;
   accelerometer_options.gravity_mps2 = kGravity;
   accelerometer_options.init_rest_s = 50.0;
@@ -529,8 +526,8 @@ TEST(ImuTkGyroscopeCalibration, RefusesALogWithoutGyroscope) {
   TriadLog log = session.log;
   log.gyroscope.clear();
   ImuTkGyroscopeResult result;
-  const Status status =
-      CalibrateImuTkGyroscope(log, PerfectAccelerometer(session), StartFromTheNominalGain(), &result);
+  const Status status = CalibrateImuTkGyroscope(log, PerfectAccelerometer(session),
+                                                StartFromTheNominalGain(), &result);
   ASSERT_FALSE(status.ok());
   EXPECT_NE(status.message().find("no gyroscope samples"), std::string::npos) << status.message();
 }

@@ -70,8 +70,9 @@ Status CheckInputs(const TriadLog& log, const ImuTkResult& accelerometer, int* u
   }
   const int n = static_cast<int>(log.size());
   if (accelerometer.rest_end < 0 || accelerometer.rest_end >= n) {
-    return Status::Error("the accelerometer's result does not belong to this log (its initial "
-                         "rest ends past the last sample)");
+    return Status::Error(
+        "the accelerometer's result does not belong to this log (its initial "
+        "rest ends past the last sample)");
   }
   *used = 0;
   for (size_t i = 0; i < accelerometer.intervals.size(); ++i) {
@@ -138,9 +139,8 @@ Status CalibrateImuTkGyroscope(const TriadLog& log, const ImuTkResult& accelerom
                                            log.gyroscope.begin() + turn.last_sample + 1);
     std::vector<double> step_s;
     for (int i = turn.first_sample; i < turn.last_sample; ++i) {
-      step_s.push_back(options.data_period_s > 0.0
-                           ? options.data_period_s
-                           : log.timestamp_s[i + 1] - log.timestamp_s[i]);
+      step_s.push_back(options.data_period_s > 0.0 ? options.data_period_s
+                                                   : log.timestamp_s[i + 1] - log.timestamp_s[i]);
     }
     problem.AddResidualBlock(
         ImuTkGyroscopeResidual::Create(turn.gravity_before, turn.gravity_after, std::move(raw),

@@ -60,9 +60,9 @@ struct ImuTkGyroscopeTurn {
   int last_sample = 0;
   std::array<double, 3> gravity_before{};  // unit vectors, accelerometer frame
   std::array<double, 3> gravity_after{};
-  double turn_angle_rad = 0.0;      // angle between the two gravity directions
-  double residual_angle_rad = 0.0;  // angle between R^T gravity_before and gravity_after, at
-                                    // the solution: how far the calibrated rates miss the turn
+  double turn_angle_rad = 0.0;       // angle between the two gravity directions
+  double residual_angle_rad = 0.0;   // angle between R^T gravity_before and gravity_after, at
+                                     // the solution: how far the calibrated rates miss the turn
   std::array<double, 3> residual{};  // r at the solution
 };
 

@@ -64,8 +64,8 @@ class ImuTkGyroscopeResidual {
                                      std::vector<std::array<double, 3>> raw,
                                      std::vector<double> step_s, const GyroscopeOffset& offset) {
     return new ceres::AutoDiffCostFunction<ImuTkGyroscopeResidual, 3, kGyroscopeParameterCount>(
-        new ImuTkGyroscopeResidual(gravity_before, gravity_after, std::move(raw),
-                                   std::move(step_s), offset));
+        new ImuTkGyroscopeResidual(gravity_before, gravity_after, std::move(raw), std::move(step_s),
+                                   offset));
   }
 
  private:
