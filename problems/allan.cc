@@ -161,8 +161,11 @@ Status CheckSampling(const TriadLog& log, AllanReport* report) {
       if (step > 1.5 * tau0 || step < 0.5 * tau0) {
         return Status::Error(StringPrintf(
             "%s: a step of %.6g s at t = %.6g s in segment %.3f..%.3f s, against the median "
-            "%.6g s; an Allan variance needs uniform sampling: choose a segment without the gap",
-            FLAGS_log.c_str(), step, *it, segment.start_s, segment.end_s, tau0));
+            "%.6g s; an Allan variance needs uniform sampling: choose a segment without the gap, "
+            "or, if the time stamps only jitter (a host's), give --rate_hz=%.4g to time the "
+            "samples by their order",
+            FLAGS_log.c_str(), step, *it, segment.start_s, segment.end_s, tau0,
+            (log.size() - 1) / (log.timestamp_s.back() - log.timestamp_s.front())));
       }
     }
   }
@@ -330,10 +333,10 @@ int Run(int argc, char** argv) {
   ImuLogReadOptions read_options;
   ImuLogSource log_source;
   if (status.ok()) status = ACCELCAL_IMU_LOG_OPTIONS(&read_options);
-  if (status.ok() && !read_options.gyroscope_path.empty())
-    status = Status::Error("--gyro_log: allan analyses the accelerometer's log (--log) alone");
   if (status.ok())
     status = ReadImuLog(FLAGS_log, read_options, &log, ImuLogSpacing::kAny, &log_source);
+  if (status.ok())
+    status = TakeStatedUnit(log_source, &FLAGS_unit, &log_source.notes).WithContext(FLAGS_log);
   if (status.ok()) {
     for (const std::string& note : log_source.notes) std::cerr << "allan: note: " << note << "\n";
   }

@@ -179,8 +179,6 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
       TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
-  if (!read_options.gyroscope_path.empty())
-    return Status::Error("--gyro_log: apply corrects the accelerometer's log (--in) alone");
   TriadLog log;
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(

@@ -53,6 +53,7 @@
 // clang-format off
 DEFINE_string(log, "", "The IMU log, in the layout its tool wrote (docs/log-layouts.md): CSV, ';'-, tab- or blank-separated text with a header naming the columns (t/time/timestamp, ax/acc_x/ACCEL_X..., gyroscope gx/gyr_x/... kept), metadata lines before it or not; imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z, whatever the file's suffix); or a MATLAB .mat (v5 or v7.3) with the variables named. Values in the sensor's unit (e.g. raw counts). Several sessions: --log=S1,S2,...");
 ACCELCAL_DEFINE_IMU_LOG_FLAGS();
+ACCELCAL_DEFINE_GYRO_LOG_FLAG();
 DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the poses of --detector (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result when its rules give one. ferraris: imucal's closed form on the six holds of --session, and the least squares they allow.");
 DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens example uses 9.81744). Earth's surface gravity is 9.76 to 9.84 m/s^2, so 9.7 to 9.9 is accepted: the flag is in m/s^2, not in g, and a wrong g scales every gain by g_stated / g_true, which static poses cannot detect.");
 DEFINE_string(unit, "count", "The unit of the log's outputs: count (raw ADC counts, as imu_tk's example), m/s^2 or g. It sets the units of the gains ((m/s^2) per unit) and offsets (the unit); a calibration whose gains contradict it (e.g. gains near 1 from a log said to be in counts) is refused.");
@@ -173,30 +174,10 @@ Status ValidateFlags() {
                           RunInputs{{FLAGS_log, FLAGS_gyro_log}, {}});
 }
 
-// The unit the columns' names state (acc_x_g, "a_x [m s^-2]") stands for --unit when it was
-// not given, and must agree with it when it was.
-Status TakeStatedUnit(const ImuLogSource& log_source, std::vector<std::string>* notes) {
-  const std::string& stated = log_source.accelerometer_unit;
-  TriadOutputUnit unit;
-  if (stated.empty() || !ParseTriadOutputUnit(stated, &unit).ok()) return Status::Ok();
-  if (gflags::GetCommandLineFlagInfoOrDie("unit").is_default) {
-    if (stated != FLAGS_unit) {
-      FLAGS_unit = stated;
-      notes->push_back("outputs in " + stated +
-                       ", as the accelerometer columns' names say (--unit states another)");
-    }
-    return Status::Ok();
-  }
-  if (stated != FLAGS_unit) {
-    return Status::Error("--unit=" + FLAGS_unit + ", but the accelerometer columns' names say " +
-                         stated + ": give --unit=" + stated + ", or rename the columns if --unit is right");
-  }
-  return Status::Ok();
-}
-
 Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   ImuLogReadOptions read_options;
-  ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+  ACCELCAL_RETURN_IF_ERROR(ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit,
+                                                  FLAGS_gyro_log, &read_options));
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
   std::map<std::string, std::string> files = {{"log", FLAGS_log}};
@@ -206,7 +187,8 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   report->log_layout = log_source.layout;
   report->log_notes = log_source.notes;
   report->log_metadata = log_source.metadata;
-  ACCELCAL_RETURN_IF_ERROR(TakeStatedUnit(log_source, &report->log_notes).WithContext(FLAGS_log));
+  ACCELCAL_RETURN_IF_ERROR(
+      TakeStatedUnit(log_source, &FLAGS_unit, &report->log_notes).WithContext(FLAGS_log));
   if (log->has_gyroscope()) {
     report->gyroscope_samples = log->gyroscope.size();
     report->log_notes.push_back(

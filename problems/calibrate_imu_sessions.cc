@@ -130,7 +130,7 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
-  if (!read_options.gyroscope_path.empty()) {
+  if (!FLAGS_gyro_log.empty()) {
     return Status::Error(
         "--gyro_log names one gyroscope file; with several sessions give logs that hold the "
         "gyroscope's columns, or calibrate each session on its own");

@@ -287,14 +287,15 @@ inline const char* DefaultToolsDir(const char* source_tools_dir) {
   DEFINE_string(theta_unit, "auto", "Unit of the tilt test's angles: rad, deg, or auto (radians, but a span over two turns is refused as likely degrees).")
 // clang-format on
 
-// --columns, --rate_hz, --time_unit and --gyro_log: how a three-axis IMU log is read
-// (io/imu_log.h, docs/log-layouts.md), defined by every binary that reads one, with one help
-// text each; ImuLogOptionsFromFlags collects them.
+// --columns, --rate_hz and --time_unit: how a three-axis IMU log is read (io/imu_log.h,
+// docs/log-layouts.md), defined by every binary that reads one, with one help text each;
+// --gyro_log by those that read imu_tk's pair of files. ImuLogOptionsFromFlags collects them.
 // clang-format off
 #define ACCELCAL_DEFINE_IMU_LOG_FLAGS()                                                                      \
   DEFINE_string(columns, "", "The log's columns when their names do not say (docs/log-layouts.md): KEY:NAME pairs, keys t (time), index (sample number), ax, ay, az (accelerometer), gx, gy, gz (gyroscope); NAME a header name or a column number from 1, e.g. --columns=t:TIME,ax:ACCEL_BMI160_0_X,ay:ACCEL_BMI160_0_Y,az:ACCEL_BMI160_0_Z. In a .mat file NAME is a variable or NAME(:,K), and acc:NAME, gyr:NAME take N x 3 variables. Keys not given are chosen by name."); \
   DEFINE_double(rate_hz, 0.0, "The log's sampling rate in Hz when it has no time column (or its sample-number column, e.g. imucal's 'samples', gives time): time = row (or sample number) / rate. 0: time from the time column."); \
-  DEFINE_string(time_unit, "", "The unit of the time column: s, ms, us or ns. Empty: the column's name states it (t_s, time_ms, timestamp [ns]) or it is inferred from the median step (1 Hz to 100 kHz), and the output says which; a Unix time is counted from the first sample."); \
+  DEFINE_string(time_unit, "", "The unit of the time column: s, ms, us or ns. Empty: the column's name states it (t_s, time_ms, timestamp [ns]) or it is inferred from the median step (1 Hz to 100 kHz), and the output says which; a Unix time is counted from the first sample.")
+#define ACCELCAL_DEFINE_GYRO_LOG_FLAG() \
   DEFINE_string(gyro_log, "", "imu_tk's pair of files: the gyroscope's log (same layout and time stamps as the accelerometer's --log). Its samples are read and checked beside the accelerometer's.")
 // clang-format on
 
@@ -319,8 +320,30 @@ inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
   options->gyroscope_path = gyro_log;
   return Status::Ok();
 }
+// The unit the accelerometer columns' names state (acc_x_g, "a_x [m s^-2]") stands for --unit
+// (`*unit_flag`) when it was not given, said in `notes`, and must agree with it when it was.
+inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
+                             std::vector<std::string>* notes) {
+  const std::string& stated = log_source.accelerometer_unit;
+  if (stated != "count" && stated != "m/s^2" && stated != "g") return Status::Ok();
+  if (gflags::GetCommandLineFlagInfoOrDie("unit").is_default) {
+    if (stated != *unit_flag) {
+      notes->push_back("outputs in " + stated + ", as the accelerometer columns' names say (--unit, not given, would be " +
+                       *unit_flag + ")");
+      *unit_flag = stated;
+    }
+    return Status::Ok();
+  }
+  if (stated != *unit_flag) {
+    return Status::Error("--unit=" + *unit_flag + ", but the accelerometer columns' names say " +
+                         stated + ": give --unit=" + stated +
+                         ", or rename the columns if --unit is right");
+  }
+  return Status::Ok();
+}
+
 #define ACCELCAL_IMU_LOG_OPTIONS(options) \
-  ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, FLAGS_gyro_log, options)
+  ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, "", options)
 
 // --calibration_file, --run_file, --landmarks_file and --conditions_file: one file of the data,
 // overriding --data_dir's (or, without --data_dir, all four together). Defined by every binary

@@ -78,7 +78,10 @@ TEST(ImuLog, RefusesTimeThatDoesNotIncrease) {
 
 TEST(ImuLog, RefusesATimeAxisInMillisecondsWhenTheNameSaysSeconds) {
   const std::string message = Refusal("t_s,ax,ay,az\n0,1,2,3\n10,1,2,3\n20,1,2,3\n");
-  EXPECT_NE(message.find("milliseconds"), std::string::npos) << message;
+  EXPECT_NE(message.find("time 't_s' steps by 10 s as read, 0.1 Hz, outside an IMU log's 1 Hz to "
+                         "100 kHz; read in ms it steps by 0.01 s (100 Hz): give --time_unit=ms"),
+            std::string::npos)
+      << message;
 }
 
 // 100 samples 0.01 s apart from t = 0, then 100 more `step_s` apart, from `second_start_s`.
@@ -394,6 +397,11 @@ TEST(ImuLogLayouts, ClassifiesTheAliasTable) {
                         {"accelerometer.x", ImuColumnKind::kAccelerometer, 0},
                         {"AccY", ImuColumnKind::kAccelerometer, 1},
                         {"acc_z_g", ImuColumnKind::kAccelerometer, 2},
+                        {"alpha_x", ImuColumnKind::kAccelerometer, 0},  // Kalibr's
+                        {"millis", ImuColumnKind::kTime, -1},           // Arduino's
+                        {"Zeit [ms]", ImuColumnKind::kTime, -1},
+                        {"SampleTimeFine", ImuColumnKind::kTime, -1},  // Xsens's
+                        {"PacketCounter", ImuColumnKind::kSampleIndex, -1},
                         {"gx", ImuColumnKind::kGyroscope, 0},
                         {"gyr_y", ImuColumnKind::kGyroscope, 1},
                         {"gyro_z_dps", ImuColumnKind::kGyroscope, 2},
@@ -408,6 +416,8 @@ TEST(ImuLogLayouts, ClassifiesTheAliasTable) {
   }
   EXPECT_EQ(ClassifyImuColumnName("timestamp_us").time_unit, "us");
   EXPECT_EQ(ClassifyImuColumnName("acc_z_g").value_unit, "g");
+  EXPECT_EQ(ClassifyImuColumnName("millis").time_unit, "ms");
+  EXPECT_EQ(ClassifyImuColumnName("a_x [m/s\xc2\xb2]").value_unit, "m/s^2");
   EXPECT_EQ(ClassifyImuColumnName("ACCEL_BMI160_1_X").device, "bmi160_1");
 }
 
@@ -480,6 +490,122 @@ TEST(ImuLogLayouts, ImuTksPairOfFilesAndAMatFileWithNamedVariables) {
   options = ImuLogReadOptions();
   options.columns = "t:tita,ax:datos(:,1),ay:datos(:,2),az:datos(:,2)";
   EXPECT_TRUE(ReadImuLog(two_axis, options, &log).ok());
+}
+
+// --- What the outside probe of 2026-11-26 found (each failed before its fix). ---
+
+TEST(ImuLogProbe, APairOfFilesWithHeadersIsRead) {
+  testing::ScratchDir dir;
+  const std::string accelerometer = dir.Write(
+      "acc.csv",
+      "t,ax,ay,az\n" + Rows(30, [](int, double t) { return StringPrintf("%.2f,1,2,9.8\n", t); }));
+  // The gyroscope's file names its columns (the probe's crash: exit 139), or, as a phone app's,
+  // has bare x, y, z (z first).
+  for (const std::string& header : {"t,gx,gy,gz", "t,z,y,x"}) {
+    const bool bare = header[2] == 'z';
+    const std::string gyroscope =
+        dir.Write("gyro.csv", header + "\n" + Rows(30, [bare](int, double t) {
+                                return StringPrintf(
+                                    bare ? "%.2f,0.03,0.02,0.01\n" : "%.2f,0.01,0.02,0.03\n", t);
+                              }));
+    ImuLogReadOptions options;
+    options.gyroscope_path = gyroscope;
+    TriadLog log;
+    ImuLogSource source;
+    const Status status = ReadImuLog(accelerometer, options, &log, ImuLogSpacing::kEven, &source);
+    ASSERT_TRUE(status.ok()) << status.message();
+    ExpectStillSensor(log, 30, 0.01, true);
+    EXPECT_TRUE(HasNote(source, bare ? "gyroscope 'x', 'y', 'z')" : "gyroscope 'gx', 'gy', 'gz')"))
+        << header;
+    // The gyroscope's file has no accelerometer to describe (described from column -1 before).
+    EXPECT_FALSE(HasNote(source, "accelerometer '")) << header;
+  }
+}
+
+TEST(ImuLogProbe, QuotedHeadersKeepTheirNames) {
+  ImuLogSource source;
+  const TriadLog log = ReadOk(
+      "\"Time (s)\",\"Acceleration x (m/s^2)\",\"Acceleration y (m/s^2)\",\"Acceleration z "
+      "(m/s^2)\"\n" +
+          Rows(30, [](int, double t) { return StringPrintf("\"%.2f\",\"1\",\"2\",\"9.8\"\n", t); }),
+      {}, &source);
+  ExpectStillSensor(log, 30, 0.01, false);
+  EXPECT_NE(source.layout.find("t = 'Time (s)'; accelerometer 'Acceleration x (m/s^2)'"),
+            std::string::npos)
+      << source.layout;
+  EXPECT_EQ(source.accelerometer_unit, "m/s^2");
+}
+
+TEST(ImuLogProbe, RowsEndingInASeparatorTheHeaderLacks) {
+  ImuLogSource source;
+  const TriadLog log = ReadOk(
+      "t,ax,ay,az\n" + Rows(30, [](int, double t) { return StringPrintf("%.2f,1,2,9.8,\n", t); }),
+      {}, &source);
+  ExpectStillSensor(log, 30, 0.01, false);
+  EXPECT_TRUE(HasNote(source, "ends in a separator"));
+}
+
+TEST(ImuLogProbe, XsensSampleTimeFineIsInTicksOf100Microseconds) {
+  const TriadLog log = ReadOk(
+      "// General information:\n// Update rate: "
+      "100.00Hz\nPacketCounter\tSampleTimeFine\tAcc_X\tAcc_Y\t"
+      "Acc_Z\n" +
+      Rows(30, [](int j, double) {
+        return StringPrintf("%d\t%d\t1\t2\t9.8\n", 1000 + j, 123456 + 100 * j);
+      }));
+  ExpectStillSensor(log, 30, 0.01, false);  // read as 10 Hz (ms) before
+}
+
+TEST(ImuLogProbe, AStepTwoUnitsExplainEquallyIsAskedNotGuessed) {
+  // 100 units a step: 10 Hz in ms or 10 kHz in us; neither is a usual IMU rate.
+  const std::string message = Refusal("time,ax,ay,az\n" + Rows(30, [](int j, double) {
+                                        return StringPrintf("%d,1,2,9.8\n", 100 * j);
+                                      }));
+  EXPECT_NE(message.find("give --time_unit=s, ms, us or ns"), std::string::npos) << message;
+}
+
+TEST(ImuLogProbe, BurstsOfHostStampsAskForTheRate) {
+  // BLE: three samples stamped within 2 ms every 60 ms, Unix milliseconds; 50 Hz in truth.
+  const std::string text =
+      "timestamp,ax,ay,az\n" + Rows(300, [](int j, double) {
+        return StringPrintf("%lld,1,2,9.8\n", 1732650000000LL + 60 * (j / 3) + (j % 3));
+      });
+  const std::string message = Refusal(text);
+  EXPECT_NE(message.find("the time stamps come in bursts"), std::string::npos) << message;
+  EXPECT_EQ(message.find("sample number"), std::string::npos) << message;
+  ImuLogReadOptions options;  // the suggestion, followed
+  const size_t at = message.find("--rate_hz=");
+  ASSERT_NE(at, std::string::npos);
+  options.rate_hz = std::stod(message.substr(at + 10));
+  EXPECT_NEAR(options.rate_hz, 50.0, 0.5);
+  ASSERT_EQ(ReadOk(text, options).size(), 300u);
+}
+
+TEST(ImuLogProbe, AWrongTimeUnitIsCorrected) {
+  ImuLogReadOptions options;
+  options.time_unit = "ms";  // the column is in microseconds
+  const std::string message =
+      Refusal("t,ax,ay,az\n" +
+                  Rows(30, [](int j, double) { return StringPrintf("%d,1,2,9.8\n", 10000 * j); }),
+              options);
+  EXPECT_NE(message.find("give --time_unit=us"), std::string::npos) << message;
+}
+
+TEST(ImuLogProbe, ThreeUnnamedColumnsAskForTheRate) {
+  const std::string message =
+      Refusal(Rows(30, [](int, double) { return std::string("1 2 9.8\n"); }));
+  EXPECT_NE(message.find("give --rate_hz=R"), std::string::npos) << message;
+  EXPECT_EQ(message.find("az:4"), std::string::npos) << message;
+}
+
+TEST(ImuLogProbe, ARepeatedHeaderAndUtf16WithoutAMarkAreNamed) {
+  const std::string joined =
+      "t,ax,ay,az\n" + Rows(10, [](int, double t) { return StringPrintf("%.2f,1,2,9.8\n", t); }) +
+      "t,ax,ay,az\n";
+  EXPECT_NE(Refusal(joined).find("line 12 repeats the header of line 1"), std::string::npos)
+      << Refusal(joined);
+  const std::string utf16("t\0,\0a\0x\0\n\0", 10);
+  EXPECT_NE(Refusal(utf16).find("UTF-16"), std::string::npos);
 }
 
 }  // namespace

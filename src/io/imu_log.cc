@@ -125,6 +125,19 @@ constexpr size_t kMinRateBlock = 100;
 
 Status CheckEvenSpacing(const std::vector<double>& timestamp_s, double median_step_s) {
   const size_t steps = timestamp_s.size() - 1;
+  // Host stamps of buffered packets: many steps far below the mean and many far above it (a
+  // BLE link stamps three samples within 2 ms every 60 ms). The samples' own rate is the mean.
+  const double mean_step_s = (timestamp_s.back() - timestamp_s.front()) / steps;
+  size_t long_steps = 0;
+  for (size_t j = 1; j <= steps; ++j)
+    long_steps += timestamp_s[j] - timestamp_s[j - 1] > 3.0 * median_step_s ? 1 : 0;
+  if (mean_step_s > 3.0 * median_step_s && long_steps > steps / 10) {
+    return Status::Error(StringPrintf(
+        "the time stamps come in bursts (a median step of %.6g s, a mean of %.6g s, %zu steps "
+        "above three medians): host stamps of buffered packets, not the samples' times; give "
+        "--rate_hz=%.4g, the mean rate, to time the samples by their order",
+        median_step_s, mean_step_s, long_steps, 1.0 / mean_step_s));
+  }
   for (size_t j = 1; j <= steps; ++j) {
     const double step_s = timestamp_s[j] - timestamp_s[j - 1];
     if (step_s <= kMaxGapSteps * median_step_s) continue;
@@ -226,6 +239,13 @@ Status ImuLogLineParser::Cell(int column, const char* role, double* value) const
     parsed = ParseFiniteNumber(cell, value);
   }
   if (parsed) return Status::Ok();
+  if (!format_.header.empty() && fields_.size() <= format_.header.size() &&
+      std::equal(fields_.begin(), fields_.end(), format_.header.begin())) {
+    return Status::Error(StringPrintf(
+        "%s repeats the header of line %lld: two logs joined in one file? split it there and "
+        "calibrate each part",
+        Where(line_number_).c_str(), format_.header_line));
+  }
   const std::string where =
       format_.header.empty() ? StringPrintf("column %d (%s)", column + 1, role)
                              : "column '" + EchoInput(format_.header[column]) + "' (" + role + ")";
@@ -324,6 +344,48 @@ void FillSource(const ImuTextFormat& format, ImuLogSource* source) {
   source->metadata = format.metadata;
   source->accelerometer_unit = format.accelerometer_unit;
   source->gyroscope_unit = format.gyroscope_unit;
+  source->time_column.clear();
+  if (format.time_column >= 0 && format.rate_hz <= 0.0) {
+    source->time_column = format.header.empty()
+                              ? "column " + std::to_string(format.time_column + 1)
+                              : "'" + EchoInput(format.header[format.time_column]) + "'";
+  }
+  source->time_scale_s = format.time_scale_s;
+}
+
+// A time axis whose median step is no IMU's, read from a column in a unit stated or inferred:
+// the unit that would give an IMU's step, when one does.
+Status CheckTimeUnit(const std::vector<double>& timestamp_s, const ImuLogSource& source) {
+  if (source.time_column.empty() || timestamp_s.size() < 2) return Status::Ok();
+  std::vector<double> steps(timestamp_s.size() - 1);
+  for (size_t j = 1; j < timestamp_s.size(); ++j)
+    steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
+  const double step_s = UpperMedian(steps);
+  if (!(step_s > 0.0) || (step_s >= kMinRunStepS && step_s <= kMaxRunStepS)) return Status::Ok();
+  static const char* const kUnits[] = {"s", "ms", "us", "ns"};
+  std::vector<int> fitting;
+  for (int u = 0; u < 4; ++u) {
+    const double candidate_s = step_s / source.time_scale_s * std::pow(1e-3, u);
+    if (candidate_s >= kMinRunStepS && candidate_s <= kMaxRunStepS) fitting.push_back(u);
+  }
+  if (fitting.size() == 2) {  // of two, the one at a usual IMU rate (20 Hz to 2 kHz)
+    std::vector<int> usual;
+    for (int u : fitting) {
+      const double rate_hz = 1.0 / (step_s / source.time_scale_s * std::pow(1e-3, u));
+      if (rate_hz >= 20.0 && rate_hz <= 2000.0) usual.push_back(u);
+    }
+    if (usual.size() == 1) fitting = usual;
+  }
+  std::string advice = "give --time_unit=s, ms, us or ns, or --rate_hz=R";
+  if (fitting.size() == 1) {
+    const int u = fitting[0];
+    advice = StringPrintf("read in %s it steps by %.6g s (%.6g Hz): give --time_unit=%s", kUnits[u],
+                          step_s / source.time_scale_s * std::pow(1e-3, u),
+                          1.0 / (step_s / source.time_scale_s * std::pow(1e-3, u)), kUnits[u]);
+  }
+  return Status::Error(StringPrintf(
+      "time %s steps by %.6g s as read, %.6g Hz, outside an IMU log's 1 Hz to 100 kHz; %s",
+      source.time_column.c_str(), step_s, 1.0 / step_s, advice.c_str()));
 }
 
 // What the head's bytes say the file is not: a text log in UTF-8 with '\n' line ends.
@@ -332,6 +394,11 @@ Status CheckTextHead(std::string_view head, size_t file_size) {
     return Status::Error(
         "the file is UTF-16 text (it starts with a UTF-16 byte order mark): save or convert it "
         "as UTF-8 (e.g. iconv -f UTF-16 -t UTF-8)");
+  }
+  if (head.size() >= 4 && head[0] != '\0' && head[1] == '\0' && head[3] == '\0') {
+    return Status::Error(
+        "the file is UTF-16 text (a NUL after every character, no byte order mark): save or "
+        "convert it as UTF-8 (e.g. iconv -f UTF-16LE -t UTF-8)");
   }
   if (head.find('\0') != std::string_view::npos) {
     return Status::Error(
@@ -622,6 +689,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
   }
   std::vector<double> time;
   std::string time_rule;
+  double time_scale_s = 1.0;
   if (options.rate_hz > 0.0) {
     std::vector<double> index;
     if (chosen.count("index"))
@@ -645,6 +713,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
                                             options.time_unit, false, &format));
     time_rule = format.time_rule;
     notes.insert(notes.end(), format.notes.begin(), format.notes.end());
+    time_scale_s = format.time_scale_s;
     const double origin = format.epoch ? time[0] : 0.0;
     for (double& t : time) t = (t - origin) * format.time_scale_s;
   } else {
@@ -684,6 +753,8 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
                      (options.rate_hz > 0.0 ? std::string("from --rate_hz") : chosen["t"].name) +
                      (chosen.count("ax") ? "; accelerometer " + describe("a") : std::string()) +
                      (chosen.count("gx") ? "; gyroscope " + describe("g") : std::string()) + ")";
+    source->time_column = options.rate_hz > 0.0 ? "" : "'" + chosen["t"].name + "'";
+    source->time_scale_s = time_scale_s;
     source->notes.clear();
     if (!time_rule.empty()) source->notes.push_back(time_rule);
     source->notes.insert(source->notes.end(), notes.begin(), notes.end());
@@ -825,6 +896,9 @@ Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, Tria
     begin = end + 1;
   }
   ACCELCAL_RETURN_IF_ERROR(parser.Finish());
+  ImuLogSource read;
+  FillSource(format, &read);
+  ACCELCAL_RETURN_IF_ERROR(CheckTimeUnit(log->timestamp_s, read));
   return CheckSpacing(log->timestamp_s, spacing);
 }
 
@@ -839,7 +913,10 @@ Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, s
 
 Status ReadImuLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
                   ImuLogSpacing spacing, ImuLogSource* source) {
+  ImuLogSource local;
+  if (source == nullptr) source = &local;
   ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, options, log, source));
+  ACCELCAL_RETURN_IF_ERROR(CheckTimeUnit(log->timestamp_s, *source).WithContext(path));
   if (!options.gyroscope_path.empty())
     ACCELCAL_RETURN_IF_ERROR(AddPairedGyroscope(options.gyroscope_path, options, log, source));
   return CheckSpacing(log->timestamp_s, spacing).WithContext(path);

@@ -54,6 +54,10 @@ struct ImuLogSource {
   std::string accelerometer_unit;  // stated by the columns' names, else ""
   std::string gyroscope_unit;
   std::string gyroscope_path;  // the paired file, when the gyroscope came from one
+  // How time was read from a column: its name and its factor to seconds (empty name: time came
+  // from the rate, or the layout defines it).
+  std::string time_column;
+  double time_scale_s = 1.0;
 };
 
 // The text of a log already in memory (tests, fuzzing): the layout from the text, samples and

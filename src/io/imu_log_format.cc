@@ -20,7 +20,7 @@ constexpr int kRowsToAgree = 5;           // a data block: this many rows alike 
 constexpr size_t kMaxMetadataLines = 50;  // echoed before the header, at most
 constexpr size_t kMaxMetadataChars = 120;
 constexpr double kEpochMinS = 1e8;          // a time axis beyond 3 years is a clock's epoch
-constexpr double kTypicalRateLowHz = 10.0;  // of two plausible units, the one in this band
+constexpr double kTypicalRateLowHz = 20.0;  // of two plausible units, the one in this band
 constexpr double kTypicalRateHighHz = 2000.0;
 
 std::string Lower(std::string_view text) {
@@ -55,9 +55,17 @@ std::string WithoutTrailingDigits(const std::string& token) {
 }
 
 const std::set<std::string>& AccelerometerWords() {
-  static const std::set<std::string> words = {
-      "a",        "acc",          "accel", "accl", "accelerometer", "acceleration", "accelerations",
-      "accelero", "specificforce"};
+  static const std::set<std::string> words = {"a",
+                                              "acc",
+                                              "accel",
+                                              "accl",
+                                              "accelerometer",
+                                              "acceleration",
+                                              "accelerations",
+                                              "accelero",
+                                              "specificforce",
+                                              "alpha",
+                                              "beschleunigung"};
   return words;
 }
 const std::set<std::string>& GyroscopeWords() {
@@ -67,9 +75,9 @@ const std::set<std::string>& GyroscopeWords() {
   return words;
 }
 const std::set<std::string>& TimeWords() {
-  static const std::set<std::string> words = {"t",       "time",    "timestamp", "timestamps",
-                                              "stamp",   "ts",      "sec",       "secs",
-                                              "seconds", "elapsed", "timems",    "times"};
+  static const std::set<std::string> words = {
+      "t",       "time",    "timestamp", "timestamps", "stamp", "ts",     "sec",   "secs",
+      "seconds", "elapsed", "timems",    "times",      "zeit",  "millis", "micros"};
   return words;
 }
 const std::set<std::string>& IndexWords() {
@@ -99,15 +107,30 @@ std::string BracketUnit(const std::string& text) {
   for (char c : Lower(text)) {
     if (c != ' ' && c != '*' && c != '.') compact += c;
   }
-  static const std::map<std::string, std::string> units = {
-      {"s", "s"},         {"sec", "s"},         {"ms", "ms"},
-      {"us", "us"},       {"\xc2\xb5s", "us"},  {"ns", "ns"},
-      {"m/s^2", "m/s^2"}, {"m/s2", "m/s^2"},    {"ms^-2", "m/s^2"},
-      {"ms-2", "m/s^2"},  {"m/s/s", "m/s^2"},   {"g", "g"},
-      {"rad/s", "rad/s"}, {"rads^-1", "rad/s"}, {"rads-1", "rad/s"},
-      {"deg/s", "deg/s"}, {"dps", "deg/s"},     {"\xc2\xb0/s", "deg/s"},
-      {"mg", "mg"},       {"lsb", "count"},     {"counts", "count"},
-      {"count", "count"}};
+  static const std::map<std::string, std::string> units = {{"s", "s"},
+                                                           {"sec", "s"},
+                                                           {"ms", "ms"},
+                                                           {"us", "us"},
+                                                           {"\xc2\xb5s", "us"},
+                                                           {"ns", "ns"},
+                                                           {"m/s^2", "m/s^2"},
+                                                           {"m/s2", "m/s^2"},
+                                                           {"ms^-2", "m/s^2"},
+                                                           {"ms-2", "m/s^2"},
+                                                           {"m/s/s", "m/s^2"},
+                                                           {"g", "g"},
+                                                           {"rad/s", "rad/s"},
+                                                           {"rads^-1", "rad/s"},
+                                                           {"rads-1", "rad/s"},
+                                                           {"deg/s", "deg/s"},
+                                                           {"dps", "deg/s"},
+                                                           {"\xc2\xb0/s", "deg/s"},
+                                                           {"mg", "mg"},
+                                                           {"lsb", "count"},
+                                                           {"counts", "count"},
+                                                           {"count", "count"},
+                                                           {"m/s\xc2\xb2", "m/s^2"},
+                                                           {"ms\xe2\x81\xbb\xc2\xb2", "m/s^2"}};
   const auto found = units.find(compact);
   return found == units.end() ? "" : found->second;
 }
@@ -210,8 +233,17 @@ struct HeadLine {
   std::string_view text;
 };
 
+// A whole line trimmed of blanks and '\r' (not of quotes: those belong to its first and last
+// fields).
+std::string_view TrimLine(std::string_view text) {
+  auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!text.empty() && blank(text.front())) text.remove_prefix(1);
+  while (!text.empty() && blank(text.back())) text.remove_suffix(1);
+  return text;
+}
+
 bool IsSkipped(std::string_view line) {
-  const std::string_view trimmed = TrimCell(line);
+  const std::string_view trimmed = TrimLine(line);
   return trimmed.empty() || trimmed.front() == '#';
 }
 
@@ -262,11 +294,12 @@ Status ResolveColumn(const ImuTextFormat& format, const ImuColumnChoice& choice,
                                       format.field_count));
   }
   std::string names;
-  for (const std::string& name : format.header) names += (names.empty() ? "" : ", ") + name;
+  for (const std::string& name : format.header)
+    names += (names.empty() ? "" : ", ") + EchoInput(name);
   return Status::Error(
       "--columns " + choice.key + ":" + EchoInput(choice.value) + ": no column has that name" +
       (format.header.empty() ? std::string(" (the log has no header: give a column number from 1)")
-                             : " (the header names: " + EchoInput(names) + ")"));
+                             : " (the header names: " + names + ")"));
 }
 
 // One device's columns of a kind: axis -> column, with every column seen for an axis.
@@ -372,7 +405,8 @@ Status ChooseTriadByName(const std::vector<ImuColumnName>& names, ImuColumnKind 
     return Status::Ok();
   }
   std::string header;
-  for (const std::string& name : format->header) header += (header.empty() ? "" : ", ") + name;
+  for (const std::string& name : format->header)
+    header += (header.empty() ? "" : ", ") + EchoInput(name);
   std::string partial_text;
   if (!partial.empty()) {
     partial_text = " (the columns";
@@ -382,8 +416,7 @@ Status ChooseTriadByName(const std::vector<ImuColumnName>& names, ImuColumnKind 
     partial_text += " name an accelerometer, but not exactly one column per axis x, y, z)";
   }
   return Status::Error("line " + std::to_string(format->header_line) +
-                       ": no accelerometer columns in the header (" + EchoInput(header) + ")" +
-                       partial_text +
+                       ": no accelerometer columns in the header (" + header + ")" + partial_text +
                        "; name them with --columns=ax:NAME,ay:NAME,az:NAME (docs/log-layouts.md)");
 }
 
@@ -433,6 +466,11 @@ Status ChooseColumns(const std::vector<ImuColumnChoice>& choices, const ImuLogRe
         format->accelerometer = {1, 2, 3};
       } else if (format->field_count == 3 && options.rate_hz > 0.0) {
         format->accelerometer = {0, 1, 2};
+      } else if (format->field_count == 3) {
+        return Status::Error(StringPrintf(
+            "line %lld: 3 numbers per row, no header and no time: give --rate_hz=R, the rows' "
+            "rate in Hz (the columns are then read as x, y, z)",
+            format->first_data_line));
       } else {
         return Status::Error(StringPrintf(
             "line %lld: %d numbers per row and no header naming them; name the columns, e.g. "
@@ -579,6 +617,8 @@ bool TimeUnitToSeconds(std::string_view unit, double* seconds) {
     *seconds = 1e-6;
   } else if (unit == "ns") {
     *seconds = 1e-9;
+  } else if (unit == "100us") {  // Xsens's SampleTimeFine
+    *seconds = 1e-4;
   } else {
     return false;
   }
@@ -613,6 +653,16 @@ ImuColumnName ClassifyImuColumnName(std::string_view name) {
   const bool time_unit =
       name_unit == "s" || name_unit == "ms" || name_unit == "us" || name_unit == "ns";
 
+  // Xsens's SampleTimeFine counts ticks of 100 us; its PacketCounter counts samples.
+  if (tokens == std::vector<std::string>{"sample", "time", "fine"}) {
+    result.kind = ImuColumnKind::kTime;
+    result.time_unit = "100us";
+    return result;
+  }
+  if (tokens == std::vector<std::string>{"packet", "counter"}) {
+    result.kind = ImuColumnKind::kSampleIndex;
+    return result;
+  }
   // Time and sample number: a time word and nothing of an axis.
   int axis = -1;
   bool has_axis = false;
@@ -622,7 +672,8 @@ ImuColumnName ClassifyImuColumnName(std::string_view name) {
       if (TimeWords().count(token)) {
         result.kind = ImuColumnKind::kTime;
         if (time_unit) result.time_unit = name_unit;
-        if (token == "timems") result.time_unit = "ms";
+        if (token == "timems" || token == "millis") result.time_unit = "ms";
+        if (token == "micros") result.time_unit = "us";
         return result;
       }
     }
@@ -764,13 +815,16 @@ Status InferTimeUnit(const std::vector<double>& head_times, const std::string& c
     integers = integers && head_times[j] == std::floor(head_times[j]);
     if (j > 0) steps.push_back(head_times[j] - head_times[j - 1]);
   }
-  if (steps.empty() || !(UpperMedian(steps) > 0.0)) {
+  if (steps.empty() || !(head_times.back() > head_times.front())) {
     format->time_scale_s = 1.0;  // the reader's own checks will say what is wrong with time
     format->time_rule = "";
     return Status::Ok();
   }
-  const double step = UpperMedian(steps);
-  if (integers && step == 1.0) {
+  // The mean step: host stamps of buffered packets bunch (a median of 1 ms in a 50 Hz log).
+  const double step = (head_times.back() - head_times.front()) / (head_times.size() - 1);
+  const bool counts_by_one =
+      std::all_of(steps.begin(), steps.end(), [](double d) { return d == 1.0; });
+  if (integers && counts_by_one && std::abs(head_times.front()) < 1e6) {
     return Status::Error(
         "time " + column +
         " counts 0, 1, 2, ... by 1: a sample number, not a time; give "
@@ -882,7 +936,7 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
   for (size_t i = 0; i < lines.size() && data == lines.size(); ++i) {
     if (IsSkipped(lines[i].text)) continue;
     for (char separator : kSeparators) {
-      SplitImuFields(lines[i].text, separator, &fields);
+      SplitImuFields(TrimLine(lines[i].text), separator, &fields);
       if (fields.size() < 2) continue;
       bool decimal_comma = false;
       if (!MostlyNumbers(fields, false)) {
@@ -893,7 +947,7 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
       bool differs = false;
       for (size_t j = i + 1; j < lines.size() && agreeing < kRowsToAgree; ++j) {
         if (IsSkipped(lines[j].text)) continue;
-        SplitImuFields(lines[j].text, separator, &next_fields);
+        SplitImuFields(TrimLine(lines[j].text), separator, &next_fields);
         if (next_fields.size() != fields.size() || !MostlyNumbers(next_fields, decimal_comma)) {
           differs = true;
           break;
@@ -926,18 +980,30 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
   }
   // The header: of the (at most two) lines just above the data that split as the data do and
   // hold text, the one whose names give an accelerometer (a units row may sit under the names).
+  // Rows that end in a separator (a trailing ',') have an empty last field the header lacks.
+  bool rows_end_empty = true;
+  for (size_t i = data, rows = 0; i < lines.size() && rows < kRowsToAgree; ++i) {
+    if (IsSkipped(lines[i].text)) continue;
+    SplitImuFields(TrimLine(lines[i].text), format->separator, &next_fields);
+    rows_end_empty = rows_end_empty && !next_fields.empty() && next_fields.back().empty();
+    ++rows;
+  }
   std::vector<size_t> candidates;
   for (size_t i = data; i-- > 0 && candidates.size() < 2;) {
-    std::string_view text = TrimCell(lines[i].text);
+    std::string_view text = TrimLine(lines[i].text);
     if (text.empty()) continue;
     if (text.front() == '#') text.remove_prefix(1);
     SplitImuFields(text, format->separator, &fields);
-    if (static_cast<int>(fields.size()) != format->field_count || !AnyText(fields)) break;
+    const bool trailing_separator =
+        static_cast<int>(fields.size()) == format->field_count - 1 && rows_end_empty;
+    if ((static_cast<int>(fields.size()) != format->field_count && !trailing_separator) ||
+        !AnyText(fields))
+      break;
     candidates.push_back(i);
   }
   size_t header = lines.size();
   for (size_t i : candidates) {
-    std::string_view text = TrimCell(lines[i].text);
+    std::string_view text = TrimLine(lines[i].text);
     if (text.front() == '#') text.remove_prefix(1);
     SplitImuFields(text, format->separator, &fields);
     bool names_a_sensor = false;
@@ -952,21 +1018,26 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
     }
   }
   if (header != lines.size()) {
-    std::string_view text = TrimCell(lines[header].text);
+    std::string_view text = TrimLine(lines[header].text);
     if (text.front() == '#') text.remove_prefix(1);
     SplitImuFields(text, format->separator, &fields);
     for (std::string_view field : fields) format->header.emplace_back(field);
+    if (static_cast<int>(format->header.size()) == format->field_count - 1) {
+      format->header.emplace_back("");
+      format->notes.push_back(
+          "every row ends in a separator the header does not: its empty last field is ignored");
+    }
     format->header_line = lines[header].number;
     for (size_t i = header + 1; i < data; ++i) {
-      if (!TrimCell(lines[i].text).empty())
+      if (!TrimLine(lines[i].text).empty())
         format->notes.push_back("line " + std::to_string(lines[i].number) +
                                 ", between the header and the data, is skipped (a units row?): '" +
-                                EchoInput(TrimCell(lines[i].text)) + "'");
+                                EchoInput(TrimLine(lines[i].text)) + "'");
     }
   }
   const size_t metadata_end = header != lines.size() ? header : data;
   for (size_t i = 0; i < metadata_end; ++i) {
-    const std::string_view text = TrimCell(lines[i].text);
+    const std::string_view text = TrimLine(lines[i].text);
     if (text.empty()) continue;
     if (format->metadata.size() == kMaxMetadataLines) break;
     // Kept as written when printable (a report shows it), else quoted as messages quote.
@@ -1000,7 +1071,8 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
     text += format->header.empty() ? " (no header"
                                    : " (header on line " + std::to_string(format->header_line);
     if (format->time_column >= 0) text += "; t = " + ColumnLabel(*format, format->time_column);
-    text += "; accelerometer " + TripleNames(*format, format->accelerometer);
+    if (format->accelerometer[0] >= 0)
+      text += "; accelerometer " + TripleNames(*format, format->accelerometer);
     if (format->gyroscope[0] >= 0) text += "; gyroscope " + TripleNames(*format, format->gyroscope);
     format->description = text + ")";
   }
