@@ -3,8 +3,11 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "common/format.h"
+#include "estimation/discovery/selection.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/tilt_table/joint_data.h"
 #include "estimation/tilt_table/robust_covariance.h"
@@ -88,6 +91,137 @@ std::string Fixed(double value, double stddev, const char* unit) {
   return StringPrintf("%.3g +- %.2g %s", value, stddev, unit);
 }
 
+// The tilt table (and the run tied to a landmark) as a geometry of the one discovery procedure
+// (estimation/discovery/selection.h): the joint fit with a set of catalogue effects, candidates
+// scored by the score test (chi-square(1)), and every change of the model followed by a new
+// decision of the landmark tie. It changes `joint`, `current` and the result's landmark fields
+// in place, and logs the landmark each change happened under.
+class TiltTableGeometry : public DiscoveryGeometry {
+ public:
+  TiltTableGeometry(const JointData& data, double alpha, double family_alpha,
+                    double ambiguity_delta_chi2, std::vector<Parameter> candidates,
+                    JointOptions* joint, JointResult* current, DiscoveryResult* result)
+      : data_(data),
+        alpha_(alpha),
+        family_alpha_(family_alpha),
+        ambiguity_delta_chi2_(ambiguity_delta_chi2),
+        candidates_(std::move(candidates)),
+        joint_(joint),
+        current_(current),
+        result_(result) {
+    for (const Parameter effect : joint_->effects) model_.push_back(IndexOf(effect));
+  }
+
+  const std::vector<Parameter>& candidates() const { return candidates_; }
+  int IndexOf(Parameter parameter) const {
+    return static_cast<int>(std::find(candidates_.begin(), candidates_.end(), parameter) -
+                            candidates_.begin());
+  }
+  // The landmark the run was tied to when each change happened, in order.
+  const std::vector<std::string>& landmark_at_change() const { return landmark_at_change_; }
+
+  Status TestCandidates(const std::vector<int>& candidates,
+                        std::vector<CandidateTest>* tests) override {
+    std::vector<Parameter> parameters;
+    for (const int c : candidates) parameters.push_back(candidates_[c]);
+    std::vector<double> delta_chi2;
+    ACCELCAL_RETURN_IF_ERROR(ScoreCandidates(data_, *joint_, *current_, parameters, &delta_chi2));
+    tests->clear();
+    for (const double delta : delta_chi2)
+      tests->push_back({true, delta, ChiSquareSurvival(delta, 1.0), ""});
+    return Status::Ok();
+  }
+
+  Status Add(int candidate, double* delta_chi2) override {
+    JointOptions extended = *joint_;
+    extended.effects.push_back(candidates_[candidate]);
+    JointResult refit;
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data_, extended, &refit));
+    *delta_chi2 = TotalChi2(*current_) - TotalChi2(refit);  // same tie before and after
+    landmark_at_change_.push_back(joint_->landmark_name);
+    *joint_ = extended;
+    *current_ = refit;
+    model_.push_back(candidate);
+    // The grown model may point at another landmark; tie the run to it from now on.
+    if (ActsOnlyInRun(candidates_[candidate])) return Status::Ok();
+    return Retie(StringPrintf("with %s in the model", Info(candidates_[candidate]).name));
+  }
+
+  // The chi-square each effect of the model removes from it: the model without the effect,
+  // refitted with the same tie, against the model itself. An effect the smaller model cannot
+  // be solved without (it never happens for a model that was solved with it) counts as needed.
+  Status TestEffects(std::vector<CandidateTest>* tests) override {
+    tests->assign(joint_->effects.size(), {true, HUGE_VAL, 0.0, ""});
+    for (size_t e = 0; e < joint_->effects.size(); ++e) {
+      JointOptions smaller = *joint_;
+      smaller.effects.erase(smaller.effects.begin() + e);
+      JointResult without;
+      if (SolveJoint(data_, smaller, &without).ok())
+        (*tests)[e].delta_chi2 = std::max(0.0, TotalChi2(without) - TotalChi2(*current_));
+      (*tests)[e].p_value = ChiSquareSurvival((*tests)[e].delta_chi2, 1.0);
+    }
+    return Status::Ok();
+  }
+
+  Status Drop(size_t effect) override {
+    const Parameter gone = joint_->effects[effect];
+    landmark_at_change_.push_back(joint_->landmark_name);
+    joint_->effects.erase(joint_->effects.begin() + effect);
+    model_.erase(model_.begin() + effect);
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data_, *joint_, current_));
+    return Retie(StringPrintf("without %s in the model", Info(gone).name));
+  }
+
+  const std::vector<int>& Effects() const override { return model_; }
+
+  bool Swap(size_t effect, int candidate, SwapFit* fit) override {
+    JointOptions swapped = *joint_;
+    swapped.effects[effect] = candidates_[candidate];
+    JointResult alternative;
+    if (!SolveJoint(data_, swapped, &alternative).ok()) return false;
+    fit->worse = TotalChi2(alternative) - TotalChi2(*current_);
+    fit->estimate = alternative.estimate.Value(candidates_[candidate]);
+    fit->stddev = alternative.estimate.StandardDeviation(candidates_[candidate]);
+    return true;
+  }
+
+  // It must explain, alone, what the effect explains (significantly), and about as well.
+  bool LooksAlike(size_t, const SwapFit& swap, double effect_delta_chi2,
+                  size_t alternatives) const override {
+    const double explained = effect_delta_chi2 - swap.worse;
+    return swap.worse < ambiguity_delta_chi2_ &&
+           ChiSquareSurvival(explained, 1.0) <= family_alpha_ / alternatives;
+  }
+
+ private:
+  // Re-decides the landmark tie for the model and refits when it moves.
+  Status Retie(const std::string& because) {
+    if (joint_->landmark_mode != JointOptions::Landmark::kNamed) return Status::Ok();
+    std::string tie;
+    ACCELCAL_RETURN_IF_ERROR(MostProbableLandmark(data_, *joint_, alpha_, &tie));
+    if (!tie.empty() && tie != joint_->landmark_name) {
+      result_->landmark_note +=
+          StringPrintf("; %s, the run points at %s, not %s, and is tied to it", because.c_str(),
+                       tie.c_str(), joint_->landmark_name.c_str());
+      joint_->landmark_name = tie;
+      result_->tied_landmark = tie;
+      ACCELCAL_RETURN_IF_ERROR(SolveJoint(data_, *joint_, current_));
+    }
+    return Status::Ok();
+  }
+
+  const JointData& data_;
+  const double alpha_;
+  const double family_alpha_;
+  const double ambiguity_delta_chi2_;
+  const std::vector<Parameter> candidates_;
+  JointOptions* joint_;
+  JointResult* current_;
+  DiscoveryResult* result_;
+  std::vector<int> model_;
+  std::vector<std::string> landmark_at_change_;
+};
+
 }  // namespace
 
 Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunConditions& conditions,
@@ -114,8 +248,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     axis.normality = JarqueBera(residuals[k]);
   }
   // 2. Noise first, as a model: per axis its outliers, tails, level and correlation, read
-  // from local differences (estimation/statistics/noise_analysis.h). The procedure has three families
-  // of tests, each with Holm inside its share of alpha (Bonferroni across them, so the
+  // from local differences (estimation/statistics/noise_analysis.h). The procedure has three
+  // families of tests, each with Holm inside its share of alpha (Bonferroni across them, so the
   // whole discovery keeps its family-wise error rate at alpha): the noise (alpha/4), the
   // effects (alpha/2) and the checks of what the final model leaves (alpha/4).
   const double noise_alpha = 0.25 * options.alpha;
@@ -293,133 +427,70 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &result->baseline_joint));
   JointResult current = result->baseline_joint;
   const double log_n = std::log(2.0 * test.size() + (result->tied_landmark.empty() ? 0 : 2));
-  std::vector<Parameter> remaining;
+  std::vector<Parameter> catalogue;
   for (const ParameterInfo& info : ParameterCatalogue()) {
     if (info.baseline || IsNoiseRatio(info.parameter)) continue;
     if (ActsOnlyInRun(info.parameter) && result->tied_landmark.empty()) continue;
-    remaining.push_back(info.parameter);
+    catalogue.push_back(info.parameter);
   }
-  // Re-decides the landmark tie for the model of `joint` and refits `current` when it moves.
-  auto retie = [&](const char* because) -> Status {
-    if (joint.landmark_mode != JointOptions::Landmark::kNamed) return Status::Ok();
-    std::string tie;
-    ACCELCAL_RETURN_IF_ERROR(MostProbableLandmark(data, joint, options.alpha, &tie));
-    if (!tie.empty() && tie != joint.landmark_name) {
-      result->landmark_note += StringPrintf("; %s, the run points at %s, not %s, and is tied to it",
-                                            because, tie.c_str(), joint.landmark_name.c_str());
-      joint.landmark_name = tie;
-      result->tied_landmark = tie;
-      ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &current));
-    }
-    return Status::Ok();
-  };
-  // The chi-square each effect of the model removes from it: the model without the effect,
-  // refitted with the same tie, against the model itself. An effect the smaller model cannot
-  // be solved without (it never happens for a model that was solved with it) counts as needed.
-  auto necessity = [&](std::vector<double>* delta_chi2) -> Status {
-    delta_chi2->assign(joint.effects.size(), HUGE_VAL);
-    for (size_t e = 0; e < joint.effects.size(); ++e) {
-      JointOptions smaller = joint;
-      smaller.effects.erase(smaller.effects.begin() + e);
-      JointResult without;
-      if (SolveJoint(data, smaller, &without).ok()) {
-        (*delta_chi2)[e] = std::max(0.0, TotalChi2(without) - TotalChi2(current));
-      }
-    }
-    return Status::Ok();
-  };
-  // Drops the least significant effect of the model that Holm (alpha/2 over the model's
-  // effects) does not find needed, given each effect's delta chi2 and p-value, refits and
-  // re-decides the landmark tie; *dropped says whether there was one.
-  auto drop_weakest = [&](const std::vector<double>& delta_chi2,
-                          const std::vector<double>& p_values, SelectionEvent::Kind kind,
-                          bool* dropped) -> Status {
-    *dropped = false;
-    const std::vector<bool> needed = HolmRejections(p_values, family_alpha);
-    int weakest = -1;
-    for (size_t e = 0; e < joint.effects.size(); ++e) {
-      if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
-        weakest = static_cast<int>(e);
-    }
-    if (weakest < 0) return Status::Ok();
-    const Parameter gone = joint.effects[weakest];
+  TiltTableGeometry geometry(data, options.alpha, family_alpha, options.ambiguity_delta_chi2,
+                             catalogue, &joint, &current, result);
+  // The one procedure's forward selection and backward elimination
+  // (estimation/discovery/selection.h), replayed into this result's records.
+  SelectionOptions selection;
+  selection.alpha = family_alpha;
+  selection.max_effects = options.max_effects;
+  SelectionRecord record;
+  std::vector<int> candidates(catalogue.size());
+  for (size_t c = 0; c < candidates.size(); ++c) candidates[c] = static_cast<int>(c);
+  ACCELCAL_RETURN_IF_ERROR(SelectEffects(&geometry, candidates, selection, &record));
+  for (const SelectionRecord::Score& score : record.scores) {
+    result->candidates.push_back({score.step, catalogue[score.candidate], score.delta_chi2,
+                                  score.p_value, score.significant});
+  }
+  for (size_t i = 0; i < record.history.size(); ++i) {
+    const SelectionRecord::Change& change = record.history[i];
+    const Parameter effect = catalogue[change.candidate];
     result->history.push_back(
-        {kind, gone, delta_chi2[weakest], p_values[weakest], joint.landmark_name});
-    joint.effects.erase(joint.effects.begin() + weakest);
+        {change.added ? SelectionEvent::Kind::kAdded : SelectionEvent::Kind::kDropped, effect,
+         change.delta_chi2, change.p_value, geometry.landmark_at_change()[i]});
+    if (change.added) {
+      DiscoveredEffect found;
+      found.effect = effect;
+      found.selection_step = change.step;
+      found.selection_p_value = change.p_value;
+      found.selection_delta_chi2 = change.delta_chi2;
+      result->effects.push_back(found);
+    } else {
+      result->effects.erase(
+          std::find_if(result->effects.begin(), result->effects.end(),
+                       [&](const DiscoveredEffect& e) { return e.effect == effect; }));
+    }
+  }
+  // Drops the least significant effect of the model that Holm (alpha/2 over the model's
+  // effects) does not find needed once the shapes outside the catalogue are allowed for.
+  auto drop_weakest_for_shape = [&](const std::vector<double>& delta_chi2,
+                                    const std::vector<double>& p_values, bool* dropped) -> Status {
+    const int weakest = WeakestNotNeeded(p_values, family_alpha);
+    *dropped = weakest >= 0;
+    if (!*dropped) return Status::Ok();
+    const Parameter gone = joint.effects[weakest];
+    result->history.push_back({SelectionEvent::Kind::kDroppedForShape, gone, delta_chi2[weakest],
+                               p_values[weakest], joint.landmark_name});
     result->effects.erase(
         std::find_if(result->effects.begin(), result->effects.end(),
                      [&](const DiscoveredEffect& effect) { return effect.effect == gone; }));
-    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, joint, &current));
-    ACCELCAL_RETURN_IF_ERROR(
-        retie(StringPrintf("without %s in the model", Info(gone).name).c_str()));
-    *dropped = true;
+    return geometry.Drop(weakest);
+  };
+  auto necessity = [&](std::vector<double>* delta_chi2) -> Status {
+    std::vector<CandidateTest> tests;
+    ACCELCAL_RETURN_IF_ERROR(geometry.TestEffects(&tests));
+    delta_chi2->clear();
+    for (const CandidateTest& test : tests) delta_chi2->push_back(test.delta_chi2);
     return Status::Ok();
   };
-  // An effect dropped by backward elimination is not offered again (it left `remaining` when
-  // it was added), so the alternation ends.
-  int step = 1;
-  for (bool changed = true; changed;) {
-    changed = false;
-    // Forward selection over the candidates left (numbering on from the last step scored).
-    if (!result->candidates.empty()) step = result->candidates.back().step + 1;
-    for (; !remaining.empty() && static_cast<int>(joint.effects.size()) < options.max_effects;
-         ++step) {
-      std::vector<double> delta_chi2;
-      ACCELCAL_RETURN_IF_ERROR(ScoreCandidates(data, joint, current, remaining, &delta_chi2));
-      std::vector<double> p_values;
-      for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
-      const std::vector<bool> significant = HolmRejections(p_values, family_alpha);
-      int best = -1;
-      for (size_t c = 0; c < remaining.size(); ++c) {
-        result->candidates.push_back(
-            {step, remaining[c], delta_chi2[c], p_values[c], significant[c]});
-        if (significant[c] && (best < 0 || delta_chi2[c] > delta_chi2[best]))
-          best = static_cast<int>(c);
-      }
-      if (best < 0) break;
-      JointOptions extended = joint;
-      extended.effects.push_back(remaining[best]);
-      JointResult refit;
-      const Status status = SolveJoint(data, extended, &refit);
-      if (!status.ok()) {
-        // Not separable from what is already in the model: drop it and look again.
-        remaining.erase(remaining.begin() + best);
-        continue;
-      }
-      DiscoveredEffect effect;
-      effect.effect = remaining[best];
-      effect.selection_step = step;
-      effect.selection_p_value = p_values[best];
-      // Same tie before and after.
-      effect.selection_delta_chi2 = TotalChi2(current) - TotalChi2(refit);
-      result->effects.push_back(effect);
-      result->history.push_back({SelectionEvent::Kind::kAdded, effect.effect,
-                                 effect.selection_delta_chi2, effect.selection_p_value,
-                                 joint.landmark_name});
-      joint = extended;
-      current = refit;
-      remaining.erase(remaining.begin() + best);
-      // The grown model may point at another landmark; tie the run to it from now on.
-      if (!ActsOnlyInRun(effect.effect)) {
-        ACCELCAL_RETURN_IF_ERROR(
-            retie(StringPrintf("with %s in the model", Info(effect.effect).name).c_str()));
-      }
-    }
-    // Backward elimination against the grown model.
-    while (!joint.effects.empty()) {
-      std::vector<double> delta_chi2;
-      ACCELCAL_RETURN_IF_ERROR(necessity(&delta_chi2));
-      std::vector<double> p_values;
-      for (double value : delta_chi2) p_values.push_back(ChiSquareSurvival(value, 1.0));
-      bool dropped = false;
-      ACCELCAL_RETURN_IF_ERROR(
-          drop_weakest(delta_chi2, p_values, SelectionEvent::Kind::kDropped, &dropped));
-      if (!dropped) break;
-      changed = true;
-    }
-  }
-  // 5. What the final model leaves (estimation/tilt_table/residual_checks.h), Holm within the checks'
-  // share of alpha. A shape they find is outside the catalogue; an effect named only
+  // 5. What the final model leaves (estimation/tilt_table/residual_checks.h), Holm within the
+  // checks' share of alpha. A shape they find is outside the catalogue; an effect named only
   // because it resembles that shape is not needed once the shape is allowed for, so each
   // effect is tested again with the shapes as nuisance columns and the weakest one not
   // needed is dropped, until every effect left is needed.
@@ -494,8 +565,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       p_values.push_back(ChiSquareSurvival(delta_chi2.back(), 1.0));
     }
     bool dropped = false;
-    ACCELCAL_RETURN_IF_ERROR(
-        drop_weakest(delta_chi2, p_values, SelectionEvent::Kind::kDroppedForShape, &dropped));
+    ACCELCAL_RETURN_IF_ERROR(drop_weakest_for_shape(delta_chi2, p_values, &dropped));
     if (!dropped) break;
     ACCELCAL_RETURN_IF_ERROR(run_checks());
   }
@@ -635,34 +705,21 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   {
     std::vector<double> necessary;
     ACCELCAL_RETURN_IF_ERROR(necessity(&necessary));
-    std::vector<Parameter> candidates;
-    for (const ParameterInfo& info : ParameterCatalogue()) {
-      if (info.baseline || IsNoiseRatio(info.parameter)) continue;
-      if (ActsOnlyInRun(info.parameter) && joint.landmark_mode != JointOptions::Landmark::kNamed)
-        continue;
-      if (std::find(joint.effects.begin(), joint.effects.end(), info.parameter) !=
-          joint.effects.end())
-        continue;
-      candidates.push_back(info.parameter);
-    }
+    // The catalogue's candidates in each effect's place (the one procedure's look-alikes).
+    std::vector<int> all(geometry.candidates().size());
+    for (size_t c = 0; c < all.size(); ++c) all[c] = static_cast<int>(c);
+    const std::vector<LookAlike> look_alikes = FindLookAlikes(&geometry, all, necessary);
+    const size_t candidate_count = all.size() - joint.effects.size();
     for (size_t e = 0; e < joint.effects.size(); ++e) {
       Ambiguity ambiguity;
       ambiguity.effect = joint.effects[e];
       ambiguity.effect_estimate = current.estimate.Value(ambiguity.effect);
       ambiguity.effect_stddev = current.estimate.StandardDeviation(ambiguity.effect);
-      for (const Parameter candidate : candidates) {
-        JointOptions swapped = joint;
-        swapped.effects[e] = candidate;
-        JointResult alternative;
-        if (!SolveJoint(data, swapped, &alternative).ok()) continue;
-        const double worse = TotalChi2(alternative) - TotalChi2(current);
-        // It must explain, alone, what the effect explains (significantly), and about as well.
-        const double explained = necessary[e] - worse;
-        if (!(worse < options.ambiguity_delta_chi2)) continue;
-        if (!(ChiSquareSurvival(explained, 1.0) <= family_alpha / candidates.size())) continue;
-        ambiguity.alternatives.push_back({candidate, alternative.estimate.Value(candidate),
-                                          alternative.estimate.StandardDeviation(candidate), worse,
-                                          ""});
+      for (const LookAlike& look_alike : look_alikes) {
+        if (look_alike.effect != e) continue;
+        ambiguity.alternatives.push_back({geometry.candidates()[look_alike.alternative],
+                                          look_alike.fit.estimate, look_alike.fit.stddev,
+                                          look_alike.fit.worse, ""});
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
       // about as well, alone explains what the effect explains, and is not merely a
@@ -714,7 +771,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
             if (rank < 1) continue;
             const double worse = necessary[e] - gain;  // its chi-square over the final model's
             if (!(worse < options.ambiguity_delta_chi2)) continue;
-            if (!(ChiSquareSurvival(gain, rank) <= family_alpha / candidates.size())) continue;
+            if (!(ChiSquareSurvival(gain, rank) <= family_alpha / candidate_count)) continue;
             // Its amplitude in that model.
             const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> fit(swapped);
             const Eigen::VectorXd beta = fit.solve(without);
@@ -796,35 +853,39 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     missing += (missing.empty() ? "" : "; ") + finding.description;
   std::string left;
   for (const std::string& line : result->remaining) left += (left.empty() ? "" : "; ") + line;
-  if (!left.empty()) {
-    result->verdict_code = Verdict::kUnexplained;
-    result->verdict = (missing.empty() ? std::string("unexplained: structure remains")
-                                       : "missing: " + missing + ", but structure remains") +
-                      " that no effect of the catalogue explains: " + left;
-  } else if (!result->ambiguities.empty()) {
-    result->verdict_code = Verdict::kCannotTellApart;
-    std::string sets;
-    for (const Ambiguity& ambiguity : result->ambiguities) {
-      sets +=
-          (sets.empty() ? "" : "; ") + std::string(Info(ambiguity.effect).name) + " = " +
-          Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
-      for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-        sets += StringPrintf(
-            " or %s = %s (delta chi2 %+.2g)", alternative.Name().c_str(),
-            Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
-            alternative.delta_chi2);
+  result->verdict_code =
+      DecideVerdict(!left.empty(), !result->ambiguities.empty(), !missing.empty());
+  switch (result->verdict_code) {
+    case Verdict::kUnexplained:
+      result->verdict = (missing.empty() ? std::string("unexplained: structure remains")
+                                         : "missing: " + missing + ", but structure remains") +
+                        " that no effect of the catalogue explains: " + left;
+      break;
+    case Verdict::kCannotTellApart: {
+      std::string sets;
+      for (const Ambiguity& ambiguity : result->ambiguities) {
+        sets +=
+            (sets.empty() ? "" : "; ") + std::string(Info(ambiguity.effect).name) + " = " +
+            Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
+        for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+          sets += StringPrintf(
+              " or %s = %s (delta chi2 %+.2g)", alternative.Name().c_str(),
+              Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
+              alternative.delta_chi2);
+        }
+        sets += "; what would separate them: " + ambiguity.separation;
       }
-      sets += "; what would separate them: " + ambiguity.separation;
+      result->verdict = "cannot tell apart: " + sets + " (the model as fitted: " + missing + ")";
+      break;
     }
-    result->verdict = "cannot tell apart: " + sets + " (the model as fitted: " + missing + ")";
-  } else if (!missing.empty()) {
-    result->verdict_code = Verdict::kMissing;
-    result->verdict = "missing: " + missing + " (and the extended model explains the data)";
-  } else {
-    result->verdict_code = Verdict::kExplained;
-    result->verdict =
-        "the baseline explains the data: no effect of the catalogue is significant at alpha = " +
-        StringPrintf("%g", options.alpha) + ", and nothing remains that the checks can see";
+    case Verdict::kMissing:
+      result->verdict = "missing: " + missing + " (and the extended model explains the data)";
+      break;
+    case Verdict::kExplained:
+      result->verdict =
+          "the baseline explains the data: no effect of the catalogue is significant at alpha = " +
+          StringPrintf("%g", options.alpha) + ", and nothing remains that the checks can see";
+      break;
   }
   return Status::Ok();
 }

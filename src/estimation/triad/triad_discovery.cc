@@ -6,8 +6,10 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <utility>
 
 #include "common/format.h"
+#include "estimation/discovery/selection.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/statistics/diagnostics.h"
 #include "residuals/triad_pose_residual.h"
@@ -236,6 +238,144 @@ ResidualCheck CheckNoiseOverstated(const TriadMlResult& fit, double alpha) {
   return check;
 }
 
+// The triad's poses as a geometry of the one discovery procedure
+// (estimation/discovery/selection.h): the maximum-likelihood fit of the pose means with a set of
+// effect coefficients under the chosen noise model, each candidate refitted and tested by the F
+// test of ExtensionPValue. Candidates are indices into `testable` (coefficients static poses can
+// determine).
+class TriadGeometry : public DiscoveryGeometry {
+ public:
+  TriadGeometry(const std::vector<TriadPoseMean>& poses, const TriadDiscoveryOptions& options,
+                const std::vector<std::array<double, 3>>& noise, std::vector<int> testable,
+                const TriadMlResult& baseline)
+      : poses_(poses),
+        options_(options),
+        noise_(noise),
+        testable_(std::move(testable)),
+        current_(baseline) {}
+
+  // What each tested candidate's fit gave, in the order they were tested (the scores' order).
+  struct Detail {
+    double estimate = 0.0;
+    double stddev = 0.0;
+    double f = 0.0;
+  };
+  const std::vector<Detail>& details() const { return details_; }
+  const TriadMlResult& current() const { return current_; }
+  int Coefficient(int candidate) const { return testable_[candidate]; }
+  std::vector<int> Coefficients() const {
+    std::vector<int> coefficients;
+    for (const int c : model_) coefficients.push_back(testable_[c]);
+    return coefficients;
+  }
+  // The model's effects in the coefficients' order (how the report lists them).
+  void SortEffects() { std::sort(model_.begin(), model_.end()); }
+
+  // A candidate whose fit would leave no degree of freedom, or that cannot be fitted, is not
+  // tested: it is listed as not testable, with why, rather than scored 0 +- 0, p = 1.
+  Status TestCandidates(const std::vector<int>& candidates,
+                        std::vector<CandidateTest>* tests) override {
+    tests->assign(candidates.size(), CandidateTest());
+    fits_.assign(candidates.size(), TriadMlResult());
+    tested_candidates_ = candidates;
+    const int dof_left = current_.degrees_of_freedom - 1;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      CandidateTest& test = (*tests)[i];
+      if (dof_left < 1) {
+        test.tested = false;
+        test.not_tested = StringPrintf(
+            "not testable with the degrees of freedom left: the fit with it would leave %d (%d "
+            "poses, 9 parameters, %zu effects, 2 direction angles per pose), and its F test "
+            "needs at least 1",
+            dof_left, current_.pose_count, model_.size() + 1);
+        continue;
+      }
+      std::vector<int> extended = Coefficients();
+      extended.push_back(testable_[candidates[i]]);
+      const Status status = Fit(poses_, options_, noise_, extended, &fits_[i]);
+      if (!status.ok()) {
+        test.tested = false;
+        test.not_tested = "not testable: the fit with it fails (" + status.message() + ")";
+        continue;
+      }
+      test.delta_chi2 = current_.chi2 - fits_[i].chi2;
+      test.p_value = ExtensionPValue(current_, fits_[i]);
+      const int coefficient = testable_[candidates[i]];
+      details_.push_back({fits_[i].effects[coefficient], fits_[i].effects_stddev[coefficient],
+                          test.delta_chi2 / (fits_[i].chi2 / fits_[i].degrees_of_freedom)});
+    }
+    return Status::Ok();
+  }
+
+  // The fit TestCandidates made with it.
+  Status Add(int candidate, double* delta_chi2) override {
+    const auto at = std::find(tested_candidates_.begin(), tested_candidates_.end(), candidate);
+    if (at == tested_candidates_.end()) return Status::Error("a candidate not tested");
+    const TriadMlResult& fit = fits_[at - tested_candidates_.begin()];
+    *delta_chi2 = current_.chi2 - fit.chi2;
+    current_ = fit;
+    model_.push_back(candidate);
+    return Status::Ok();
+  }
+
+  Status TestEffects(std::vector<CandidateTest>* tests) override {
+    tests->assign(model_.size(), {true, HUGE_VAL, 0.0, ""});
+    for (size_t e = 0; e < model_.size(); ++e) {
+      TriadMlResult reduced;
+      if (Fit(poses_, options_, noise_, Without(e), &reduced).ok()) {
+        (*tests)[e].delta_chi2 = reduced.chi2 - current_.chi2;
+        (*tests)[e].p_value = ExtensionPValue(reduced, current_);
+      }
+    }
+    return Status::Ok();
+  }
+
+  Status Drop(size_t effect) override {
+    TriadMlResult reduced;
+    ACCELCAL_RETURN_IF_ERROR(Fit(poses_, options_, noise_, Without(effect), &reduced));
+    current_ = reduced;
+    model_.erase(model_.begin() + effect);
+    return Status::Ok();
+  }
+
+  const std::vector<int>& Effects() const override { return model_; }
+
+  bool Swap(size_t effect, int candidate, SwapFit* swap) override {
+    std::vector<int> swapped = Without(effect);
+    swapped.push_back(testable_[candidate]);
+    TriadMlResult fit;
+    if (!Fit(poses_, options_, noise_, swapped, &fit).ok()) return false;
+    swap->worse = fit.chi2 - current_.chi2;
+    swap->estimate = fit.effects[testable_[candidate]];
+    swap->stddev = fit.effects_stddev[testable_[candidate]];
+    return true;
+  }
+
+  // Within ambiguity_delta_chi2 in units of the residual scatter.
+  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+    const double scatter = std::max(1.0, current_.chi2 / current_.degrees_of_freedom);
+    return swap.worse < options_.ambiguity_delta_chi2 * scatter;
+  }
+
+ private:
+  std::vector<int> Without(size_t effect) const {
+    std::vector<int> without;
+    for (size_t e = 0; e < model_.size(); ++e)
+      if (e != effect) without.push_back(testable_[model_[e]]);
+    return without;
+  }
+
+  const std::vector<TriadPoseMean>& poses_;
+  const TriadDiscoveryOptions& options_;
+  const std::vector<std::array<double, 3>>& noise_;
+  const std::vector<int> testable_;
+  TriadMlResult current_;
+  std::vector<int> model_;
+  std::vector<int> tested_candidates_;
+  std::vector<TriadMlResult> fits_;
+  std::vector<Detail> details_;
+};
+
 }  // namespace
 
 Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscoveryOptions& options,
@@ -292,73 +432,52 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     result->untestable.push_back(entry);
   }
 
-  std::vector<int> model;
-  TriadMlResult current = result->baseline;
-  std::vector<int> left = testable;
-  for (int step = 1; step <= options.max_effects && !left.empty(); ++step) {
-    // A candidate whose fit would leave no degree of freedom, or that cannot be fitted, is
-    // not tested: it is listed as not testable, with why, rather than scored 0 +- 0, p = 1.
-    const int dof_left = current.degrees_of_freedom - 1;
-    std::vector<TriadMlResult> fits(left.size());
-    std::vector<int> tested;
-    std::vector<TriadMlResult> tested_fits;
-    for (size_t i = 0; i < left.size(); ++i) {
-      TriadUntestable entry;
-      entry.effect = coefficients[left[i]].name;
-      if (dof_left < 1) {
-        entry.reason = StringPrintf(
-            "not testable with the degrees of freedom left: the fit with it would leave %d (%d "
-            "poses, 9 parameters, %zu effects, 2 direction angles per pose), and its F test "
-            "needs at least 1",
-            dof_left, current.pose_count, model.size() + 1);
-        result->untestable.push_back(entry);
-        continue;
-      }
-      std::vector<int> extended = model;
-      extended.push_back(left[i]);
-      const Status status = Fit(poses, options, noise, extended, &fits[i]);
-      if (!status.ok()) {
-        entry.reason = "not testable: the fit with it fails (" + status.message() + ")";
-        result->untestable.push_back(entry);
-        continue;
-      }
-      tested.push_back(left[i]);
-      tested_fits.push_back(fits[i]);
-    }
-    left = tested;
-    if (left.empty()) break;
-    std::vector<double> p_values;
-    std::vector<bool> fitted(left.size(), true);
-    fits = tested_fits;
-    for (size_t i = 0; i < left.size(); ++i) p_values.push_back(ExtensionPValue(current, fits[i]));
-    const std::vector<bool> rejected = HolmRejections(p_values, options.alpha / 2.0);
-    int best = -1;
-    for (size_t i = 0; i < left.size(); ++i) {
-      TriadCandidateScore score;
-      score.step = step;
-      score.coefficient = left[i];
-      score.name = coefficients[left[i]].name;
-      if (fitted[i]) {
-        score.estimate = fits[i].effects[left[i]];
-        score.stddev = fits[i].effects_stddev[left[i]];
-        score.delta_chi2 = current.chi2 - fits[i].chi2;
-        score.f = score.delta_chi2 / (fits[i].chi2 / fits[i].degrees_of_freedom);
-      }
-      score.p_value = p_values[i];
-      score.significant = rejected[i];
-      result->candidates.push_back(score);
-      if (rejected[i] && (best < 0 || p_values[i] < p_values[best] ||
-                          (p_values[i] == p_values[best] && fits[i].chi2 < fits[best].chi2)))
-        best = static_cast<int>(i);
-    }
-    if (best < 0) break;
-    model.push_back(left[best]);
-    current = fits[best];
-    left.erase(left.begin() + best);
+  // The one procedure's forward selection and backward elimination, and its look-alikes
+  // (estimation/discovery/selection.h), over the testable coefficients.
+  TriadGeometry geometry(poses, options, noise, testable, result->baseline);
+  SelectionOptions selection;
+  selection.alpha = options.alpha / 2.0;
+  selection.max_effects = options.max_effects;
+  SelectionRecord record;
+  std::vector<int> candidates(testable.size());
+  for (size_t c = 0; c < candidates.size(); ++c) candidates[c] = static_cast<int>(c);
+  ACCELCAL_RETURN_IF_ERROR(SelectEffects(&geometry, candidates, selection, &record));
+  for (const SelectionRecord::NotTested& entry : record.not_tested) {
+    TriadUntestable untested;
+    untested.effect = coefficients[geometry.Coefficient(entry.candidate)].name;
+    untested.reason = entry.why;
+    result->untestable.push_back(untested);
   }
+  for (size_t i = 0; i < record.scores.size(); ++i) {
+    const SelectionRecord::Score& score = record.scores[i];
+    TriadCandidateScore entry;
+    entry.step = score.step;
+    entry.coefficient = geometry.Coefficient(score.candidate);
+    entry.name = coefficients[entry.coefficient].name;
+    entry.estimate = geometry.details()[i].estimate;
+    entry.stddev = geometry.details()[i].stddev;
+    entry.delta_chi2 = score.delta_chi2;
+    entry.f = geometry.details()[i].f;
+    entry.p_value = score.p_value;
+    entry.significant = score.significant;
+    result->candidates.push_back(entry);
+  }
+  geometry.SortEffects();
+  const TriadMlResult current = geometry.current();
+  const std::vector<int> model = geometry.Coefficients();
   result->final_fit = current;
-  std::sort(model.begin(), model.end());
-  for (const int c : model) {
+  std::vector<CandidateTest> necessity;
+  ACCELCAL_RETURN_IF_ERROR(geometry.TestEffects(&necessity));
+  std::vector<double> necessary;
+  for (const CandidateTest& test : necessity) necessary.push_back(test.delta_chi2);
+  // 4. Ambiguity: the same model with another candidate instead of each effect.
+  for (const LookAlike& look_alike : FindLookAlikes(&geometry, candidates, necessary)) {
+    result->ambiguities.push_back({coefficients[model[look_alike.effect]].name,
+                                   coefficients[geometry.Coefficient(look_alike.alternative)].name,
+                                   look_alike.fit.worse});
+  }
+  for (size_t e = 0; e < model.size(); ++e) {
+    const int c = model[e];
     TriadFoundEffect effect;
     effect.coefficient = c;
     effect.name = coefficients[c].name;
@@ -367,25 +486,9 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     effect.stddev = current.effects_stddev[c];
     for (const TriadCandidateScore& score : result->candidates)
       if (score.coefficient == c && score.significant && effect.step == 0) effect.step = score.step;
-    std::vector<int> without;
-    for (const int other : model)
-      if (other != c) without.push_back(other);
-    TriadMlResult reduced;
-    if (Fit(poses, options, noise, without, &reduced).ok()) {
-      effect.delta_chi2 = reduced.chi2 - current.chi2;
-      effect.p_value = ExtensionPValue(reduced, current);
-    }
-    // 4. Ambiguity: the same model with another candidate instead of this one.
-    for (const int alternative : testable) {
-      if (std::find(model.begin(), model.end(), alternative) != model.end()) continue;
-      std::vector<int> swapped = without;
-      swapped.push_back(alternative);
-      TriadMlResult fit;
-      if (!Fit(poses, options, noise, swapped, &fit).ok()) continue;
-      const double scatter = std::max(1.0, current.chi2 / current.degrees_of_freedom);
-      const double delta = fit.chi2 - current.chi2;
-      if (delta < options.ambiguity_delta_chi2 * scatter)
-        result->ambiguities.push_back({effect.name, coefficients[alternative].name, delta});
+    if (necessity[e].delta_chi2 != HUGE_VAL) {
+      effect.delta_chi2 = necessity[e].delta_chi2;
+      effect.p_value = necessity[e].p_value;
     }
     result->effects.push_back(effect);
   }
@@ -418,8 +521,9 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   }
   if (result->coloured_noise)
     found = "coloured noise of the pose means" + (found.empty() ? "" : "; " + found);
-  if (!result->remaining.empty()) {
-    result->verdict_code = Verdict::kUnexplained;
+  result->verdict_code =
+      DecideVerdict(!result->remaining.empty(), !result->ambiguities.empty(), !found.empty());
+  if (result->verdict_code == Verdict::kUnexplained) {
     result->verdict = "unexplained structure remains: " + result->remaining.front();
     if (result->pose_wander != std::array<double, 3>{}) {
       const auto& w = result->pose_wander;
@@ -433,20 +537,17 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
       result->verdict += "; " + result->remaining[i];
     result->verdict += found.empty() ? " (no effect the model knows explains it)"
                                      : " (found and kept: " + found + ")";
-  } else if (!result->ambiguities.empty()) {
-    result->verdict_code = Verdict::kCannotTellApart;
+  } else if (result->verdict_code == Verdict::kCannotTellApart) {
     const TriadAmbiguity& a = result->ambiguities.front();
     result->verdict = StringPrintf(
         "cannot tell apart: %s and %s fit these poses about equally well (delta chi2 = %.2g); "
         "poses held at other times or directions would separate them",
         a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
-  } else if (!found.empty()) {
-    result->verdict_code = Verdict::kMissing;
+  } else if (result->verdict_code == Verdict::kMissing) {
     result->verdict = "missing from the 9-parameter model, found: " + found +
                       StringPrintf("; the extended model explains the poses (chi2/dof = %.3g)",
                                    current.chi2_per_dof);
   } else {
-    result->verdict_code = Verdict::kExplained;
     result->verdict = StringPrintf(
         "explained: the 9-parameter model with %s noise explains the poses (chi2/dof = %.3g on "
         "%d dof, p = %.3g); no candidate effect is needed",

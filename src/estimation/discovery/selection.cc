@@ -1,0 +1,110 @@
+#include "estimation/discovery/selection.h"
+
+#include <algorithm>
+
+#include "estimation/statistics/diagnostics.h"
+
+namespace accelcal {
+
+int WeakestNotNeeded(const std::vector<double>& p_values, double alpha) {
+  const std::vector<bool> needed = HolmRejections(p_values, alpha);
+  int weakest = -1;
+  for (size_t e = 0; e < p_values.size(); ++e) {
+    if (!needed[e] && (weakest < 0 || p_values[e] > p_values[weakest]))
+      weakest = static_cast<int>(e);
+  }
+  return weakest;
+}
+
+Status SelectEffects(DiscoveryGeometry* geometry, std::vector<int> candidates,
+                     const SelectionOptions& options, SelectionRecord* record) {
+  int step = options.first_step;
+  for (bool changed = true; changed;) {
+    changed = false;
+    // Forward selection over the candidates left (numbering on from the last step scored).
+    if (!record->scores.empty()) step = record->scores.back().step + 1;
+    for (;
+         !candidates.empty() && static_cast<int>(geometry->Effects().size()) < options.max_effects;
+         ++step) {
+      std::vector<CandidateTest> tests;
+      ACCELCAL_RETURN_IF_ERROR(geometry->TestCandidates(candidates, &tests));
+      // A candidate that cannot be tested leaves the candidates, with why.
+      std::vector<int> tested;
+      std::vector<CandidateTest> tested_tests;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        if (tests[c].tested) {
+          tested.push_back(candidates[c]);
+          tested_tests.push_back(tests[c]);
+        } else {
+          record->not_tested.push_back({candidates[c], tests[c].not_tested});
+        }
+      }
+      candidates = tested;
+      if (candidates.empty()) break;
+      std::vector<double> p_values;
+      for (const CandidateTest& test : tested_tests) p_values.push_back(test.p_value);
+      const std::vector<bool> significant = HolmRejections(p_values, options.alpha);
+      // The most significant rejected; of equal p-values, the one that removes more.
+      int best = -1;
+      for (size_t c = 0; c < candidates.size(); ++c) {
+        record->scores.push_back(
+            {step, candidates[c], tested_tests[c].delta_chi2, p_values[c], significant[c]});
+        if (significant[c] && (best < 0 || p_values[c] < p_values[best] ||
+                               (p_values[c] == p_values[best] &&
+                                tested_tests[c].delta_chi2 > tested_tests[best].delta_chi2)))
+          best = static_cast<int>(c);
+      }
+      if (best < 0) break;
+      const int chosen = candidates[best];
+      candidates.erase(candidates.begin() + best);
+      double delta_chi2 = 0.0;
+      // Not separable from what is already in the model: it leaves the candidates.
+      if (!geometry->Add(chosen, &delta_chi2).ok()) continue;
+      record->history.push_back({true, step, chosen, delta_chi2, p_values[best]});
+    }
+    // Backward elimination against the grown model.
+    while (!geometry->Effects().empty()) {
+      std::vector<CandidateTest> tests;
+      ACCELCAL_RETURN_IF_ERROR(geometry->TestEffects(&tests));
+      std::vector<double> p_values;
+      for (const CandidateTest& test : tests) p_values.push_back(test.p_value);
+      const int weakest = WeakestNotNeeded(p_values, options.alpha);
+      if (weakest < 0) break;
+      record->history.push_back({false, step, geometry->Effects()[weakest],
+                                 tests[weakest].delta_chi2, p_values[weakest]});
+      ACCELCAL_RETURN_IF_ERROR(geometry->Drop(weakest));
+      changed = true;
+    }
+  }
+  return Status::Ok();
+}
+
+std::vector<LookAlike> FindLookAlikes(DiscoveryGeometry* geometry,
+                                      const std::vector<int>& candidates,
+                                      const std::vector<double>& effect_delta_chi2) {
+  const std::vector<int> model = geometry->Effects();
+  std::vector<int> others;
+  for (const int candidate : candidates) {
+    if (std::find(model.begin(), model.end(), candidate) == model.end())
+      others.push_back(candidate);
+  }
+  std::vector<LookAlike> look_alikes;
+  for (size_t e = 0; e < model.size(); ++e) {
+    for (const int candidate : others) {
+      SwapFit fit;
+      if (!geometry->Swap(e, candidate, &fit)) continue;
+      if (geometry->LooksAlike(e, fit, effect_delta_chi2[e], others.size()))
+        look_alikes.push_back({e, candidate, fit});
+    }
+  }
+  return look_alikes;
+}
+
+Verdict DecideVerdict(bool structure_remains, bool look_alikes, bool found) {
+  if (structure_remains) return Verdict::kUnexplained;
+  if (look_alikes) return Verdict::kCannotTellApart;
+  if (found) return Verdict::kMissing;
+  return Verdict::kExplained;
+}
+
+}  // namespace accelcal
