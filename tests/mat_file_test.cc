@@ -334,6 +334,76 @@ TEST(MatFile73, RefusesADamagedFileInHdf5sWordsOnOneLine) {
   EXPECT_ERROR_CONTAINS(status, "); the file is damaged");
 }
 
+// ---- Integer classes -----------------------------------------------------------------------
+
+template <typename T>
+void WriteIntegers(mat_t* mat, const char* name, matio_classes class_type, matio_types type,
+                   std::vector<T> values) {
+  size_t dims[2] = {values.size(), 1};
+  matvar_t* var = Mat_VarCreate(name, class_type, type, 2, dims, values.data(), 0);
+  ASSERT_NE(var, nullptr);
+  EXPECT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+  Mat_VarFree(var);
+}
+
+// ReadMatrix keeps refusing integers (the course's files hold doubles, and an int32 angle is a
+// mistake there); ReadNumericMatrix widens them, each value exactly, and refuses a 64-bit value
+// no double holds.
+TEST(MatFileReader, WidensIntegersExactlyOnlyWhenAsked) {
+  testing::ScratchDir scratch;
+  constexpr int64_t k2To53 = int64_t{1} << 53;
+  for (mat_ft version : {MAT_FT_MAT5, MAT_FT_MAT73}) {
+    const std::string path = scratch.File(version == MAT_FT_MAT5 ? "v5.mat" : "v73.mat");
+    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, version);
+    ASSERT_NE(mat, nullptr);
+    WriteIntegers<int16_t>(mat, "i16", MAT_C_INT16, MAT_T_INT16, {-32768, -1, 0, 32767});
+    WriteIntegers<uint32_t>(mat, "u32", MAT_C_UINT32, MAT_T_UINT32, {0, 4294967295u});
+    WriteIntegers<int64_t>(mat, "i64", MAT_C_INT64, MAT_T_INT64,
+                           {-k2To53, k2To53, k2To53 + 2, int64_t{1} << 62});
+    WriteIntegers<int64_t>(mat, "i64_odd", MAT_C_INT64, MAT_T_INT64, {0, k2To53 + 1});
+    WriteIntegers<uint64_t>(mat, "u64_max", MAT_C_UINT64, MAT_T_UINT64, {0, UINT64_MAX});
+    WriteIntegers<int64_t>(mat, "i64_max", MAT_C_INT64, MAT_T_INT64, {INT64_MAX});
+    size_t dims[2] = {2, 1};
+    uint8_t flags[2] = {1, 0};
+    matvar_t* logical =
+        Mat_VarCreate("flags", MAT_C_UINT8, MAT_T_UINT8, 2, dims, flags, MAT_F_LOGICAL);
+    EXPECT_EQ(Mat_VarWrite(mat, logical, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(logical);
+    Mat_Close(mat);
+    MatFileReader reader;
+    ASSERT_TRUE(reader.Open(path).ok()) << path;
+    MatMatrix matrix;
+    EXPECT_ERROR_CONTAINS(reader.ReadMatrix("i16", &matrix),
+                          "variable 'i16' is int16; expected a real double matrix");
+    for (const auto& [name, expected] :
+         {std::make_pair("i16", std::vector<double>{-32768, -1, 0, 32767}),
+          std::make_pair("u32", std::vector<double>{0, 4294967295.0}),
+          std::make_pair("i64", std::vector<double>{-9007199254740992.0, 9007199254740992.0,
+                                                    9007199254740994.0, 4611686018427387904.0})}) {
+      const Status read = reader.ReadNumericMatrix(name, &matrix);
+      ASSERT_TRUE(read.ok()) << read.message();
+      EXPECT_EQ(matrix.values, expected) << name;
+    }
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("i64_odd", &matrix),
+                          "variable 'i64_odd' is int64 and its value 9007199254740993 (element 2) "
+                          "is beyond 2^53, where a double cannot hold every integer");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("u64_max", &matrix),
+                          "variable 'u64_max' is uint64 and its value 18446744073709551615");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("i64_max", &matrix),
+                          "variable 'i64_max' is int64 and its value 9223372036854775807");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("flags", &matrix),
+                          "variable 'flags' is logical; expected a real numeric matrix");
+    std::vector<MatVariableDescription> described;
+    ASSERT_TRUE(reader.DescribeVariables(&described).ok());
+    std::string classes;
+    for (const MatVariableDescription& variable : described)
+      classes += variable.name + ":" + variable.class_name + " ";
+    EXPECT_NE(classes.find("flags:logical "), std::string::npos) << classes;
+    EXPECT_NE(classes.find("i16:int16 "), std::string::npos) << classes;
+    EXPECT_NE(classes.find("u64_max:uint64 "), std::string::npos) << classes;
+  }
+}
+
 // ---- Version 7.3 written by HDF5, as MATLAB writes it ---------------------------------------
 // MATLAB's -v7.3 stores a variable as a chunked, deflated dataset (matio writes contiguous
 // ones), in a file with a 512-byte user block holding the MAT header, the class in a

@@ -283,8 +283,8 @@ class PipeReader {
   bool timed_out_ = false;
 };
 
-// In the child: reads the file and sends every variable's info and, for those ReadMatrix
-// can return, its values; or one error record.
+// In the child: reads the file and sends every variable's info and, for those
+// ReadNumericMatrix can return, its values; or one error record.
 void SendMat73Variables(const std::string& path, uint64_t file_size, PipeWriter* out) {
   InstallMatioLogger();
   SilenceHdf5();
@@ -322,21 +322,24 @@ void SendMat73Variables(const std::string& path, uint64_t file_size, PipeWriter*
     out->Text(info.name);
     out->Number(static_cast<uint64_t>(info.class_type));
     out->Number(info.is_complex ? 1 : 0);
+    out->Number(info.is_logical ? 1 : 0);
     out->Number(info.dims.size());
     for (uint64_t dimension : info.dims) out->Number(dimension);
     out->Number(info.element_bytes);
-    if (!CheckReadable(info, file_size, kZlibExpansion).ok()) {
+    if (!CheckReadable(info, file_size, kZlibExpansion, MatClasses::kNumeric).ok()) {
       out->Number(kValuesNone);
       continue;
     }
     LastMatioMessage().clear();
     matvar_t* var = Mat_VarRead(mat, info.name.c_str());
+    MatMatrix matrix;
     if (var == nullptr || var->data == nullptr || !LastMatioMessage().empty()) {
       out->Number(kValuesFailed);
       out->Text(LastMatioMessage().substr(0, kMaxMessageBytes));
+    } else if (const Status copied = CopyValues(var, info, &matrix); !copied.ok()) {
+      out->Number(kValuesRefused);
+      out->Text(copied.message().substr(0, kMaxMessageBytes));
     } else {
-      MatMatrix matrix;
-      CopyValues(var, info, &matrix);
       out->Number(kValuesRead);
       out->Bytes(matrix.values.data(), matrix.values.size() * sizeof(double));
     }
@@ -364,22 +367,23 @@ Status ReceiveMat73Variables(PipeReader* in, uint64_t file_size,
     if (kind != kRecordVariable || variables->size() > file_size) return broken;
     Mat73Variable variable;
     VariableInfo& info = variable.info;
-    uint64_t class_type = 0, is_complex = 0, rank = 0;
+    uint64_t class_type = 0, is_complex = 0, is_logical = 0, rank = 0;
     if (!in->Text(&info.name) || !in->Number(&class_type) || !in->Number(&is_complex) ||
-        !in->Number(&rank) || rank > kMaxRank) {
+        !in->Number(&is_logical) || !in->Number(&rank) || rank > kMaxRank) {
       return broken;
     }
     info.class_type = static_cast<int>(std::min<uint64_t>(class_type, 255));
     info.is_complex = is_complex != 0;
+    info.is_logical = is_logical != 0;
     info.dims.resize(rank);
     for (uint64_t& dimension : info.dims) {
       if (!in->Number(&dimension)) return broken;
     }
     if (!in->Number(&info.element_bytes) || !in->Number(&variable.values_kind)) return broken;
-    if (variable.values_kind == kValuesFailed) {
+    if (variable.values_kind == kValuesFailed || variable.values_kind == kValuesRefused) {
       if (!in->Text(&variable.read_error)) return broken;
     } else if (variable.values_kind == kValuesRead) {
-      if (!CheckReadable(info, file_size, kZlibExpansion).ok()) return broken;
+      if (!CheckReadable(info, file_size, kZlibExpansion, MatClasses::kNumeric).ok()) return broken;
       try {
         variable.values.resize(info.dims[0] * info.dims[1]);
       } catch (const std::bad_alloc&) {
