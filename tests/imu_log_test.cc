@@ -569,29 +569,39 @@ TEST(ImuLogLayouts, ReadsIntegerMatVariablesExactly) {
 // refused for what it is, not as absent.
 TEST(ImuLogLayouts, NamesTheClassOfMatVariablesItCannotUse) {
   testing::ScratchDir dir;
-  const std::string path = dir.File("labelled.mat");
   std::vector<double> t(30);
   for (int j = 0; j < 30; ++j) t[j] = 0.01 * j;
-  const char* fields[] = {"x"};
-  size_t one[2] = {1, 1};
-  matvar_t* imu = Mat_VarCreateStruct("imu", 2, one, fields, 1);
-  Mat_VarSetStructFieldByName(imu, "x", 0,
-                              Variable("x", MAT_C_DOUBLE, MAT_T_DOUBLE, 1, 1, std::vector{1.0}));
-  WriteWithMatio(
-      path, MAT_FT_MAT5,
-      {Variable("t", MAT_C_DOUBLE, MAT_T_DOUBLE, 30, 1, t),
-       Variable("name", MAT_C_CHAR, MAT_T_UINT8, 1, 5, std::vector<char>{'h', 'e', 'l', 'l', 'o'}),
-       imu});
-  TriadLog log;
-  EXPECT_ERROR_CONTAINS(ReadImuLog(path, ImuLogReadOptions(), &log),
-                        "no accelerometer among the variables (t (30x1), name (1x5 char), "
-                        "imu (1x1 struct)):");
-  ImuLogReadOptions options;
-  options.columns = "acc:name,t:t";
-  EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log),
-                        "variable 'name' is a char array; expected a real numeric matrix");
-  options.columns = "acc:accel,t:t";
-  EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log), "no variable 'accel' in the file");
+  for (mat_ft version : {MAT_FT_MAT5, MAT_FT_MAT73}) {
+    const std::string path = dir.File(version == MAT_FT_MAT5 ? "labelled5.mat" : "labelled73.mat");
+    const char* fields[] = {"acc", "temp"};
+    size_t one[2] = {1, 1};
+    matvar_t* imu = Mat_VarCreateStruct("imu", 2, one, fields, 2);
+    Mat_VarSetStructFieldByName(
+        imu, "acc", 0, Variable("acc", MAT_C_DOUBLE, MAT_T_DOUBLE, 1, 1, std::vector{1.0}));
+    Mat_VarSetStructFieldByName(
+        imu, "temp", 0, Variable("temp", MAT_C_DOUBLE, MAT_T_DOUBLE, 1, 1, std::vector{2.0}));
+    WriteWithMatio(path, version,
+                   {Variable("t", MAT_C_DOUBLE, MAT_T_DOUBLE, 30, 1, t),
+                    Variable("name", MAT_C_CHAR, MAT_T_UINT8, 1, 5,
+                             std::vector<char>{'h', 'e', 'l', 'l', 'o'}),
+                    imu});
+    TriadLog log;
+    const Status listed = ReadImuLog(path, ImuLogReadOptions(), &log);
+    EXPECT_ERROR_CONTAINS(listed, "no accelerometer among the variables (t (30x1), ");
+    EXPECT_ERROR_CONTAINS(listed, "name (1x5 char)");  // version 7.3 lists by name
+    EXPECT_ERROR_CONTAINS(listed, "imu (1x1 struct: acc, temp)");
+    ImuLogReadOptions options;
+    options.columns = "acc:name,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log),
+                          "variable 'name' is a char array; expected a real numeric matrix");
+    options.columns = "acc:imu,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log),
+                          "variable 'imu' is a struct; expected a real numeric matrix (its fields: "
+                          "acc, temp); save the fields as variables, e.g. acc = imu.acc; "
+                          "save('log.mat', 'acc', ...)");
+    options.columns = "acc:accel,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log), "no variable 'accel' in the file");
+  }
 }
 
 }  // namespace

@@ -490,13 +490,21 @@ std::string Shape(const MatMatrix& matrix) {
   return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
 }
 
-// A variable no log reads, as `whos` shows it: "imu (1x1 struct)", "name (1x8 char)".
+// A struct's field names, "acc, t".
+std::string FieldList(const MatVariableDescription& variable) {
+  std::string fields;
+  for (const std::string& field : variable.fields)
+    fields += (fields.empty() ? "" : ", ") + EchoInput(field);
+  return fields;
+}
+
+// A variable no log reads, as `whos` shows it: "imu (1x1 struct: acc, t)", "name (1x8 char)".
 std::string Described(const MatVariableDescription& variable) {
   std::string shape;
   for (uint64_t dimension : variable.dims)
     shape += (shape.empty() ? "" : "x") + std::to_string(dimension);
   return EchoInput(variable.name) + " (" + (shape.empty() ? "" : shape + " ") +
-         variable.class_name + ")";
+         variable.class_name + (variable.fields.empty() ? "" : ": " + FieldList(variable)) + ")";
 }
 
 // A MATLAB .mat log: its variables by name (io/imu_log_format.h's aliases), or by --columns.
@@ -519,7 +527,15 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
     if (read.ok()) {
       matrices.emplace_back(variable.name, std::move(matrix));
     } else {
-      variables.unread[variable.name] = read.message();
+      // A struct's fields are not read: say what it holds, and how to make them variables.
+      variables.unread[variable.name] =
+          read.message() +
+          (variable.fields.empty()
+               ? ""
+               : " (its fields: " + FieldList(variable) + "); save the fields as variables, e.g. " +
+                     EchoInput(variable.fields[0]) + " = " + EchoInput(variable.name) + "." +
+                     EchoInput(variable.fields[0]) + "; save('log.mat', '" +
+                     EchoInput(variable.fields[0]) + "', ...)");
       unread_listing += (unread_listing.empty() ? "" : ", ") + Described(variable);
     }
   }

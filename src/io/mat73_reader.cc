@@ -326,6 +326,8 @@ void SendMat73Variables(const std::string& path, uint64_t file_size, PipeWriter*
     out->Number(info.dims.size());
     for (uint64_t dimension : info.dims) out->Number(dimension);
     out->Number(info.element_bytes);
+    out->Number(info.fields.size());
+    for (const std::string& field : info.fields) out->Text(field);
     if (!CheckReadable(info, file_size, kZlibExpansion, MatClasses::kNumeric).ok()) {
       out->Number(kValuesNone);
       continue;
@@ -379,7 +381,15 @@ Status ReceiveMat73Variables(PipeReader* in, uint64_t file_size,
     for (uint64_t& dimension : info.dims) {
       if (!in->Number(&dimension)) return broken;
     }
-    if (!in->Number(&info.element_bytes) || !in->Number(&variable.values_kind)) return broken;
+    uint64_t fields = 0;
+    if (!in->Number(&info.element_bytes) || !in->Number(&fields) || fields > kMaxListedFields) {
+      return broken;
+    }
+    info.fields.resize(fields);
+    for (std::string& field : info.fields) {
+      if (!in->Text(&field)) return broken;
+    }
+    if (!in->Number(&variable.values_kind)) return broken;
     if (variable.values_kind == kValuesFailed || variable.values_kind == kValuesRefused) {
       if (!in->Text(&variable.read_error)) return broken;
     } else if (variable.values_kind == kValuesRead) {

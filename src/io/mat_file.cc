@@ -105,7 +105,7 @@ Status MatFileReader::DescribeVariables(std::vector<MatVariableDescription>* var
   std::vector<VariableInfo> infos;
   ACCELCAL_RETURN_IF_ERROR(impl_->Infos(&infos));
   for (const VariableInfo& info : infos)
-    variables->push_back({info.name, MatlabClassName(info), info.dims});
+    variables->push_back({info.name, MatlabClassName(info), info.dims, info.fields});
   return Status::Ok();
 }
 

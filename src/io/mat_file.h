@@ -35,6 +35,7 @@ struct MatVariableDescription {
   std::string name;
   std::string class_name;  // "double", "int16", "logical", "char", "struct", "cell", ...
   std::vector<uint64_t> dims;
+  std::vector<std::string> fields;  // a struct's, the first few
 };
 
 class MatFileReader {

@@ -75,6 +75,15 @@ VariableInfo InfoOf(const matvar_t* var) {
   info.is_logical = var->isLogical != 0;
   for (int k = 0; k < var->rank && var->dims != nullptr; ++k) info.dims.push_back(var->dims[k]);
   info.element_bytes = Mat_SizeOf(var->data_type) > 0 ? Mat_SizeOf(var->data_type) : 1;
+  if (var->class_type == MAT_C_STRUCT) {
+    // Names matio read with the header (version 5's are checked by mat5_integrity).
+    matvar_t* mutable_var = const_cast<matvar_t*>(var);  // matio's getter is not const
+    const unsigned count = Mat_VarGetNumberOfFields(mutable_var);
+    char* const* names = Mat_VarGetStructFieldnames(var);
+    for (unsigned k = 0; names != nullptr && k < count && k < kMaxListedFields; ++k) {
+      if (names[k] != nullptr) info.fields.emplace_back(names[k], strnlen(names[k], 64));
+    }
+  }
   return info;
 }
 

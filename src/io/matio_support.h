@@ -33,8 +33,12 @@ struct VariableInfo {
   bool is_complex = false;
   bool is_logical = false;
   std::vector<uint64_t> dims;
-  uint64_t element_bytes = 1;  // of the type the values are stored in
+  uint64_t element_bytes = 1;       // of the type the values are stored in
+  std::vector<std::string> fields;  // a struct's field names, at most kMaxListedFields
 };
+
+// A struct's fields named in a message: the first few are enough to show what it holds.
+constexpr size_t kMaxListedFields = 16;
 
 VariableInfo InfoOf(const matvar_t* var);
 
