@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <matio.h>
 
+#include <cstdint>
 #include <functional>
 #include <string>
 
@@ -606,6 +607,127 @@ TEST(ImuLogProbe, ARepeatedHeaderAndUtf16WithoutAMarkAreNamed) {
       << Refusal(joined);
   const std::string utf16("t\0,\0a\0x\0\n\0", 10);
   EXPECT_NE(Refusal(utf16).find("UTF-16"), std::string::npos);
+}
+
+// Writes matio's `variables` (freed here) as a MAT file of `version`.
+void WriteWithMatio(const std::string& path, mat_ft version,
+                    std::initializer_list<matvar_t*> variables) {
+  mat_t* file = Mat_CreateVer(path.c_str(), nullptr, version);
+  ASSERT_NE(file, nullptr) << path;
+  for (matvar_t* variable : variables) {
+    ASSERT_NE(variable, nullptr);
+    EXPECT_EQ(Mat_VarWrite(file, variable, MAT_COMPRESSION_NONE), 0) << variable->name;
+    Mat_VarFree(variable);
+  }
+  Mat_Close(file);
+}
+
+// A rows x cols matio variable of `class_type`, its values copied.
+template <typename T>
+matvar_t* Variable(const char* name, matio_classes class_type, matio_types type, size_t rows,
+                   size_t cols, std::vector<T> values) {
+  size_t dims[2] = {rows, cols};
+  return Mat_VarCreate(name, class_type, type, 2, dims, values.data(), 0);
+}
+
+// A logger's raw counts saved as integers (scipy.io.savemat of an int16 array, MATLAB's
+// int32(...)): read as doubles, every value exactly, from version 5 and 7.3 files alike.
+TEST(ImuLogLayouts, ReadsIntegerMatVariablesExactly) {
+  testing::ScratchDir dir;
+  std::vector<double> t;
+  std::vector<int16_t> acc;  // 30 x 3, column-major: x counts from -32768 up, y 2048, z 32767
+  std::vector<uint32_t> stamp_us;
+  for (int j = 0; j < 30; ++j) t.push_back(0.01 * j);
+  for (int j = 0; j < 30; ++j) acc.push_back(static_cast<int16_t>(-32768 + j));
+  acc.insert(acc.end(), 30, 2048);
+  acc.insert(acc.end(), 30, 32767);
+  for (int j = 0; j < 30; ++j) stamp_us.push_back(4000000000u + 10000u * j);
+  for (mat_ft version : {MAT_FT_MAT5, MAT_FT_MAT73}) {
+    const std::string path = dir.File(version == MAT_FT_MAT5 ? "counts5.mat" : "counts73.mat");
+    WriteWithMatio(path, version,
+                   {Variable("t", MAT_C_DOUBLE, MAT_T_DOUBLE, 30, 1, t),
+                    Variable("acc", MAT_C_INT16, MAT_T_INT16, 30, 3, acc)});
+    TriadLog log;
+    Status status = ReadImuLog(path, &log);
+    ASSERT_TRUE(status.ok()) << status.message();
+    ASSERT_EQ(log.size(), 30u);
+    EXPECT_EQ(log.output[0][0], -32768.0);
+    EXPECT_EQ(log.output[29][0], -32739.0);
+    EXPECT_EQ(log.output[7][1], 2048.0);
+    EXPECT_EQ(log.output[7][2], 32767.0);
+    // Named in --columns, as a double would be; a uint32 time in microseconds beyond 2^31.
+    const std::string named = dir.File(version == MAT_FT_MAT5 ? "named5.mat" : "named73.mat");
+    WriteWithMatio(named, version,
+                   {Variable("stamp", MAT_C_UINT32, MAT_T_UINT32, 30, 1, stamp_us),
+                    Variable("counts", MAT_C_INT16, MAT_T_INT16, 30, 3, acc)});
+    ImuLogReadOptions options;
+    options.columns = "acc:counts,t:stamp";
+    options.time_unit = "us";
+    status = ReadImuLog(named, options, &log);
+    ASSERT_TRUE(status.ok()) << status.message();
+    EXPECT_NEAR(log.timestamp_s[29] - log.timestamp_s[0], 0.29, 1e-12);
+    EXPECT_EQ(log.output[3][0], -32765.0);
+  }
+  // int64 nanoseconds since 1970 are beyond 2^53: a double would round them; refused, naming
+  // the value and what to do.
+  std::vector<int64_t> epoch_ns;
+  for (int j = 0; j < 30; ++j) epoch_ns.push_back(1700000000000000001 + 10000000ll * j);
+  const std::string epoch = dir.File("epoch.mat");
+  WriteWithMatio(epoch, MAT_FT_MAT5,
+                 {Variable("t", MAT_C_INT64, MAT_T_INT64, 30, 1, epoch_ns),
+                  Variable("acc", MAT_C_INT16, MAT_T_INT16, 30, 3, acc)});
+  TriadLog log;
+  EXPECT_ERROR_CONTAINS(ReadImuLog(epoch, ImuLogReadOptions(), &log),
+                        "variable 't' is int64 and its value 1700000000000000001 (element 1) is "
+                        "beyond 2^53, where a double cannot hold every integer; subtract its "
+                        "first value in MATLAB (x = double(x - x(1))) and save it again");
+  // int64 time in microseconds, within 2^53, is read.
+  for (int j = 0; j < 30; ++j) epoch_ns[j] = 10000 * j;
+  WriteWithMatio(epoch, MAT_FT_MAT5,
+                 {Variable("t_us", MAT_C_INT64, MAT_T_INT64, 30, 1, epoch_ns),
+                  Variable("acc", MAT_C_INT16, MAT_T_INT16, 30, 3, acc)});
+  const Status status = ReadImuLog(epoch, ImuLogReadOptions(), &log);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_DOUBLE_EQ(log.timestamp_s[29], 0.29);
+}
+
+// Variables a log cannot use are listed with their class, and one named in --columns is
+// refused for what it is, not as absent.
+TEST(ImuLogLayouts, NamesTheClassOfMatVariablesItCannotUse) {
+  testing::ScratchDir dir;
+  std::vector<double> t(30);
+  for (int j = 0; j < 30; ++j) t[j] = 0.01 * j;
+  for (mat_ft version : {MAT_FT_MAT5, MAT_FT_MAT73}) {
+    const std::string path = dir.File(version == MAT_FT_MAT5 ? "labelled5.mat" : "labelled73.mat");
+    const char* fields[] = {"acc", "temp"};
+    size_t one[2] = {1, 1};
+    matvar_t* imu = Mat_VarCreateStruct("imu", 2, one, fields, 2);
+    Mat_VarSetStructFieldByName(
+        imu, "acc", 0, Variable("acc", MAT_C_DOUBLE, MAT_T_DOUBLE, 1, 1, std::vector{1.0}));
+    Mat_VarSetStructFieldByName(
+        imu, "temp", 0, Variable("temp", MAT_C_DOUBLE, MAT_T_DOUBLE, 1, 1, std::vector{2.0}));
+    WriteWithMatio(path, version,
+                   {Variable("t", MAT_C_DOUBLE, MAT_T_DOUBLE, 30, 1, t),
+                    Variable("name", MAT_C_CHAR, MAT_T_UINT8, 1, 5,
+                             std::vector<char>{'h', 'e', 'l', 'l', 'o'}),
+                    imu});
+    TriadLog log;
+    const Status listed = ReadImuLog(path, ImuLogReadOptions(), &log);
+    EXPECT_ERROR_CONTAINS(listed, "no accelerometer among the variables (t (30x1), ");
+    EXPECT_ERROR_CONTAINS(listed, "name (1x5 char)");  // version 7.3 lists by name
+    EXPECT_ERROR_CONTAINS(listed, "imu (1x1 struct: acc, temp)");
+    ImuLogReadOptions options;
+    options.columns = "acc:name,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log),
+                          "variable 'name' is a char array; expected a real numeric matrix");
+    options.columns = "acc:imu,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log),
+                          "variable 'imu' is a struct; expected a real numeric matrix (its fields: "
+                          "acc, temp); save the fields as variables, e.g. acc = imu.acc; "
+                          "save('log.mat', 'acc', ...)");
+    options.columns = "acc:accel,t:t";
+    EXPECT_ERROR_CONTAINS(ReadImuLog(path, options, &log), "no variable 'accel' in the file");
+  }
 }
 
 }  // namespace

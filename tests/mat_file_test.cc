@@ -1,10 +1,12 @@
 // MatFileReader's integrity checks (io/mat_file.h): every damage that matio reads without an
 // error, written byte by byte here, must be one Status naming the variable or the byte; what
-// MATLAB legitimately writes must read back exactly. Version 7.3 files are written by matio.
+// MATLAB legitimately writes must read back exactly. Version 7.3 files are written by matio, and
+// by HDF5 itself where matio cannot write what MATLAB does (chunked, compressed datasets).
 
 #include "io/mat_file.h"
 
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <matio.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -267,6 +269,24 @@ std::string WriteMat73(const testing::ScratchDir& scratch, const std::string& na
   return path;
 }
 
+// Opens `path`, expecting HDF5 to print nothing whatever it finds.
+Status OpenSilently(const std::string& path) {
+  ::testing::internal::CaptureStderr();
+  const Status status = Open(path);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  return status;
+}
+
+// Opens `bytes` with the first four bytes of `signature` in them overwritten.
+Status OpenOverwritten(const testing::ScratchDir& scratch, std::string bytes,
+                       const std::string& signature) {
+  const size_t at = bytes.find(signature);
+  EXPECT_NE(at, std::string::npos) << "no " << signature << " in the file";
+  if (at == std::string::npos) return Status::Error("no signature");
+  bytes.replace(at, 4, "XXXX");
+  return OpenSilently(scratch.Write("damaged.mat", bytes));
+}
+
 TEST(MatFile73, ReadsWhatMatioWroteSilently) {
   testing::ScratchDir scratch;
   const std::string path = WriteMat73(scratch, "ensayo.mat", 50);
@@ -308,15 +328,236 @@ TEST(MatFile73, RefusesATruncatedCopyInOneLineOnly) {
 TEST(MatFile73, RefusesADamagedFileInHdf5sWordsOnOneLine) {
   // The root group's B-tree signature overwritten: HDF5 opens the file but cannot list it.
   testing::ScratchDir scratch;
-  std::string bytes = testing::ReadText(WriteMat73(scratch, "whole.mat", 50));
-  const size_t tree = bytes.find("TREE");
-  ASSERT_NE(tree, std::string::npos);
-  bytes.replace(tree, 4, "XXXX");
-  ::testing::internal::CaptureStderr();
-  const Status status = Open(scratch.Write("damaged.mat", bytes));
-  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  const Status status =
+      OpenOverwritten(scratch, testing::ReadText(WriteMat73(scratch, "whole.mat", 50)), "TREE");
   EXPECT_ERROR_CONTAINS(status, "the version 7.3 file (");
   EXPECT_ERROR_CONTAINS(status, "); the file is damaged");
+}
+
+// ---- Integer classes -----------------------------------------------------------------------
+
+template <typename T>
+void WriteIntegers(mat_t* mat, const char* name, matio_classes class_type, matio_types type,
+                   std::vector<T> values) {
+  size_t dims[2] = {values.size(), 1};
+  matvar_t* var = Mat_VarCreate(name, class_type, type, 2, dims, values.data(), 0);
+  ASSERT_NE(var, nullptr);
+  EXPECT_EQ(Mat_VarWrite(mat, var, MAT_COMPRESSION_NONE), 0);
+  Mat_VarFree(var);
+}
+
+// ReadMatrix keeps refusing integers (the course's files hold doubles, and an int32 angle is a
+// mistake there); ReadNumericMatrix widens them, each value exactly, and refuses a 64-bit value
+// no double holds.
+TEST(MatFileReader, WidensIntegersExactlyOnlyWhenAsked) {
+  testing::ScratchDir scratch;
+  constexpr int64_t k2To53 = int64_t{1} << 53;
+  for (mat_ft version : {MAT_FT_MAT5, MAT_FT_MAT73}) {
+    const std::string path = scratch.File(version == MAT_FT_MAT5 ? "v5.mat" : "v73.mat");
+    mat_t* mat = Mat_CreateVer(path.c_str(), nullptr, version);
+    ASSERT_NE(mat, nullptr);
+    WriteIntegers<int16_t>(mat, "i16", MAT_C_INT16, MAT_T_INT16, {-32768, -1, 0, 32767});
+    WriteIntegers<uint32_t>(mat, "u32", MAT_C_UINT32, MAT_T_UINT32, {0, 4294967295u});
+    WriteIntegers<int64_t>(mat, "i64", MAT_C_INT64, MAT_T_INT64,
+                           {-k2To53, k2To53, k2To53 + 2, int64_t{1} << 62});
+    WriteIntegers<int64_t>(mat, "i64_odd", MAT_C_INT64, MAT_T_INT64, {0, k2To53 + 1});
+    WriteIntegers<uint64_t>(mat, "u64_max", MAT_C_UINT64, MAT_T_UINT64, {0, UINT64_MAX});
+    WriteIntegers<int64_t>(mat, "i64_max", MAT_C_INT64, MAT_T_INT64, {INT64_MAX});
+    size_t dims[2] = {2, 1};
+    uint8_t flags[2] = {1, 0};
+    matvar_t* logical =
+        Mat_VarCreate("flags", MAT_C_UINT8, MAT_T_UINT8, 2, dims, flags, MAT_F_LOGICAL);
+    EXPECT_EQ(Mat_VarWrite(mat, logical, MAT_COMPRESSION_NONE), 0);
+    Mat_VarFree(logical);
+    Mat_Close(mat);
+    MatFileReader reader;
+    ASSERT_TRUE(reader.Open(path).ok()) << path;
+    MatMatrix matrix;
+    EXPECT_ERROR_CONTAINS(reader.ReadMatrix("i16", &matrix),
+                          "variable 'i16' is int16; expected a real double matrix");
+    for (const auto& [name, expected] :
+         {std::make_pair("i16", std::vector<double>{-32768, -1, 0, 32767}),
+          std::make_pair("u32", std::vector<double>{0, 4294967295.0}),
+          std::make_pair("i64", std::vector<double>{-9007199254740992.0, 9007199254740992.0,
+                                                    9007199254740994.0, 4611686018427387904.0})}) {
+      const Status read = reader.ReadNumericMatrix(name, &matrix);
+      ASSERT_TRUE(read.ok()) << read.message();
+      EXPECT_EQ(matrix.values, expected) << name;
+    }
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("i64_odd", &matrix),
+                          "variable 'i64_odd' is int64 and its value 9007199254740993 (element 2) "
+                          "is beyond 2^53, where a double cannot hold every integer");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("u64_max", &matrix),
+                          "variable 'u64_max' is uint64 and its value 18446744073709551615");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("i64_max", &matrix),
+                          "variable 'i64_max' is int64 and its value 9223372036854775807");
+    EXPECT_ERROR_CONTAINS(reader.ReadNumericMatrix("flags", &matrix),
+                          "variable 'flags' is logical; expected a real numeric matrix");
+    std::vector<MatVariableDescription> described;
+    ASSERT_TRUE(reader.DescribeVariables(&described).ok());
+    std::string classes;
+    for (const MatVariableDescription& variable : described)
+      classes += variable.name + ":" + variable.class_name + " ";
+    EXPECT_NE(classes.find("flags:logical "), std::string::npos) << classes;
+    EXPECT_NE(classes.find("i16:int16 "), std::string::npos) << classes;
+    EXPECT_NE(classes.find("u64_max:uint64 "), std::string::npos) << classes;
+  }
+}
+
+// ---- Version 7.3 written by HDF5, as MATLAB writes it ---------------------------------------
+// MATLAB's -v7.3 stores a variable as a chunked, deflated dataset (matio writes contiguous
+// ones), in a file with a 512-byte user block holding the MAT header, the class in a
+// fixed-length, null-terminated MATLAB_class attribute, the dimensions reversed (column-major).
+
+struct Hdf5Variable {
+  std::string name;
+  int rows = 0;
+  int cols = 0;
+  std::vector<double> values;  // column-major, rows * cols
+  std::vector<hsize_t> chunk;  // in HDF5's order (cols, rows); empty: contiguous
+  bool deflate = false;
+  enum Written { kAll, kFirstColumn, kNothing } written = kAll;
+  bool fill_value = true;  // false: no fill value defined
+};
+
+std::string WriteHdf5Mat(const testing::ScratchDir& scratch, const std::string& name,
+                         const std::vector<Hdf5Variable>& variables) {
+  const std::string path = scratch.File(name);
+  const hid_t creation = H5Pcreate(H5P_FILE_CREATE);
+  H5Pset_userblock(creation, 512);
+  const hid_t file = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, creation, H5P_DEFAULT);
+  H5Pclose(creation);
+  EXPECT_GE(file, 0);
+  for (const Hdf5Variable& variable : variables) {
+    const hsize_t dims[2] = {static_cast<hsize_t>(variable.cols),
+                             static_cast<hsize_t>(variable.rows)};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t properties = H5Pcreate(H5P_DATASET_CREATE);
+    if (!variable.chunk.empty()) H5Pset_chunk(properties, 2, variable.chunk.data());
+    if (variable.deflate) H5Pset_deflate(properties, 3);
+    if (!variable.fill_value) {
+      H5Pset_fill_value(properties, H5T_NATIVE_DOUBLE, nullptr);
+      H5Pset_fill_time(properties, H5D_FILL_TIME_NEVER);
+    }
+    const hid_t dataset = H5Dcreate2(file, variable.name.c_str(), H5T_IEEE_F64LE, space,
+                                     H5P_DEFAULT, properties, H5P_DEFAULT);
+    EXPECT_GE(dataset, 0) << variable.name;
+    if (variable.written == Hdf5Variable::kAll) {
+      EXPECT_GE(H5Dwrite(dataset, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT,
+                         variable.values.data()),
+                0);
+    } else if (variable.written == Hdf5Variable::kFirstColumn) {
+      const hsize_t start[2] = {0, 0};
+      const hsize_t count[2] = {1, dims[1]};
+      const hid_t memory = H5Screate_simple(2, count, nullptr);
+      H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+      EXPECT_GE(
+          H5Dwrite(dataset, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, variable.values.data()),
+          0);
+      H5Sclose(memory);
+    }
+    const hid_t text = H5Tcopy(H5T_C_S1);
+    H5Tset_size(text, 6);
+    H5Tset_strpad(text, H5T_STR_NULLTERM);
+    const hid_t scalar = H5Screate(H5S_SCALAR);
+    const hid_t attribute =
+        H5Acreate2(dataset, "MATLAB_class", text, scalar, H5P_DEFAULT, H5P_DEFAULT);
+    H5Awrite(attribute, text, "double");
+    H5Aclose(attribute);
+    H5Sclose(scalar);
+    H5Tclose(text);
+    H5Dclose(dataset);
+    H5Pclose(properties);
+    H5Sclose(space);
+  }
+  H5Fclose(file);
+  std::string bytes = testing::ReadText(path);
+  std::string header =
+      "MATLAB 7.3 MAT-file, Platform: GLNXA64, written by mat_file_test HDF5 schema 1.00 .";
+  header.resize(116, ' ');
+  header += std::string(8, '\0') + std::string("\x00\x02", 2) + "IM";
+  bytes.replace(0, header.size(), header);
+  return scratch.Write(name, bytes);
+}
+
+Hdf5Variable Variable(const std::string& name, int rows, int cols, std::vector<hsize_t> chunk,
+                      bool deflate) {
+  Hdf5Variable variable;
+  variable.name = name;
+  variable.rows = rows;
+  variable.cols = cols;
+  variable.values = Ramp(rows * cols);
+  variable.chunk = std::move(chunk);
+  variable.deflate = deflate;
+  return variable;
+}
+
+TEST(MatFile73, ReadsChunkedAndDeflatedVariablesAsMatlabWritesThem) {
+  // Deflated chunks (HDF5 says PART_ALLOCATED: the stored bytes are fewer than the values'),
+  // and plain chunks whose last ones overhang the dimensions (more bytes than the values').
+  testing::ScratchDir scratch;
+  const std::string path =
+      WriteHdf5Mat(scratch, "chunked.mat",
+                   {Variable("acc", 1000, 3, {1, 128}, true),
+                    Variable("t", 1000, 1, {1, 300}, false), Variable("w", 7, 5, {2, 2}, true)});
+  ::testing::internal::CaptureStderr();
+  MatFileReader reader;
+  const Status opened = reader.Open(path);
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
+  ASSERT_TRUE(opened.ok()) << opened.message();
+  for (const auto& [name, rows, cols] :
+       {std::make_tuple("acc", 1000, 3), std::make_tuple("t", 1000, 1),
+        std::make_tuple("w", 7, 5)}) {
+    MatMatrix matrix;
+    const Status read = reader.ReadMatrix(name, &matrix);
+    ASSERT_TRUE(read.ok()) << read.message();
+    EXPECT_EQ(matrix.rows, rows) << name;
+    EXPECT_EQ(matrix.cols, cols) << name;
+    EXPECT_EQ(matrix.values, Ramp(rows * cols)) << name;
+  }
+}
+
+TEST(MatFile73, ReadsAPartlyWrittenChunkedVariableWithItsFillValue) {
+  // MATLAB's matfile writes a slice of a variable; the chunks never written read as the fill
+  // value, zero, in HDF5 and MATLAB alike.
+  testing::ScratchDir scratch;
+  Hdf5Variable partial = Variable("acc", 30, 3, {1, 10}, true);
+  partial.written = Hdf5Variable::kFirstColumn;
+  MatMatrix matrix;
+  const Status read = Read(WriteHdf5Mat(scratch, "slice.mat", {partial}), "acc", &matrix);
+  ASSERT_TRUE(read.ok()) << read.message();
+  std::vector<double> expected = Ramp(30);
+  expected.resize(90, 0.0);
+  EXPECT_EQ(matrix.values, expected);
+}
+
+TEST(MatFile73, RefusesADatasetWithoutStoredDataOrAChunkIndex) {
+  testing::ScratchDir scratch;
+  // Never written: HDF5 would return zeros, contiguous or chunked.
+  for (bool chunked : {false, true}) {
+    Hdf5Variable empty = Variable(
+        "acc", 30, 3, chunked ? std::vector<hsize_t>{1, 10} : std::vector<hsize_t>{}, chunked);
+    empty.written = Hdf5Variable::kNothing;
+    const Status status = OpenSilently(WriteHdf5Mat(scratch, "unwritten.mat", {empty}));
+    EXPECT_ERROR_CONTAINS(status,
+                          "variable 'acc' has no stored data (HDF5 would return zeros); "
+                          "the file is damaged");
+  }
+  // Chunks missing and no fill value: HDF5 would return whatever its buffer held.
+  Hdf5Variable undefined = Variable("acc", 30, 3, {1, 10}, false);
+  undefined.written = Hdf5Variable::kFirstColumn;
+  undefined.fill_value = false;
+  EXPECT_ERROR_CONTAINS(Open(WriteHdf5Mat(scratch, "undefined.mat", {undefined})),
+                        "variable 'acc' stores 3 of its 9 chunks and has no fill value for the "
+                        "others (HDF5 would return undefined values); the file is damaged");
+  // The chunk index's B-tree node (signature TREE, node type 1) damaged.
+  const Status damaged =
+      OpenOverwritten(scratch,
+                      testing::ReadText(WriteHdf5Mat(scratch, "whole.mat",
+                                                     {Variable("acc", 30, 3, {1, 10}, true)})),
+                      std::string("TREE\x01", 5));
+  EXPECT_ERROR_CONTAINS(damaged, "variable 'acc' has data HDF5 cannot locate (");
+  EXPECT_ERROR_CONTAINS(damaged, "); the file is damaged");
 }
 
 }  // namespace

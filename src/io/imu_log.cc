@@ -511,9 +511,16 @@ bool ParseVariableColumn(const std::string& text, VariableColumn* result) {
   return !result->name.empty() && result->column >= 0;
 }
 
+// The MAT variables of a log: those read as matrices, and why each other one was not.
+struct MatVariables {
+  std::vector<std::pair<std::string, MatMatrix>> matrices;
+  std::map<std::string, std::string> unread;  // name -> ReadNumericMatrix's refusal
+};
+
 // The samples of one MAT variable's column (a vector's only column), as rows.
-Status VariableValues(const std::vector<std::pair<std::string, MatMatrix>>& matrices,
-                      const VariableColumn& wanted, size_t rows, std::vector<double>* values) {
+Status VariableValues(const MatVariables& variables, const VariableColumn& wanted, size_t rows,
+                      std::vector<double>* values) {
+  const auto& matrices = variables.matrices;
   for (const auto& [name, matrix] : matrices) {
     if (name != wanted.name) continue;
     // Samples along the longer dimension: N x 1 and 1 x N are both vectors.
@@ -541,11 +548,30 @@ Status VariableValues(const std::vector<std::pair<std::string, MatMatrix>>& matr
     for (int j = 0; j < length; ++j) (*values)[j] = by_rows ? matrix(j, column) : matrix(column, j);
     return Status::Ok();
   }
+  const auto unread = variables.unread.find(wanted.name);
+  if (unread != variables.unread.end()) return Status::Error(unread->second);
   return Status::Error("no variable '" + EchoInput(wanted.name) + "' in the file");
 }
 
 std::string Shape(const MatMatrix& matrix) {
   return std::to_string(matrix.rows) + "x" + std::to_string(matrix.cols);
+}
+
+// A struct's field names, "acc, t".
+std::string FieldList(const MatVariableDescription& variable) {
+  std::string fields;
+  for (const std::string& field : variable.fields)
+    fields += (fields.empty() ? "" : ", ") + EchoInput(field);
+  return fields;
+}
+
+// A variable no log reads, as `whos` shows it: "imu (1x1 struct: acc, t)", "name (1x8 char)".
+std::string Described(const MatVariableDescription& variable) {
+  std::string shape;
+  for (uint64_t dimension : variable.dims)
+    shape += (shape.empty() ? "" : "x") + std::to_string(dimension);
+  return EchoInput(variable.name) + " (" + (shape.empty() ? "" : shape + " ") +
+         variable.class_name + (variable.fields.empty() ? "" : ": " + FieldList(variable)) + ")";
 }
 
 // A MATLAB .mat log: its variables by name (io/imu_log_format.h's aliases), or by --columns.
@@ -555,24 +581,35 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
   ACCELCAL_RETURN_IF_ERROR(ParseImuColumnChoices(options.columns, &choices));
   MatFileReader reader;
   ACCELCAL_RETURN_IF_ERROR(reader.Open(path));
-  std::vector<std::string> names;
-  ACCELCAL_RETURN_IF_ERROR(reader.ListVariables(&names));
-  // Only the numeric variables are read; a text or struct variable beside them is left alone.
-  std::vector<std::pair<std::string, MatMatrix>> matrices;
-  std::vector<std::string> unread;
-  for (const std::string& name : names) {
+  std::vector<MatVariableDescription> described;
+  ACCELCAL_RETURN_IF_ERROR(reader.DescribeVariables(&described));
+  // Only the numeric variables are read, integers (a logger's raw counts) widened to double; a
+  // text or struct variable beside them is left alone, and named with its class.
+  MatVariables variables;
+  std::vector<std::pair<std::string, MatMatrix>>& matrices = variables.matrices;
+  std::string unread_listing;
+  for (const MatVariableDescription& variable : described) {
     MatMatrix matrix;
-    if (reader.ReadMatrix(name, &matrix).ok()) {
-      matrices.emplace_back(name, std::move(matrix));
+    const Status read = reader.ReadNumericMatrix(variable.name, &matrix);
+    if (read.ok()) {
+      matrices.emplace_back(variable.name, std::move(matrix));
     } else {
-      unread.push_back(name);
+      // A struct's fields are not read: say what it holds, and how to make them variables.
+      variables.unread[variable.name] =
+          read.message() +
+          (variable.fields.empty()
+               ? ""
+               : " (its fields: " + FieldList(variable) + "); save the fields as variables, e.g. " +
+                     EchoInput(variable.fields[0]) + " = " + EchoInput(variable.name) + "." +
+                     EchoInput(variable.fields[0]) + "; save('log.mat', '" +
+                     EchoInput(variable.fields[0]) + "', ...)");
+      unread_listing += (unread_listing.empty() ? "" : ", ") + Described(variable);
     }
   }
   std::string listing;
   for (const auto& [name, matrix] : matrices)
     listing += (listing.empty() ? "" : ", ") + name + " (" + Shape(matrix) + ")";
-  for (const std::string& name : unread)
-    listing += (listing.empty() ? "" : ", ") + name + " (not a real matrix)";
+  if (!unread_listing.empty()) listing += (listing.empty() ? "" : ", ") + unread_listing;
   if (listing.empty()) listing = "none";
 
   // role -> column of a variable
@@ -593,6 +630,15 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
   auto matrix_of = [&](const std::string& name) -> const MatMatrix* {
     for (const auto& entry : matrices) {
       if (entry.first == name) return &entry.second;
+    }
+    return nullptr;
+  };
+  // A variable the names would have chosen for a role left empty, but which could not be read:
+  // its refusal says more than "no such variable".
+  auto unread_for = [&](ImuColumnKind kind) -> const std::string* {
+    for (const auto& [name, why] : variables.unread) {
+      if (ClassifyImuVariableName(name) == kind || ClassifyImuColumnName(name).kind == kind)
+        return &why;
     }
     return nullptr;
   };
@@ -658,10 +704,15 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
       for (int k = 0; k < 3; ++k)
         chosen[std::string("g") + "xyz"[k]] = chosen[std::string("a") + "xyz"[k]];
     for (int k = 0; k < 3; ++k) chosen.erase(std::string("a") + "xyz"[k]);
-    if (!chosen.count("gx"))
+    if (!chosen.count("gx")) {
+      if (const std::string* why = unread_for(ImuColumnKind::kGyroscope))
+        return Status::Error(*why);
       return Status::Error("no gyroscope among the variables (" + listing +
                            "): name it with --columns=gyr:NAME");
+    }
   } else if (!chosen.count("ax")) {
+    if (const std::string* why = unread_for(ImuColumnKind::kAccelerometer))
+      return Status::Error(*why);
     const bool two_axis = matrix_of("Aerr") != nullptr || matrix_of("datos") != nullptr ||
                           matrix_of("theta") != nullptr;
     return Status::Error("no accelerometer among the variables (" + listing +
@@ -679,11 +730,11 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
     const std::string axis(1, "xyz"[k]);
     if (chosen.count("a" + axis)) {
       ACCELCAL_RETURN_IF_ERROR(
-          VariableValues(matrices, chosen["a" + axis], rows, &accelerometer[k]));
+          VariableValues(variables, chosen["a" + axis], rows, &accelerometer[k]));
       rows = accelerometer[k].size();
     }
     if (chosen.count("g" + axis)) {
-      ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["g" + axis], rows, &gyroscope[k]));
+      ACCELCAL_RETURN_IF_ERROR(VariableValues(variables, chosen["g" + axis], rows, &gyroscope[k]));
       rows = gyroscope[k].size();
     }
   }
@@ -693,7 +744,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
   if (options.rate_hz > 0.0) {
     std::vector<double> index;
     if (chosen.count("index"))
-      ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["index"], rows, &index));
+      ACCELCAL_RETURN_IF_ERROR(VariableValues(variables, chosen["index"], rows, &index));
     time.resize(rows);
     for (size_t j = 0; j < rows; ++j) time[j] = (index.empty() ? j : index[j]) / options.rate_hz;
     time_rule = StringPrintf(
@@ -703,7 +754,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
       notes.push_back("the time variable '" + chosen["t"].name +
                       "' is not used (--rate_hz gives time)");
   } else if (chosen.count("t")) {
-    ACCELCAL_RETURN_IF_ERROR(VariableValues(matrices, chosen["t"], rows, &time));
+    ACCELCAL_RETURN_IF_ERROR(VariableValues(variables, chosen["t"], rows, &time));
     ImuTextFormat format;
     const std::string label = "'" + chosen["t"].name + "'";
     const std::vector<double> head(time.begin(),
@@ -717,6 +768,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
     const double origin = format.epoch ? time[0] : 0.0;
     for (double& t : time) t = (t - origin) * format.time_scale_s;
   } else {
+    if (const std::string* why = unread_for(ImuColumnKind::kTime)) return Status::Error(*why);
     return Status::Error("no time variable among (" + listing +
                          "): give --rate_hz=R, the samples' rate in Hz, or name it with "
                          "--columns=t:NAME");

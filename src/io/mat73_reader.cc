@@ -16,6 +16,8 @@
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "io/mat_integrity.h"
 
@@ -77,6 +79,71 @@ herr_t FindUnreadableVariable(hid_t group, const char* name, const H5L_info_t*, 
   return 0;
 }
 
+// Whether the dataset `dataset` stores its values; empty if it does, else the one-line
+// problem. HDF5 returns the fill value, zeros, for a dataset whose storage was never written or
+// whose address was lost, without an error. H5Dget_space_status tells the two apart only for a
+// contiguous or compact dataset, whose storage is one block: ALLOCATED or NOT_ALLOCATED. A
+// chunked one (MATLAB's -v7.3 writes its variables chunked and compressed) is PART_ALLOCATED
+// whenever its stored bytes differ from its nominal size, that is, whenever it is compressed or
+// its last chunks overhang its dimensions, however many of its chunks are stored; so a chunked
+// dataset is judged by its chunk index instead, which H5Dget_num_chunks walks whole (a damaged
+// index fails here, named as such, rather than read as zeros). No chunk stored: damaged, as an
+// unallocated contiguous dataset. Some chunks stored: a writer may legitimately write part of a
+// chunked dataset (MATLAB's matfile writes a slice of a variable), and HDF5, MATLAB and we read the
+// others as the dataset's fill value; unless it has none, when HDF5 leaves them undefined.
+std::string CheckStoredData(hid_t dataset, const std::string& what) {
+  const std::string damaged =
+      what + " has no stored data (HDF5 would return zeros); the file is damaged";
+  const hid_t space = H5Dget_space(dataset);
+  const int rank = space >= 0 ? H5Sget_simple_extent_ndims(space) : -1;
+  std::vector<hsize_t> dims(static_cast<size_t>(std::max(rank, 0)));
+  const bool shaped = rank >= 0 && H5Sget_simple_extent_dims(space, dims.data(), nullptr) == rank;
+  const hssize_t points = space >= 0 ? H5Sget_simple_extent_npoints(space) : -1;
+  if (space >= 0) H5Sclose(space);
+  if (points == 0) return "";
+  if (!shaped || points < 0) return damaged;
+  // A failed query (the dataset's storage index is damaged) is told apart from an absent one.
+  const auto unreadable = [&what] {
+    return what + " has data HDF5 cannot locate (" + Hdf5Error() + "); the file is damaged";
+  };
+  H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
+  if (H5Dget_space_status(dataset, &status) < 0) return unreadable();
+  if (status == H5D_SPACE_STATUS_NOT_ALLOCATED) return damaged;
+  const hid_t properties = H5Dget_create_plist(dataset);
+  if (properties < 0) return damaged;
+  const H5D_layout_t layout = H5Pget_layout(properties);
+  std::vector<hsize_t> chunk(dims.size());
+  const bool chunked =
+      layout == H5D_CHUNKED && H5Pget_chunk(properties, rank, chunk.data()) == rank;
+  H5D_fill_value_t fill = H5D_FILL_VALUE_ERROR;
+  const bool has_fill = H5Pfill_value_defined(properties, &fill) >= 0 &&
+                        (fill == H5D_FILL_VALUE_DEFAULT || fill == H5D_FILL_VALUE_USER_DEFINED);
+  H5Pclose(properties);
+  if (layout != H5D_CHUNKED) return status == H5D_SPACE_STATUS_ALLOCATED ? "" : damaged;
+  hsize_t expected = 1;
+  for (size_t k = 0; chunked && k < dims.size(); ++k) {
+    if (chunk[k] == 0) return damaged;
+    expected *= (dims[k] + chunk[k] - 1) / chunk[k];
+  }
+  // HDF5 1.10 takes the dataset's own dataspace for the whole of it, not H5S_ALL.
+  hsize_t stored = 0;
+  const hid_t whole = H5Dget_space(dataset);
+  const herr_t counted = chunked && whole >= 0 ? H5Dget_num_chunks(dataset, whole, &stored) : -1;
+  if (whole >= 0) H5Sclose(whole);
+  if (counted < 0) return unreadable();
+  if (stored == 0) return damaged;
+  if (stored > expected) {
+    return what + " stores " + std::to_string(stored) + " chunks where its dimensions hold " +
+           std::to_string(expected) + "; the file is damaged";
+  }
+  if (stored < expected && !has_fill) {
+    return what + " stores " + std::to_string(stored) + " of its " + std::to_string(expected) +
+           " chunks and has no fill value for the others (HDF5 would return undefined values); "
+           "the file is damaged";
+  }
+  return "";
+}
+
 // H5Ovisit's callback, for every group and dataset of the file, nested ones (struct fields,
 // cell elements) included: stops at the first that matio would misread; `data` gets the
 // one-line problem. matio reads each of four attributes into a single number ("FIXME: Check
@@ -112,16 +179,7 @@ herr_t CheckHdf5Object(hid_t root, const char* path, const H5O_info_t* info, voi
       break;
     }
   }
-  if (problem->empty() && info->type == H5O_TYPE_DATASET) {
-    const hid_t space = H5Dget_space(object);
-    const hssize_t points = space >= 0 ? H5Sget_simple_extent_npoints(space) : -1;
-    H5D_space_status_t status = H5D_SPACE_STATUS_ERROR;
-    const herr_t asked = H5Dget_space_status(object, &status);
-    if (space >= 0) H5Sclose(space);
-    if (points > 0 && (asked < 0 || status != H5D_SPACE_STATUS_ALLOCATED)) {
-      *problem = what + " has no stored data (HDF5 would return zeros); the file is damaged";
-    }
-  }
+  if (problem->empty() && info->type == H5O_TYPE_DATASET) *problem = CheckStoredData(object, what);
   H5Oclose(object);
   return problem->empty() ? 0 : 1;
 }
@@ -225,8 +283,8 @@ class PipeReader {
   bool timed_out_ = false;
 };
 
-// In the child: reads the file and sends every variable's info and, for those ReadMatrix
-// can return, its values; or one error record.
+// In the child: reads the file and sends every variable's info and, for those
+// ReadNumericMatrix can return, its values; or one error record.
 void SendMat73Variables(const std::string& path, uint64_t file_size, PipeWriter* out) {
   InstallMatioLogger();
   SilenceHdf5();
@@ -264,21 +322,26 @@ void SendMat73Variables(const std::string& path, uint64_t file_size, PipeWriter*
     out->Text(info.name);
     out->Number(static_cast<uint64_t>(info.class_type));
     out->Number(info.is_complex ? 1 : 0);
+    out->Number(info.is_logical ? 1 : 0);
     out->Number(info.dims.size());
     for (uint64_t dimension : info.dims) out->Number(dimension);
     out->Number(info.element_bytes);
-    if (!CheckReadable(info, file_size, kZlibExpansion).ok()) {
+    out->Number(info.fields.size());
+    for (const std::string& field : info.fields) out->Text(field);
+    if (!CheckReadable(info, file_size, kZlibExpansion, MatClasses::kNumeric).ok()) {
       out->Number(kValuesNone);
       continue;
     }
     LastMatioMessage().clear();
     matvar_t* var = Mat_VarRead(mat, info.name.c_str());
+    MatMatrix matrix;
     if (var == nullptr || var->data == nullptr || !LastMatioMessage().empty()) {
       out->Number(kValuesFailed);
       out->Text(LastMatioMessage().substr(0, kMaxMessageBytes));
+    } else if (const Status copied = CopyValues(var, info, &matrix); !copied.ok()) {
+      out->Number(kValuesRefused);
+      out->Text(copied.message().substr(0, kMaxMessageBytes));
     } else {
-      MatMatrix matrix;
-      CopyValues(var, info, &matrix);
       out->Number(kValuesRead);
       out->Bytes(matrix.values.data(), matrix.values.size() * sizeof(double));
     }
@@ -306,22 +369,31 @@ Status ReceiveMat73Variables(PipeReader* in, uint64_t file_size,
     if (kind != kRecordVariable || variables->size() > file_size) return broken;
     Mat73Variable variable;
     VariableInfo& info = variable.info;
-    uint64_t class_type = 0, is_complex = 0, rank = 0;
+    uint64_t class_type = 0, is_complex = 0, is_logical = 0, rank = 0;
     if (!in->Text(&info.name) || !in->Number(&class_type) || !in->Number(&is_complex) ||
-        !in->Number(&rank) || rank > kMaxRank) {
+        !in->Number(&is_logical) || !in->Number(&rank) || rank > kMaxRank) {
       return broken;
     }
     info.class_type = static_cast<int>(std::min<uint64_t>(class_type, 255));
     info.is_complex = is_complex != 0;
+    info.is_logical = is_logical != 0;
     info.dims.resize(rank);
     for (uint64_t& dimension : info.dims) {
       if (!in->Number(&dimension)) return broken;
     }
-    if (!in->Number(&info.element_bytes) || !in->Number(&variable.values_kind)) return broken;
-    if (variable.values_kind == kValuesFailed) {
+    uint64_t fields = 0;
+    if (!in->Number(&info.element_bytes) || !in->Number(&fields) || fields > kMaxListedFields) {
+      return broken;
+    }
+    info.fields.resize(fields);
+    for (std::string& field : info.fields) {
+      if (!in->Text(&field)) return broken;
+    }
+    if (!in->Number(&variable.values_kind)) return broken;
+    if (variable.values_kind == kValuesFailed || variable.values_kind == kValuesRefused) {
       if (!in->Text(&variable.read_error)) return broken;
     } else if (variable.values_kind == kValuesRead) {
-      if (!CheckReadable(info, file_size, kZlibExpansion).ok()) return broken;
+      if (!CheckReadable(info, file_size, kZlibExpansion, MatClasses::kNumeric).ok()) return broken;
       try {
         variable.values.resize(info.dims[0] * info.dims[1]);
       } catch (const std::bad_alloc&) {

@@ -14,19 +14,20 @@
 namespace accelcal {
 namespace mat_internal {
 
-// Whether the child sent a variable's values: none (MatFileReader::ReadMatrix would refuse
-// it), read, or failed with matio's message.
-enum : uint64_t { kValuesNone = 0, kValuesRead = 1, kValuesFailed = 2 };
+// Whether the child sent a variable's values: none (MatFileReader::ReadNumericMatrix would
+// refuse it), read, failed with matio's message, or refused (a 64-bit integer a double cannot
+// hold) with our one line.
+enum : uint64_t { kValuesNone = 0, kValuesRead = 1, kValuesFailed = 2, kValuesRefused = 3 };
 
 struct Mat73Variable {
   VariableInfo info;
   uint64_t values_kind = kValuesNone;
-  std::string read_error;  // kValuesFailed: matio's message
+  std::string read_error;  // kValuesFailed: matio's message; kValuesRefused: the whole line
   std::vector<double> values;
 };
 
 // Reads every variable of the version 7.3 file `path` (of `file_size` bytes) in a child
-// process: each variable's header, and the values of those ReadMatrix can return. A child
+// process: each variable's header, and the values of those ReadNumericMatrix can return. A child
 // that crashes, hangs or runs out of memory is one line of Status; nothing of its state
 // reaches the caller.
 Status ReadMat73InChild(const std::string& path, uint64_t file_size,

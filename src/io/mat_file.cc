@@ -19,9 +19,12 @@ using mat_internal::CopyValues;
 using mat_internal::InfoOf;
 using mat_internal::InstallMatioLogger;
 using mat_internal::kValuesRead;
+using mat_internal::kValuesRefused;
 using mat_internal::kZlibExpansion;
 using mat_internal::LastMatioMessage;
 using mat_internal::Mat73Variable;
+using mat_internal::MatClasses;
+using mat_internal::MatlabClassName;
 using mat_internal::MatVersion;
 using mat_internal::ReadMat73InChild;
 using mat_internal::VariableInfo;
@@ -44,6 +47,25 @@ struct MatFileReader::Impl {
   uint64_t file_size = 0;
   bool mat73 = false;
   std::vector<Mat73Variable> mat73_variables;  // what the version 7.3 reader sent
+  // The headers of the file's variables, in file order.
+  Status Infos(std::vector<VariableInfo>* infos) {
+    infos->clear();
+    if (mat73) {
+      for (const Mat73Variable& variable : mat73_variables) infos->push_back(variable.info);
+      return Status::Ok();
+    }
+    Mat_Rewind(mat);
+    LastMatioMessage().clear();
+    while (matvar_t* info = Mat_VarReadNextInfo(mat)) {
+      if (info->name != nullptr) infos->push_back(InfoOf(info));
+      Mat_VarFree(info);
+    }
+    Mat_Rewind(mat);
+    if (!LastMatioMessage().empty()) {
+      return Status::Error("cannot list the variables (" + LastMatioMessage() + ")");
+    }
+    return Status::Ok();
+  }
   ~Impl() {
     if (mat != nullptr) Mat_Close(mat);
   }
@@ -72,31 +94,38 @@ Status MatFileReader::Open(const std::string& path) {
 
 Status MatFileReader::ListVariables(std::vector<std::string>* names) {
   names->clear();
-  if (impl_->mat73) {
-    for (const Mat73Variable& variable : impl_->mat73_variables) {
-      names->push_back(variable.info.name);
-    }
-    return Status::Ok();
-  }
-  Mat_Rewind(impl_->mat);
-  LastMatioMessage().clear();
-  while (matvar_t* info = Mat_VarReadNextInfo(impl_->mat)) {
-    if (info->name != nullptr) names->push_back(info->name);
-    Mat_VarFree(info);
-  }
-  Mat_Rewind(impl_->mat);
-  if (!LastMatioMessage().empty()) {
-    return Status::Error("cannot list the variables (" + LastMatioMessage() + ")");
-  }
+  std::vector<VariableInfo> infos;
+  ACCELCAL_RETURN_IF_ERROR(impl_->Infos(&infos));
+  for (const VariableInfo& info : infos) names->push_back(info.name);
+  return Status::Ok();
+}
+
+Status MatFileReader::DescribeVariables(std::vector<MatVariableDescription>* variables) {
+  variables->clear();
+  std::vector<VariableInfo> infos;
+  ACCELCAL_RETURN_IF_ERROR(impl_->Infos(&infos));
+  for (const VariableInfo& info : infos)
+    variables->push_back({info.name, MatlabClassName(info), info.dims, info.fields});
   return Status::Ok();
 }
 
 Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix) {
+  return Read(variable, false, matrix);
+}
+
+Status MatFileReader::ReadNumericMatrix(const std::string& variable, MatMatrix* matrix) {
+  return Read(variable, true, matrix);
+}
+
+Status MatFileReader::Read(const std::string& variable, bool integers, MatMatrix* matrix) {
   const std::string where = "variable '" + variable + "'";
+  const MatClasses classes = integers ? MatClasses::kNumeric : MatClasses::kFloating;
   if (impl_->mat73) {
     for (const Mat73Variable& candidate : impl_->mat73_variables) {
       if (candidate.info.name != variable) continue;
-      ACCELCAL_RETURN_IF_ERROR(CheckReadable(candidate.info, impl_->file_size, kZlibExpansion));
+      ACCELCAL_RETURN_IF_ERROR(
+          CheckReadable(candidate.info, impl_->file_size, kZlibExpansion, classes));
+      if (candidate.values_kind == kValuesRefused) return Status::Error(candidate.read_error);
       if (candidate.values_kind != kValuesRead) {
         return Status::Error(
             "cannot read " + where +
@@ -126,8 +155,9 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
   const std::unique_ptr<matvar_t, void (*)(matvar_t*)> info_owner(info, Mat_VarFree);
   VariableInfo readable = InfoOf(info);
   readable.name = variable;
-  ACCELCAL_RETURN_IF_ERROR(CheckReadable(
-      readable, impl_->file_size, info->compression == MAT_COMPRESSION_NONE ? 1 : kZlibExpansion));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckReadable(readable, impl_->file_size,
+                    info->compression == MAT_COMPRESSION_NONE ? 1 : kZlibExpansion, classes));
   Mat_Rewind(impl_->mat);
   matvar_t* var = Mat_VarRead(impl_->mat, variable.c_str());
   if (var == nullptr || var->data == nullptr || !LastMatioMessage().empty()) {
@@ -136,8 +166,7 @@ Status MatFileReader::ReadMatrix(const std::string& variable, MatMatrix* matrix)
                          (LastMatioMessage().empty() ? "" : " (" + LastMatioMessage() + ")"));
   }
   const std::unique_ptr<matvar_t, void (*)(matvar_t*)> var_owner(var, Mat_VarFree);
-  CopyValues(var, readable, matrix);
-  return Status::Ok();
+  return CopyValues(var, readable, matrix);
 }
 
 Status MatFileReader::ReadAllMatrices(uint64_t max_values, const std::string& oversize_advice,
@@ -187,7 +216,7 @@ Status MatFileReader::ReadAllMatrices(uint64_t max_values, const std::string& ov
                            (LastMatioMessage().empty() ? "" : " (" + LastMatioMessage() + ")"));
     }
     MatMatrix matrix;
-    CopyValues(var, info, &matrix);
+    ACCELCAL_RETURN_IF_ERROR(CopyValues(var, info, &matrix));
     matrices->emplace_back(info.name, std::move(matrix));
   }
   Mat_Rewind(impl_->mat);

@@ -30,6 +30,14 @@ struct MatMatrix {
   double operator()(int row, int col) const { return values[col * rows + row]; }
 };
 
+// A variable as MATLAB's `whos` describes it.
+struct MatVariableDescription {
+  std::string name;
+  std::string class_name;  // "double", "int16", "logical", "char", "struct", "cell", ...
+  std::vector<uint64_t> dims;
+  std::vector<std::string> fields;  // a struct's, the first few
+};
+
 class MatFileReader {
  public:
   MatFileReader();
@@ -45,10 +53,19 @@ class MatFileReader {
   // The names of the file's variables, in file order.
   Status ListVariables(std::vector<std::string>* names);
 
+  // The file's variables in file order, each with its class and dimensions.
+  Status DescribeVariables(std::vector<MatVariableDescription>* variables);
+
   // Reads a real, non-empty, two-dimensional numeric variable (double, or single
   // widened to double). Integer, complex, sparse, cell, struct and character
   // variables are refused with their class in the message.
   Status ReadMatrix(const std::string& variable, MatMatrix* matrix);
+
+  // Reads as ReadMatrix does, and integer variables (int8 ... uint64, a logger's raw counts)
+  // too, widened to double exactly: a 64-bit value a double cannot hold (beyond 2^53) is
+  // refused. For IMU logs (io/imu_log.cc); the course's files keep ReadMatrix, whose
+  // variables are doubles.
+  Status ReadNumericMatrix(const std::string& variable, MatMatrix* matrix);
 
   // Every variable of the file in file order, each checked as ReadMatrix checks it, and each
   // of at most `max_values` values (a larger one is refused before any data is read, by name
@@ -61,6 +78,7 @@ class MatFileReader {
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  Status Read(const std::string& variable, bool integers, MatMatrix* matrix);
 };
 
 // Writes real double matrices as an uncompressed MATLAB v5 file (the layout FreeMat

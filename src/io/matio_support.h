@@ -31,19 +31,35 @@ struct VariableInfo {
   std::string name;
   int class_type = MAT_C_EMPTY;
   bool is_complex = false;
+  bool is_logical = false;
   std::vector<uint64_t> dims;
-  uint64_t element_bytes = 1;  // of the type the values are stored in
+  uint64_t element_bytes = 1;       // of the type the values are stored in
+  std::vector<std::string> fields;  // a struct's field names, at most kMaxListedFields
 };
+
+// A struct's fields named in a message: the first few are enough to show what it holds.
+constexpr size_t kMaxListedFields = 16;
 
 VariableInfo InfoOf(const matvar_t* var);
 
-// Refuses what ReadMatrix cannot return: anything but a real, non-empty, two-dimensional
-// double or single matrix, or one whose values could not fit in the file (`expansion`: what
-// one byte of the file may become, 1 uncompressed, kZlibExpansion compressed).
-Status CheckReadable(const VariableInfo& info, uint64_t file_size, uint64_t expansion);
+// MATLAB's name of the variable's class, as `whos` prints it: "double", "int16", "logical",
+// "char", "struct", "cell", "sparse" ...
+std::string MatlabClassName(const VariableInfo& info);
 
-// Copies the values matio read (double, or single widened to double).
-void CopyValues(const matvar_t* var, const VariableInfo& info, MatMatrix* matrix);
+// The classes a read returns: double and single (ReadMatrix), or integers too
+// (ReadNumericMatrix).
+enum class MatClasses { kFloating, kNumeric };
+
+// Refuses what a read of `classes` cannot return: anything but a real, non-empty,
+// two-dimensional matrix of those classes, or one whose values could not fit in the file
+// (`expansion`: what one byte of the file may become, 1 uncompressed, kZlibExpansion
+// compressed).
+Status CheckReadable(const VariableInfo& info, uint64_t file_size, uint64_t expansion,
+                     MatClasses classes = MatClasses::kFloating);
+
+// Copies the values matio read, widened to double: single, and the integer classes, each
+// exactly; a 64-bit integer a double cannot hold exactly (beyond 2^53) is refused.
+Status CopyValues(const matvar_t* var, const VariableInfo& info, MatMatrix* matrix);
 
 }  // namespace mat_internal
 }  // namespace accelcal
