@@ -235,16 +235,8 @@ TEST(TriadSessionCalibration, RefusalOfBothDetectorsLeadsWithAWindowThatWorks) {
   simulation.truth = TriadParametersWithOffset(84.0, 8.0, 62.0);
   for (int k = 0; k < 3; ++k) simulation.truth[kTriadGainX + k] = 9.81 / 8192.0;
   RandomSource random(2027);
-  std::vector<TriadHold> holds;
-  while (holds.size() < 30) {
-    const std::array<double, 3> d = RandomPoseDirections(1, &random).front();
-    if (!holds.empty()) {
-      const std::array<double, 3>& last = holds.back().direction;
-      if (d[0] * last[0] + d[1] * last[1] + d[2] * last[2] > std::cos(30.0 * M_PI / 180.0))
-        continue;
-    }
-    holds.push_back({d, 1.0 + 0.1 * (holds.size() % 6)});
-  }
+  std::vector<TriadHold> holds = RandomSeparatedHolds(30, 1.0, 30.0, &random);
+  for (size_t i = 0; i < holds.size(); ++i) holds[i].duration_s = 1.0 + 0.1 * (i % 6);
   const TriadLog log = SimulateTriadSession(simulation, holds, &random).log;
   TriadSessionOptions options;
   options.gravity_mps2 = 9.81;

@@ -47,6 +47,7 @@ Status CalibrateOnPoses(const TriadLog& log, const std::vector<StaticInterval>& 
   ml_options.scale_nonlinearity = options.scale_nonlinearity;
   if (calibration->allan_noise)
     ml_options.pose_mean_variance = calibration->pose_noise.candidate.pose_mean_variance;
+  ml_options.quantisation_variance = calibration->pose_noise.quantisation_variance;
   ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, ml_options, &calibration->ml));
   ACCELCAL_RETURN_IF_ERROR(CheckGainsMatchUnit(calibration->ml.parameters, options.unit));
   TriadDiscoveryOptions& discovery = calibration->discovery_options;
@@ -55,6 +56,7 @@ Status CalibrateOnPoses(const TriadLog& log, const std::vector<StaticInterval>& 
   discovery.fit.gravity_mps2 = options.gravity_mps2;
   discovery.fit.initial = ml_options.initial;
   discovery.fit.solve = options.solve;
+  discovery.fit.quantisation_variance = ml_options.quantisation_variance;
   discovery.unit = TriadOutputUnitName(options.unit);
   discovery.coloured_noise = calibration->pose_noise.candidate;
   for (int k = 0; k < 3; ++k)
