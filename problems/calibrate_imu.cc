@@ -59,7 +59,7 @@ DEFINE_double(g, 9.81, "Local gravity in m/s^2 (imu_tk's default 9.81; its Xsens
 DEFINE_string(unit, "count", "The unit of the log's outputs: count (raw ADC counts, as imu_tk's example), m/s^2 or g. It sets the units of the gains ((m/s^2) per unit) and offsets (the unit); a calibration whose gains contradict it (e.g. gains near 1 from a log said to be in counts) is refused.");
 DEFINE_double(init_rest_s, 50.0, "Duration in s of the initial rest the imu_tk thresholds are scaled from (imu_tk's library default is 30; its Xsens example, and this default, 50). A rest that holds motion is refused, with the time the sensor starts moving.");
 DEFINE_string(initial_offset, "auto", "Initial guess of the three offsets b, in the log's unit: auto (the output of an ideal sensor at zero specific force: 0 for m/s^2 and g; for counts the ADC's mid-scale, 2^(n-1) for outputs all in [0, 2^n), else 0) or a number (imu_tk's default 0; 32768 for a 16-bit ADC centred at mid-scale, as in its Xsens example). The gains start at 1 per unit (9.80665 for --unit=g) and the angles at 0, as in imu_tk.");
-DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101).");
+DEFINE_int32(window, 101, "Static detector: window of the variance, in samples (odd, imu_tk's 101). Detector noise_floor, when not given: about 1 s of samples, imu_tk's 101 at 60 Hz and up, the rate's samples per second made odd below (25 at 25 Hz, at least 11).");
 DEFINE_int32(interval_samples, 100, "Samples used from each static interval, and the minimum length of an interval used (imu_tk's 100).");
 DEFINE_int32(min_intervals, 12, "Fewest static intervals a threshold must give to be solved (imu_tk's 12).");
 DEFINE_string(detector, "noise_floor", "Mode ml: the static detector. noise_floor: thresholds from the log's own noise floor, no initial rest needed (estimation/triad/noise_floor_detector.h); when it finds too few poses, imu_tk's intervals are used if its rules give them (said so in the output). imu_tk: imu_tk's intervals at its chosen k. Mode imu_tk always uses imu_tk's.");
@@ -215,7 +215,10 @@ Status TriadSessionOptionsFromFlags(TriadSessionOptions* options) {
     return Status::Error("--initial_offset='" + FLAGS_initial_offset +
                          "' is neither auto nor a finite number (the log's unit)");
   }
-  options->detector.window_samples = FLAGS_window;
+  // 0: the noise floor's window from the log's rate (DefaultNoiseFloorWindow); imu_tk's
+  // detector keeps its 101 samples.
+  options->detector.window_samples =
+      gflags::GetCommandLineFlagInfoOrDie("window").is_default ? 0 : FLAGS_window;
   options->detector.threshold_factor = FLAGS_threshold_factor;
   options->detector.min_interval_s = FLAGS_min_interval_s;
   options->scale_nonlinearity = FLAGS_scale_nonlinearity;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/format.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/static_intervals.h"
@@ -350,6 +351,60 @@ TEST(NoiseFloorDetector, RefusesHoldsTooShortSayingHowLongToHold) {
   options.min_interval_s = 0.3;
   ASSERT_TRUE(DetectStaticIntervalsFromNoiseFloor(session.log, options, &detection).ok());
   EXPECT_EQ(detection.intervals.size(), 12u);
+}
+
+// Issue: at 25 Hz imu_tk's 101 samples are 4 s, so 3 to 5 s holds left few still windows. The
+// default window follows the rate (25 samples at 25 Hz) and finds every hold; 101 at 62.5 Hz
+// and 100 Hz, as before.
+TEST(NoiseFloorDetector, DefaultWindowFollowsTheRateAndFindsShortHoldsAt25Hz) {
+  RandomSource random(251);
+  std::vector<TriadHold> holds = RandomHolds(24, 3.0, &random);
+  for (size_t i = 0; i < holds.size(); ++i) holds[i].duration_s = 3.0 + (i % 3);
+  TriadLogSimulationOptions simulation = XsensLikeSession();
+  simulation.rate_hz = 25.0;
+  const TriadSession session = SimulateTriadSession(simulation, holds, &random);
+  EXPECT_EQ(DefaultNoiseFloorWindow(session.log), 25);
+  NoiseFloorDetection detection;
+  const Status found = DetectStaticIntervalsFromNoiseFloor(session.log, {}, &detection);
+  ASSERT_TRUE(found.ok()) << found.message();
+  EXPECT_EQ(detection.window_samples, 25);
+  EXPECT_EQ(detection.intervals.size(), holds.size());
+  NoiseFloorOptions imu_tk_window;
+  imu_tk_window.window_samples = 101;
+  (void)DetectStaticIntervalsFromNoiseFloor(session.log, imu_tk_window, &detection);
+  EXPECT_LT(detection.intervals.size(), holds.size() * 3 / 4);  // what the old default found
+
+  EXPECT_EQ(DefaultNoiseFloorWindow(SimulateSession(12, 3.0, 252).log), 101);  // 100 Hz
+  simulation.rate_hz = 62.5;
+  EXPECT_EQ(DefaultNoiseFloorWindow(SimulateTriadSession(simulation, holds, &random).log), 101);
+  simulation.rate_hz = 5.0;
+  EXPECT_EQ(DefaultNoiseFloorWindow(SimulateTriadSession(simulation, holds, &random).log), 11);
+}
+
+// Holds of 1 to 1.5 s at 100 Hz are too short for the 101-sample window: the refusal names a
+// window and shortest interval, and the detector run with them finds the poses it said.
+TEST(NoiseFloorDetector, RefusalOfHoldsShortForTheWindowNamesAWindowThatFindsThem) {
+  RandomSource random(253);
+  std::vector<TriadHold> holds = RandomHolds(30, 1.0, &random);
+  for (size_t i = 0; i < holds.size(); ++i) holds[i].duration_s = 1.0 + 0.1 * (i % 6);
+  const TriadSession session = SimulateTriadSession(XsensLikeSession(), holds, &random);
+  NoiseFloorDetection detection;
+  const std::string refusal = Refusal(session.log, {}, &detection);
+  ASSERT_FALSE(refusal.empty());
+  ASSERT_GT(detection.suggested_window_samples, 0);
+  EXPECT_LT(detection.suggested_window_samples, 101);
+  const std::string flags = StringPrintf("--window=%d --min_interval_s=%g",
+                                         detection.suggested_window_samples,
+                                         detection.suggested_min_interval_s);
+  EXPECT_SAYS(refusal, flags + StringPrintf(" finds %d", detection.suggested_pose_count));
+  NoiseFloorOptions suggested;
+  suggested.window_samples = detection.suggested_window_samples;
+  suggested.min_interval_s = detection.suggested_min_interval_s;
+  const int promised = detection.suggested_pose_count;
+  const Status followed = DetectStaticIntervalsFromNoiseFloor(session.log, suggested, &detection);
+  ASSERT_TRUE(followed.ok()) << followed.message();
+  EXPECT_EQ(static_cast<int>(detection.intervals.size()), promised);
+  EXPECT_GE(promised, 27);  // nearly every hold
 }
 
 TEST(NoiseFloorDetector, RefusesBadOptionsAndALogShorterThanTheWindow) {

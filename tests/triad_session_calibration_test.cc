@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "common/format.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/noise_floor_detector.h"
 #include "io/imu_log.h"
@@ -182,8 +183,10 @@ TEST(TriadSessionCalibration, FallsBackOnImuTksIntervalsWhenTheNoiseFloorRefuses
   const TriadLog log = SimulateTriadSession(simulation, holds, &random).log;
   TriadSessionOptions options = XsensOptions();
   NoiseFloorDetection detection;
-  ASSERT_FALSE(DetectStaticIntervalsFromNoiseFloor(log, options.detector, &detection).ok())
+  const Status detected = DetectStaticIntervalsFromNoiseFloor(log, options.detector, &detection);
+  ASSERT_FALSE(detected.ok())
       << "the noise floor's detector must refuse this session for the test to mean anything";
+  const std::string detection_message = detected.message();
   const std::vector<StaticInterval> imu_tk = ImuTkIntervals(log);
   ASSERT_GE(imu_tk.size(), 20u);
 
@@ -201,17 +204,64 @@ TEST(TriadSessionCalibration, FallsBackOnImuTksIntervalsWhenTheNoiseFloorRefuses
         << TriadParameterInfos()[p].name;
   }
 
-  const Status refused = CalibrateTriadSessionWithFallback(
-      log, options, nullptr, "the sensor moves from t = 1.5 s", &calibration, &fallback_reason);
+  // Neither detector: the noise floor's finding leads; imu_tk's refusal is one clause, without
+  // its advice (an initial rest that would be refused again).
+  const std::string imu_tk_refusal =
+      "the initial rest of 50 s is not at rest: its variance norm is 1.7e+03 times the median of "
+      "its windows (at most 2 when still), and the sensor moves from t = 1.5 s; give "
+      "--init_rest_s=1.48, the longest initial rest before the motion that this check accepts";
+  const Status refused = CalibrateTriadSessionWithFallback(log, options, nullptr, imu_tk_refusal,
+                                                           &calibration, &fallback_reason);
   ASSERT_FALSE(refused.ok());
-  EXPECT_NE(refused.message().find("no static detector finds the poses. The noise floor's "
-                                   "(--threshold_factor, --min_interval_s): "),
+  const std::string& message = refused.message();
+  EXPECT_EQ(message.rfind("no static detector finds the poses: the noise floor's: " +
+                              detection_message,
+                          0),
+            0u)
+      << message;
+  EXPECT_NE(message.find("imu_tk's intervals, the fallback, give none either (the initial rest "
+                         "of 50 s is not at rest)"),
             std::string::npos)
-      << refused.message();
-  EXPECT_NE(refused.message().find("imu_tk's, the fallback (--init_rest_s, --window, "
-                                   "--min_intervals): the sensor moves from t = 1.5 s"),
+      << message;
+  EXPECT_EQ(message.find("--init_rest_s"), std::string::npos) << message;
+  EXPECT_LE(message.size(), 520u) << message;
+}
+
+// The probe's session (holds of 1 to 1.5 s at 100 Hz, no initial rest): its refusal once passed
+// 600 bytes and lost the noise floor's advice in calibrate_imu's cut. Now it names a window that
+// works, and stays short with a long imu_tk refusal.
+TEST(TriadSessionCalibration, RefusalOfBothDetectorsLeadsWithAWindowThatWorks) {
+  TriadLogSimulationOptions simulation;
+  simulation.truth = TriadParametersWithOffset(84.0, 8.0, 62.0);
+  for (int k = 0; k < 3; ++k) simulation.truth[kTriadGainX + k] = 9.81 / 8192.0;
+  RandomSource random(2027);
+  std::vector<TriadHold> holds = RandomSeparatedHolds(30, 1.0, 30.0, &random);
+  for (size_t i = 0; i < holds.size(); ++i) holds[i].duration_s = 1.0 + 0.1 * (i % 6);
+  const TriadLog log = SimulateTriadSession(simulation, holds, &random).log;
+  TriadSessionOptions options;
+  options.gravity_mps2 = 9.81;
+  TriadSessionCalibration calibration;
+  std::string fallback_reason;
+  const Status refused = CalibrateTriadSessionWithFallback(
+      log, options, nullptr, std::string(400, 'x') + ": and more", &calibration,
+      &fallback_reason);
+  ASSERT_FALSE(refused.ok());
+  const std::string& message = refused.message();
+  EXPECT_LE(message.size(), 520u) << message;
+  const NoiseFloorDetection& d = calibration.detection;
+  ASSERT_GT(d.suggested_window_samples, 0) << message;
+  EXPECT_NE(message.find(StringPrintf("--window=%d --min_interval_s=%g finds %d",
+                                      d.suggested_window_samples, d.suggested_min_interval_s,
+                                      d.suggested_pose_count)),
             std::string::npos)
-      << refused.message();
+      << message;
+  EXPECT_EQ(message.find("noise-floor detector"), std::string::npos) << message;
+  options.detector.window_samples = d.suggested_window_samples;
+  options.detector.min_interval_s = d.suggested_min_interval_s;
+  const Status followed = CalibrateTriadSessionWithFallback(log, options, nullptr, "",
+                                                            &calibration, &fallback_reason);
+  ASSERT_TRUE(followed.ok()) << followed.message();
+  EXPECT_GE(calibration.ml.pose_count, 27);
 }
 
 }  // namespace

@@ -285,6 +285,21 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
   return json;
 }
 
+// The quantisation term of the pose means, when it matters (estimation/triad/triad_pose_noise.h).
+std::string QuantisationClause(const CalibrateImuReport& report) {
+  const TriadPoseNoise& noise = report.pose_noise;
+  if (!noise.quantisation_material) return "";
+  const char* unit = TriadOutputUnitName(report.unit);
+  return StringPrintf(
+      "; plus the output's rounding to its step q = (%.4g, %.4g, %.4g) %s, which the noise "
+      "before rounding, sigma = (%.3g, %.3g, %.3g) %s, does not dither away: every pose mean "
+      "has variance (%.3g, %.3g, %.3g) %s^2 more that does not average down",
+      noise.output_step[0], noise.output_step[1], noise.output_step[2], unit,
+      noise.unrounded_stddev[0], noise.unrounded_stddev[1], noise.unrounded_stddev[2], unit,
+      noise.quantisation_variance[0], noise.quantisation_variance[1],
+      noise.quantisation_variance[2], unit);
+}
+
 // The noise model of the pose means in one line.
 std::string NoiseModelLine(const CalibrateImuReport& report) {
   const TriadMlResult& ml = report.ml;
@@ -292,9 +307,9 @@ std::string NoiseModelLine(const CalibrateImuReport& report) {
   if (!report.allan_noise) {
     return StringPrintf(
         "noise model: white noise, one variance per axis pooled over the poses, s = (%.4g, "
-        "%.4g, %.4g) %s; a pose mean of N samples has variance s^2/N (--noise)\n",
+        "%.4g, %.4g) %s; a pose mean of N samples has variance s^2/N%s (--noise)\n",
         std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
-        std::sqrt(ml.noise_variance[2]), unit);
+        std::sqrt(ml.noise_variance[2]), unit, QuantisationClause(report).c_str());
   }
   const auto& terms = report.pose_noise.terms;
   return StringPrintf(
@@ -302,13 +317,13 @@ std::string NoiseModelLine(const CalibrateImuReport& report) {
       "%s/sqrt(Hz), B = (%.3g, %.3g, %.3g) %s, K = (%.3g, %.3g, %.3g) %s sqrt(Hz); a pose mean "
       "of T s has variance N^2/T + 0.441 B^2 + K^2 T/3 (docs/noise.md); white noise rejected "
       "against it (p = %.3g; at tau = %.3g s the Allan variance is (%.3g, %.3g, %.3g) times "
-      "white noise's) (--noise)\n",
+      "white noise's)%s (--noise)\n",
       terms[0].white_density, terms[1].white_density, terms[2].white_density, unit,
       terms[0].bias_instability, terms[1].bias_instability, terms[2].bias_instability, unit,
       terms[0].random_walk, terms[1].random_walk, terms[2].random_walk, unit,
       report.pose_noise.candidate.white_p_value, report.pose_noise.test_tau_s,
       report.pose_noise.avar_ratio[0], report.pose_noise.avar_ratio[1],
-      report.pose_noise.avar_ratio[2]);
+      report.pose_noise.avar_ratio[2], QuantisationClause(report).c_str());
 }
 
 std::string PosesLine(const CalibrateImuReport& report) {
@@ -540,6 +555,17 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
        {std::sqrt(ml.noise_variance[0]), std::sqrt(ml.noise_variance[1]),
         std::sqrt(ml.noise_variance[2])}},
       {"unit", TriadOutputUnitName(report.unit)}};
+  if (report.pose_noise.quantisation_material) {
+    const TriadPoseNoise& noise = report.pose_noise;
+    json["noise_model"]["quantisation"] = {
+        {"description",
+         "the output's rounding to its step q: every pose mean's variance has B(sigma, q) = "
+         "q^2/(2 pi^2) sum_j exp(-4 pi^2 j^2 sigma^2/q^2)/j^2 added, sigma the noise before "
+         "rounding"},
+        {"step", noise.output_step},
+        {"stddev_before_rounding", noise.unrounded_stddev},
+        {"pose_mean_variance_added", noise.quantisation_variance}};
+  }
   json["fit_description"] = FitDescription(ml, report.allan_noise, report.discovery);
   json["poorly_determined"] = PoorlyDeterminedJson(report.poorly_determined);
   nlohmann::json intervals = nlohmann::json::array();

@@ -1,6 +1,7 @@
 #include "simulation/triad_log_simulator.h"
 
 #include <cmath>
+#include "simulation/triad_simulator.h"
 
 namespace accelcal {
 namespace {
@@ -122,6 +123,21 @@ TriadLog SimulateSteadyTurn(const TriadLogSimulationOptions& options, double dur
                shake_mps2);
   }
   return log;
+}
+
+std::vector<TriadHold> RandomSeparatedHolds(int count, double hold_s, double min_turn_deg,
+                                            RandomSource* random) {
+  const double max_cosine = std::cos(min_turn_deg * M_PI / 180.0);
+  std::vector<TriadHold> holds;
+  while (static_cast<int>(holds.size()) < count) {
+    const std::array<double, 3> d = RandomPoseDirections(1, random).front();
+    if (!holds.empty()) {
+      const std::array<double, 3>& last = holds.back().direction;
+      if (d[0] * last[0] + d[1] * last[1] + d[2] * last[2] > max_cosine) continue;
+    }
+    holds.push_back({d, hold_s});
+  }
+  return holds;
 }
 
 }  // namespace accelcal

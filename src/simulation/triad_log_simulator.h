@@ -59,6 +59,11 @@ struct TriadSession {
 TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
                                   const std::vector<TriadHold>& holds, RandomSource* random);
 
+// `count` holds of `hold_s` in random directions, each at least `min_turn_deg` from the one
+// before (a hand turns the sensor; two nearly equal consecutive poses are one pose).
+std::vector<TriadHold> RandomSeparatedHolds(int count, double hold_s, double min_turn_deg,
+                                            RandomSource* random);
+
 // A sensor turning the whole time at constant rates, never resting: the specific force points
 // along (cos a sin e, sin a sin e, cos e), a = azimuth_rate t, e = elevation_rate t + 0.3 rad,
 // with `shake_mps2` of white force noise per axis on top (a hand) and the options' output noise.

@@ -20,6 +20,9 @@ constexpr double kMaxWhiteFalseAlarm = 1e-6;  // per window and axis, for the fa
 // The second rule: a pose's floor may be up to this many times the quietest windows' (poses
 // whose noise differs by 4 times in standard deviation, as vibration or a hand's grip makes).
 constexpr double kPoseFloorSpread = 16.0;
+// When neither rule finds the poses, the second rule's refusal is added only while the message
+// stays this short (calibrate_imu adds the file and imu_tk's fallback within a 600-byte line).
+constexpr size_t kMaxCombinedRefusalBytes = 380;
 
 const char kAxisNames[] = "xyz";
 
@@ -50,12 +53,14 @@ std::vector<bool> StillWindows(const std::vector<std::array<double, 3>>& varianc
   return still;
 }
 
-Status ZeroFloor(int axis, int window) {
+// Called once StuckAxis has passed every axis: the axis changes through the motion, so its
+// constant still windows are noise below the output's step (a quantised output), not a fault.
+Status ZeroFloor(int axis, int window, double step) {
   return Status::Error(StringPrintf(
-      "axis %c is constant to its last digit over much of the log (%d-sample windows of zero "
-      "variance): stuck, saturated, or noise below the output's resolution, so there is no "
-      "noise floor to set a still threshold from; check that axis of the sensor",
-      kAxisNames[axis], window));
+      "axis %c is constant over much of the log's %d-sample windows while it changes through the "
+      "motion: its noise is below the output's step of %.4g (quantised), so one noise floor for "
+      "the log cannot be set from it",
+      kAxisNames[axis], window, step));
 }
 
 // " (2.8 to 51.4 s, median 7.8 s)", or nothing for no intervals.
@@ -198,7 +203,7 @@ Status CheckShape(std::vector<double> values, int axis, double white_shape, cons
 // The rule of the header's first part: one noise floor for the whole log.
 Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
                        const std::vector<std::array<double, 3>>& variances,
-                       NoiseFloorDetection* detection) {
+                       const std::array<double, 3>& step, NoiseFloorDetection* detection) {
   const int window = options.window_samples;
   const int half = window / 2;
   const double dof = window - 1;
@@ -210,7 +215,7 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
     std::vector<double> column = Column(variances, axis, nullptr);
     provisional_threshold[axis] =
         factor * Quantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile);
-    if (!(provisional_threshold[axis] > 0.0)) return ZeroFloor(axis, window);
+    if (!(provisional_threshold[axis] > 0.0)) return ZeroFloor(axis, window, step[axis]);
   }
   std::vector<bool> still = StillWindows(variances, provisional_threshold);
   const bool any_still = std::find(still.begin(), still.end(), true) != still.end();
@@ -218,7 +223,7 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
     for (int axis = 0; axis < 3; ++axis) {
       std::vector<double> column = Column(variances, axis, &still);
       detection->floor_variance[axis] = Quantile(&column, 0.5) / white_quantile(0.5);
-      if (!(detection->floor_variance[axis] > 0.0)) return ZeroFloor(axis, window);
+      if (!(detection->floor_variance[axis] > 0.0)) return ZeroFloor(axis, window, step[axis]);
       detection->floor_stddev[axis] = std::sqrt(detection->floor_variance[axis]);
       detection->threshold_variance[axis] = factor * detection->floor_variance[axis];
     }
@@ -267,6 +272,7 @@ Status CountIntervals(const TriadLog& log, const NoiseFloorOptions& options,
         detection->moving_intervals.size(),
         DescribeDurations(detection->moving_intervals).c_str()));
   }
+  detection->too_few_intervals = true;
   const std::string advice =
       total >= options.min_intervals
           ? StringPrintf(
@@ -287,9 +293,8 @@ Status CountIntervals(const TriadLog& log, const NoiseFloorOptions& options,
       options.min_intervals, advice.c_str()));
 }
 
-// The output's step on each axis: the smallest nonzero change between consecutive samples
-// (1 for counts, 16 for a 12-bit sensor left-aligned in 16 bits; tiny for a float log). 0 for an
-// axis constant over the whole log.
+}  // namespace
+
 std::array<double, 3> OutputSteps(const TriadLog& log) {
   std::array<double, 3> step{};
   for (size_t i = 1; i < log.size(); ++i) {
@@ -300,6 +305,8 @@ std::array<double, 3> OutputSteps(const TriadLog& log) {
   }
   return step;
 }
+
+namespace {
 
 // A stuck or saturated axis is constant through the motion too: over the windows where another
 // axis moves (above `loud` there), it has zero variance in more than half. A quantised axis is
@@ -405,10 +412,9 @@ Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
   return CountIntervals(log, options, detection);
 }
 
-}  // namespace
-
-Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloorOptions& options,
-                                           NoiseFloorDetection* detection) {
+// One detection with the window of options (already resolved, not 0).
+Status DetectWithWindow(const TriadLog& log, const NoiseFloorOptions& options,
+                        NoiseFloorDetection* detection) {
   *detection = NoiseFloorDetection();
   ACCELCAL_RETURN_IF_ERROR(CheckOptions(options));
   const int window = options.window_samples;
@@ -436,7 +442,7 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
         kAxisNames[stuck], window));
   }
   detection->rule = kGlobalFloorRule;
-  const Status global = GlobalFloorRule(log, options, variances, detection);
+  const Status global = GlobalFloorRule(log, options, variances, step, detection);
   // The single floor unless it refuses or drops poses that their own floors find (the louder
   // poses of a session whose noise differs from pose to pose).
   if (global.ok() && !(per_pose.ok() && pose_floors.intervals.size() > detection->intervals.size()))
@@ -451,25 +457,99 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
     *detection = std::move(pose_floors);
     return per_pose;
   }
-  // Neither rule: keep what the one that found more intervals saw, for the caller to show.
-  const std::string per_pose_rule = StringPrintf(
-      "a floor per pose (up to %g times the quietest windows', at least the output's step)",
-      kPoseFloorSpread);
-  std::string message =
-      global.message() == per_pose.message()
-          ? "neither one noise floor for the log nor " + per_pose_rule + " finds the poses: " +
-                global.message()
-          : "one noise floor for the log: " + global.message() + "; " + per_pose_rule + ": " +
-                per_pose.message();
-  message += StringPrintf(
-      " (seen with a floor per pose: s = %.3g, %.3g, %.3g at the quietest, %.1f%% of the "
-      "windows still, %zu intervals of at least %g s, %zu shorter; the thresholds scale with "
-      "--threshold_factor, %g now, and --min_interval_s sets the shortest pose)",
-      pose_floors.floor_stddev[0], pose_floors.floor_stddev[1], pose_floors.floor_stddev[2],
-      100 * pose_floors.still_fraction, pose_floors.intervals.size(), options.min_interval_s,
-      pose_floors.short_intervals.size(), factor);
-  if (pose_floors.intervals.size() > detection->intervals.size()) *detection = std::move(pose_floors);
+  // Neither rule: the refusal of the one that found more intervals (one noise floor on a tie),
+  // with what it saw kept for the caller to show; the other's refusal only when it differs and
+  // the line stays short, so that the advice at the end of the first is never cut.
+  const bool per_pose_better = pose_floors.intervals.size() > detection->intervals.size();
+  const Status& better = per_pose_better ? per_pose : global;
+  const Status& other = per_pose_better ? global : per_pose;
+  const char* better_rule = per_pose_better ? "a floor per pose" : "one noise floor for the log";
+  const char* other_rule = per_pose_better ? "one noise floor for the log" : "a floor per pose";
+  std::string message;
+  if (global.message() == per_pose.message()) {
+    message = "neither one noise floor for the log nor a floor per pose finds the poses: " +
+              global.message();
+  } else {
+    message = std::string(better_rule) + ": " + better.message();
+    const std::string other_text = std::string("; ") + other_rule + ": " + other.message();
+    message += message.size() + other_text.size() <= kMaxCombinedRefusalBytes
+                   ? other_text
+                   : std::string(" (") + other_rule + " refuses too)";
+  }
+  if (per_pose_better) {
+    *detection = std::move(pose_floors);
+  } else {
+    detection->too_few_intervals = detection->too_few_intervals || pose_floors.too_few_intervals;
+  }
   return Status::Error(message);
+}
+
+}  // namespace
+
+int DefaultNoiseFloorWindow(const TriadLog& log) {
+  constexpr int kImuTkWindow = 101;
+  constexpr double kImuTkWindowMinRateHz = 60.0;  // 101 samples span at most 1.7 s
+  constexpr int kShortestWindow = 11;
+  if (log.size() < 2) return kImuTkWindow;
+  const double span_s = log.timestamp_s.back() - log.timestamp_s.front();
+  if (!(span_s > 0.0)) return kImuTkWindow;
+  const double rate_hz = (log.size() - 1) / span_s;
+  if (rate_hz >= kImuTkWindowMinRateHz) return kImuTkWindow;
+  int window = static_cast<int>(std::lround(rate_hz));
+  if (window % 2 == 0) ++window;
+  return std::max(window, kShortestWindow);
+}
+
+Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloorOptions& options,
+                                           NoiseFloorDetection* detection) {
+  NoiseFloorOptions resolved = options;
+  if (resolved.window_samples == 0) resolved.window_samples = DefaultNoiseFloorWindow(log);
+  const Status status = DetectWithWindow(log, resolved, detection);
+  if (status.ok() || !detection->too_few_intervals || detection->short_intervals.empty() ||
+      log.size() < 2) {
+    return status;
+  }
+  // The holds are short for the window: of the smaller windows (about 15 % apart, down to 11
+  // samples), each with intervals as short as itself, the one with which the same detector finds
+  // the most poses (the larger window on a tie).
+  const double span_s = log.timestamp_s.back() - log.timestamp_s.front();
+  if (!(span_s > 0.0)) return status;
+  const double period_s = span_s / (log.size() - 1);
+  int previous = resolved.window_samples;
+  NoiseFloorOptions best;
+  size_t best_count = 0;
+  for (double scaled = resolved.window_samples * 0.85; previous > 11; scaled *= 0.85) {
+    int window = std::max(11, static_cast<int>(std::lround(scaled)) | 1);
+    if (window >= previous) window = previous - 2;
+    previous = window;
+    NoiseFloorOptions trial = resolved;
+    trial.window_samples = window;
+    trial.min_interval_s =
+        std::min(resolved.min_interval_s, std::floor(10.0 * (window - 1) * period_s) / 10.0);
+    NoiseFloorDetection found;
+    if (!DetectWithWindow(log, trial, &found).ok() || found.intervals.size() <= best_count)
+      continue;
+    best = trial;
+    best_count = found.intervals.size();
+  }
+  if (best_count == 0) return status;
+  detection->suggested_window_samples = best.window_samples;
+  detection->suggested_min_interval_s = best.min_interval_s;
+  detection->suggested_pose_count = static_cast<int>(best_count);
+  std::string flags = StringPrintf("--window=%d", best.window_samples);
+  if (best.min_interval_s != resolved.min_interval_s)
+    flags += StringPrintf(" --min_interval_s=%g", best.min_interval_s);
+  return Status::Error(StringPrintf(
+      "the holds are short for the %d-sample window (%.3g s): it finds %zu static intervals of at "
+      "least %g s%s and %zu shorter ones%s, and the calibration needs at least %d; %s finds "
+      "%zu, or hold each pose still for at least %.1f s (%g s plus the window)",
+      resolved.window_samples, (resolved.window_samples - 1) * period_s,
+      detection->intervals.size(), resolved.min_interval_s,
+      DescribeDurations(detection->intervals).c_str(), detection->short_intervals.size(),
+      DescribeDurations(detection->short_intervals).c_str(), resolved.min_intervals,
+      flags.c_str(), best_count,
+      resolved.min_interval_s + (resolved.window_samples - 1) * period_s,
+      resolved.min_interval_s));
 }
 
 }  // namespace accelcal

@@ -95,7 +95,8 @@
 namespace accelcal {
 
 struct NoiseFloorOptions {
-  int window_samples = 101;      // w, odd, >= 3 (imu_tk's default: 1.01 s at 100 Hz)
+  // w, odd, >= 3; 0: from the log's rate (DefaultNoiseFloorWindow).
+  int window_samples = 0;
   double threshold_factor = 10;  // m: still when V < m s^2 on every axis
   double min_interval_s = 1.0;   // shorter intervals are reported apart, not used
   int min_intervals = 10;        // fewer is a refusal; 0 accepts any number
@@ -124,10 +125,33 @@ struct NoiseFloorDetection {
   // allows a window on some axis: the sensor turned slowly through them (each window quiet,
   // the run not). Not poses; a log that only has these never rests.
   std::vector<StaticInterval> moving_intervals;
+  // Refused only for too few intervals (the holds or their number), not for the log's noise.
+  bool too_few_intervals = false;
+  // On a refusal for too few intervals: the window and shortest interval with which this
+  // detector finds the poses, and how many it finds (0 when no smaller window does).
+  int suggested_window_samples = 0;
+  double suggested_min_interval_s = 0.0;
+  int suggested_pose_count = 0;
 };
 
+// The window when options.window_samples is 0: about one second of samples, as imu_tk's 101 at
+// its 100 Hz, while a window covers whole holds at low rates. imu_tk's 101 samples are kept
+// wherever they span at most 1.7 s (rates of 60 Hz and up: 1.01 s at imu_tk's 100 Hz, 1.6 s at
+// 62.5 Hz, 0.1 s at 1 kHz); below 60 Hz, the rate's samples per second rounded to the next odd
+// number, at least 11 (25 at 25 Hz, 11 at 10 Hz and below). A window longer than the holds
+// never sees a still stretch: at 25 Hz, 101 samples are 4 s.
+int DefaultNoiseFloorWindow(const TriadLog& log);
+
+// The output's step on each axis: the smallest nonzero change between consecutive samples
+// (1 for counts, 16 for a 12-bit sensor left-aligned in 16 bits; tiny for a float log). 0 for an
+// axis constant over the whole log.
+std::array<double, 3> OutputSteps(const TriadLog& log);
+
 // Fails, in one line saying what to do, on the checks above, on an invalid option, or on a log
-// shorter than the window.
+// shorter than the window. When too few intervals are found but shorter ones are (the holds are
+// short for the window), smaller windows are tried, each with the shortest interval lowered to
+// the window's duration (rounded down to 0.1 s) if that is below options.min_interval_s; the
+// largest that this detector accepts is named in the message and in detection->suggested_*.
 Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloorOptions& options,
                                            NoiseFloorDetection* detection);
 

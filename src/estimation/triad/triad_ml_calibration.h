@@ -29,7 +29,9 @@
 // The noise of a pose mean: by default the white-noise variance above, s_k^2 / N_p; or the
 // variances options.pose_mean_variance gives, one per pose and axis (e.g. from the Allan
 // variance of the log at the pose's duration, estimation/statistics/allan_variance.h), which the
-// noise model of the pose means then is.
+// noise model of the pose means then is. options.quantisation_variance is added to either, per
+// axis: the error of a quantised output's pose mean that does not average down
+// (estimation/triad/triad_pose_noise.h).
 //
 // Refusals (a Status naming what cannot be determined, not a crash): fewer poses than
 // parameters + 1; a Jacobian that is rank-deficient at the initial guess or at the solution
@@ -77,6 +79,9 @@ struct TriadMlOptions {
   // Empty: white noise, s_k^2 / N_p. Otherwise the variance of each pose's mean per axis (the
   // log's unit squared), one entry per pose.
   std::vector<std::array<double, 3>> pose_mean_variance;
+  // Added to every pose mean's variance, per axis (the log's unit squared): the rounding of a
+  // quantised output (QuantisationBiasVariance); 0 adds nothing.
+  std::array<double, 3> quantisation_variance{};
   // On a refusal, compute the poses to add (a search over ~600 directions; discovery, which
   // fits effects it knows to be unidentifiable, does not need them).
   bool suggest_poses = true;

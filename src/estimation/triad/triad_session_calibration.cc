@@ -1,5 +1,8 @@
 #include "estimation/triad/triad_session_calibration.h"
 
+#include <algorithm>
+#include <string>
+
 #include "estimation/triad/triad_initial_guess.h"
 
 namespace accelcal {
@@ -12,6 +15,18 @@ Status TriadStartOffset(const TriadLog& log, TriadOutputUnit unit, const TriadOf
 }
 
 namespace {
+
+// The text up to its first ': ' or '; ' (the finding, without the reasoning or advice after it),
+// at most max_bytes (cut at a space, with "...").
+std::string FirstClause(const std::string& text, size_t max_bytes) {
+  size_t end = std::min(text.find(": "), text.find("; "));
+  std::string clause = text.substr(0, end);
+  if (clause.size() > max_bytes) {
+    const size_t space = clause.rfind(' ', max_bytes - 4);
+    clause = clause.substr(0, space == std::string::npos ? max_bytes - 4 : space) + " ...";
+  }
+  return clause;
+}
 
 // Steps 2 to 5 on the poses of `intervals`, the log's unit already checked.
 Status CalibrateOnPoses(const TriadLog& log, const std::vector<StaticInterval>& intervals,
@@ -32,6 +47,7 @@ Status CalibrateOnPoses(const TriadLog& log, const std::vector<StaticInterval>& 
   ml_options.scale_nonlinearity = options.scale_nonlinearity;
   if (calibration->allan_noise)
     ml_options.pose_mean_variance = calibration->pose_noise.candidate.pose_mean_variance;
+  ml_options.quantisation_variance = calibration->pose_noise.quantisation_variance;
   ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, ml_options, &calibration->ml));
   ACCELCAL_RETURN_IF_ERROR(CheckGainsMatchUnit(calibration->ml.parameters, options.unit));
   TriadDiscoveryOptions& discovery = calibration->discovery_options;
@@ -40,6 +56,7 @@ Status CalibrateOnPoses(const TriadLog& log, const std::vector<StaticInterval>& 
   discovery.fit.gravity_mps2 = options.gravity_mps2;
   discovery.fit.initial = ml_options.initial;
   discovery.fit.solve = options.solve;
+  discovery.fit.quantisation_variance = ml_options.quantisation_variance;
   discovery.unit = TriadOutputUnitName(options.unit);
   discovery.coloured_noise = calibration->pose_noise.candidate;
   for (int k = 0; k < 3; ++k)
@@ -72,11 +89,20 @@ Status CalibrateTriadSessionWithFallback(const TriadLog& log, const TriadSession
     return CalibrateOnPoses(log, calibration->detection.intervals, options, calibration);
   }
   if (fallback_intervals == nullptr) {
-    return Status::Error(
-        "no static detector finds the poses. The noise floor's (--threshold_factor, "
-        "--min_interval_s): " +
-        detected.message() + ". imu_tk's, the fallback (--init_rest_s, --window, --min_intervals): " +
-        fallback_refusal);
+    // The noise floor's finding and advice first; imu_tk's refusal in one clause after it (its
+    // advice, an initial rest to give, would only lead to the same refusal here), dropped when
+    // the line would pass calibrate_imu's 600 bytes with the file's name.
+    constexpr size_t kMaxRefusalBytes = 520;
+    constexpr size_t kMaxClauseBytes = 140;
+    std::string message = "no static detector finds the poses: the noise floor's: " +
+                          detected.message();
+    std::string clause = FirstClause(fallback_refusal, kMaxClauseBytes);
+    std::string fallback = clause.empty() ? "; imu_tk's intervals, the fallback, give none either"
+                                          : "; imu_tk's intervals, the fallback, give none either (" +
+                                                clause + ")";
+    if (message.size() + fallback.size() > kMaxRefusalBytes)
+      fallback = "; imu_tk's intervals, the fallback, give none either";
+    return Status::Error(message + fallback);
   }
   *fallback_reason = detected.message();
   return CalibrateOnPoses(log, *fallback_intervals, options, calibration);
