@@ -5,6 +5,17 @@
 // follows from it: one block of coefficients (kTriadEffectCoefficientCount doubles, the
 // effects in registration order, each effect's coefficients in its suffixes' order), their
 // names and units, and the prediction of a pose's raw output with any of them.
+//
+// A build may register more effects without editing this file: configure with
+// -DACCELCAL_EXTRA_TRIAD_EFFECTS_HEADER=path/to/header.h, a header that defines
+// `using TriadEffects = AppendTriadEffects<BuiltInTriadEffects, MyEffect>::Type;`
+// (docs/extending.md; tests/extension/ builds the library that way). The ML fit, the
+// simulator, the residual and discovery's candidates follow from the registration.
+
+#ifdef ACCELCAL_REGISTRY_INDEPENDENT
+#error \
+    "a source of accelcal_core includes the triad's effects registry: move it to accelcal_add_library's sources (src/CMakeLists.txt)"
+#endif
 
 #include <array>
 #include <string>
@@ -21,10 +32,30 @@
 
 namespace accelcal {
 
-using TriadEffects = std::tuple<TriadScaleNonlinearityEffect,  //
-                                TriadOffsetDriftEffect,        //
-                                TriadGravityErrorEffect,       //
-                                TriadCrossAxisEffect>;
+using BuiltInTriadEffects = std::tuple<TriadScaleNonlinearityEffect,  //
+                                       TriadOffsetDriftEffect,        //
+                                       TriadGravityErrorEffect,       //
+                                       TriadCrossAxisEffect>;
+
+// The built-in effects and more, in order (for ACCELCAL_EXTRA_TRIAD_EFFECTS_HEADER).
+template <typename List, typename... More>
+struct AppendTriadEffects;
+template <typename... Effects, typename... More>
+struct AppendTriadEffects<std::tuple<Effects...>, More...> {
+  using Type = std::tuple<Effects..., More...>;
+};
+
+}  // namespace accelcal
+
+#ifdef ACCELCAL_EXTRA_TRIAD_EFFECTS_HEADER
+#include ACCELCAL_EXTRA_TRIAD_EFFECTS_HEADER
+#else
+namespace accelcal {
+using TriadEffects = BuiltInTriadEffects;
+}  // namespace accelcal
+#endif
+
+namespace accelcal {
 
 constexpr int kTriadEffectCount = std::tuple_size<TriadEffects>::value;
 
