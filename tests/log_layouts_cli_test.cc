@@ -23,12 +23,14 @@ TEST(LogLayoutsCli, ImuTksPairOfFilesReadsTheGyroscopeBesideTheAccelerometer) {
   const testing::CommandResult result = RunBinaryArgs(
       "calibrate_imu", {"--log=" + dir + "/xsens_acc.mat", "--gyro_log=" + dir + "/xsens_gyro.mat",
                         "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
-                        "--initial_offset=32768", "--json=" + scratch.File("out.json")});
+                        "--initial_offset=32768", "--initial_gyro_gain=0.000159795",
+                        "--json=" + scratch.File("out.json")});
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find("read: gyroscope: " + dir + "/xsens_gyro.mat"),
             std::string::npos)
       << result.stdout_text;
-  EXPECT_NE(result.stdout_text.find("gyroscope: read and kept (51175 samples)"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("gyroscope: read (51175 samples); calibrated below"),
+            std::string::npos);
   // The accelerometer's answer is imu_tk's, as without the pair.
   EXPECT_NE(result.stdout_text.find("Chosen: k = 6, the lowest final cost 0.120131"),
             std::string::npos);
