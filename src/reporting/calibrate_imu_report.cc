@@ -216,7 +216,8 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
   out << "\n\n";
 
   out << "Parameters (w = T K (u - b), docs/gyroscope.md)\n";
-  out << StringPrintf("  %-26s %-16s %-16s", "parameter", "unit", "estimate");
+  out << StringPrintf(example ? "  %-26s %-16s %-16s" : "  %-26s %-16s %s", "parameter", "unit",
+                      "estimate");
   if (example) out << StringPrintf(" %-16s %s", "imu_tk printed", "datasheet");
   out << "\n";
   const auto& infos = GyroscopeParameterInfos();
@@ -228,7 +229,7 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
       text = StringPrintf("1/%.6g", 1.0 / value);
     const std::string name = offset ? "gyroscope_offset_" + Axis(p - kGyroscopeParameterCount)
                                     : std::string(infos[p].name);
-    out << StringPrintf("  %-26s %-16s %-16s", name.c_str(),
+    out << StringPrintf(example ? "  %-26s %-16s %-16s" : "  %-26s %-16s %s", name.c_str(),
                         offset ? unit_name : GyroscopeParameterUnit(p, unit).c_str(),
                         text.c_str());
     if (example)
