@@ -65,6 +65,14 @@ LoadedTriad LoadLikeImuTk(const std::string& path) {
   return triad;
 }
 
+// Loads `path` as imu_tk does, expecting its 21 numbers and nothing after them.
+LoadedTriad LoadExpectingTheWholeFile(const std::string& path) {
+  const LoadedTriad triad = LoadLikeImuTk(path);
+  EXPECT_TRUE(triad.opened && triad.complete) << path;
+  EXPECT_FALSE(triad.trailing_text) << path;
+  return triad;
+}
+
 bool Exists(const std::string& path) {
   struct stat info;
   return stat(path.c_str(), &info) == 0;
@@ -182,9 +190,7 @@ TEST(CalibrateImuGyroscopeCli, WritesImuTksCalibFilesThatItsLoadReadsBack) {
             "          0 0.000209899           0\n"
             "          0           0 0.000209483\n\n"
             "32777.1\n32459.8\n32511.8\n\n");
-  const LoadedTriad gyroscope = LoadLikeImuTk(prefix + "_gyro.calib");
-  ASSERT_TRUE(gyroscope.opened && gyroscope.complete);
-  EXPECT_FALSE(gyroscope.trailing_text);
+  const LoadedTriad gyroscope = LoadExpectingTheWholeFile(prefix + "_gyro.calib");
   const nlohmann::json& g = json["gyroscope"];
   for (int i = 0; i < 9; ++i) {
     const double expected = g["misalignment_matrix"][i / 3][i % 3].get<double>();
@@ -196,9 +202,7 @@ TEST(CalibrateImuGyroscopeCli, WritesImuTksCalibFilesThatItsLoadReadsBack) {
     EXPECT_NEAR(gyroscope.bias[k], g["offset"][k].get<double>(), 0.05) << k;
 
   // The accelerometer's: imu_tk's upper-triangular T (its lower angles 0), gains and offsets.
-  const LoadedTriad accelerometer = LoadLikeImuTk(prefix + "_acc.calib");
-  ASSERT_TRUE(accelerometer.opened && accelerometer.complete);
-  EXPECT_FALSE(accelerometer.trailing_text);
+  const LoadedTriad accelerometer = LoadExpectingTheWholeFile(prefix + "_acc.calib");
   const nlohmann::json& p = json["parameters"];
   const double yz = p["misalignment_yz"], zy = p["misalignment_zy"], zx = p["misalignment_zx"];
   const std::array<double, 9> t = {1, -yz, zy, 0, 1, -zx, 0, 0, 1};
