@@ -7,6 +7,11 @@
 //   a = T K (u - b)     (docs/triad.md: 3 non-orthogonality angles, 3 gains, 3 biases)
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
 // least 100; the k with the lowest final cost is kept (estimation/triad/imu_tk_calibration.h).
+// With a gyroscope (its columns, or --gyro_log), then imu_tk's gyroscope calibration:
+//   w = T K (u - b)     (docs/gyroscope.md: 6 angles, 3 gains in (rad/s) per unit, 3 offsets)
+// with b the initial rest's mean and the 9 others minimising 1/2 sum |R^T g_before - g_after|^2
+// over the turns between consecutive intervals (estimation/gyroscope/); --imu_tk_calib_out
+// writes imu_tk's two .calib files.
 // Mode ml: the maximum-likelihood problem (estimation/triad/triad_ml_calibration.h) on the poses of
 // --detector (the log's noise floor, or imu_tk's intervals at its chosen k): each pose's mean u_p
 // against b + K^-1 T^-1 g n_p with an unknown unit direction n_p per pose, whitened by the noise
