@@ -7,6 +7,11 @@
 //   a = T K (u - b)     (docs/triad.md: 3 non-orthogonality angles, 3 gains, 3 biases)
 // that minimise 1/2 sum_i (g - |a_i|)^2 over the first 100 samples of every interval of at
 // least 100; the k with the lowest final cost is kept (estimation/triad/imu_tk_calibration.h).
+// With a gyroscope (its columns, or --gyro_log), then imu_tk's gyroscope calibration:
+//   w = T K (u - b)     (docs/gyroscope.md: 6 angles, 3 gains in (rad/s) per unit, 3 offsets)
+// with b the initial rest's mean and the 9 others minimising 1/2 sum |R^T g_before - g_after|^2
+// over the turns between consecutive intervals (estimation/gyroscope/); --imu_tk_calib_out
+// writes imu_tk's two .calib files.
 // Mode ml: the maximum-likelihood problem (estimation/triad/triad_ml_calibration.h) on the poses of
 // --detector (the log's noise floor, or imu_tk's intervals at its chosen k): each pose's mean u_p
 // against b + K^-1 T^-1 g n_p with an unknown unit direction n_p per pose, whitened by the noise
@@ -33,6 +38,7 @@
 #include <iostream>
 #include <map>
 
+#include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/triad_pose_noise.h"
 #include "estimation/triad/triad_session_calibration.h"
@@ -40,10 +46,12 @@
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "io/imucal_calibration_json.h"
+#include "io/imu_tk_calib_file.h"
 #include "io/imucal_session.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
+#include "models/gyroscope_units.h"
 #include "models/triad_units.h"
 #include "problem_support.h"
 #include "reporting/calibrate_imu_report.h"
@@ -73,6 +81,10 @@ DEFINE_string(noise, "auto", "Mode ml: the noise model of the pose means. white:
 DEFINE_double(alpha, 0.01, "Mode ml: discovery's family-wise error rate, in (0, 0.5): a session the 9-parameter model and its noise model explain gets any verdict but explained at most this often (docs/triad-discovery.md).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
+DEFINE_string(gyro_unit, "count", "Mode imu_tk, a log with a gyroscope (its columns, or --gyro_log): the unit of the gyroscope's outputs, count (raw ADC counts, as imu_tk's example), rad/s or deg/s; by default the unit the gyroscope columns' names state (gyr_x_dps), else count. It sets the units of the gyroscope's gains ((rad/s) per unit) and offsets (the unit).");
+DEFINE_double(initial_gyro_gain, 0.0, "Mode imu_tk, a log with a gyroscope: the gyroscope's gain to start from, in rad/s per unit of its output, the same for the three axes (the angles start at 0). Not given: 1 for --gyro_unit=rad/s, pi/180 for deg/s; counts need it: 1/S for a datasheet sensitivity S in counts per rad/s, (pi/180)/S for S in counts per deg/s (LSB/(deg/s)). imu_tk's Xsens example: 1/6258 = 0.000159795.");
+DEFINE_string(gyro_bias, "rest", "Mode imu_tk: how the gyroscope's offset is found. rest (the only value): imu_tk's rule, the mean of its output over the initial rest (--init_rest_s), subtracted and not estimated.");
+DEFINE_string(imu_tk_calib_out, "", "Mode imu_tk: write imu_tk's calibration files PREFIX_acc.calib and PREFIX_gyro.calib (the gyroscope's only when the log has one), byte for byte the text imu_tk's CalibratedTriad_::save writes and its load reads: the misalignment matrix, the scale matrix (gains on its diagonal) and the bias vector (offsets, the log's unit), 6 significant digits (docs/gyroscope.md). Written atomically with the other outputs, nothing on failure.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
 // clang-format on
 
@@ -85,6 +97,7 @@ ACCELCAL_FLAG_RANGE(min_intervals, 3, 100000);
 ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
 ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
+ACCELCAL_FLAG_RANGE(initial_gyro_gain, 0.0, 100.0);
 
 namespace accelcal {
 namespace {
@@ -94,7 +107,10 @@ constexpr char kUsage[] =
     "Model a = T K (u - b) (docs/triad.md): angles in rad, gains K in (m/s^2) per unit of the\n"
     "output (--unit=count|m/s^2|g), offsets b in that unit.\n"
     "Mode imu_tk reproduces imu_tk: cost 1/2 sum (g - |a|)^2 in (m/s^2)^2, thresholds k = 2..10\n"
-    "times an initial rest's variance norm.\n"
+    "times an initial rest's variance norm; with a gyroscope (its columns, or --gyro_log) its\n"
+    "gyroscope calibration too: w = T K (u - b) in rad/s, 6 angles in rad, gains K in (rad/s) per\n"
+    "unit (--gyro_unit=count|rad/s|deg/s, --initial_gyro_gain), offsets b the initial rest's mean\n"
+    "(docs/gyroscope.md); --imu_tk_calib_out=PREFIX writes imu_tk's .calib files.\n"
     "Mode ml: maximum likelihood on static poses found from the log's own noise floor (pose\n"
     "means, unknown gravity directions, white noise): every parameter +- sigma, a chi-square fit\n"
     "statistic, imu_tk's answer beside it, and --calibration_out for apply.\n"
@@ -102,14 +118,72 @@ constexpr char kUsage[] =
     "that six holds allow (docs/imucal.md).\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk|ml [--json=out.json]\n"
+    "  calibrate_imu --log=xsens_acc.mat --gyro_log=xsens_gyro.mat --g=9.81744 --mode=imu_tk\n"
+    "      --initial_gyro_gain=0.000159795 [--imu_tk_calib_out=test_imu]\n"
     "      [--calibration_out=cal.json]\n"
     "  calibrate_imu --mode=ferraris --session=annotated_session.csv [--reference=cal.json]";
+
+// --imu_tk_calib_out's file of `sensor` ("acc" or "gyro"), as imu_tk's example names them
+// (test_imu_acc.calib), or "" when not asked for.
+std::string ImuTkCalibPath(const char* sensor) {
+  return FLAGS_imu_tk_calib_out.empty() ? ""
+                                        : FLAGS_imu_tk_calib_out + "_" + sensor + ".calib";
+}
+
+bool FlagGiven(const char* name) { return !gflags::GetCommandLineFlagInfoOrDie(name).is_default; }
+
+// The flags of imu_tk's gyroscope calibration, their values alone (what the log holds is checked
+// once it is read, GyroscopeStart).
+Status ValidateGyroscopeFlags() {
+  GyroscopeOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &unit).WithContext("--gyro_unit"));
+  if (FLAGS_gyro_bias != "rest") {
+    return Status::Error("--gyro_bias='" + FLAGS_gyro_bias +
+                         "' is not supported; the one rule is rest (imu_tk's: the mean of the "
+                         "gyroscope's output over the initial rest, --init_rest_s, not estimated)");
+  }
+  if (FlagGiven("initial_gyro_gain") && !(FLAGS_initial_gyro_gain > 0.0)) {
+    return Status::Error(StringPrintf(
+        "--initial_gyro_gain=%g is not a gain; give the start's gain in rad/s per unit of the "
+        "gyroscope's output, > 0 (imu_tk's Xsens example: 1/6258 = 0.000159795 per count)",
+        FLAGS_initial_gyro_gain));
+  }
+  if (!FLAGS_imu_tk_calib_out.empty() && FLAGS_imu_tk_calib_out.back() == '/') {
+    return Status::Error("--imu_tk_calib_out='" + FLAGS_imu_tk_calib_out +
+                         "' names a folder; give a prefix, e.g. --imu_tk_calib_out=" +
+                         FLAGS_imu_tk_calib_out +
+                         "test_imu (writes test_imu_acc.calib and test_imu_gyro.calib there)");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+// The gyroscope's flags belong to mode imu_tk; elsewhere (`where`: "--mode=ml", "several
+// sessions") one given is refused rather than ignored.
+Status RefuseGyroscopeFlags(const std::string& where) {
+  for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias", "imu_tk_calib_out"}) {
+    if (FlagGiven(name)) {
+      return Status::Error(std::string("--") + name + " belongs to --mode=imu_tk, which calibrates " +
+                           (std::string(name) == "imu_tk_calib_out"
+                                ? "by imu_tk's rules and writes its files"
+                                : "the gyroscope by imu_tk's rules") +
+                           "; " + where + " does not read it");
+    }
+  }
+  return Status::Ok();
+}
+
+namespace {
 
 Status ValidateFlags() {
   if (FLAGS_mode != "imu_tk" && FLAGS_mode != "ml" && FLAGS_mode != "ferraris") {
     return Status::Error("--mode='" + FLAGS_mode +
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
   }
+  ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
+  if (FLAGS_mode != "imu_tk") ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
   TriadNoiseChoice noise;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &noise).WithContext("--noise"));
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
@@ -170,7 +244,9 @@ Status ValidateFlags() {
   }
   return CheckOutputPaths({{"--json", FLAGS_json},
                            {"--calibration_out", FLAGS_calibration_out},
-                           {"--report", FLAGS_report}},
+                           {"--report", FLAGS_report},
+                           {"--imu_tk_calib_out", ImuTkCalibPath("acc")},
+                           {"--imu_tk_calib_out", ImuTkCalibPath("gyro")}},
                           RunInputs{{FLAGS_log, FLAGS_gyro_log}, {}});
 }
 
@@ -191,9 +267,26 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
       TakeStatedUnit(log_source, &FLAGS_unit, &report->log_notes).WithContext(FLAGS_log));
   if (log->has_gyroscope()) {
     report->gyroscope_samples = log->gyroscope.size();
+    report->gyroscope_path = FLAGS_gyro_log;
+    if (!FLAGS_gyro_log.empty())
+      report->gyroscope_sha256 = source->files.at("log_gyroscope").sha256;
     report->log_notes.push_back(
-        "gyroscope: read and kept (" + std::to_string(log->gyroscope.size()) +
-        " samples); this version calibrates the accelerometer only");
+        "gyroscope: read (" + std::to_string(log->gyroscope.size()) + " samples); " +
+        (FLAGS_mode == "imu_tk" ? std::string("calibrated below by imu_tk's rules")
+                                : "not yet calibrated by the ml mode (--mode=imu_tk calibrates it)"));
+    ACCELCAL_RETURN_IF_ERROR(
+        TakeStatedUnitOf(log_source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
+                         "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit, &report->log_notes)
+            .WithContext(FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log));
+  } else {
+    for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias"}) {
+      if (FlagGiven(name)) {
+        return Status::Error(FLAGS_log + ": --" + name +
+                             " is for the gyroscope, and the log has none: give imu_tk's "
+                             "gyroscope file with --gyro_log=FILE, or a log with gyroscope columns "
+                             "(gx, gy, gz; docs/log-layouts.md)");
+      }
+    }
   }
   report->log_sha256 = source->files.at("log").sha256;
   report->sample_count = log->size();
@@ -310,6 +403,46 @@ Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
   return Status::Ok();
 }
 
+// Mode imu_tk on a log with a gyroscope: the unit and the start of the gyroscope's gains.
+Status GyroscopeStart(CalibrateImuReport* report) {
+  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &report->gyroscope_unit)
+                               .WithContext("--gyro_unit"));
+  double gain = FLAGS_initial_gyro_gain;
+  report->initial_gyro_gain_from = "--initial_gyro_gain";
+  if (!FlagGiven("initial_gyro_gain")) {
+    gain = GyroscopeNominalGain(report->gyroscope_unit);
+    if (report->gyroscope_unit == GyroscopeOutputUnit::kCount) {
+      return Status::Error(
+          "the gyroscope's outputs are counts (--gyro_unit=count), and its calibration needs "
+          "their gain to start from: give --initial_gyro_gain=G in (rad/s) per count, G = 1/S "
+          "for a datasheet sensitivity S in counts per rad/s, or 0.0174533/S (pi/180/S) for S "
+          "in counts per deg/s (LSB/(deg/s)); imu_tk's Xsens example starts from 1/6258: "
+          "--initial_gyro_gain=0.000159795. A log already in rad/s or deg/s: --gyro_unit=rad/s "
+          "or deg/s");
+    }
+    report->initial_gyro_gain_from = report->gyroscope_unit == GyroscopeOutputUnit::kRadPerS
+                                         ? "1 for rad/s: --initial_gyro_gain not given"
+                                         : "pi/180 for deg/s: --initial_gyro_gain not given";
+  }
+  report->gyroscope_options.initial = GyroscopeParametersWithGain(gain, gain, gain);
+  return Status::Ok();
+}
+
+// imu_tk's gyroscope calibration, on the accelerometer's static intervals and parameters.
+// GyroscopeStart has set the unit and the start.
+Status SolveImuTkGyroscope(const TriadLog& log, CalibrateImuReport* report) {
+  const std::string& where = FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log;
+  ACCELCAL_RETURN_IF_ERROR(
+      CalibrateImuTkGyroscope(log, report->result, report->gyroscope_options, &report->gyroscope)
+          .WithContext(where));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckGyroscopeMatchesUnit(report->gyroscope.parameters, report->gyroscope.offset,
+                                report->gyroscope_unit)
+          .WithContext(where));
+  report->has_gyroscope_calibration = true;
+  return Status::Ok();
+}
+
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   TriadSessionOptions options;
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
@@ -318,7 +451,22 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   // imu_tk's start, and the unit checked against the log with its offset, once for both modes.
   ACCELCAL_RETURN_IF_ERROR(
       InitialGuess(log, options, &report->options.initial, &report->initial_offset_from));
-  return FLAGS_mode == "ml" ? SolveMl(log, options, report) : SolveImuTk(log, report);
+  if (FLAGS_mode == "ml") return SolveMl(log, options, report);
+  // The gyroscope's start is refused before the accelerometer's sweep, which takes seconds.
+  if (log.has_gyroscope()) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report));
+  ACCELCAL_RETURN_IF_ERROR(SolveImuTk(log, report));
+  return log.has_gyroscope() ? SolveImuTkGyroscope(log, report) : Status::Ok();
+}
+
+// Mode imu_tk, --imu_tk_calib_out: imu_tk's two .calib files' text (the gyroscope's only when
+// it was calibrated).
+void ImuTkCalibFiles(CalibrateImuReport* report, std::string* acc_text, std::string* gyro_text) {
+  report->imu_tk_calib_acc_path = ImuTkCalibPath("acc");
+  *acc_text = ImuTkCalibText(ImuTkAccelerometerTriad(report->result.best().parameters));
+  if (!report->has_gyroscope_calibration) return;
+  report->imu_tk_calib_gyro_path = ImuTkCalibPath("gyro");
+  *gyro_text =
+      ImuTkCalibText(ImuTkGyroscopeTriad(report->gyroscope.parameters, report->gyroscope.offset));
 }
 
 // Mode ferraris: imucal's closed form on its six holds, and what least squares can say.
@@ -371,10 +519,14 @@ int Run(int argc, char** argv) {
   std::string json_text;
   std::string calibration_text;
   std::string report_html;
+  std::string acc_calib_text;
+  std::string gyro_calib_text;
   FigureOutcome figures;
   Status status = ValidateFlags();
   if (status.ok()) status = Load(&log, &report, &source);
   if (status.ok()) status = Solve(log, &report);
+  if (status.ok() && !FLAGS_imu_tk_calib_out.empty())
+    ImuTkCalibFiles(&report, &acc_calib_text, &gyro_calib_text);
   if (status.ok() && !FLAGS_json.empty())
     status = JsonText(WithProvenance(CalibrateImuJson(report), source), &json_text);
   if (status.ok() && !FLAGS_calibration_out.empty())
@@ -387,7 +539,9 @@ int Run(int argc, char** argv) {
   if (status.ok()) {
     status = WriteOutputFiles({{FLAGS_json, json_text},
                                {FLAGS_calibration_out, calibration_text},
-                               {FLAGS_report, report_html}});
+                               {FLAGS_report, report_html},
+                               {report.imu_tk_calib_acc_path, acc_calib_text},
+                               {report.imu_tk_calib_gyro_path, gyro_calib_text}});
   }
   if (!status.ok()) return ExitWithError("calibrate_imu", status);
   std::cout << WithDataLine(source, CalibrateImuTable(report, FLAGS_v >= 1));

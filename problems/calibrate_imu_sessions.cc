@@ -44,6 +44,7 @@ namespace accelcal {
 
 // problems/calibrate_imu.cc, where the flags are defined.
 Status TriadSessionOptionsFromFlags(TriadSessionOptions* options);
+Status RefuseGyroscopeFlags(const std::string& where);
 
 namespace {
 
@@ -130,6 +131,7 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+  ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("the sessions path (--log=S1,S2,...)"));
   if (!FLAGS_gyro_log.empty()) {
     return Status::Error(
         "--gyro_log names one gyroscope file; with several sessions give logs that hold the "

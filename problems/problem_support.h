@@ -320,26 +320,36 @@ inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
   options->gyroscope_path = gyro_log;
   return Status::Ok();
 }
-// The unit the accelerometer columns' names state (acc_x_g, "a_x [m s^-2]") stands for --unit
-// (`*unit_flag`) when it was not given, said in `notes`, and must agree with it when it was.
-inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
-                             std::vector<std::string>* notes) {
-  const std::string& stated = log_source.accelerometer_unit;
-  if (stated != "count" && stated != "m/s^2" && stated != "g") return Status::Ok();
-  if (gflags::GetCommandLineFlagInfoOrDie("unit").is_default) {
+// The unit a triad's columns' names state (acc_x_g, "a_x [m s^-2]", gyr_x_dps) stands for its
+// unit flag (`*unit_flag`, --`flag`) when that was not given, said in `notes`, and must agree
+// with it when it was. `outputs` names the outputs in the note ("outputs", "gyroscope outputs"),
+// `sensor` the columns ("accelerometer").
+inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std::string>& known,
+                               const char* flag, const char* outputs, const char* sensor,
+                               std::string* unit_flag, std::vector<std::string>* notes) {
+  if (std::find(known.begin(), known.end(), stated) == known.end()) return Status::Ok();
+  const std::string columns = std::string("the ") + sensor + " columns' names say ";
+  if (gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
     if (stated != *unit_flag) {
-      notes->push_back("outputs in " + stated + ", as the accelerometer columns' names say (--unit, not given, would be " +
-                       *unit_flag + ")");
+      notes->push_back(std::string(outputs) + " in " + stated + ", as " + columns + "(--" + flag +
+                       ", not given, would be " + *unit_flag + ")");
       *unit_flag = stated;
     }
     return Status::Ok();
   }
   if (stated != *unit_flag) {
-    return Status::Error("--unit=" + *unit_flag + ", but the accelerometer columns' names say " +
-                         stated + ": give --unit=" + stated +
-                         ", or rename the columns if --unit is right");
+    return Status::Error("--" + std::string(flag) + "=" + *unit_flag + ", but " + columns +
+                         stated + ": give --" + flag + "=" + stated + ", or rename the columns if --" +
+                         flag + " is right");
   }
   return Status::Ok();
+}
+
+// The accelerometer's: --unit.
+inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
+                             std::vector<std::string>* notes) {
+  return TakeStatedUnitOf(log_source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit",
+                          "outputs", "accelerometer", unit_flag, notes);
 }
 
 #define ACCELCAL_IMU_LOG_OPTIONS(options) \

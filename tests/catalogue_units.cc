@@ -1,11 +1,12 @@
-// Prints the catalogue's units as JSON, {"bias_x": "m/s^2", ...}, and the triad's for a log in
-// counts: what every `units` map of the binaries' JSON must agree with
+// Prints the catalogue's units as JSON, {"bias_x": "m/s^2", ...}, and the triad's and the
+// gyroscope's for a log in counts: what every `units` map of the binaries' JSON must agree with
 // (tests/json_schema_test.py, docs/json.md).
 
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "models/effects.h"
+#include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
 
@@ -21,6 +22,11 @@ int main() {
         accelcal::TriadParameterUnit(p, accelcal::TriadOutputUnit::kCount);
   }
   units["scale_nonlinearity_z"] = units["scale_nonlinearity_x"];
+  // The gyroscope's (imu_tk's calibration of it), for outputs in counts.
+  for (int p = 0; p < accelcal::kGyroscopeParameterCount; ++p) {
+    units[accelcal::GyroscopeParameterInfos()[p].name] =
+        accelcal::GyroscopeParameterUnit(p, accelcal::GyroscopeOutputUnit::kCount);
+  }
   std::cout << units.dump() << "\n";
   return 0;
 }

@@ -192,6 +192,9 @@ def main():
         log = [f"--log={xsens}", "--g=9.81744"]
         runs += [
             ("calibrate_imu", ["calibrate_imu"] + log, "json"),
+            ("calibrate_imu", ["calibrate_imu"] + log + [
+                f"--gyro_log={os.path.join(imu_tk, 'xsens_gyro.mat')}",
+                "--initial_gyro_gain=0.000159795"], "json"),
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml"] + log, "json"),
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--detector=imu_tk"] + log, "json"),
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--scale_nonlinearity"] + log,

@@ -23,12 +23,14 @@ TEST(LogLayoutsCli, ImuTksPairOfFilesReadsTheGyroscopeBesideTheAccelerometer) {
   const testing::CommandResult result = RunBinaryArgs(
       "calibrate_imu", {"--log=" + dir + "/xsens_acc.mat", "--gyro_log=" + dir + "/xsens_gyro.mat",
                         "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
-                        "--initial_offset=32768", "--json=" + scratch.File("out.json")});
+                        "--initial_offset=32768", "--initial_gyro_gain=0.000159795",
+                        "--json=" + scratch.File("out.json")});
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find("read: gyroscope: " + dir + "/xsens_gyro.mat"),
             std::string::npos)
       << result.stdout_text;
-  EXPECT_NE(result.stdout_text.find("gyroscope: read and kept (51175 samples)"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("gyroscope: read (51175 samples); calibrated below"),
+            std::string::npos);
   // The accelerometer's answer is imu_tk's, as without the pair.
   EXPECT_NE(result.stdout_text.find("Chosen: k = 6, the lowest final cost 0.120131"),
             std::string::npos);
@@ -91,10 +93,13 @@ TEST(LogLayoutsCli, AMatFileWrittenBySciPyCalibratesAsItsTextForm) {
       "scipy.io.savemat(sys.argv[3], {'t': a[:, :1], 'acc': a[:, 1:], 'gyr': g[:, 1:]})\" '" +
       dir + "/xsens_acc.mat' '" + dir + "/xsens_gyro.mat' '" + mat + "'");
   if (python.exit_status != 0) GTEST_SKIP() << "no SciPy: " << python.stderr_text;
+  // The .mat holds the gyroscope too, which imu_tk's mode then calibrates from imu_tk's start.
   const std::vector<std::string> flags = {"--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
-                                          "--initial_offset=32768"};
+                                          "--initial_offset=32768",
+                                          "--initial_gyro_gain=0.000159795"};
   std::vector<std::string> binary_args = {"--log=" + mat, "--json=" + scratch.File("mat.json")};
   std::vector<std::string> text_args = {"--log=" + dir + "/xsens_acc.mat",
+                                        "--gyro_log=" + dir + "/xsens_gyro.mat",
                                         "--json=" + scratch.File("text.json")};
   binary_args.insert(binary_args.end(), flags.begin(), flags.end());
   text_args.insert(text_args.end(), flags.begin(), flags.end());
@@ -110,6 +115,7 @@ TEST(LogLayoutsCli, AMatFileWrittenBySciPyCalibratesAsItsTextForm) {
   const nlohmann::json from_text =
       nlohmann::json::parse(testing::ReadText(scratch.File("text.json")));
   EXPECT_EQ(from_mat["parameters"], from_text["parameters"]);
+  EXPECT_EQ(from_mat["gyroscope"]["parameters"], from_text["gyroscope"]["parameters"]);
   EXPECT_EQ(from_mat["cost"], from_text["cost"]);
   EXPECT_EQ(from_mat["log"]["gyroscope_samples"], 51175);
 }

@@ -1,11 +1,14 @@
 #include "reporting/calibrate_imu_report.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <utility>
+#include <vector>
 
 #include "common/format.h"
 #include "estimation/statistics/chi_square.h"
+#include "io/imu_tk_calib_file.h"
 #include "models/triad.h"
 #include "reporting/triad_discovery_report.h"
 
@@ -27,6 +30,42 @@ constexpr int kImuTkPrintedIntervals[] = {42, 40, 39, 38, 38, 38, 38, 38, 38};
 
 const char* const kDatasheet[kTriadParameterCount] = {
     "(0.01)", "(0.01)", "(0.01)", "1/415", "1/413", "1/415", "33123", "33276", "32360"};
+
+namespace {
+
+// What imu_tk printed for the gyroscope on its Xsens pair (issue 32), each parameter as it
+// follows from its printed matrices (yz = -T(0,1), ...), and the datasheet's (SOURCE.txt; it
+// gives no gyroscope misalignment). In block order, then the three offsets.
+constexpr const char* kImuTkPrintedGyroscope[kGyroscopeParameterCount + 3] = {
+    "-0.00593634", "0.00111101", "0.0535569", "0.00808812", "-0.0253067", "-0.0025513",
+    "1/4777.96",   "1/4764.21",  "1/4773.66", "32777.1",    "32459.8",    "32511.8"};
+constexpr const char* kDatasheetGyroscope[kGyroscopeParameterCount + 3] = {
+    "-", "-", "-", "-", "-", "-", "1/4778", "1/4758", "1/4766", "32768", "32466", "32485"};
+constexpr char kImuTkPrintedResidual[] = "0.00150696";
+// imu_tk's printout on that pair, as its calibrateAccGyro writes it (cout << "Gyroscopes
+// calibration: residual " << cost << endl << gyro_calib_ << endl << ...: the CalibratedTriad's
+// operator<< ends its bias vector with endl, and the endl after it leaves an empty line).
+constexpr char kImuTkPrintedGyroscopeText[] =
+    "Gyroscopes calibration: residual 0.00150696\n"
+    "Misalignment Matrix\n"
+    "         1 0.00593634 0.00111101\n"
+    "0.00808812          1 -0.0535569\n"
+    " 0.0253067 -0.0025513          1\n"
+    "Scale Matrix\n"
+    "0.000209295           0           0\n"
+    "          0 0.000209899           0\n"
+    "          0           0 0.000209483\n"
+    "Bias Vector\n"
+    "32777.1\n"
+    "32459.8\n"
+    "32511.8\n"
+    "\n"
+    "Gyroscopes calibration: inverse scale factors:\n"
+    "4777.96\n"
+    "4764.21\n"
+    "4773.66\n";
+
+}  // namespace
 
 void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report) {
   report->noise_floor = std::move(session.detection);
@@ -85,9 +124,252 @@ bool IsImuTkExample(const CalibrateImuReport& report) {
          report.options.max_multiplier == 10;
 }
 
+bool IsImuTkGyroscopeExample(const CalibrateImuReport& report) {
+  return report.has_gyroscope_calibration && IsImuTkExample(report) &&
+         report.gyroscope_sha256 == kImuTkXsensGyroSha256;
+}
+
+std::string ImuTkGyroscopePrintout(const ImuTkGyroscopeResult& result) {
+  // imu_tk's calibrateAccGyro: cout << "Gyroscopes calibration: residual " << final_cost << endl
+  // << gyro_calib_ << endl << "Gyroscopes calibration: inverse scale factors:" << endl << 1/s_x
+  // << endl ..., on a stream of default precision; the triad prints as its .calib file's
+  // matrices, each under its name.
+  const std::array<std::string, 3> matrices =
+      ImuTkTriadMatrices(ImuTkGyroscopeTriad(result.parameters, result.offset));
+  std::ostringstream out;
+  out << "Gyroscopes calibration: residual " << result.cost << "\n"
+      << "Misalignment Matrix\n"
+      << matrices[0] << "\nScale Matrix\n"
+      << matrices[1] << "\nBias Vector\n"
+      << matrices[2] << "\n\n"
+      << "Gyroscopes calibration: inverse scale factors:\n";
+  for (const double inverse : result.inverse_gains()) out << inverse << "\n";
+  return out.str();
+}
+
 namespace {
 
 std::string Axis(int k) { return std::string(1, "xyz"[k]); }
+
+constexpr double kDegreesPerRadian = 180.0 / M_PI;
+
+// The turns' residual angles (rad): median, root mean square, largest and its turn (0-based).
+struct ResidualAngleSummary {
+  double median = 0.0;
+  double rms = 0.0;
+  double largest = 0.0;
+  int largest_turn = 0;
+};
+
+ResidualAngleSummary SummariseResidualAngles(const std::vector<ImuTkGyroscopeTurn>& turns) {
+  ResidualAngleSummary summary;
+  std::vector<double> angles;
+  for (size_t p = 0; p < turns.size(); ++p) {
+    const double angle = turns[p].residual_angle_rad;
+    angles.push_back(angle);
+    summary.rms += angle * angle;
+    if (angle > summary.largest) {
+      summary.largest = angle;
+      summary.largest_turn = static_cast<int>(p);
+    }
+  }
+  if (angles.empty()) return summary;
+  summary.rms = std::sqrt(summary.rms / angles.size());
+  std::sort(angles.begin(), angles.end());
+  const size_t n = angles.size();
+  summary.median = n % 2 == 1 ? angles[n / 2] : 0.5 * (angles[n / 2 - 1] + angles[n / 2]);
+  return summary;
+}
+
+// The gyroscope's part of the imu_tk table, after the accelerometer's.
+std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_report) {
+  const ImuTkGyroscopeResult& g = report.gyroscope;
+  const ImuTkGyroscopeOptions& options = report.gyroscope_options;
+  const GyroscopeOutputUnit unit = report.gyroscope_unit;
+  const char* unit_name = GyroscopeOutputUnitName(unit);
+  const bool example = IsImuTkGyroscopeExample(report);
+  std::ostringstream out;
+  out << "\nGyroscope: imu_tk's gyroscope calibration (Tedaldi et al., ICRA 2014, IV-C), "
+         "w = T K (u - b) in rad/s (docs/gyroscope.md)\n";
+  out << StringPrintf("gyroscope log: %s, %zu samples, outputs in %s (--gyro_unit)\n",
+                      report.gyroscope_path.empty() ? "the log's gyroscope columns"
+                                                    : report.gyroscope_path.c_str(),
+                      report.gyroscope_samples, unit_name);
+  out << StringPrintf(
+      "offset b: the mean of the initial rest, samples 0..%d (--gyro_bias=rest, imu_tk's: not "
+      "estimated)\n",
+      g.rest_end);
+  out << StringPrintf("start: angles 0, gains %.9g (rad/s) per %s (%s)\n",
+                      options.initial[kGyroscopeGainX], unit_name,
+                      report.initial_gyro_gain_from.c_str());
+  out << StringPrintf(
+      "turns: %zu, one between each two consecutive of the %zu intervals used at k = %d, the "
+      "rate integrated from the last sample of one to the sample before the next (%s)\n",
+      g.turns.size(), g.turns.size() + 1, report.result.best().multiplier,
+      options.data_period_s > 0.0 ? StringPrintf("steps of %g s", options.data_period_s).c_str()
+                                  : "steps from the time stamps");
+  out << StringPrintf(
+      "residual: %.6g (Ceres' final cost 1/2 sum |r|^2 over the turns, r = R^T g_before - "
+      "g_after of unit vectors; %.6g at the start)",
+      g.cost, g.initial_cost);
+  if (example) out << "   imu_tk printed " << kImuTkPrintedResidual;
+  out << "\n\n";
+
+  out << "Parameters (w = T K (u - b), docs/gyroscope.md)\n";
+  out << StringPrintf(example ? "  %-26s %-16s %-16s" : "  %-26s %-16s %s", "parameter", "unit",
+                      "estimate");
+  if (example) out << StringPrintf(" %-16s %s", "imu_tk printed", "datasheet");
+  out << "\n";
+  const auto& infos = GyroscopeParameterInfos();
+  for (int p = 0; p < kGyroscopeParameterCount + 3; ++p) {
+    const bool offset = p >= kGyroscopeParameterCount;
+    const double value = offset ? g.offset[p - kGyroscopeParameterCount] : g.parameters[p];
+    std::string text = StringPrintf("%.8g", value);
+    if (!offset && p >= kGyroscopeGainX && unit == GyroscopeOutputUnit::kCount)
+      text = StringPrintf("1/%.6g", 1.0 / value);
+    const std::string name = offset ? "gyroscope_offset_" + Axis(p - kGyroscopeParameterCount)
+                                    : std::string(infos[p].name);
+    out << StringPrintf(example ? "  %-26s %-16s %-16s" : "  %-26s %-16s %s", name.c_str(),
+                        offset ? unit_name : GyroscopeParameterUnit(p, unit).c_str(),
+                        text.c_str());
+    if (example)
+      out << StringPrintf(" %-16s %s", kImuTkPrintedGyroscope[p], kDatasheetGyroscope[p]);
+    out << "\n";
+  }
+  out << "  (";
+  if (unit == GyroscopeOutputUnit::kCount)
+    out << "gyroscope_gain_k is printed as 1/(counts per rad/s), the inverse scale imu_tk prints; ";
+  out << "the offsets are the rest's means, not estimated";
+  if (example) out << "; the datasheet gives no gyroscope misalignment";
+  out << ")\n\n";
+
+  const std::string printout = ImuTkGyroscopePrintout(g);
+  out << "imu_tk's printout of this calibration (--imu_tk_calib_out writes its three matrices as "
+         "PREFIX_gyro.calib):\n";
+  std::istringstream lines(printout);
+  for (std::string line; std::getline(lines, line);) out << (line.empty() ? "" : "  ") << line << "\n";
+  if (example) {
+    out << (printout == kImuTkPrintedGyroscopeText
+                ? "  (imu_tk printed exactly these lines on this log)\n"
+                : "  imu_tk printed on this log, differently:\n" +
+                      std::string(kImuTkPrintedGyroscopeText));
+  }
+  out << "\n";
+
+  out << "Turns (intervals numbered as in the table above; angles in deg; residual: the angle by "
+         "which the calibrated rates miss the turn between the two gravity directions)\n";
+  out << "     #  intervals    samples integrated    dur_s  turn_deg  residual_deg\n";
+  for (size_t p = 0; p < g.turns.size(); ++p) {
+    const ImuTkGyroscopeTurn& turn = g.turns[p];
+    out << StringPrintf("  %4zu  %3d -> %3d  %8d .. %-8d  %6.2f  %8.2f  %12.4f\n", p + 1,
+                        turn.interval_before + 1, turn.interval_after + 1, turn.first_sample,
+                        turn.last_sample,
+                        report.result.intervals[turn.interval_after].start_s -
+                            report.result.intervals[turn.interval_before].end_s,
+                        turn.turn_angle_rad * kDegreesPerRadian,
+                        turn.residual_angle_rad * kDegreesPerRadian);
+  }
+  const ResidualAngleSummary summary = SummariseResidualAngles(g.turns);
+  out << StringPrintf(
+      "  residual angle over the %zu turns: median %.4g deg, rms %.4g deg, largest %.4g deg "
+      "(turn %d)\n\n",
+      g.turns.size(), summary.median * kDegreesPerRadian, summary.rms * kDegreesPerRadian,
+      summary.largest * kDegreesPerRadian, summary.largest_turn + 1);
+  out << (full_solver_report ? g.summary.FullReport() : g.summary.BriefReport()) << "\n";
+  return out.str();
+}
+
+// The gyroscope's object of the imu_tk JSON.
+nlohmann::json GyroscopeJson(const CalibrateImuReport& report) {
+  const ImuTkGyroscopeResult& g = report.gyroscope;
+  const GyroscopeOutputUnit unit = report.gyroscope_unit;
+  const char* unit_name = GyroscopeOutputUnitName(unit);
+  const auto& infos = GyroscopeParameterInfos();
+  nlohmann::json parameters, units, initial;
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) {
+    parameters[infos[p].name] = g.parameters[p];
+    units[infos[p].name] = GyroscopeParameterUnit(p, unit);
+    initial[infos[p].name] = report.gyroscope_options.initial[p];
+  }
+  const ImuTkCalibratedTriad triad = ImuTkGyroscopeTriad(g.parameters, g.offset);
+  nlohmann::json misalignment = nlohmann::json::array();
+  nlohmann::json scale = nlohmann::json::array();
+  for (int row = 0; row < 3; ++row) {
+    misalignment.push_back({triad.misalignment[3 * row], triad.misalignment[3 * row + 1],
+                            triad.misalignment[3 * row + 2]});
+    nlohmann::json scale_row = {0.0, 0.0, 0.0};
+    scale_row[row] = triad.scale[row];
+    scale.push_back(scale_row);
+  }
+  const std::array<double, 3> inverse_gains = g.inverse_gains();
+  nlohmann::json inverse = {{"x", inverse_gains[0]},
+                            {"y", inverse_gains[1]},
+                            {"z", inverse_gains[2]},
+                            {"unit", std::string(unit_name) + "/(rad/s)"}};
+  nlohmann::json turns = nlohmann::json::array();
+  for (const ImuTkGyroscopeTurn& turn : g.turns) {
+    turns.push_back({{"interval_before", turn.interval_before},
+                     {"interval_after", turn.interval_after},
+                     {"first_sample", turn.first_sample},
+                     {"last_sample", turn.last_sample},
+                     {"gravity_before", turn.gravity_before},
+                     {"gravity_after", turn.gravity_after},
+                     {"turn_angle_rad", turn.turn_angle_rad},
+                     {"residual_angle_rad", turn.residual_angle_rad},
+                     {"residual", turn.residual}});
+  }
+  const ResidualAngleSummary summary = SummariseResidualAngles(g.turns);
+  nlohmann::json json = {
+      {"model", "w = T K (u - b), docs/gyroscope.md"},
+      {"path", report.gyroscope_path.empty() ? nlohmann::json(nullptr)
+                                             : nlohmann::json(report.gyroscope_path)},
+      {"samples", report.gyroscope_samples},
+      {"unit", unit_name},
+      {"offset_from", "rest"},
+      {"rest_end_sample", g.rest_end},
+      {"initial_guess", {{"parameters", initial}, {"units", units}, {"gain_from", report.initial_gyro_gain_from}}},
+      {"data_period_s", report.gyroscope_options.data_period_s > 0.0
+                            ? nlohmann::json(report.gyroscope_options.data_period_s)
+                            : nlohmann::json(nullptr)},
+      {"parameters", parameters},
+      {"units", units},
+      {"offset", g.offset},
+      {"offset_unit", unit_name},
+      {"misalignment_matrix", misalignment},
+      {"scale_matrix", scale},
+      {"bias_vector", triad.bias},
+      {"inverse_gain", inverse},
+      {"cost", g.cost},
+      {"initial_cost", g.initial_cost},
+      {"cost_definition",
+       "1/2 sum over the turns of |R^T g_before - g_after|^2 (unit vectors), Ceres' final cost: "
+       "imu_tk's printed 'Gyroscopes calibration: residual'"},
+      {"turns", turns},
+      {"residual_angle_summary",
+       {{"median_rad", summary.median},
+        {"rms_rad", summary.rms},
+        {"largest_rad", summary.largest},
+        {"largest_turn", summary.largest_turn}}},
+      {"imu_tk_printout", ImuTkGyroscopePrintout(g)},
+      {"solver", g.summary.BriefReport()}};
+  if (IsImuTkGyroscopeExample(report)) {
+    nlohmann::json printed, datasheet;
+    for (int p = 0; p < kGyroscopeParameterCount + 3; ++p) {
+      const std::string name = p < kGyroscopeParameterCount
+                                   ? std::string(infos[p].name)
+                                   : "gyroscope_offset_" + Axis(p - kGyroscopeParameterCount);
+      printed[name] = kImuTkPrintedGyroscope[p];
+      datasheet[name] = kDatasheetGyroscope[p];
+    }
+    json["references"] = {{"imu_tk_printed", printed},
+                          {"imu_tk_printed_residual", kImuTkPrintedResidual},
+                          {"imu_tk_printout", kImuTkPrintedGyroscopeText},
+                          {"datasheet", datasheet}};
+  } else {
+    json["references"] = nullptr;
+  }
+  return json;
+}
 
 std::string LogLine(const CalibrateImuReport& report) {
   std::string text =
@@ -205,6 +487,14 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
         out << StringPrintf("  k = %d: %s\n", entry.multiplier, entry.termination.c_str());
     }
   }
+  if (report.has_gyroscope_calibration) out << GyroscopeTable(report, full_solver_report);
+  if (!report.imu_tk_calib_acc_path.empty()) {
+    out << "\nimu_tk's calibration files (its CalibratedTriad_::save layout): "
+        << report.imu_tk_calib_acc_path;
+    if (!report.imu_tk_calib_gyro_path.empty()) out << ", " << report.imu_tk_calib_gyro_path;
+    else out << " (no gyroscope in the log: no gyroscope file)";
+    out << "\n";
+  }
   return out.str();
 }
 
@@ -282,6 +572,8 @@ nlohmann::json CalibrateImuJson(const CalibrateImuReport& report) {
                           {"datasheet", datasheet}};
   }
   json["solver"] = result.brief_report;
+  json["gyroscope"] =
+      report.has_gyroscope_calibration ? GyroscopeJson(report) : nlohmann::json(nullptr);
   return json;
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "common/triad_log.h"
+#include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/noise_floor_detector.h"
 #include "estimation/triad/triad_determination.h"
@@ -22,6 +23,7 @@
 #include "estimation/triad/triad_session_calibration.h"
 #include "io/calibration_file.h"
 #include "io/provenance.h"
+#include "models/gyroscope_units.h"
 #include "models/triad_units.h"
 
 namespace accelcal {
@@ -42,6 +44,18 @@ struct CalibrateImuReport {
   std::string initial_offset_from;  // how the start's offsets were chosen
   ImuTkResult result;
   std::string mode = "imu_tk";  // "imu_tk" or "ml"
+  // Mode imu_tk on a log with a gyroscope: imu_tk's gyroscope calibration
+  // (estimation/gyroscope/imu_tk_gyroscope_calibration.h) after the accelerometer's.
+  bool has_gyroscope_calibration = false;
+  std::string gyroscope_path;    // --gyro_log, or "" for the log's own gyroscope columns
+  std::string gyroscope_sha256;  // --gyro_log's, to recognise imu_tk's example
+  GyroscopeOutputUnit gyroscope_unit = GyroscopeOutputUnit::kCount;
+  std::string initial_gyro_gain_from;  // how the start's gains were chosen
+  ImuTkGyroscopeOptions gyroscope_options;
+  ImuTkGyroscopeResult gyroscope;
+  // --imu_tk_calib_out's two files, when asked for ("" when not written).
+  std::string imu_tk_calib_acc_path;
+  std::string imu_tk_calib_gyro_path;
   // Mode ml: the poses of the detector ("noise_floor" or "imu_tk"), the maximum-likelihood
   // fit, and imu_tk's result beside it when its rules gave one (imu_tk_status says why not).
   std::string detector = "noise_floor";
@@ -79,6 +93,15 @@ constexpr char kImuTkXsensAccSha256[] =
 extern const char* const kImuTkPrinted[kTriadParameterCount];
 extern const char* const kDatasheet[kTriadParameterCount];
 bool IsImuTkExample(const CalibrateImuReport& report);
+
+// The SHA-256 of imu_tk's bin/test_data/xsens_gyro.mat, the example's gyroscope file.
+constexpr char kImuTkXsensGyroSha256[] =
+    "e0d6cc7ccbc996aba3dae5063e97360a8b765ad1dffd02eae8ec69820eb37c1d";
+// The gyroscope's calibration ran on imu_tk's example pair (both files recognised).
+bool IsImuTkGyroscopeExample(const CalibrateImuReport& report);
+// The lines imu_tk prints for the gyroscope, from "Gyroscopes calibration: residual" to the
+// inverse scale factors, in its format (cout's default 6 digits, Eigen's matrix layout).
+std::string ImuTkGyroscopePrintout(const ImuTkGyroscopeResult& result);
 
 // Mode ml: the poses' detector in one line.
 std::string PosesLine(const CalibrateImuReport& report);

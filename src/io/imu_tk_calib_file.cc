@@ -1,0 +1,54 @@
+#include "io/imu_tk_calib_file.h"
+
+#include <Eigen/Core>
+#include <sstream>
+
+namespace accelcal {
+
+ImuTkCalibratedTriad ImuTkAccelerometerTriad(const TriadParameters& parameters) {
+  // imu_tk's acc_calib_: the gyroscope's general matrix with the three lower angles 0.
+  GyroscopeParameters general{};
+  general[kGyroscopeMisalignmentYz] = parameters[kTriadMisalignmentYz];
+  general[kGyroscopeMisalignmentZy] = parameters[kTriadMisalignmentZy];
+  general[kGyroscopeMisalignmentZx] = parameters[kTriadMisalignmentZx];
+  ImuTkCalibratedTriad triad;
+  GyroscopeMisalignmentMatrix(general.data(), triad.misalignment.data());
+  for (int k = 0; k < 3; ++k) {
+    triad.scale[k] = parameters[kTriadGainX + k];
+    triad.bias[k] = parameters[kTriadOffsetX + k];
+  }
+  return triad;
+}
+
+ImuTkCalibratedTriad ImuTkGyroscopeTriad(const GyroscopeParameters& parameters,
+                                         const GyroscopeOffset& offset) {
+  ImuTkCalibratedTriad triad;
+  GyroscopeMisalignmentMatrix(parameters.data(), triad.misalignment.data());
+  for (int k = 0; k < 3; ++k) {
+    triad.scale[k] = parameters[kGyroscopeGainX + k];
+    triad.bias[k] = offset[k];
+  }
+  return triad;
+}
+
+std::array<std::string, 3> ImuTkTriadMatrices(const ImuTkCalibratedTriad& triad) {
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> misalignment(
+      triad.misalignment.data());
+  Eigen::Matrix3d scale = Eigen::Matrix3d::Zero();
+  for (int k = 0; k < 3; ++k) scale(k, k) = triad.scale[k];
+  const Eigen::Map<const Eigen::Vector3d> bias(triad.bias.data());
+  std::array<std::ostringstream, 3> text;  // default precision, as imu_tk's streams
+  text[0] << misalignment;
+  text[1] << scale;
+  text[2] << bias;
+  return {text[0].str(), text[1].str(), text[2].str()};
+}
+
+std::string ImuTkCalibText(const ImuTkCalibratedTriad& triad) {
+  // imu_tk: file << mis_mat_ << endl << endl << scale_mat_ << endl << endl << bias_vec_ << endl
+  // << endl.
+  const std::array<std::string, 3> matrices = ImuTkTriadMatrices(triad);
+  return matrices[0] + "\n\n" + matrices[1] + "\n\n" + matrices[2] + "\n\n";
+}
+
+}  // namespace accelcal
