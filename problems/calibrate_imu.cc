@@ -404,13 +404,29 @@ Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
 }
 
 // Mode imu_tk on a log with a gyroscope: the unit and the start of the gyroscope's gains.
-Status GyroscopeStart(CalibrateImuReport* report) {
+Status GyroscopeStart(CalibrateImuReport* report, bool* calibrate) {
+  *calibrate = true;
   ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &report->gyroscope_unit)
                                .WithContext("--gyro_unit"));
   double gain = FLAGS_initial_gyro_gain;
   report->initial_gyro_gain_from = "--initial_gyro_gain";
   if (!FlagGiven("initial_gyro_gain")) {
     gain = GyroscopeNominalGain(report->gyroscope_unit);
+    // Gyroscope columns a log carries beside the accelerometer's, in counts, with nothing said
+    // of the gyroscope: the accelerometer is what was asked for; the gyroscope is left, said so.
+    const bool gyroscope_asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||
+                                 FlagGiven("gyro_bias") || !FLAGS_imu_tk_calib_out.empty();
+    if (report->gyroscope_unit == GyroscopeOutputUnit::kCount && !gyroscope_asked) {
+      *calibrate = false;
+      for (std::string& note : report->log_notes) {
+        if (note.rfind("gyroscope: read (", 0) != 0) continue;
+        note = note.substr(0, note.find(';')) +
+               "; not calibrated: its outputs are counts and its calibration needs their gain "
+               "to start from; give --initial_gyro_gain=G in (rad/s) per count (G = 1/S for a "
+               "datasheet sensitivity S in counts per rad/s), or --gyro_unit=rad/s or deg/s";
+      }
+      return Status::Ok();
+    }
     if (report->gyroscope_unit == GyroscopeOutputUnit::kCount) {
       return Status::Error(
           "the gyroscope's outputs are counts (--gyro_unit=count), and its calibration needs "
@@ -453,9 +469,10 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
       InitialGuess(log, options, &report->options.initial, &report->initial_offset_from));
   if (FLAGS_mode == "ml") return SolveMl(log, options, report);
   // The gyroscope's start is refused before the accelerometer's sweep, which takes seconds.
-  if (log.has_gyroscope()) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report));
+  bool gyroscope = log.has_gyroscope();
+  if (gyroscope) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report, &gyroscope));
   ACCELCAL_RETURN_IF_ERROR(SolveImuTk(log, report));
-  return log.has_gyroscope() ? SolveImuTkGyroscope(log, report) : Status::Ok();
+  return gyroscope ? SolveImuTkGyroscope(log, report) : Status::Ok();
 }
 
 // Mode imu_tk, --imu_tk_calib_out: imu_tk's two .calib files' text (the gyroscope's only when

@@ -245,6 +245,44 @@ TEST(CalibrateImuGyroscopeCli, RefusesAGyroscopeInCountsWithoutItsGainAndWritesN
   EXPECT_FALSE(Exists(prefix + "_gyro.calib"));
 }
 
+// A log that carries the gyroscope's columns in counts beside the accelerometer's, with nothing
+// said of the gyroscope: the accelerometer is calibrated as without them (good input is never
+// refused), and the gyroscope is left uncalibrated, said so with the flag that would calibrate it.
+TEST(CalibrateImuGyroscopeCli, AnAccelerometerRunIsNotRefusedForGyroscopeColumnsInCounts) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  testing::ScratchDir scratch;
+  std::ifstream acc(dir + "/xsens_acc.mat"), gyro(dir + "/xsens_gyro.mat");
+  std::string a, g, csv = "t,ax,ay,az,gx,gy,gz\n";
+  while (std::getline(acc, a) && std::getline(gyro, g)) {
+    std::istringstream as(a), gs(g);
+    double t, ax, ay, az, gt, gx, gy, gz;
+    as >> t >> ax >> ay >> az;
+    gs >> gt >> gx >> gy >> gz;
+    csv += StringPrintf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, ax, ay, az, gx, gy, gz);
+  }
+  const std::string log = scratch.Write("xsens_imu.csv", csv);
+  const testing::CommandResult result = RunBinaryArgs(
+      "calibrate_imu", {"--log=" + log, "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
+                        "--initial_offset=32768"});
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("Chosen: k = 6, the lowest final cost 0.120131"),
+            std::string::npos)
+      << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("gyroscope: read (51175 samples); not calibrated: its outputs "
+                                    "are counts"),
+            std::string::npos)
+      << result.stdout_text;
+  EXPECT_EQ(result.stdout_text.find("Gyroscope: imu_tk's gyroscope calibration"),
+            std::string::npos);
+  // The flag it names calibrates it.
+  const testing::CommandResult followed = RunBinaryArgs(
+      "calibrate_imu", {"--log=" + log, "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
+                        "--initial_offset=32768", "--initial_gyro_gain=0.000159795"});
+  ASSERT_EQ(followed.exit_status, 0) << followed.stderr_text;
+  EXPECT_NE(followed.stdout_text.find("Gyroscopes calibration: residual 0.00150696"),
+            std::string::npos);
+}
+
 TEST(CalibrateImuGyroscopeCli, RefusesAUnitTheGyroscopeContradictsAndAnUnknownOne) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   ExpectBadInputContract(
