@@ -255,6 +255,8 @@ std::string ColumnLabel(const ImuTextFormat& format, int column) {
 }
 
 std::string UtcDate(double epoch_s) {
+  // A date only for a time a clock can hold (1970 to the year 5000), not any large number.
+  if (!(epoch_s >= 0.0 && epoch_s < 1e11)) return "";
   const std::time_t seconds = static_cast<std::time_t>(std::floor(epoch_s));
   std::tm utc{};
   if (gmtime_r(&seconds, &utc) == nullptr) return "";
