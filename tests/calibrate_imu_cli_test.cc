@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "simulation/triad_simulator.h"
+#include "common/format.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -326,6 +327,22 @@ TEST(CalibrateImuCli, RefusesTheNegativeGainImuTksCostCannotTellFromAPositiveOne
       "calibrate_imu", "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --initial_offset=0");
   ExpectBadInputContract(result, "calibrate_imu", "ends at a negative gain_");
   EXPECT_NE(result.stderr_text.find("--initial_offset=auto"), std::string::npos);
+}
+
+// Outputs that hold no gravity (a phone's "linear acceleration", or a gyroscope's log given as
+// the accelerometer's) are told as such, not as another unit to try (the probe of 2026-11-26:
+// "raw counts? say --unit=count, or --unit=g", and --unit=g then refused too).
+TEST(CalibrateImuCli, OutputsWithoutGravityAreNamedSo) {
+  testing::ScratchDir scratch;
+  std::string linear = "time,ax,ay,az\n";
+  for (int j = 0; j < 3000; ++j)
+    linear += StringPrintf("%.2f,%.4f,%.4f,%.4f\n", 0.01 * j, 0.01 * std::sin(j * 0.1),
+                           0.02 * std::cos(j * 0.07), -0.01);
+  const std::string log = scratch.Write("linear.csv", linear);
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --unit=m/s^2"),
+                         "calibrate_imu", "the outputs hold no gravity");
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --unit=g"),
+                         "calibrate_imu", "the outputs hold no gravity");
 }
 
 // The unit is stated, never guessed, and a calibration that contradicts it is refused: a log
