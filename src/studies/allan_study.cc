@@ -48,8 +48,12 @@ class SimulatedSeries {
   std::array<double, kProducts> factor_;
 };
 
+// No flag fits fewer terms: the message says what the curve is, not a flag to try.
 const char kSingularRefit[] =
-    "a simulated series of the Allan bootstrap could not be fitted (singular); fit fewer terms";
+    "a simulated series of the Allan bootstrap could not be fitted (singular): the Allan "
+    "deviation of these segments cannot separate the white, bias-instability and random-walk "
+    "terms (an output quantised below its noise, or segments too short, give such a curve), so "
+    "no interval can be computed from it";
 
 // Whether F(c) of allan_study.h exceeds `level`: F(c) the fraction of refits of term j at or
 // below the observed coefficient when the model is the data's best fit with coefficient j held
@@ -63,7 +67,11 @@ class TailFraction {
   Status Exceeds(double c, double level, bool* exceeds) const {
     std::array<double, 3> model;
     if (!fitter_.Fit(avar_.data(), &model, j_, c))
-      return Status::Error("the Allan fit with one term held is singular; fit fewer terms");
+      return Status::Error(
+          "the Allan fit with one term held is singular: the Allan deviation of these segments "
+          "cannot separate the white, bias-instability and random-walk terms (an output "
+          "quantised below its noise, or segments too short, give such a curve), so no "
+          "interval can be computed from it");
     const SimulatedSeries simulated(table_, model);
     const double needed = level * table_.series;  // exceeds when the count is above this
     std::vector<double> avar;
@@ -97,8 +105,8 @@ Status Crossing(const TailFraction& tail, double level, double scale, double* c)
     if (!exceeds) break;
     if (doubling == 200) {
       return Status::Error(
-          "the bootstrap found no upper bound for a noise term; its Allan variance points do "
-          "not constrain it: fit fewer terms");
+          "the bootstrap found no upper bound for a noise term: its Allan variance points do "
+          "not constrain it (segments too short for the term's time scale)");
     }
     low = high;
     high *= 2.0;

@@ -182,7 +182,7 @@ Status CheckFitSize(int terms, int points) {
   if (points < terms + 1) {
     return Status::Error(StringPrintf(
         "%d Allan variance points for %d noise terms; fitting needs one more point than terms: "
-        "give a longer static segment or fit fewer terms",
+        "give a longer static segment",
         points, terms));
   }
   return Status::Ok();
@@ -243,7 +243,9 @@ double Weight(double edf, double model, double measured) {
 }
 
 const char kSingularFit[] =
-    "the Allan variance does not determine the noise terms (singular fit); fit fewer terms";
+    "the Allan variance does not determine the noise terms (singular fit): its points cannot "
+    "separate them (an output quantised below its noise, or segments too short, give such a "
+    "curve)";
 
 }  // namespace
 
