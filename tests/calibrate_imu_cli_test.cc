@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "simulation/triad_simulator.h"
 #include "common/format.h"
+#include "simulation/triad_simulator.h"
 #include "test_support.h"
 
 namespace accelcal {
@@ -341,8 +341,8 @@ TEST(CalibrateImuCli, OutputsWithoutGravityAreNamedSo) {
   const std::string log = scratch.Write("linear.csv", linear);
   ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --unit=m/s^2"),
                          "calibrate_imu", "the outputs hold no gravity");
-  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --unit=g"),
-                         "calibrate_imu", "the outputs hold no gravity");
+  ExpectBadInputContract(RunBinary("calibrate_imu", "--log=" + log + " --unit=g"), "calibrate_imu",
+                         "the outputs hold no gravity");
 }
 
 // The unit is stated, never guessed, and a calibration that contradicts it is refused: a log

@@ -78,11 +78,15 @@ Status CheckOutputsMatchUnit(const TriadLog& log, TriadOutputUnit unit, double o
   // Near zero in a physical unit: no gravity in the outputs at all.
   const double one_g = unit == TriadOutputUnit::kMps2 ? kStandardGravity : 1.0;
   if (unit != TriadOutputUnit::kCount && median < 0.05 * one_g) {
-    return Status::Error(measured + StringPrintf(
-        ", under 5%% of 1 g (%g %s): the outputs hold no gravity, as a log with gravity removed "
-        "(Android's or phyphox's 'linear acceleration', a 'user acceleration') or a gyroscope's "
-        "does; calibrate from the accelerometer's raw log, which a static pose shows as 1 g",
-        one_g, stated));
+    return Status::Error(
+        measured +
+        StringPrintf(
+            ", under 5%% of 1 g (%g %s): the outputs hold no gravity, as a log with gravity "
+            "removed "
+            "(Android's or phyphox's 'linear acceleration', a 'user acceleration') or a "
+            "gyroscope's "
+            "does; calibrate from the accelerometer's raw log, which a static pose shows as 1 g",
+            one_g, stated));
   }
   if (unit == TriadOutputUnit::kMps2 && !looks_mps2) {
     return Status::Error(measured +

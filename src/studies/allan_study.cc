@@ -52,7 +52,8 @@ class SimulatedSeries {
 const char kSingularRefit[] =
     "a simulated series of the Allan bootstrap could not be fitted (singular): the Allan "
     "deviation of these segments cannot separate the white, bias-instability and random-walk "
-    "terms (an output whose noise is below its quantisation step, or segments too short, give such a curve), so "
+    "terms (an output whose noise is below its quantisation step, or segments too short, give such "
+    "a curve), so "
     "no interval can be computed from it";
 
 // Whether F(c) of allan_study.h exceeds `level`: F(c) the fraction of refits of term j at or

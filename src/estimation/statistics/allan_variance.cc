@@ -244,7 +244,8 @@ double Weight(double edf, double model, double measured) {
 
 const char kSingularFit[] =
     "the Allan variance does not determine the noise terms (singular fit): its points cannot "
-    "separate them (an output whose noise is below its quantisation step, or segments too short, give such a "
+    "separate them (an output whose noise is below its quantisation step, or segments too short, "
+    "give such a "
     "curve)";
 
 }  // namespace
