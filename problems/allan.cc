@@ -4,9 +4,9 @@
 // Per axis, the overlapping Allan variance sigma^2(tau) of the static segments at octave cluster
 // times with chi-square intervals, and the fit
 //   sigma^2(tau) = N^2 / tau + (2 ln 2 / pi) B^2 + K^2 tau / 3
-// (white noise N, bias instability B, random walk K; estimation/statistics/allan_variance.h) with sigmas
-// from a parametric bootstrap (studies/allan_study.h). With the log's poses known, the variance
-// of each pose mean from the model over white noise's, the chi2/dof that a calibration
+// (white noise N, bias instability B, random walk K; estimation/statistics/allan_variance.h) with
+// sigmas from a parametric bootstrap (studies/allan_study.h). With the log's poses known, the
+// variance of each pose mean from the model over white noise's, the chi2/dof that a calibration
 // weighted by white noise should expect.
 //
 // Input: a triad log (io/imu_log.h). Output: the table on stdout, --json, --plot (a PNG drawn by

@@ -1,6 +1,6 @@
 // apply: a calibration file applied to a new log, written as corrected accelerations with the
-// calibration's uncertainty of each (estimation/tilt_table/calibration_correction.h). The calibration's
-// geometry decides the log's layout:
+// calibration's uncertainty of each (estimation/tilt_table/calibration_correction.h). The
+// calibration's geometry decides the log's layout:
 //
 //   two_axis (calibrate's): a CSV with the header t,ax,ay (s, m/s^2) or a .mat with t and
 //     Aerr; the output's header is t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy

@@ -45,8 +45,8 @@
 #include "io/calibration_file.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
-#include "io/imucal_calibration_json.h"
 #include "io/imu_tk_calib_file.h"
+#include "io/imucal_calibration_json.h"
 #include "io/imucal_session.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
@@ -126,8 +126,7 @@ constexpr char kUsage[] =
 // --imu_tk_calib_out's file of `sensor` ("acc" or "gyro"), as imu_tk's example names them
 // (test_imu_acc.calib), or "" when not asked for.
 std::string ImuTkCalibPath(const char* sensor) {
-  return FLAGS_imu_tk_calib_out.empty() ? ""
-                                        : FLAGS_imu_tk_calib_out + "_" + sensor + ".calib";
+  return FLAGS_imu_tk_calib_out.empty() ? "" : FLAGS_imu_tk_calib_out + "_" + sensor + ".calib";
 }
 
 bool FlagGiven(const char* name) { return !gflags::GetCommandLineFlagInfoOrDie(name).is_default; }
@@ -150,10 +149,10 @@ Status ValidateGyroscopeFlags() {
         FLAGS_initial_gyro_gain));
   }
   if (!FLAGS_imu_tk_calib_out.empty() && FLAGS_imu_tk_calib_out.back() == '/') {
-    return Status::Error("--imu_tk_calib_out='" + FLAGS_imu_tk_calib_out +
-                         "' names a folder; give a prefix, e.g. --imu_tk_calib_out=" +
-                         FLAGS_imu_tk_calib_out +
-                         "test_imu (writes test_imu_acc.calib and test_imu_gyro.calib there)");
+    return Status::Error(
+        "--imu_tk_calib_out='" + FLAGS_imu_tk_calib_out +
+        "' names a folder; give a prefix, e.g. --imu_tk_calib_out=" + FLAGS_imu_tk_calib_out +
+        "test_imu (writes test_imu_acc.calib and test_imu_gyro.calib there)");
   }
   return Status::Ok();
 }
@@ -165,11 +164,11 @@ Status ValidateGyroscopeFlags() {
 Status RefuseGyroscopeFlags(const std::string& where) {
   for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias", "imu_tk_calib_out"}) {
     if (FlagGiven(name)) {
-      return Status::Error(std::string("--") + name + " belongs to --mode=imu_tk, which calibrates " +
-                           (std::string(name) == "imu_tk_calib_out"
-                                ? "by imu_tk's rules and writes its files"
-                                : "the gyroscope by imu_tk's rules") +
-                           "; " + where + " does not read it");
+      return Status::Error(
+          std::string("--") + name + " belongs to --mode=imu_tk, which calibrates " +
+          (std::string(name) == "imu_tk_calib_out" ? "by imu_tk's rules and writes its files"
+                                                   : "the gyroscope by imu_tk's rules") +
+          "; " + where + " does not read it");
     }
   }
   return Status::Ok();
@@ -183,7 +182,8 @@ Status ValidateFlags() {
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
   }
   ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
-  if (FLAGS_mode != "imu_tk") ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
+  if (FLAGS_mode != "imu_tk")
+    ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
   TriadNoiseChoice noise;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &noise).WithContext("--noise"));
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
@@ -255,7 +255,8 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   ACCELCAL_RETURN_IF_ERROR(ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit,
                                                   FLAGS_gyro_log, &read_options));
   ImuLogSource log_source;
-  ACCELCAL_RETURN_IF_ERROR(ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
   std::map<std::string, std::string> files = {{"log", FLAGS_log}};
   if (!FLAGS_gyro_log.empty()) files["log_gyroscope"] = FLAGS_gyro_log;
   ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", files, source));
@@ -272,8 +273,9 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
       report->gyroscope_sha256 = source->files.at("log_gyroscope").sha256;
     report->log_notes.push_back(
         "gyroscope: read (" + std::to_string(log->gyroscope.size()) + " samples); " +
-        (FLAGS_mode == "imu_tk" ? std::string("calibrated below by imu_tk's rules")
-                                : "not yet calibrated by the ml mode (--mode=imu_tk calibrates it)"));
+        (FLAGS_mode == "imu_tk"
+             ? std::string("calibrated below by imu_tk's rules")
+             : "not yet calibrated by the ml mode (--mode=imu_tk calibrates it)"));
     ACCELCAL_RETURN_IF_ERROR(
         TakeStatedUnitOf(log_source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
                          "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit, &report->log_notes)
@@ -388,15 +390,15 @@ Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
     // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode; a
     // refusal of the noise floor's falls back on imu_tk's intervals when its rules gave them.
     report->noise_floor_options = options.detector;
-    const std::vector<StaticInterval> imu_tk_intervals =
-        report->imu_tk_status.ok() ? UsedImuTkIntervals(report->result)
-                                   : std::vector<StaticInterval>();
-    ACCELCAL_RETURN_IF_ERROR(
-        CalibrateTriadSessionWithFallback(
-            log, options, report->imu_tk_status.ok() ? &imu_tk_intervals : nullptr,
-            WithoutPrefix(report->imu_tk_status.message(), FLAGS_log + ": "), &session,
-            &report->detector_fallback_reason)
-            .WithContext(FLAGS_log));
+    const std::vector<StaticInterval> imu_tk_intervals = report->imu_tk_status.ok()
+                                                             ? UsedImuTkIntervals(report->result)
+                                                             : std::vector<StaticInterval>();
+    ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSessionWithFallback(
+                                 log, options,
+                                 report->imu_tk_status.ok() ? &imu_tk_intervals : nullptr,
+                                 WithoutPrefix(report->imu_tk_status.message(), FLAGS_log + ": "),
+                                 &session, &report->detector_fallback_reason)
+                                 .WithContext(FLAGS_log));
     if (!report->detector_fallback_reason.empty()) report->detector = "imu_tk";
   }
   TakeSessionCalibration(std::move(session), report);
@@ -451,10 +453,10 @@ Status SolveImuTkGyroscope(const TriadLog& log, CalibrateImuReport* report) {
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateImuTkGyroscope(log, report->result, report->gyroscope_options, &report->gyroscope)
           .WithContext(where));
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckGyroscopeMatchesUnit(report->gyroscope.parameters, report->gyroscope.offset,
-                                report->gyroscope_unit)
-          .WithContext(where));
+  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope.parameters,
+                                                     report->gyroscope.offset,
+                                                     report->gyroscope_unit)
+                               .WithContext(where));
   report->has_gyroscope_calibration = true;
   return Status::Ok();
 }

@@ -313,7 +313,8 @@ inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
   if (!time_unit.empty() && !TimeUnitToSeconds(time_unit, &seconds))
     return Status::Error("--time_unit='" + time_unit + "' is not a unit; use s, ms, us or ns");
   if (!time_unit.empty() && rate_hz > 0.0)
-    return Status::Error("--time_unit and --rate_hz: give one (--rate_hz replaces the time column)");
+    return Status::Error(
+        "--time_unit and --rate_hz: give one (--rate_hz replaces the time column)");
   options->columns = columns;
   options->rate_hz = rate_hz;
   options->time_unit = time_unit;
@@ -338,8 +339,8 @@ inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std:
     return Status::Ok();
   }
   if (stated != *unit_flag) {
-    return Status::Error("--" + std::string(flag) + "=" + *unit_flag + ", but " + columns +
-                         stated + ": give --" + flag + "=" + stated + ", or rename the columns if --" +
+    return Status::Error("--" + std::string(flag) + "=" + *unit_flag + ", but " + columns + stated +
+                         ": give --" + flag + "=" + stated + ", or rename the columns if --" +
                          flag + " is right");
   }
   return Status::Ok();
@@ -348,8 +349,8 @@ inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std:
 // The accelerometer's: --unit.
 inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
                              std::vector<std::string>* notes) {
-  return TakeStatedUnitOf(log_source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit",
-                          "outputs", "accelerometer", unit_flag, notes);
+  return TakeStatedUnitOf(log_source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit", "outputs",
+                          "accelerometer", unit_flag, notes);
 }
 
 #define ACCELCAL_IMU_LOG_OPTIONS(options) \

@@ -4,6 +4,7 @@
 // refused in one line, with nothing written.
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <array>
 #include <cmath>
@@ -11,7 +12,6 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
-#include <sys/stat.h>
 #include <vector>
 
 #include "common/format.h"
@@ -26,12 +26,15 @@ using testing::RunBinaryArgs;
 // imu_tk's example (its apps/test_imu_calib.cpp): the accelerometer's flags of issue 20, and the
 // gyroscope's start 1/6258 (rad/s)/count.
 std::vector<std::string> XsensPairArgs(const std::string& dir) {
-  return {"--log=" + dir + "/xsens_acc.mat", "--gyro_log=" + dir + "/xsens_gyro.mat",
-          "--g=9.81744",  "--mode=imu_tk", "--init_rest_s=50", "--initial_offset=32768"};
+  return {"--log=" + dir + "/xsens_acc.mat",
+          "--gyro_log=" + dir + "/xsens_gyro.mat",
+          "--g=9.81744",
+          "--mode=imu_tk",
+          "--init_rest_s=50",
+          "--initial_offset=32768"};
 }
 
-std::vector<std::string> With(std::vector<std::string> args,
-                              const std::vector<std::string>& more) {
+std::vector<std::string> With(std::vector<std::string> args, const std::vector<std::string>& more) {
   args.insert(args.end(), more.begin(), more.end());
   return args;
 }
@@ -79,24 +82,23 @@ bool Exists(const std::string& path) {
 }
 
 // imu_tk's printout on the pair (issue 32): each line, as printed.
-constexpr const char* kImuTkPrintedLines[] = {
-    "Gyroscopes calibration: residual 0.00150696",
-    "Misalignment Matrix",
-    "         1 0.00593634 0.00111101",
-    "0.00808812          1 -0.0535569",
-    " 0.0253067 -0.0025513          1",
-    "Scale Matrix",
-    "0.000209295           0           0",
-    "          0 0.000209899           0",
-    "          0           0 0.000209483",
-    "Bias Vector",
-    "32777.1",
-    "32459.8",
-    "32511.8",
-    "Gyroscopes calibration: inverse scale factors:",
-    "4777.96",
-    "4764.21",
-    "4773.66"};
+constexpr const char* kImuTkPrintedLines[] = {"Gyroscopes calibration: residual 0.00150696",
+                                              "Misalignment Matrix",
+                                              "         1 0.00593634 0.00111101",
+                                              "0.00808812          1 -0.0535569",
+                                              " 0.0253067 -0.0025513          1",
+                                              "Scale Matrix",
+                                              "0.000209295           0           0",
+                                              "          0 0.000209899           0",
+                                              "          0           0 0.000209483",
+                                              "Bias Vector",
+                                              "32777.1",
+                                              "32459.8",
+                                              "32511.8",
+                                              "Gyroscopes calibration: inverse scale factors:",
+                                              "4777.96",
+                                              "4764.21",
+                                              "4773.66"};
 
 TEST(CalibrateImuGyroscopeCli, PrintsEveryFigureImuTkPrintsForTheGyroscopeOnItsXsensPair) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
@@ -173,9 +175,9 @@ TEST(CalibrateImuGyroscopeCli, WritesImuTksCalibFilesThatItsLoadReadsBack) {
   const std::string prefix = scratch.File("test_imu");
   const std::string json_path = scratch.File("out.json");
   const testing::CommandResult result = RunBinaryArgs(
-      "calibrate_imu", With(XsensPairArgs(dir), {"--initial_gyro_gain=0.000159795",
-                                                 "--imu_tk_calib_out=" + prefix,
-                                                 "--json=" + json_path}));
+      "calibrate_imu",
+      With(XsensPairArgs(dir), {"--initial_gyro_gain=0.000159795", "--imu_tk_calib_out=" + prefix,
+                                "--json=" + json_path}));
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find(prefix + "_acc.calib, " + prefix + "_gyro.calib"),
             std::string::npos);
@@ -261,9 +263,9 @@ TEST(CalibrateImuGyroscopeCli, AnAccelerometerRunIsNotRefusedForGyroscopeColumns
     csv += StringPrintf("%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", t, ax, ay, az, gx, gy, gz);
   }
   const std::string log = scratch.Write("xsens_imu.csv", csv);
-  const testing::CommandResult result = RunBinaryArgs(
-      "calibrate_imu", {"--log=" + log, "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
-                        "--initial_offset=32768"});
+  const testing::CommandResult result =
+      RunBinaryArgs("calibrate_imu", {"--log=" + log, "--g=9.81744", "--mode=imu_tk",
+                                      "--init_rest_s=50", "--initial_offset=32768"});
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find("Chosen: k = 6, the lowest final cost 0.120131"),
             std::string::npos)

@@ -1,7 +1,7 @@
 // The calibration file (io/calibration_file.h): written and read back unchanged, refused in
 // one line when it does not say what it claims; and the correction apply makes with it
-// (estimation/tilt_table/calibration_correction.h): the inverse of the model, with a sigma that matches
-// the spread of corrections made with calibrations from independent tilt tests.
+// (estimation/tilt_table/calibration_correction.h): the inverse of the model, with a sigma that
+// matches the spread of corrections made with calibrations from independent tilt tests.
 
 #include "io/calibration_file.h"
 

@@ -12,8 +12,8 @@
 #include <set>
 #include <string>
 
-#include "estimation/tilt_table/discovery.h"
 #include "estimation/statistics/noise_analysis.h"
+#include "estimation/tilt_table/discovery.h"
 #include "io/scenario_json.h"
 #include "models/noise_model.h"
 #include "simulation/random.h"

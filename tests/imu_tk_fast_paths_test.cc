@@ -122,8 +122,7 @@ TEST(SlidingVarianceNorm, EqualsTheTwoPassNormOfEveryWindow) {
 // the x column of a two-sample log.
 void ExpectReadAsParseFiniteNumber(const std::string& cell) {
   TriadLog log;
-  const Status status =
-      ParseImuLog("0 " + cell + " 2 3\n0.01 4 5 6\n", ImuLogReadOptions(), &log);
+  const Status status = ParseImuLog("0 " + cell + " 2 3\n0.01 4 5 6\n", ImuLogReadOptions(), &log);
   double expected = 0.0;
   const bool number = ParseFiniteNumber(cell, &expected);
   ASSERT_EQ(status.ok(), number) << "'" << cell << "': " << status.message();

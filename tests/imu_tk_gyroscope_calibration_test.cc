@@ -1,7 +1,7 @@
-// imu_tk's gyroscope calibration (estimation/gyroscope/imu_tk_gyroscope_calibration.h) against what imu_tk
-// printed on its own Xsens pair of logs (issue 32), and on simulated sessions whose gyroscope
-// errors are known; the model and imu_tk's integration (models/gyroscope.h) and the residual
-// (residuals/imu_tk_gyroscope_residual.h) on their own.
+// imu_tk's gyroscope calibration (estimation/gyroscope/imu_tk_gyroscope_calibration.h) against what
+// imu_tk printed on its own Xsens pair of logs (issue 32), and on simulated sessions whose
+// gyroscope errors are known; the model and imu_tk's integration (models/gyroscope.h) and the
+// residual (residuals/imu_tk_gyroscope_residual.h) on their own.
 
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 

@@ -516,8 +516,8 @@ TEST(VehicleRun, RefusesTimeThatIsNotUniformlyIncreasing) {
 
 // A 100 Hz logger stamping Unix time: near 1.7e9 s a double resolves 2.4e-7 s, so the steps
 // of an exact clock differ by that much, 24 times more than 1e-6 dt. Accepted, with the dt
-// the integration takes (estimation/tilt_table/trajectory.cc, joint_estimator.cc: (t_last - t_first)
-// / (N - 1)) right to 1e-9 s; a glitch of two samples by 20 us is still refused.
+// the integration takes (estimation/tilt_table/trajectory.cc, joint_estimator.cc: (t_last -
+// t_first) / (N - 1)) right to 1e-9 s; a glitch of two samples by 20 us is still refused.
 TEST(VehicleRun, AcceptsUnixTimeAndStillFindsAGlitch) {
   testing::ScratchDir scratch;
   const double start_s = 1700000000.0;

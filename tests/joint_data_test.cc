@@ -1,7 +1,8 @@
-// The joint problem's supporting modules: the data prepared once (estimation/tilt_table/joint_data.h),
-// the identifiability check (estimation/solver/identifiability.h), discovery's score test
-// (estimation/tilt_table/score_test.h), effects by name (models/effect_names.h) and the robust loss's
-// names (estimation/tilt_table/joint_estimator.h).
+// The joint problem's supporting modules: the data prepared once
+// (estimation/tilt_table/joint_data.h), the identifiability check
+// (estimation/solver/identifiability.h), discovery's score test
+// (estimation/tilt_table/score_test.h), effects by name (models/effect_names.h) and the robust
+// loss's names (estimation/tilt_table/joint_estimator.h).
 
 #include "estimation/tilt_table/joint_data.h"
 

@@ -11,8 +11,8 @@
 #include <cstdio>
 #include <vector>
 
-#include "estimation/tilt_table/ceres_linear_ls.h"
 #include "estimation/statistics/chi_square.h"
+#include "estimation/tilt_table/ceres_linear_ls.h"
 #include "models/tilt_table.h"
 #include "simulation/random.h"
 #include "simulation/simulator.h"

@@ -20,11 +20,11 @@ constexpr char kPython[] = "/usr/bin/python3";
 TEST(LogLayoutsCli, ImuTksPairOfFilesReadsTheGyroscopeBesideTheAccelerometer) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   testing::ScratchDir scratch;
-  const testing::CommandResult result = RunBinaryArgs(
-      "calibrate_imu", {"--log=" + dir + "/xsens_acc.mat", "--gyro_log=" + dir + "/xsens_gyro.mat",
-                        "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50",
-                        "--initial_offset=32768", "--initial_gyro_gain=0.000159795",
-                        "--json=" + scratch.File("out.json")});
+  const testing::CommandResult result =
+      RunBinaryArgs("calibrate_imu",
+                    {"--log=" + dir + "/xsens_acc.mat", "--gyro_log=" + dir + "/xsens_gyro.mat",
+                     "--g=9.81744", "--mode=imu_tk", "--init_rest_s=50", "--initial_offset=32768",
+                     "--initial_gyro_gain=0.000159795", "--json=" + scratch.File("out.json")});
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find("read: gyroscope: " + dir + "/xsens_gyro.mat"),
             std::string::npos)

@@ -393,9 +393,9 @@ TEST(NoiseFloorDetector, RefusalOfHoldsShortForTheWindowNamesAWindowThatFindsThe
   ASSERT_FALSE(refusal.empty());
   ASSERT_GT(detection.suggested_window_samples, 0);
   EXPECT_LT(detection.suggested_window_samples, 101);
-  const std::string flags = StringPrintf("--window=%d --min_interval_s=%g",
-                                         detection.suggested_window_samples,
-                                         detection.suggested_min_interval_s);
+  const std::string flags =
+      StringPrintf("--window=%d --min_interval_s=%g", detection.suggested_window_samples,
+                   detection.suggested_min_interval_s);
   EXPECT_SAYS(refusal, flags + StringPrintf(" finds %d", detection.suggested_pose_count));
   NoiseFloorOptions suggested;
   suggested.window_samples = detection.suggested_window_samples;

@@ -23,7 +23,8 @@ std::string SuggestedFlag(const std::string& message, const std::string& name) {
   const size_t start = message.find("--" + name + "=");
   if (start == std::string::npos) return "";
   const size_t end = message.find_first_of(" );\n", start);
-  std::string flag = message.substr(start, end == std::string::npos ? std::string::npos : end - start);
+  std::string flag =
+      message.substr(start, end == std::string::npos ? std::string::npos : end - start);
   while (!flag.empty() && (flag.back() == ',' || flag.back() == '.')) flag.pop_back();  // prose
   return flag;
 }
@@ -101,7 +102,8 @@ TEST(RefusalAdvice, SeveralAccelerometersAreReadOneAtATimeAsTheMessageSays) {
   size_t begin = 0;
   for (size_t end; (end = text.find('\n', begin)) != std::string::npos; begin = end + 1) {
     const std::string line = text.substr(begin, end - begin);
-    doubled += line + "," + (begin == 0 ? "ACC1_X,ACC1_Y,ACC1_Z" : line.substr(line.find(',') + 1)) + "\n";
+    doubled +=
+        line + "," + (begin == 0 ? "ACC1_X,ACC1_Y,ACC1_Z" : line.substr(line.find(',') + 1)) + "\n";
   }
   const std::string log = dir.Write("array.csv", doubled);
   ExpectAdviceConverges({"--log=" + log, "--mode=ml", "--unit=m/s^2"}, "columns");

@@ -47,9 +47,10 @@ TEST(TriadPoseNoise, QuantisationBiasVarianceIsTheRoundedMeansErrorBySimulation)
     within /= kMeans;
     const double bias = squared_error / kMeans - within / kSamples;
     const double model = QuantisationBiasVariance(sigma * sigma, 1.0);
-    std::printf("[ quantised ] sigma = %.2f q: B = %.4g q^2 (model %.4g), s^2 = %.4g (sigma from "
-                "it %.4f)\n",
-                sigma, bias, model, within, std::sqrt(UnroundedNoiseVariance(within, 1.0)));
+    std::printf(
+        "[ quantised ] sigma = %.2f q: B = %.4g q^2 (model %.4g), s^2 = %.4g (sigma from "
+        "it %.4f)\n",
+        sigma, bias, model, within, std::sqrt(UnroundedNoiseVariance(within, 1.0)));
     EXPECT_NEAR(bias, model, 0.06 * model + 2e-5);
     EXPECT_NEAR(std::sqrt(UnroundedNoiseVariance(within, 1.0)), sigma, 0.05 * sigma);
   }
@@ -83,8 +84,8 @@ TEST(TriadPoseNoise, QuantisedSessionsSigmasMatchTheMonteCarloSpread) {
       const Status status = CalibrateTriadSession(log, options, &calibration);
       ASSERT_TRUE(status.ok()) << status.message();
       for (int p = 0; p < kTriadParameterCount; ++p) {
-        const double z = (calibration.ml.parameters[p] - simulation.truth[p]) /
-                         calibration.ml.stddev[p];
+        const double z =
+            (calibration.ml.parameters[p] - simulation.truth[p]) / calibration.ml.stddev[p];
         z_squares[p] += z * z / kSessions;
       }
       chi2_per_dof += calibration.ml.chi2_per_dof / kSessions;
@@ -101,8 +102,8 @@ TEST(TriadPoseNoise, QuantisedSessionsSigmasMatchTheMonteCarloSpread) {
                   TriadParameterInfos()[p].name, ratio);
       worst = std::max(worst, std::abs(std::log(ratio)));
     }
-    std::printf("[ quantised ] sigma = %.1f count: mean chi2/dof %.2f, explained %d of %d\n",
-                sigma, chi2_per_dof, explained, kSessions);
+    std::printf("[ quantised ] sigma = %.1f count: mean chi2/dof %.2f, explained %d of %d\n", sigma,
+                chi2_per_dof, explained, kSessions);
     EXPECT_LT(worst, std::log(1.35)) << "sigma = " << sigma;
     EXPECT_NEAR(chi2_per_dof, 1.0, 0.25) << "sigma = " << sigma;
     EXPECT_GE(explained, kSessions * 9 / 10) << "sigma = " << sigma;

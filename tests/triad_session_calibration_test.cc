@@ -1,5 +1,5 @@
-// One session's calibration (estimation/triad/triad_session_calibration.h), the sequence behind every
-// calibrate_imu --mode=ml path: on imu_tk's Xsens log it reproduces what the CLI prints with
+// One session's calibration (estimation/triad/triad_session_calibration.h), the sequence behind
+// every calibrate_imu --mode=ml path: on imu_tk's Xsens log it reproduces what the CLI prints with
 // the noise-floor detector (the default), with imu_tk's intervals (--detector=imu_tk), with
 // --noise=white and with --scale_nonlinearity; and it refuses a log whose unit is misstated.
 
@@ -158,7 +158,6 @@ TEST(TriadUnits, TellsALogInAnotherUnitFromAGainThePosesDidNotDetermine) {
   EXPECT_EQ(status.message().find("converted"), std::string::npos) << status.message();
 }
 
-
 // A session whose poses are 40 times noisier than others (the unit set down on a running
 // machine between hand-held poses, and for its initial rest): the noise floor's detector, which
 // takes poses within 16 times the quietest one's noise, finds too few; imu_tk's, scaled from the
@@ -192,8 +191,8 @@ TEST(TriadSessionCalibration, FallsBackOnImuTksIntervalsWhenTheNoiseFloorRefuses
 
   TriadSessionCalibration calibration;
   std::string fallback_reason;
-  const Status status = CalibrateTriadSessionWithFallback(log, options, &imu_tk, "", &calibration,
-                                                          &fallback_reason);
+  const Status status =
+      CalibrateTriadSessionWithFallback(log, options, &imu_tk, "", &calibration, &fallback_reason);
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_FALSE(fallback_reason.empty());
   EXPECT_EQ(calibration.ml.pose_count, static_cast<int>(imu_tk.size()));
@@ -214,9 +213,8 @@ TEST(TriadSessionCalibration, FallsBackOnImuTksIntervalsWhenTheNoiseFloorRefuses
                                                            &calibration, &fallback_reason);
   ASSERT_FALSE(refused.ok());
   const std::string& message = refused.message();
-  EXPECT_EQ(message.rfind("no static detector finds the poses: the noise floor's: " +
-                              detection_message,
-                          0),
+  EXPECT_EQ(message.rfind(
+                "no static detector finds the poses: the noise floor's: " + detection_message, 0),
             0u)
       << message;
   EXPECT_NE(message.find("imu_tk's intervals, the fallback, give none either (the initial rest "
@@ -243,8 +241,7 @@ TEST(TriadSessionCalibration, RefusalOfBothDetectorsLeadsWithAWindowThatWorks) {
   TriadSessionCalibration calibration;
   std::string fallback_reason;
   const Status refused = CalibrateTriadSessionWithFallback(
-      log, options, nullptr, std::string(400, 'x') + ": and more", &calibration,
-      &fallback_reason);
+      log, options, nullptr, std::string(400, 'x') + ": and more", &calibration, &fallback_reason);
   ASSERT_FALSE(refused.ok());
   const std::string& message = refused.message();
   EXPECT_LE(message.size(), 520u) << message;
@@ -258,8 +255,8 @@ TEST(TriadSessionCalibration, RefusalOfBothDetectorsLeadsWithAWindowThatWorks) {
   EXPECT_EQ(message.find("noise-floor detector"), std::string::npos) << message;
   options.detector.window_samples = d.suggested_window_samples;
   options.detector.min_interval_s = d.suggested_min_interval_s;
-  const Status followed = CalibrateTriadSessionWithFallback(log, options, nullptr, "",
-                                                            &calibration, &fallback_reason);
+  const Status followed =
+      CalibrateTriadSessionWithFallback(log, options, nullptr, "", &calibration, &fallback_reason);
   ASSERT_TRUE(followed.ok()) << followed.message();
   EXPECT_GE(calibration.ml.pose_count, 27);
 }

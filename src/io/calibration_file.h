@@ -94,8 +94,8 @@ Status ParseCalibration(const std::string& text, const std::string& path,
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record);
 
 // A two-axis calibration's parameters and covariance in parameter_order's order (bias_x,
-// scale_x, bias_y, scale_y: the baseline's, estimation/tilt_table/baseline_parameters.h); fails, naming
-// `path`, for another geometry.
+// scale_x, bias_y, scale_y: the baseline's, estimation/tilt_table/baseline_parameters.h); fails,
+// naming `path`, for another geometry.
 Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
                        Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance);
 

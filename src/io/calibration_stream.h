@@ -4,8 +4,8 @@
 // Reads a tilt test from calibration.csv (theta,ax,ay) in fixed-size chunks and hands its
 // samples on in batches, so that a test of any length is read in bounded memory: the
 // closed-form baseline needs only its sufficient statistics (CalibrationAccumulator in
-// estimation/tilt_table/linear_ls.h), never the samples themselves. A 10^8-sample file (5.6 GB of CSV
-// at round-trip precision, 2.4 GB as three arrays of doubles) streams through 5 MB.
+// estimation/tilt_table/linear_ls.h), never the samples themselves. A 10^8-sample file (5.6 GB of
+// CSV at round-trip precision, 2.4 GB as three arrays of doubles) streams through 5 MB.
 //
 // The rules and the messages are ParseCsv's (io/csv_reader.h), from the same line parser
 // (a last line without '\n' is refused as a file cut short), plus --theta_unit as

@@ -20,7 +20,8 @@ const char* GyroscopeOutputUnitName(GyroscopeOutputUnit unit) {
 
 Status ParseGyroscopeOutputUnit(const std::string& name, GyroscopeOutputUnit* unit) {
   for (const GyroscopeOutputUnit candidate :
-       {GyroscopeOutputUnit::kCount, GyroscopeOutputUnit::kRadPerS, GyroscopeOutputUnit::kDegPerS}) {
+       {GyroscopeOutputUnit::kCount, GyroscopeOutputUnit::kRadPerS,
+        GyroscopeOutputUnit::kDegPerS}) {
     if (name == GyroscopeOutputUnitName(candidate)) {
       *unit = candidate;
       return Status::Ok();
@@ -64,8 +65,7 @@ Status CheckGyroscopeMatchesUnit(const GyroscopeParameters& parameters,
           "the gyroscope's output at rest averages %.6g %s on its %c axis, more than any "
           "gyroscope's offset (%g rad/s): are the outputs raw counts? give --gyro_unit=count and "
           "--initial_gyro_gain",
-          offset[k], GyroscopeOutputUnitName(unit), "xyz"[k],
-          kLargestOffsetRadPerS));
+          offset[k], GyroscopeOutputUnitName(unit), "xyz"[k], kLargestOffsetRadPerS));
     }
   }
   for (int k = 0; k < 3; ++k) {

@@ -35,8 +35,8 @@ std::string GyroscopeParameterUnit(int index, GyroscopeOutputUnit unit);
 // accelerometer's (models/triad_units.h): in a physical unit the offset (the output at rest) is
 // within 10 rad/s of 0, since no gyroscope worth calibrating is biased by more, and each gain is
 // its nominal value within [0.8, 1.25] times; a gain of counts within that range of 1 or pi/180,
-// with an offset that is within 10 rad/s of 0 in that unit, means the log was already converted. The message names the axis, the value and the unit the
-// data look like.
+// with an offset that is within 10 rad/s of 0 in that unit, means the log was already converted.
+// The message names the axis, the value and the unit the data look like.
 Status CheckGyroscopeMatchesUnit(const GyroscopeParameters& parameters,
                                  const GyroscopeOffset& offset, GyroscopeOutputUnit unit);
 

@@ -191,10 +191,10 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
   std::ostringstream out;
   out << "\nGyroscope: imu_tk's gyroscope calibration (Tedaldi et al., ICRA 2014, IV-C), "
          "w = T K (u - b) in rad/s (docs/gyroscope.md)\n";
-  out << StringPrintf("gyroscope log: %s, %zu samples, outputs in %s (--gyro_unit)\n",
-                      report.gyroscope_path.empty() ? "the log's gyroscope columns"
-                                                    : report.gyroscope_path.c_str(),
-                      report.gyroscope_samples, unit_name);
+  out << StringPrintf(
+      "gyroscope log: %s, %zu samples, outputs in %s (--gyro_unit)\n",
+      report.gyroscope_path.empty() ? "the log's gyroscope columns" : report.gyroscope_path.c_str(),
+      report.gyroscope_samples, unit_name);
   out << StringPrintf(
       "offset b: the mean of the initial rest, samples 0..%d (--gyro_bias=rest, imu_tk's: not "
       "estimated)\n",
@@ -230,8 +230,7 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
     const std::string name = offset ? "gyroscope_offset_" + Axis(p - kGyroscopeParameterCount)
                                     : std::string(infos[p].name);
     out << StringPrintf(example ? "  %-26s %-16s %-16s" : "  %-26s %-16s %s", name.c_str(),
-                        offset ? unit_name : GyroscopeParameterUnit(p, unit).c_str(),
-                        text.c_str());
+                        offset ? unit_name : GyroscopeParameterUnit(p, unit).c_str(), text.c_str());
     if (example)
       out << StringPrintf(" %-16s %s", kImuTkPrintedGyroscope[p], kDatasheetGyroscope[p]);
     out << "\n";
@@ -247,7 +246,8 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
   out << "imu_tk's printout of this calibration (--imu_tk_calib_out writes its three matrices as "
          "PREFIX_gyro.calib):\n";
   std::istringstream lines(printout);
-  for (std::string line; std::getline(lines, line);) out << (line.empty() ? "" : "  ") << line << "\n";
+  for (std::string line; std::getline(lines, line);)
+    out << (line.empty() ? "" : "  ") << line << "\n";
   if (example) {
     out << (printout == kImuTkPrintedGyroscopeText
                 ? "  (imu_tk printed exactly these lines on this log)\n"
@@ -261,13 +261,12 @@ std::string GyroscopeTable(const CalibrateImuReport& report, bool full_solver_re
   out << "     #  intervals    samples integrated    dur_s  turn_deg  residual_deg\n";
   for (size_t p = 0; p < g.turns.size(); ++p) {
     const ImuTkGyroscopeTurn& turn = g.turns[p];
-    out << StringPrintf("  %4zu  %3d -> %3d  %8d .. %-8d  %6.2f  %8.2f  %12.4f\n", p + 1,
-                        turn.interval_before + 1, turn.interval_after + 1, turn.first_sample,
-                        turn.last_sample,
-                        report.result.intervals[turn.interval_after].start_s -
-                            report.result.intervals[turn.interval_before].end_s,
-                        turn.turn_angle_rad * kDegreesPerRadian,
-                        turn.residual_angle_rad * kDegreesPerRadian);
+    out << StringPrintf(
+        "  %4zu  %3d -> %3d  %8d .. %-8d  %6.2f  %8.2f  %12.4f\n", p + 1, turn.interval_before + 1,
+        turn.interval_after + 1, turn.first_sample, turn.last_sample,
+        report.result.intervals[turn.interval_after].start_s -
+            report.result.intervals[turn.interval_before].end_s,
+        turn.turn_angle_rad * kDegreesPerRadian, turn.residual_angle_rad * kDegreesPerRadian);
   }
   const ResidualAngleSummary summary = SummariseResidualAngles(g.turns);
   out << StringPrintf(
@@ -327,7 +326,8 @@ nlohmann::json GyroscopeJson(const CalibrateImuReport& report) {
       {"unit", unit_name},
       {"offset_from", "rest"},
       {"rest_end_sample", g.rest_end},
-      {"initial_guess", {{"parameters", initial}, {"units", units}, {"gain_from", report.initial_gyro_gain_from}}},
+      {"initial_guess",
+       {{"parameters", initial}, {"units", units}, {"gain_from", report.initial_gyro_gain_from}}},
       {"data_period_s", report.gyroscope_options.data_period_s > 0.0
                             ? nlohmann::json(report.gyroscope_options.data_period_s)
                             : nlohmann::json(nullptr)},
@@ -491,8 +491,10 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
   if (!report.imu_tk_calib_acc_path.empty()) {
     out << "\nimu_tk's calibration files (its CalibratedTriad_::save layout): "
         << report.imu_tk_calib_acc_path;
-    if (!report.imu_tk_calib_gyro_path.empty()) out << ", " << report.imu_tk_calib_gyro_path;
-    else out << " (no gyroscope in the log: no gyroscope file)";
+    if (!report.imu_tk_calib_gyro_path.empty())
+      out << ", " << report.imu_tk_calib_gyro_path;
+    else
+      out << " (no gyroscope in the log: no gyroscope file)";
     out << "\n";
   }
   return out.str();

@@ -2,8 +2,8 @@
 #define ACCELCAL_SIMULATION_NOISE_PROCESS_H_
 
 // Simulated accelerometer noise of known Allan variance, to check the Allan estimator and fit
-// (estimation/statistics/allan_variance.h) against truth, and to bootstrap its fit (studies/allan_study.h).
-// One axis, sampled every tau0 s, the sum of independent processes:
+// (estimation/statistics/allan_variance.h) against truth, and to bootstrap its fit
+// (studies/allan_study.h). One axis, sampled every tau0 s, the sum of independent processes:
 //   white:         w_i ~ N(0, N^2 / tau0), N the density in unit/sqrt(Hz);
 //   random walk:   r_i = r_{i-1} + e_i, e_i ~ N(0, K^2 tau0), r_0 = e_0, K in unit sqrt(Hz);
 //   Gauss-Markov:  g_i = phi g_{i-1} + sqrt(1 - phi^2) q u_i, phi = exp(-tau0 / T_c), u_i ~ N(0,1),

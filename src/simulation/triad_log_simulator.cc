@@ -1,6 +1,7 @@
 #include "simulation/triad_log_simulator.h"
 
 #include <cmath>
+
 #include "simulation/triad_simulator.h"
 
 namespace accelcal {
@@ -60,8 +61,9 @@ class SampleWriter {
       measured[k] =
           actual_raw[k] + noise_scale_ * options_.noise_stddev[k] * random_->StandardNormal();
       if (options_.vibration_hz > 0.0) {
-        measured[k] += options_.vibration_counts[k] *
-                       std::sin(2.0 * M_PI * options_.vibration_hz * elapsed_s + vibration_phase_[k]);
+        measured[k] +=
+            options_.vibration_counts[k] *
+            std::sin(2.0 * M_PI * options_.vibration_hz * elapsed_s + vibration_phase_[k]);
       }
       if (options_.round_to_counts) measured[k] = std::round(measured[k]);
     }

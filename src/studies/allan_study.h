@@ -1,8 +1,8 @@
 #ifndef ACCELCAL_STUDIES_ALLAN_STUDY_H_
 #define ACCELCAL_STUDIES_ALLAN_STUDY_H_
 
-// The confidence intervals of the Allan noise fit (estimation/statistics/allan_variance.h) by parametric
-// bootstrap, inverted as a test.
+// The confidence intervals of the Allan noise fit (estimation/statistics/allan_variance.h) by
+// parametric bootstrap, inverted as a test.
 //
 // Why not the fit's covariance, nor the bootstrap's spread with a normal interval: the Allan
 // variances at different tau share the samples, so the least squares covariance is too small

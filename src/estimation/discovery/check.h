@@ -4,8 +4,8 @@
 // A check of what a fitted model leaves, one type for every sensor geometry: a statistic of
 // the whitened residuals, its p-value under "the model and its noise model are right", a
 // sentence, and (for a shape) the columns that describe it. The tilt table's checks are in
-// estimation/tilt_table/residual_checks.h, the triad's in estimation/triad/triad_discovery.cc; each discovery
-// procedure flags its family by Holm at its share of alpha (FlagByHolm).
+// estimation/tilt_table/residual_checks.h, the triad's in estimation/triad/triad_discovery.cc; each
+// discovery procedure flags its family by Holm at its share of alpha (FlagByHolm).
 
 #include <string>
 #include <vector>

@@ -11,9 +11,9 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
+#include "estimation/solver/solver_report.h"
 #include "estimation/tilt_table/baseline_parameters.h"
 #include "estimation/tilt_table/linear_ls.h"
-#include "estimation/solver/solver_report.h"
 
 namespace accelcal {
 

@@ -16,7 +16,8 @@
 //    remove, Holm among those left, add the strongest, refit in Ceres, re-decide the
 //    landmark tie), then backward elimination against the grown model, alternating until
 //    neither changes the model.
-// 3. Checks of what the final model leaves, alpha/4 (estimation/tilt_table/residual_checks.h): theta
+// 3. Checks of what the final model leaves, alpha/4 (estimation/tilt_table/residual_checks.h):
+// theta
 //    harmonics, a curved trend, a step, lag-1 correlation, a portmanteau, the endpoint.
 //    Flagged shapes (and a baseline step that explains by BIC as much as every named
 //    effect) are nuisance columns: an effect they explain is dropped. What remains is
@@ -35,14 +36,14 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
-#include "estimation/tilt_table/baseline_parameters.h"
+#include "estimation/discovery/verdict.h"
 #include "estimation/statistics/diagnostics.h"
+#include "estimation/statistics/noise_analysis.h"
+#include "estimation/tilt_table/baseline_parameters.h"
 #include "estimation/tilt_table/joint_estimator.h"
 #include "estimation/tilt_table/landmark_decision.h"
-#include "estimation/statistics/noise_analysis.h"
 #include "estimation/tilt_table/residual_checks.h"
 #include "estimation/tilt_table/trajectory.h"
-#include "estimation/discovery/verdict.h"
 #include "models/noise_model.h"
 
 namespace accelcal {

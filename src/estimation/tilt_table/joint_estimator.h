@@ -25,8 +25,8 @@
 
 #include "common/measurements.h"
 #include "common/status.h"
-#include "estimation/tilt_table/parameter_estimate.h"
 #include "estimation/solver/solver_report.h"
+#include "estimation/tilt_table/parameter_estimate.h"
 #include "models/effect_names.h"
 #include "models/noise_model.h"
 

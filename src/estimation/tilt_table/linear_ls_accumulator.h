@@ -1,8 +1,8 @@
 #ifndef ACCELCAL_ESTIMATION_TILT_TABLE_LINEAR_LS_ACCUMULATOR_H_
 #define ACCELCAL_ESTIMATION_TILT_TABLE_LINEAR_LS_ACCUMULATOR_H_
 
-// The streaming sufficient statistics of the linear baseline (estimation/tilt_table/linear_ls.h): one
-// pass over the samples, constant memory in N, mergeable across chunks. Per axis k the
+// The streaming sufficient statistics of the linear baseline (estimation/tilt_table/linear_ls.h):
+// one pass over the samples, constant memory in N, mergeable across chunks. Per axis k the
 // regression is y_i = b_k + s_k f_k,i with f_k the tilt table's specific force
 // (models/tilt_table.h) and y_i = m_k,i - f_k,i. Sums are taken about the first sample (the
 // "shifted data" algorithm), which keeps the centred second moments accurate even when the

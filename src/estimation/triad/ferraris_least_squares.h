@@ -41,8 +41,8 @@
 #include "common/ferraris_session.h"
 #include "common/status.h"
 #include "estimation/solver/ceres_solve.h"
-#include "estimation/triad/ferraris_calibration.h"
 #include "estimation/solver/solver_report.h"
+#include "estimation/triad/ferraris_calibration.h"
 #include "models/imucal_convention.h"
 #include "models/triad.h"
 

@@ -86,8 +86,7 @@ Status CheckOptions(const NoiseFloorOptions& options) {
     return Status::Error(StringPrintf(
         "a threshold factor of %g times the noise floor is within white noise's own spread over "
         "%d samples (crossed by still windows with probability %.2g); use at least %.2f",
-        factor, window, ChiSquareSurvival(factor * dof, dof),
-        std::ceil(minimum * 100.0) / 100.0));
+        factor, window, ChiSquareSurvival(factor * dof, dof), std::ceil(minimum * 100.0) / 100.0));
   }
   if (!(options.min_interval_s >= 0.0) || !std::isfinite(options.min_interval_s)) {
     return Status::Error(StringPrintf("the minimum interval duration of %g s must be 0 s or more",
@@ -150,8 +149,7 @@ namespace {
 // mean, more than its threshold (thresholds[j], per window) allows on some axis; else used or
 // short by duration.
 void SortRuns(const TriadLog& log, const NoiseFloorOptions& options, int half,
-              const std::vector<bool>& still,
-              const std::vector<std::array<double, 3>>& thresholds,
+              const std::vector<bool>& still, const std::vector<std::array<double, 3>>& thresholds,
               NoiseFloorDetection* detection) {
   for (int j = 0; j < static_cast<int>(still.size());) {
     if (!still[j]) {
@@ -249,8 +247,7 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
         100 * detection->still_fraction, window, factor, 100 * kMinStillFraction));
   }
 
-  const std::vector<std::array<double, 3>> thresholds(still.size(),
-                                                      detection->threshold_variance);
+  const std::vector<std::array<double, 3>> thresholds(still.size(), detection->threshold_variance);
   SortRuns(log, options, half, still, thresholds, detection);
   return CountIntervals(log, options, detection);
 }
@@ -449,10 +446,11 @@ Status DetectWithWindow(const TriadLog& log, const NoiseFloorOptions& options,
     return global;
   if (per_pose.ok()) {
     pose_floors.rule_reason =
-        global.ok() ? StringPrintf("one noise floor for the log found %zu poses, a floor per pose "
-                                   "%zu: the others are louder than %g times the quietest",
-                                   detection->intervals.size(), pose_floors.intervals.size(),
-                                   options.threshold_factor)
+        global.ok() ? StringPrintf(
+                          "one noise floor for the log found %zu poses, a floor per pose "
+                          "%zu: the others are louder than %g times the quietest",
+                          detection->intervals.size(), pose_floors.intervals.size(),
+                          options.threshold_factor)
                     : global.message();
     *detection = std::move(pose_floors);
     return per_pose;
@@ -546,9 +544,8 @@ Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloor
       resolved.window_samples, (resolved.window_samples - 1) * period_s,
       detection->intervals.size(), resolved.min_interval_s,
       DescribeDurations(detection->intervals).c_str(), detection->short_intervals.size(),
-      DescribeDurations(detection->short_intervals).c_str(), resolved.min_intervals,
-      flags.c_str(), best_count,
-      resolved.min_interval_s + (resolved.window_samples - 1) * period_s,
+      DescribeDurations(detection->short_intervals).c_str(), resolved.min_intervals, flags.c_str(),
+      best_count, resolved.min_interval_s + (resolved.window_samples - 1) * period_s,
       resolved.min_interval_s));
 }
 

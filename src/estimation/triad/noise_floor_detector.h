@@ -50,8 +50,8 @@
 //     value). Below half the white value the log is refused as never resting;
 //   - fewer than 10 % of the windows still: the assumption above fails;
 //   - fewer than `min_intervals` intervals of at least `min_interval_s` (10: the
-//     maximum-likelihood fit's minimum, estimation/triad/triad_ml_calibration.h); the message says how
-//     many were found, how long they are, and whether to hold poses longer or add poses.
+//     maximum-likelihood fit's minimum, estimation/triad/triad_ml_calibration.h); the message says
+//     how many were found, how long they are, and whether to hold poses longer or add poses.
 // On a refusal the detection holds what was found, for the caller to show.
 //
 // A second rule, a floor per pose (issue 30, item 2), for the sessions the single floor above
@@ -88,8 +88,8 @@
 #include <vector>
 
 #include "common/status.h"
-#include "estimation/statistics/chi_square.h"
 #include "common/triad_log.h"
+#include "estimation/statistics/chi_square.h"
 #include "estimation/triad/static_intervals.h"
 
 namespace accelcal {

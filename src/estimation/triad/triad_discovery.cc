@@ -125,10 +125,10 @@ Status CrossValidate(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     for (const int p : held) {
       std::array<double, 3> stddev;
       for (int k = 0; k < 3; ++k) {
-        stddev[k] = std::sqrt((pose_mean_variance.empty()
-                                   ? white_variance[k] / poses[p].sample_count
-                                   : pose_mean_variance[p][k]) +
-                              options.fit.quantisation_variance[k]);
+        stddev[k] =
+            std::sqrt((pose_mean_variance.empty() ? white_variance[k] / poses[p].sample_count
+                                                  : pose_mean_variance[p][k]) +
+                      options.fit.quantisation_variance[k]);
       }
       sum += HeldOutChi2(poses[p], stddev, fit, options.fit.gravity_mps2);
     }

@@ -3,16 +3,17 @@
 
 // Does the triad's 9-parameter model explain a multi-position log; if not, what is missing,
 // is it an effect the model knows (models/triad_effect_list.h), can the data tell candidates
-// apart, and what remains? The two-axis discovery's procedure (estimation/tilt_table/discovery.h) on the
-// triad geometry, with the same four verdicts. alpha is shared as there: a null session gets
+// apart, and what remains? The two-axis discovery's procedure (estimation/tilt_table/discovery.h)
+// on the triad geometry, with the same four verdicts. alpha is shared as there: a null session gets
 // any verdict but "explained" with probability at most alpha (tests/triad_discovery_test.cc
 // measures it on simulated sessions). In order:
 //
 // 1. Noise of the pose means, alpha/4. The fit weights each pose mean by a noise model: white
 //    (s_k^2 / N_p, from the within-pose variance) unless the caller offers a coloured one
-//    (e.g. the Allan variance of the log at each pose's duration, estimation/statistics/allan_variance.h)
-//    together with the p-value of white noise against it from the within-pose data alone;
-//    rejected at alpha/4, the coloured model is the noise model of every fit after it.
+//    (e.g. the Allan variance of the log at each pose's duration,
+//    estimation/statistics/allan_variance.h) together with the p-value of white noise against it
+//    from the within-pose data alone; rejected at alpha/4, the coloured model is the noise model of
+//    every fit after it.
 // 2. Effects, alpha/2. Every registered effect that static poses can determine is a candidate,
 //    one coefficient at a time (scale_nonlinearity_x, offset_drift_y, ...). Forward
 //    selection: each candidate is scored by the chi-square it removes, as an F test against
@@ -44,8 +45,8 @@
 #include "common/status.h"
 #include "common/triad_log.h"
 #include "estimation/discovery/check.h"
-#include "estimation/triad/triad_ml_calibration.h"
 #include "estimation/discovery/verdict.h"
+#include "estimation/triad/triad_ml_calibration.h"
 
 namespace accelcal {
 

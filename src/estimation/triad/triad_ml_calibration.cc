@@ -467,10 +467,10 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
   for (int p = 0; p < pose_count; ++p) {
     std::array<double, 3>& mean_stddev = result->mean_stddev[p];
     for (int k = 0; k < 3; ++k) {
-      const double variance = (options.pose_mean_variance.empty()
-                                   ? result->noise_variance[k] / poses[p].sample_count
-                                   : options.pose_mean_variance[p][k]) +
-                              options.quantisation_variance[k];
+      const double variance =
+          (options.pose_mean_variance.empty() ? result->noise_variance[k] / poses[p].sample_count
+                                              : options.pose_mean_variance[p][k]) +
+          options.quantisation_variance[k];
       if (!(variance > 0.0) || !std::isfinite(variance)) {
         return Status::Error(StringPrintf(
             "pose %d: the variance of its mean on axis %c is %g; the noise model must give a "

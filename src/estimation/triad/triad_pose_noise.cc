@@ -102,8 +102,7 @@ double UnroundedNoiseVariance(double rounded_variance, double step) {
   double high = rounded_variance;
   for (int i = 0; i < 60; ++i) {
     const double middle = 0.5 * (low + high);
-    const double rounded =
-        middle + step * step / 12.0 - QuantisationBiasVariance(middle, step);
+    const double rounded = middle + step * step / 12.0 - QuantisationBiasVariance(middle, step);
     (rounded < rounded_variance ? low : high) = middle;
   }
   return 0.5 * (low + high);

@@ -3,8 +3,8 @@
 
 // The coloured noise model of a triad's pose means that discovery is offered
 // (estimation/triad/triad_discovery.h, step 1), from the log's own static data: per axis, the Allan
-// variance of the poses' samples pooled (estimation/statistics/allan_variance.h), its three terms fitted
-// (N, B, K, weighted least squares), and the variance of each pose's mean from them at the
+// variance of the poses' samples pooled (estimation/statistics/allan_variance.h), its three terms
+// fitted (N, B, K, weighted least squares), and the variance of each pose's mean from them at the
 // pose's duration, sigma^2_model(T_p) (AllanPoseMeanVariance).
 //
 // White noise against it, from the within-pose data alone: at the largest octave tau no longer
@@ -73,8 +73,9 @@ enum class TriadNoiseChoice { kAuto, kWhite, kAllan };
 Status ParseTriadNoiseChoice(const std::string& text, TriadNoiseChoice* choice);
 
 // The Allan model when the poses allow one (noise->candidate empty otherwise), the quantisation
-// term in either case, and whether the calibration uses the Allan model: kAllan always (failing when the poses are too short), kAuto when white
-// noise is rejected against it at alpha/4 (discovery's share for the noise), kWhite never.
+// term in either case, and whether the calibration uses the Allan model: kAllan always (failing
+// when the poses are too short), kAuto when white noise is rejected against it at alpha/4
+// (discovery's share for the noise), kWhite never.
 Status SelectTriadPoseNoise(const TriadLog& log, const std::vector<StaticInterval>& intervals,
                             const std::vector<TriadPoseMean>& poses, TriadNoiseChoice choice,
                             double alpha, TriadPoseNoise* noise, bool* use_allan);

@@ -94,12 +94,12 @@ Status CalibrateTriadSessionWithFallback(const TriadLog& log, const TriadSession
     // the line would pass calibrate_imu's 600 bytes with the file's name.
     constexpr size_t kMaxRefusalBytes = 520;
     constexpr size_t kMaxClauseBytes = 140;
-    std::string message = "no static detector finds the poses: the noise floor's: " +
-                          detected.message();
+    std::string message =
+        "no static detector finds the poses: the noise floor's: " + detected.message();
     std::string clause = FirstClause(fallback_refusal, kMaxClauseBytes);
-    std::string fallback = clause.empty() ? "; imu_tk's intervals, the fallback, give none either"
-                                          : "; imu_tk's intervals, the fallback, give none either (" +
-                                                clause + ")";
+    std::string fallback =
+        clause.empty() ? "; imu_tk's intervals, the fallback, give none either"
+                       : "; imu_tk's intervals, the fallback, give none either (" + clause + ")";
     if (message.size() + fallback.size() > kMaxRefusalBytes)
       fallback = "; imu_tk's intervals, the fallback, give none either";
     return Status::Error(message + fallback);

@@ -7,7 +7,8 @@
 //
 //   1. the log's outputs checked against the stated unit, with the offsets' start
 //      (TriadStartOffset);
-//   2. the static poses: from the log's own noise floor (estimation/triad/noise_floor_detector.h), or
+//   2. the static poses: from the log's own noise floor (estimation/triad/noise_floor_detector.h),
+//   or
 //      the intervals of a detector the caller ran (imu_tk's at its chosen k), each pose the mean
 //      of all its samples;
 //   3. the noise model of the pose means, white or Allan (estimation/triad/triad_pose_noise.h);

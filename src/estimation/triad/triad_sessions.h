@@ -120,8 +120,8 @@ Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimat
 // --- The triad's 9 parameters ---
 
 // Each session is calibrated on its own by CalibrateTriadSession
-// (estimation/triad/triad_session_calibration.h), as the single-session `calibrate_imu --mode=ml` does
-// with the noise-floor detector.
+// (estimation/triad/triad_session_calibration.h), as the single-session `calibrate_imu --mode=ml`
+// does with the noise-floor detector.
 
 // The session's estimates of parameter `index`.
 std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>& sessions,
