@@ -4,8 +4,8 @@
 //
 //   two_axis (calibrate's): a CSV with the header t,ax,ay (s, m/s^2) or a .mat with t and
 //     Aerr; the output's header is t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy
-//   triad (calibrate_imu --mode=ml's): a triad log (io/imu_log.h: imu_tk's whitespace layout
-//     or a CSV t_s,acc_x,acc_y,acc_z) in the calibration's output unit; the output's header is
+//   triad (calibrate_imu --mode=ml's): a triad log in any layout io/imu_log.h reads
+//     (docs/log-layouts.md) in the calibration's output unit; the output's header is
 //     t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,corr_yz
 //
 //   build/bin/apply --calibration=cal.json --in=run.csv --out=corrected.csv

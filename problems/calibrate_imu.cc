@@ -22,8 +22,9 @@
 // imu_tk in sigma. The sequence is estimation/triad/triad_session_calibration.h's, which the
 // sessions path (--log=S1,S2,..., calibrate_imu_sessions.cc) runs on every session.
 //
-// Inputs: the log, imu_tk's ASCII layout (t [s], x, y, z separated by blanks) or a CSV file
-// *.csv with the header t_s,acc_x,acc_y,acc_z (io/imu_log.h), in the sensor's own unit.
+// Inputs: the log in any layout io/imu_log.h reads (docs/log-layouts.md: imu_tk's ASCII t x y z,
+// CSV and other text with a header, .mat), in the sensor's own unit; its gyroscope's columns or
+// imu_tk's pair of files (--gyro_log), which mode imu_tk calibrates too.
 // Outputs: the sweep, the chosen k, the parameters and the static intervals on stdout; JSON
 // with --json.
 //
