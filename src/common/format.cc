@@ -1,5 +1,6 @@
 #include "common/format.h"
 
+#include <cctype>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
@@ -37,6 +38,12 @@ std::string JoinStrings(const std::vector<std::string>& items, const char* separ
 std::string FormatTriple(const std::array<double, 3>& v, const char* format) {
   return "(" + StringPrintf(format, v[0]) + ", " + StringPrintf(format, v[1]) + ", " +
          StringPrintf(format, v[2]) + ")";
+}
+
+std::string LowerAscii(std::string_view text) {
+  std::string lowered(text);
+  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lowered;
 }
 
 }  // namespace accelcal

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace accelcal {
@@ -20,6 +21,9 @@ std::string FormatTriple(const std::array<double, 3>& v, const char* format = "%
 // The shortest decimal (15 to 17 significant digits) that reads back as exactly `value`:
 // 0.64 rather than 0.64000000000000001.
 std::string RoundTripDouble(double value);
+
+// `text` with its ASCII letters in lower case (other bytes, UTF-8 among them, unchanged).
+std::string LowerAscii(std::string_view text);
 
 }  // namespace accelcal
 

@@ -25,13 +25,6 @@ std::string_view Trim(std::string_view text) {
   return text.substr(begin, end - begin);
 }
 
-std::string Lower(std::string_view text) {
-  std::string lowered(text);
-  std::transform(lowered.begin(), lowered.end(), lowered.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return lowered;
-}
-
 bool EqualIgnoringCase(std::string_view a, std::string_view b) {
   return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](char x, char y) {
            return std::tolower(static_cast<unsigned char>(x)) ==
@@ -143,7 +136,7 @@ Status CsvLineParser::ParseRow() {
       continue;
     }
     if (!ParseFiniteNumber(cell, &numbers_[c])) {
-      const std::string lowered = Lower(cell);
+      const std::string lowered = LowerAscii(cell);
       const bool not_finite =
           lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
       return Status::Error(

@@ -31,13 +31,6 @@ constexpr size_t kHeadBytes = 1 << 18;
 
 std::string Where(long long line_number) { return "line " + std::to_string(line_number); }
 
-std::string_view TrimBlanks(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t')) text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t' || text.back() == '\r'))
-    text.remove_suffix(1);
-  return text;
-}
-
 // The decimal numbers of a typical log ("3.3108000e+04": at most 19 digits and a small
 // exponent) by Clinger's fast path: when the digits form an integer m <= 2^53 and the
 // exponent e is within +-22, m and 10^|e| are exact doubles, so m * 10^e (or m / 10^-e) is
@@ -110,8 +103,7 @@ bool ReadFourShortDecimals(std::string_view trimmed, double values[4]) {
 }
 
 bool LooksNotFinite(std::string_view cell) {
-  std::string lowered(cell);
-  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string lowered = LowerAscii(cell);
   return lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
 }
 
@@ -197,11 +189,7 @@ class ImuLogLineParser {
       return Status::Error("no samples: the file has a header but no data rows");
     return Status::Ok();
   }
-  Status UnterminatedLastLine() const {
-    return Status::Error(Where(line_number_ + 1) +
-                         " has no line end: the file looks cut short; copy it again, or end the "
-                         "line if it is complete");
-  }
+  Status UnterminatedLastLine() const { return CutShortLine(line_number_ + 1); }
   double t_s() const { return t_s_; }
   const std::array<double, 3>& accelerometer() const { return accelerometer_; }
   const std::array<double, 3>& gyroscope() const { return gyroscope_; }
@@ -261,7 +249,7 @@ Status ImuLogLineParser::ParseLine(std::string_view line, bool* is_sample) {
   ++line_number_;
   if (line_number_ < format_.first_data_line) return Status::Ok();
   if (line_number_ == 1 && line.substr(0, 3) == "\xEF\xBB\xBF") line.remove_prefix(3);
-  const std::string_view trimmed = TrimBlanks(line);
+  const std::string_view trimmed = TrimLine(line);
   if (trimmed.empty() || trimmed.front() == '#') return Status::Ok();
   double values[4];
   double raw_time = 0.0;
@@ -362,26 +350,14 @@ Status CheckTimeUnit(const std::vector<double>& timestamp_s, const ImuLogSource&
     steps[j - 1] = timestamp_s[j] - timestamp_s[j - 1];
   const double step_s = UpperMedian(steps);
   if (!(step_s > 0.0) || (step_s >= kMinRunStepS && step_s <= kMaxRunStepS)) return Status::Ok();
-  static const char* const kUnits[] = {"s", "ms", "us", "ns"};
-  std::vector<int> fitting;
-  for (int u = 0; u < 4; ++u) {
-    const double candidate_s = step_s / source.time_scale_s * std::pow(1e-3, u);
-    if (candidate_s >= kMinRunStepS && candidate_s <= kMaxRunStepS) fitting.push_back(u);
-  }
-  if (fitting.size() == 2) {  // of two, the one at a usual IMU rate (20 Hz to 2 kHz)
-    std::vector<int> usual;
-    for (int u : fitting) {
-      const double rate_hz = 1.0 / (step_s / source.time_scale_s * std::pow(1e-3, u));
-      if (rate_hz >= 20.0 && rate_hz <= 2000.0) usual.push_back(u);
-    }
-    if (usual.size() == 1) fitting = usual;
-  }
+  const double raw_step = step_s / source.time_scale_s;
+  const std::vector<int> fitting = PreferUsualRate(raw_step, TimeUnitsForStep(raw_step));
   std::string advice = "give --time_unit=s, ms, us or ns, or --rate_hz=R";
   if (fitting.size() == 1) {
-    const int u = fitting[0];
-    advice = StringPrintf("read in %s it steps by %.6g s (%.6g Hz): give --time_unit=%s", kUnits[u],
-                          step_s / source.time_scale_s * std::pow(1e-3, u),
-                          1.0 / (step_s / source.time_scale_s * std::pow(1e-3, u)), kUnits[u]);
+    const char* unit = kTimeUnits[fitting[0]];
+    const double candidate_s = raw_step * std::pow(1e-3, fitting[0]);
+    advice = StringPrintf("read in %s it steps by %.6g s (%.6g Hz): give --time_unit=%s", unit,
+                          candidate_s, 1.0 / candidate_s, unit);
   }
   return Status::Error(StringPrintf(
       "time %s steps by %.6g s as read, %.6g Hz, outside an IMU log's 1 Hz to 100 kHz; %s",
@@ -419,10 +395,7 @@ bool IsMatHeader(std::string_view head) {
 }
 
 bool HasMatSuffix(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string suffix = path.substr(path.size() - 4);
-  for (char& c : suffix) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return suffix == ".mat";
+  return path.size() >= 4 && LowerAscii(path.substr(path.size() - 4)) == ".mat";
 }
 
 Status ReadHead(const std::string& path, std::string* head, bool* whole, uint64_t* size) {

@@ -23,12 +23,6 @@ constexpr double kEpochMinS = 1e8;          // a time axis beyond 3 years is a c
 constexpr double kTypicalRateLowHz = 20.0;  // of two plausible units, the one in this band
 constexpr double kTypicalRateHighHz = 2000.0;
 
-std::string Lower(std::string_view text) {
-  std::string lowered(text);
-  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return lowered;
-}
-
 std::string_view TrimCell(std::string_view text) {
   auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
   while (!text.empty() && blank(text.front())) text.remove_prefix(1);
@@ -104,7 +98,7 @@ const std::map<std::string, std::string>& ValueUnitWords() {
 // A unit written in brackets: "[ns]", "(m/s^2)", "[m s^-2]", "[rad s^-1]", "(deg/s)".
 std::string BracketUnit(const std::string& text) {
   std::string compact;
-  for (char c : Lower(text)) {
+  for (char c : LowerAscii(text)) {
     if (c != ' ' && c != '*' && c != '.') compact += c;
   }
   static const std::map<std::string, std::string> units = {{"s", "s"},
@@ -159,7 +153,7 @@ std::vector<std::string> NameTokens(std::string_view name, std::string* bracket_
   std::vector<std::string> tokens;
   std::string token;
   auto flush = [&] {
-    if (!token.empty()) tokens.push_back(Lower(token));
+    if (!token.empty()) tokens.push_back(LowerAscii(token));
     token.clear();
   };
   for (size_t i = 0; i < rest.size(); ++i) {
@@ -233,15 +227,6 @@ struct HeadLine {
   std::string_view text;
 };
 
-// A whole line trimmed of blanks and '\r' (not of quotes: those belong to its first and last
-// fields).
-std::string_view TrimLine(std::string_view text) {
-  auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
-  while (!text.empty() && blank(text.front())) text.remove_prefix(1);
-  while (!text.empty() && blank(text.back())) text.remove_suffix(1);
-  return text;
-}
-
 bool IsSkipped(std::string_view line) {
   const std::string_view trimmed = TrimLine(line);
   return trimmed.empty() || trimmed.front() == '#';
@@ -275,7 +260,7 @@ Status ResolveColumn(const ImuTextFormat& format, const ImuColumnChoice& choice,
   }
   int matches = 0;
   for (size_t c = 0; c < format.header.size(); ++c) {
-    if (Lower(format.header[c]) == Lower(choice.value)) {
+    if (LowerAscii(format.header[c]) == LowerAscii(choice.value)) {
       *column = static_cast<int>(c);
       ++matches;
     }
@@ -394,7 +379,8 @@ Status ChooseTriadByName(const std::vector<ImuColumnName>& names, ImuColumnKind 
   int bare_count = 0;
   for (size_t c = 0; c < format->header.size(); ++c) {
     int axis = -1;
-    if (IsAxisToken(Lower(std::string(TrimCell(format->header[c]))), &axis) && bare[axis] < 0) {
+    if (IsAxisToken(LowerAscii(std::string(TrimCell(format->header[c]))), &axis) &&
+        bare[axis] < 0) {
       bare[axis] = static_cast<int>(c);
       ++bare_count;
     }
@@ -809,6 +795,38 @@ void SplitImuFields(std::string_view line, char separator, std::vector<std::stri
   }
 }
 
+std::string_view TrimLine(std::string_view text) {
+  auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (!text.empty() && blank(text.front())) text.remove_prefix(1);
+  while (!text.empty() && blank(text.back())) text.remove_suffix(1);
+  return text;
+}
+
+Status CutShortLine(long long line_number) {
+  return Status::Error("line " + std::to_string(line_number) +
+                       " has no line end: the file looks cut short; copy it again, or end the "
+                       "line if it is complete");
+}
+
+std::vector<int> TimeUnitsForStep(double raw_step) {
+  std::vector<int> units;
+  for (int u = 0; u < 4; ++u) {
+    const double step_s = raw_step * std::pow(1e-3, u);
+    if (step_s >= kMinRunStepS && step_s <= kMaxRunStepS) units.push_back(u);
+  }
+  return units;
+}
+
+std::vector<int> PreferUsualRate(double raw_step, const std::vector<int>& units) {
+  if (units.size() != 2) return units;
+  std::vector<int> usual;
+  for (const int u : units) {
+    const double rate_hz = 1.0 / (raw_step * std::pow(1e-3, u));
+    if (rate_hz >= kTypicalRateLowHz && rate_hz <= kTypicalRateHighHz) usual.push_back(u);
+  }
+  return usual.size() == 1 ? usual : units;
+}
+
 Status InferTimeUnit(const std::vector<double>& head_times, const std::string& column,
                      bool seconds_by_layout, ImuTextFormat* format) {
   std::vector<double> steps;
@@ -832,23 +850,19 @@ Status InferTimeUnit(const std::vector<double>& head_times, const std::string& c
         " counts 0, 1, 2, ... by 1: a sample number, not a time; give "
         "--rate_hz=R, the rows' rate in Hz (or --time_unit=s, ms, us or ns if it is a time)");
   }
-  static const char* const kUnits[] = {"s", "ms", "us", "ns"};
-  std::vector<int> plausible;
+  std::vector<int> plausible = TimeUnitsForStep(step);
   // A clock's epoch says its unit by its size (s, ms, us or ns since 1970: 1e9 .. 4e9 s).
   const double first = std::abs(head_times.front());
-  for (int u = 0; u < 4; ++u) {
+  for (const int u : plausible) {
     const double scale = std::pow(1e-3, u);
-    const double rate_hz = 1.0 / (step * scale);
-    const bool rate_ok = rate_hz >= 1.0 / kMaxRunStepS && rate_hz <= 1.0 / kMinRunStepS;
-    if (rate_ok && first * scale >= 1e9 && first * scale <= 4e9) {
+    if (first * scale >= 1e9 && first * scale <= 4e9) {
       format->time_scale_s = scale;
       format->time_rule = StringPrintf(
           "time %s in %s: a Unix time in %s by its size (inferred; --time_unit states it), "
           "%.6g Hz",
-          column.c_str(), kUnits[u], kUnits[u], rate_hz);
+          column.c_str(), kTimeUnits[u], kTimeUnits[u], 1.0 / (step * scale));
       return Status::Ok();
     }
-    if (rate_ok) plausible.push_back(u);
   }
   // imu_tk's layout is in seconds by definition: no word when seconds fit.
   if (seconds_by_layout && !plausible.empty() && plausible[0] == 0) {
@@ -856,18 +870,11 @@ Status InferTimeUnit(const std::vector<double>& head_times, const std::string& c
     format->time_rule = "";
     return Status::Ok();
   }
-  if (plausible.size() == 2) {
-    std::vector<int> typical;
-    for (int u : plausible) {
-      const double rate_hz = 1.0 / (step * std::pow(1e-3, u));
-      if (rate_hz >= kTypicalRateLowHz && rate_hz <= kTypicalRateHighHz) typical.push_back(u);
-    }
-    if (typical.size() == 1) plausible = typical;
-  }
+  plausible = PreferUsualRate(step, plausible);
   if (plausible.size() != 1) {
     std::string options;
     for (int u : plausible) {
-      options += StringPrintf("%s%s (%.6g Hz)", options.empty() ? "" : " or ", kUnits[u],
+      options += StringPrintf("%s%s (%.6g Hz)", options.empty() ? "" : " or ", kTimeUnits[u],
                               1.0 / (step * std::pow(1e-3, u)));
     }
     return Status::Error(StringPrintf(
@@ -879,7 +886,7 @@ Status InferTimeUnit(const std::vector<double>& head_times, const std::string& c
   format->time_scale_s = std::pow(1e-3, u);
   format->time_rule = StringPrintf(
       "time %s in %s, inferred from its median step %.6g (%.6g Hz; --time_unit states it)",
-      column.c_str(), kUnits[u], step, 1.0 / (step * format->time_scale_s));
+      column.c_str(), kTimeUnits[u], step, 1.0 / (step * format->time_scale_s));
   return Status::Ok();
 }
 
@@ -967,9 +974,7 @@ Status DetectImuTextFormat(std::string_view head, bool whole, const ImuLogReadOp
   }
   if (data == lines.size()) {
     if (cut_short) {
-      return Status::Error("line " + std::to_string(lines.size() + 1) +
-                           " has no line end: the file looks cut short; copy it again, or end the "
-                           "line if it is complete");
+      return CutShortLine(static_cast<long long>(lines.size()) + 1);
     }
     if (std::all_of(lines.begin(), lines.end(),
                     [](const HeadLine& l) { return IsSkipped(l.text); }))

@@ -122,6 +122,20 @@ Status ChooseTimeUnit(const std::vector<double>& head_times, const std::string& 
                       const std::string& named_unit, const std::string& flag_unit,
                       bool seconds_by_layout, ImuTextFormat* format);
 
+// The time units by index (0: s, 1: ms, 2: us, 3: ns), and those in which a step of `raw_step`
+// (the time column's own numbers) is an IMU log's (1 Hz to 100 kHz, CheckLogTime's bounds).
+constexpr const char* kTimeUnits[] = {"s", "ms", "us", "ns"};
+std::vector<int> TimeUnitsForStep(double raw_step);
+// Of two such units, the one at a usual IMU rate (20 Hz to 2 kHz) when only one is; else `units`.
+std::vector<int> PreferUsualRate(double raw_step, const std::vector<int>& units);
+
+// A line trimmed of blanks, tabs and '\r' (not of quotes: those belong to its first and last
+// fields).
+std::string_view TrimLine(std::string_view text);
+
+// The refusal of a last line without '\n' (line `line_number`): a file cut short.
+Status CutShortLine(long long line_number);
+
 // The splitting of a data line by the format's separator (fields trimmed of blanks, '\r' and
 // double quotes).
 void SplitImuFields(std::string_view line, char separator, std::vector<std::string_view>* fields);
