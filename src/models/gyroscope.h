@@ -147,14 +147,13 @@ void QuaternionRate(const T* q, const T* w, T* q_dot) {
 }
 }  // namespace gyroscope_internal
 
-// One RK4 step, `quaternion` updated in place; rates in rad/s, `step_s` in s.
+// One RK4 step, `quaternion` updated in place, with the rate at the step's middle given; rates in
+// rad/s, `step_s` in s.
 template <typename T>
-void QuaternionRk4Step(const T* rate_before, const T* rate_after, double step_s, T* quaternion) {
+void QuaternionRk4Step(const T* rate_before, const T* rate_middle, const T* rate_after,
+                       double step_s, T* quaternion) {
   using std::sqrt;  // ceres::Jet's sqrt is found by argument-dependent lookup
   const T dt(step_s);
-  const T rate_middle[3] = {T(0.5) * (rate_before[0] + rate_after[0]),
-                            T(0.5) * (rate_before[1] + rate_after[1]),
-                            T(0.5) * (rate_before[2] + rate_after[2])};
   T k1[4], k2[4], k3[4], k4[4], stage[4];
   gyroscope_internal::QuaternionRate(quaternion, rate_before, k1);
   for (int j = 0; j < 4; ++j) stage[j] = quaternion[j] + T(0.5) * dt * k1[j];
@@ -172,6 +171,15 @@ void QuaternionRk4Step(const T* rate_before, const T* rate_after, double step_s,
   }
   const T norm = sqrt(norm_squared);
   for (int j = 0; j < 4; ++j) quaternion[j] /= norm;
+}
+
+// imu_tk's step: the middle rate is the mean of the two samples'.
+template <typename T>
+void QuaternionRk4Step(const T* rate_before, const T* rate_after, double step_s, T* quaternion) {
+  const T rate_middle[3] = {T(0.5) * (rate_before[0] + rate_after[0]),
+                            T(0.5) * (rate_before[1] + rate_after[1]),
+                            T(0.5) * (rate_before[2] + rate_after[2])};
+  QuaternionRk4Step(rate_before, rate_middle, rate_after, step_s, quaternion);
 }
 
 // The rotation matrix (row-major) of a quaternion (w, x, y, z), scaled by 1/|q|^2 as Ceres'
@@ -208,6 +216,57 @@ void IntegrateAngularRate(int sample_count, const RateAt& rate_at,
     rate_at(j + 1, rate_after);
     QuaternionRk4Step(rate_before, rate_after, step_s[j], quaternion);
     for (int k = 0; k < 3; ++k) rate_before[k] = rate_after[k];
+  }
+  QuaternionToRotationMatrix(quaternion, rotation);
+}
+
+// The fourth-order rule of the maximum-likelihood calibration (docs/gyroscope.md): the same RK4
+// steps, the middle rate from the cubic Hermite interpolant of the rates, whose slopes are central
+// differences of the samples (one-sided at the ends):
+//   w(t_j + dt/2) = (w_j + w_j+1) / 2 + dt (w'_j - w'_j+1) / 8.
+// About a fixed axis it adds dt (w_j + w_j+1) / 2 + dt^2 (w'_j - w'_j+1) / 12 per step, the
+// trapezoid rule with its end correction: exact for a cubic rate, where imu_tk's rule leaves the
+// error dt^2 (w'(end) - w'(start)) / 12 of the trapezoid. rate_at(j, T* rate) writes rate j
+// (any order; called more than once per j).
+template <typename T, typename RateAt>
+void IntegrateAngularRateHermite(int sample_count, const RateAt& rate_at,
+                                 const std::vector<double>& step_s, T* rotation) {
+  T quaternion[4] = {T(1.0), T(0.0), T(0.0), T(0.0)};
+  if (sample_count < 2) {
+    QuaternionToRotationMatrix(quaternion, rotation);
+    return;
+  }
+  // A window of four consecutive rates (j - 1 .. j + 2), clamped at the ends.
+  auto slope = [&](int j, const T* before, const T* here, const T* after, T* out) {
+    const int lo = j > 0 ? j - 1 : j;
+    const int hi = j + 1 < sample_count ? j + 1 : j;
+    double span = 0.0;
+    for (int i = lo; i < hi; ++i) span += step_s[i];
+    const T* a = j > 0 ? before : here;
+    const T* b = j + 1 < sample_count ? after : here;
+    for (int k = 0; k < 3; ++k) out[k] = (b[k] - a[k]) / T(span);
+  };
+  T w[4][3];  // rates j - 1, j, j + 1, j + 2
+  rate_at(0, w[1]);
+  rate_at(1, w[2]);
+  for (int k = 0; k < 3; ++k) w[0][k] = w[1][k];
+  if (sample_count > 2) {
+    rate_at(2, w[3]);
+  } else {
+    for (int k = 0; k < 3; ++k) w[3][k] = w[2][k];
+  }
+  for (int j = 0; j + 1 < sample_count; ++j) {
+    T slope_here[3], slope_next[3], middle[3];
+    slope(j, w[0], w[1], w[2], slope_here);
+    slope(j + 1, w[1], w[2], w[3], slope_next);
+    const double dt = step_s[j];
+    for (int k = 0; k < 3; ++k) {
+      middle[k] = T(0.5) * (w[1][k] + w[2][k]) + T(dt / 8.0) * (slope_here[k] - slope_next[k]);
+    }
+    QuaternionRk4Step(w[1], middle, w[2], dt, quaternion);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) w[i][k] = w[i + 1][k];
+    if (j + 3 < sample_count) rate_at(j + 3, w[3]);
   }
   QuaternionToRotationMatrix(quaternion, rotation);
 }

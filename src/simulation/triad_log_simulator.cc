@@ -69,7 +69,19 @@ class SampleWriter {
     }
     const double t_s = options_.start_s + elapsed_s;
     log_->Add(t_s, measured[0], measured[1], measured[2]);
+    const GyroscopeSimulationOptions& gyroscope = options_.gyroscope;
+    if (!gyroscope.enabled) return;
+    double raw[3];
+    GyroscopeRawWithEffects(gyroscope.truth.data(), gyroscope.offset.data(),
+                            gyroscope.effects.data(), rate_.data(), force, raw);
+    for (int k = 0; k < 3; ++k) {
+      raw[k] += noise_scale_ * gyroscope.noise_stddev[k] * random_->StandardNormal();
+      if (gyroscope.round_to_counts) raw[k] = std::round(raw[k]);
+    }
+    log_->gyroscope.push_back({raw[0], raw[1], raw[2]});
   }
+  // The body's angular rate (rad/s) for the samples that follow.
+  void SetRate(const Vector3& rate) { rate_ = rate; }
   int size() const { return static_cast<int>(log_->size()); }
 
  private:
@@ -78,6 +90,7 @@ class SampleWriter {
   TriadLog* log_;
   double noise_scale_ = 1.0;
   std::array<double, 3> vibration_phase_{};
+  Vector3 rate_{};
 };
 
 }  // namespace
@@ -101,11 +114,20 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     const Vector3 axis = TurnAxis(direction, next);
     const double angle_rad = std::atan2(
         std::sqrt(Dot(Cross(direction, next), Cross(direction, next))), Dot(direction, next));
+    // The yaw of the turn (the gyroscope's alone: it leaves the gravity direction's path as is).
+    const double yaw_rad = holds[p].turn_yaw_deg * M_PI / 180.0;
+    const double turn_duration_s = turn_samples / options.rate_hz;
     // Samples strictly inside the turn: its end points are the holds' own samples.
     for (int i = 1; i < turn_samples; ++i) {
       const double progress = 0.5 * (1.0 - std::cos(M_PI * i / turn_samples));
-      writer.Add(Rotate(direction, axis, angle_rad * progress));
+      const double speed = 0.5 * M_PI / turn_duration_s * std::sin(M_PI * i / turn_samples);
+      const Vector3 now = Rotate(direction, axis, angle_rad * progress);
+      writer.SetRate({yaw_rad * speed * now[0] - angle_rad * speed * axis[0],
+                      yaw_rad * speed * now[1] - angle_rad * speed * axis[1],
+                      yaw_rad * speed * now[2] - angle_rad * speed * axis[2]});
+      writer.Add(now);
     }
+    writer.SetRate({0.0, 0.0, 0.0});
   }
   return session;
 }

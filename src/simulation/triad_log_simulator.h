@@ -19,6 +19,8 @@
 #include <vector>
 
 #include "common/triad_log.h"
+#include "models/gyroscope.h"
+#include "models/gyroscope_effects.h"
 #include "models/triad.h"
 #include "simulation/random.h"
 
@@ -28,6 +30,23 @@ struct TriadHold {
   std::array<double, 3> direction{};  // unit vector of the specific force
   double duration_s = 0.0;            // 0: the turn passes through it without stopping
   double noise_scale = 1.0;           // the output noise of this hold is noise_stddev times it
+  double turn_yaw_deg = 0.0;  // the turn after it also turns about gravity by this (gyroscope)
+};
+
+// The gyroscope beside the triad (models/gyroscope.h, models/gyroscope_effects.h), when enabled:
+// at rest it reads its offset plus noise (and the effects of the specific force); in a turn the
+// body turns about the fixed axis n_p x n_p+1 by the hold-to-hold angle, and at the same time
+// about the current gravity direction by the hold's turn_yaw_deg, with the same (1 - cos) profile:
+// the rate is w = psi' n(t) - phi' a (rad/s, body frame), which leaves the accelerometer's samples
+// exactly as without the gyroscope. The rates are exact at the samples (continuous-time turns
+// sampled), the outputs u = GyroscopeRawWithEffects(w, g n) + noise.
+struct GyroscopeSimulationOptions {
+  bool enabled = false;
+  GyroscopeParameters truth = GyroscopeParametersWithGain(2e-4, 2e-4, 2e-4);
+  GyroscopeOffset offset{};
+  GyroscopeEffectCoefficients effects{};
+  std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in the output's unit
+  bool round_to_counts = true;
 };
 
 struct TriadLogSimulationOptions {
@@ -43,6 +62,7 @@ struct TriadLogSimulationOptions {
   // per log. Quiet windows are then not white: most of their variance sits at one frequency.
   std::array<double, 3> vibration_counts{{0.0, 0.0, 0.0}};
   double vibration_hz = 0.0;
+  GyroscopeSimulationOptions gyroscope;  // SimulateTriadSession only
 };
 
 // The true samples of a hold, inclusive (end < start for a hold of no samples).

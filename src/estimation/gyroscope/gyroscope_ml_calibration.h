@@ -1,0 +1,162 @@
+#ifndef ACCELCAL_ESTIMATION_GYROSCOPE_GYROSCOPE_ML_CALIBRATION_H_
+#define ACCELCAL_ESTIMATION_GYROSCOPE_GYROSCOPE_ML_CALIBRATION_H_
+
+// The gyroscope's maximum-likelihood calibration with covariance (issue 32, docs/gyroscope.md),
+// from the session the accelerometer's maximum-likelihood calibration
+// (estimation/triad/triad_ml_calibration.h) has already fitted: its static poses, and the turns
+// between consecutive ones.
+//
+// One problem, jointly with the accelerometer's poses (not conditioned on its answer): the
+// unknowns are the accelerometer's 9 parameters, one unit gravity direction n_p per pose, the
+// gyroscope's 9 parameters, its offset b (3) and the effect coefficients estimated
+// (models/gyroscope_effects.h); the residuals, each whitened,
+//   - the accelerometer's pose means (residuals/triad_pose_residual.h, weighted as its own fit
+//     weighted them: TriadMlResult::mean_stddev), 3 per pose;
+//   - the gyroscope's pose means (GyroscopeRestResidual), 3 per pose: the offset comes from
+//     every static pose, not only an initial rest;
+//   - one per turn (GyroscopeTurnResidual), 2 each: the rotation the calibrated rates integrate
+//     to must carry n_p onto n_p+1.
+// The accelerometer's uncertainty is carried into the gyroscope's covariance because the
+// directions are unknowns of the same problem; the accelerometer's own reported calibration stays
+// its fit alone (the joint fit's accelerometer parameters are compared with it: `accelerometer_
+// shift_sigma`).
+//
+// Noise model, per axis k, from the gyroscope's own samples:
+//   - the white noise s_k^2 (the output's unit squared) pooled within the poses, as the
+//     accelerometer's (PooledWithinPoseVariance), plus q^2/12 for an output quantised in steps
+//     of q (options.quantisation_step);
+//   - a pose mean of N samples: s_k^2 / N, plus the Earth's rate (7.292e-5 rad/s, whose
+//     direction in the body is not known) as a random rate of variance Omega^2 / 3 per axis when
+//     options.earth_rate_as_noise;
+//   - a turn: the white noise integrated, the angle's variance gain_k^2 s_k^2 sum_i c_i^2 (rad^2,
+//     c_i the trapezoid weights of sample i, s), plus (Omega T)^2 / 3 for the Earth's rate over
+//     the turn's T seconds when options.earth_rate_as_noise; the residual's 2 x 2 covariance is
+//     that angle covariance seen at n_p+1: E^T [n]x S [n]x^T E.
+// Bias instability is not modelled: over turns of seconds it is below the white noise of every
+// sensor we have (docs/gyroscope.md gives the figures); the fit statistic would show it.
+//
+// Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 3 samples; the
+// gyroscope parameters' information (the accelerometer's and the directions' marginalised)
+// rank-deficient: the parameters in its near-null space named, with the body axes the turns
+// must turn about to determine them (a gain or a misalignment column is determined by turns about
+// its axis: GyroscopeTurnAxisOf).
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "common/status.h"
+#include "common/triad_log.h"
+#include "estimation/solver/ceres_solve.h"
+#include "estimation/solver/solver_report.h"
+#include "estimation/triad/static_intervals.h"
+#include "estimation/triad/triad_ml_calibration.h"
+#include "models/gyroscope.h"
+#include "models/gyroscope_effects.h"
+#include "models/gyroscope_units.h"
+
+namespace accelcal {
+
+constexpr double kEarthRateRadPerS = 7.2921159e-5;
+
+// The gyroscope's unknowns in the covariance's order: the 9 parameters, the 3 offsets, then the
+// effect coefficients estimated.
+constexpr int kGyroscopeOffsetX = kGyroscopeParameterCount;  // index of offset_x in that order
+constexpr int kGyroscopeCalibrationCount = kGyroscopeParameterCount + 3;  // 12
+
+struct GyroscopeMlOptions {
+  double gravity_mps2 = 9.81;
+  GyroscopeOutputUnit unit = GyroscopeOutputUnit::kCount;  // names the units of the results
+  GyroscopeParameters initial = GyroscopeParametersWithGain(1.0, 1.0, 1.0);
+  // Empty: the offsets start from the mean of the poses' means.
+  bool offset_given = false;
+  GyroscopeOffset initial_offset{};
+  std::vector<int> effects;  // coefficient indices (models/gyroscope_effects.h) estimated
+  GyroscopeEffectCoefficients initial_effects{};
+  double quantisation_step = 0.0;  // the output's step (1 for counts), 0: not quantised
+  bool earth_rate_as_noise = true;
+  // A singular value ratio of the column-normalised marginal information below this marks a
+  // direction the turns do not determine.
+  double rank_tolerance = 1e-8;
+  QuietSolveOptions solve;
+};
+
+struct GyroscopeMlTurn {
+  int pose_before = 0;
+  int first_sample = 0;  // the samples integrated, inclusive (the poses' own end samples)
+  int last_sample = 0;
+  double duration_s = 0.0;
+  double angle_rad = 0.0;           // the angle between n_p and n_p+1 (the tilt turned)
+  double rotation_angle_rad = 0.0;  // the whole rotation the calibrated rates integrate to
+  double residual_angle_rad = 0.0;  // the angle between R^T n_p and n_p+1 at the solution
+  double angle_stddev_rad = 0.0;    // the noise model's per-axis angle sigma over the turn
+  std::array<double, 2> whitened{};
+};
+
+struct GyroscopeMlResult {
+  GyroscopeParameters parameters{};
+  GyroscopeOffset offset{};
+  std::vector<int> effects_estimated;
+  GyroscopeEffectCoefficients effects{};
+  // Over kGyroscopeCalibrationCount + effects_estimated.size() unknowns, in that order.
+  Eigen::MatrixXd covariance;
+  Eigen::VectorXd stddev;
+  std::vector<std::string> names;  // the unknowns' names, in that order
+  std::vector<std::string> units;
+
+  std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
+  std::vector<std::array<double, 3>> rest_means;     // per pose, the output's unit
+  std::vector<std::array<double, 3>> rest_whitened;  // per pose
+  std::vector<std::array<double, 3>> rest_stddev;    // per pose: the means' sigma
+  std::vector<GyroscopeMlTurn> turns;
+  std::vector<std::array<double, 3>> directions;  // the joint fit's n_p
+
+  // The fit: every whitened residual of the joint problem (chi2 on degrees_of_freedom); what the
+  // gyroscope adds, the joint chi2 minus the accelerometer's fit alone (its residuals nest in the
+  // joint problem's), chi-square on the gyroscope's residuals minus its unknowns when both
+  // models hold: the gyroscope's fit statistic. chi2_rest and chi2_turns: the sums of the
+  // gyroscope's squared whitened residuals by kind, at the joint solution.
+  double chi2 = 0.0;
+  int degrees_of_freedom = 0;
+  double p_value = 1.0;
+  double chi2_gyroscope = 0.0;
+  int gyroscope_degrees_of_freedom = 0;  // 3 per pose + 2 per turn - the gyroscope's unknowns
+  double gyroscope_p_value = 1.0;
+  double chi2_turns = 0.0;
+  double chi2_rest = 0.0;
+  SolverReport solver;
+
+  // The joint fit's accelerometer parameters against the accelerometer's own fit: the largest
+  // |difference| / sigma over the 9 (sigma: the accelerometer fit's).
+  TriadParameters accelerometer_joint{};
+  double accelerometer_shift_sigma = 0.0;
+
+  // The Earth's rate (7.29e-5 rad/s) against the noise, in rad/s: the sigma of one pose's
+  // mean (the median over the poses, white noise alone), the offsets' sigma (the largest axis,
+  // in rad/s), and per turn the angle sigma against Omega T (the median over the turns).
+  double pose_mean_sigma_rad_s = 0.0;
+  double offset_sigma_rad_s = 0.0;
+  double turn_angle_sigma_rad = 0.0;
+  double turn_earth_angle_rad = 0.0;
+
+  // When refused as undetermined: the unknowns named, and the body axes to turn about.
+  std::vector<std::string> undetermined;
+  std::vector<std::string> turn_axes_to_add;
+};
+
+// The axis ("x", "y" or "z") turns must be about to determine gyroscope unknown i (the 9, the 3
+// offsets, then effect coefficients), or "" when static poses determine it (the offsets, the
+// g-sensitivity).
+const char* GyroscopeTurnAxisOf(int unknown, const std::vector<int>& effects_estimated);
+
+// `intervals`: the static intervals of `accelerometer`'s poses, in its order (time order), so
+// that pose p is intervals[p]; `accelerometer_options` as its fit ran (g, effects, weights).
+Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                            const TriadMlOptions& accelerometer_options,
+                            const TriadMlResult& accelerometer, const GyroscopeMlOptions& options,
+                            GyroscopeMlResult* result);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_GYROSCOPE_GYROSCOPE_ML_CALIBRATION_H_

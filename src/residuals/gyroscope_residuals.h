@@ -1,0 +1,187 @@
+#ifndef ACCELCAL_RESIDUALS_GYROSCOPE_RESIDUALS_H_
+#define ACCELCAL_RESIDUALS_GYROSCOPE_RESIDUALS_H_
+
+// The two residuals of the gyroscope's maximum-likelihood calibration
+// (estimation/gyroscope/gyroscope_ml_calibration.h, docs/gyroscope.md), both whitened:
+//
+// GyroscopeRestResidual, one per static pose p (3 components):
+//   r = (ubar_p - u(w = 0, f = g n_p)) / sigma_p
+// the gyroscope's mean output over the pose against what it reads at rest (its offset, and the
+// g-sensitivity's rate under the pose's specific force), per axis divided by the standard
+// deviation of the mean. Blocks: the 9 parameters, the offset (3), the effect coefficients (15),
+// the pose's unit gravity direction n_p (3).
+//
+// GyroscopeTurnResidual, one per turn from pose p to pose p + 1 (2 components):
+//   r = W E^T (R^T n_p - n_p+1)
+// R the rotation the calibrated rates w_j = GyroscopeCorrectedRate(u_j, f_j) integrate to over the
+// turn's samples by the fourth-order rule IntegrateAngularRateHermite (models/gyroscope.h); E the
+// 3 x 2 orthonormal basis of the plane normal to n_p+1 (as estimated before the fit: the residual
+// of unit vectors lies in it to first order), W the inverse Cholesky factor of the residual's
+// 2 x 2 covariance. Blocks: the 9 parameters, the offset, the effects, n_p, n_p+1. The rotation
+// and its derivatives by the 27 gyroscope unknowns are computed with ceres::Jet once per
+// evaluation; the directions' derivatives follow in closed form.
+
+#include <ceres/autodiff_cost_function.h>
+#include <ceres/jet.h>
+#include <ceres/sized_cost_function.h>
+
+#include <array>
+#include <utility>
+#include <vector>
+
+#include "models/gyroscope.h"
+#include "models/gyroscope_effects.h"
+
+namespace accelcal {
+
+class GyroscopeRestResidual {
+ public:
+  GyroscopeRestResidual(const std::array<double, 3>& mean, const std::array<double, 3>& stddev,
+                        double gravity_mps2)
+      : mean_(mean), stddev_(stddev), gravity_mps2_(gravity_mps2) {}
+
+  template <typename T>
+  bool operator()(const T* const parameters, const T* const offset, const T* const effects,
+                  const T* const direction, T* residual) const {
+    const T rate[3] = {T(0.0), T(0.0), T(0.0)};
+    const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
+                        T(gravity_mps2_) * direction[2]};
+    T raw[3];
+    GyroscopeRawWithEffects(parameters, offset, effects, rate, force, raw);
+    for (int k = 0; k < 3; ++k) residual[k] = (T(mean_[k]) - raw[k]) / T(stddev_[k]);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(const std::array<double, 3>& mean,
+                                     const std::array<double, 3>& stddev, double gravity_mps2) {
+    return new ceres::AutoDiffCostFunction<GyroscopeRestResidual, 3, kGyroscopeParameterCount, 3,
+                                           kGyroscopeEffectCoefficientCount, 3>(
+        new GyroscopeRestResidual(mean, stddev, gravity_mps2));
+  }
+
+ private:
+  const std::array<double, 3> mean_;
+  const std::array<double, 3> stddev_;
+  const double gravity_mps2_;
+};
+
+// The samples of one turn: outputs, the calibrated specific force at each (m/s^2), the steps.
+struct GyroscopeTurnSamples {
+  std::vector<std::array<double, 3>> raw;
+  std::vector<std::array<double, 3>> specific_force;
+  std::vector<double> step_s;  // step_s[j]: from sample j to j + 1
+};
+
+class GyroscopeTurnResidual
+    : public ceres::SizedCostFunction<2, kGyroscopeParameterCount, 3,
+                                      kGyroscopeEffectCoefficientCount, 3, 3> {
+ public:
+  static constexpr int kUnknowns = kGyroscopeParameterCount + 3 + kGyroscopeEffectCoefficientCount;
+
+  // `basis`: E's two columns; `whitening`: W, row-major.
+  GyroscopeTurnResidual(GyroscopeTurnSamples samples,
+                        const std::array<std::array<double, 3>, 2>& basis,
+                        const std::array<double, 4>& whitening)
+      : samples_(std::move(samples)), basis_(basis), whitening_(whitening) {}
+
+  // R (row-major) at the given unknowns.
+  template <typename T>
+  void Rotation(const T* parameters, const T* offset, const T* effects, T* rotation) const {
+    IntegrateAngularRateHermite(
+        static_cast<int>(samples_.raw.size()),
+        [&](int j, T* rate) {
+          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
+                                 samples_.specific_force[j].data(), rate);
+        },
+        samples_.step_s, rotation);
+  }
+
+  bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
+    const double* before = blocks[3];
+    const double* after = blocks[4];
+    double rotation[9];
+    double rotated_jacobian[3][kUnknowns];
+    const bool gyroscope_jacobian =
+        jacobians != nullptr &&
+        (jacobians[0] != nullptr || jacobians[1] != nullptr || jacobians[2] != nullptr);
+    if (gyroscope_jacobian) {
+      using Jet = ceres::Jet<double, kUnknowns>;
+      Jet parameters[kGyroscopeParameterCount], offset[3],
+          effects[kGyroscopeEffectCoefficientCount];
+      int index = 0;
+      for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], index++);
+      for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], index++);
+      for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i)
+        effects[i] = Jet(blocks[2][i], index++);
+      Jet jet_rotation[9];
+      Rotation(parameters, offset, effects, jet_rotation);
+      for (int i = 0; i < 9; ++i) rotation[i] = jet_rotation[i].a;
+      for (int k = 0; k < 3; ++k) {
+        for (int u = 0; u < kUnknowns; ++u) {
+          rotated_jacobian[k][u] = jet_rotation[k].v[u] * before[0] +
+                                   jet_rotation[3 + k].v[u] * before[1] +
+                                   jet_rotation[6 + k].v[u] * before[2];
+        }
+      }
+    } else {
+      Rotation(blocks[0], blocks[1], blocks[2], rotation);
+    }
+    double difference[3];
+    for (int k = 0; k < 3; ++k) {
+      difference[k] = rotation[k] * before[0] + rotation[3 + k] * before[1] +
+                      rotation[6 + k] * before[2] - after[k];
+    }
+    // M = W E^T (2 x 3): r = M (R^T n_p - n_p+1).
+    double m[2][3];
+    for (int row = 0; row < 2; ++row) {
+      for (int k = 0; k < 3; ++k) {
+        m[row][k] = whitening_[2 * row] * basis_[0][k] + whitening_[2 * row + 1] * basis_[1][k];
+      }
+    }
+    for (int row = 0; row < 2; ++row) {
+      residuals[row] =
+          m[row][0] * difference[0] + m[row][1] * difference[1] + m[row][2] * difference[2];
+    }
+    if (jacobians == nullptr) return true;
+    if (gyroscope_jacobian) {
+      const int sizes[3] = {kGyroscopeParameterCount, 3, kGyroscopeEffectCoefficientCount};
+      int first = 0;
+      for (int block = 0; block < 3; ++block) {
+        if (jacobians[block] != nullptr) {
+          for (int row = 0; row < 2; ++row) {
+            for (int u = 0; u < sizes[block]; ++u) {
+              jacobians[block][row * sizes[block] + u] =
+                  m[row][0] * rotated_jacobian[0][first + u] +
+                  m[row][1] * rotated_jacobian[1][first + u] +
+                  m[row][2] * rotated_jacobian[2][first + u];
+            }
+          }
+        }
+        first += sizes[block];
+      }
+    }
+    if (jacobians[3] != nullptr) {  // d/d n_p = M R^T
+      for (int row = 0; row < 2; ++row) {
+        for (int c = 0; c < 3; ++c) {
+          jacobians[3][row * 3 + c] = m[row][0] * rotation[3 * c] +
+                                      m[row][1] * rotation[3 * c + 1] +
+                                      m[row][2] * rotation[3 * c + 2];
+        }
+      }
+    }
+    if (jacobians[4] != nullptr) {  // d/d n_p+1 = -M
+      for (int row = 0; row < 2; ++row)
+        for (int c = 0; c < 3; ++c) jacobians[4][row * 3 + c] = -m[row][c];
+    }
+    return true;
+  }
+
+ private:
+  const GyroscopeTurnSamples samples_;
+  const std::array<std::array<double, 3>, 2> basis_;
+  const std::array<double, 4> whitening_;
+};
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_RESIDUALS_GYROSCOPE_RESIDUALS_H_
