@@ -39,6 +39,7 @@
 #include <iostream>
 #include <map>
 
+#include "estimation/gyroscope/gyroscope_ml_calibration.h"
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/triad_pose_noise.h"
@@ -166,9 +167,10 @@ Status RefuseGyroscopeFlags(const std::string& where) {
   for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias", "imu_tk_calib_out"}) {
     if (FlagGiven(name)) {
       return Status::Error(
-          std::string("--") + name + " belongs to --mode=imu_tk, which calibrates " +
-          (std::string(name) == "imu_tk_calib_out" ? "by imu_tk's rules and writes its files"
-                                                   : "the gyroscope by imu_tk's rules") +
+          std::string("--") + name + " belongs to " +
+          (std::string(name) == "imu_tk_calib_out"
+               ? "--mode=imu_tk, which calibrates by imu_tk's rules and writes its files"
+               : "--mode=imu_tk and --mode=ml, which calibrate the gyroscope of a log") +
           "; " + where + " does not read it");
     }
   }
@@ -183,8 +185,18 @@ Status ValidateFlags() {
                          "' is not a mode; use --mode=imu_tk, ml or ferraris");
   }
   ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
-  if (FLAGS_mode != "imu_tk")
+  if (FLAGS_mode == "ferraris")
     ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
+  if (FLAGS_mode == "ml" && !FLAGS_imu_tk_calib_out.empty()) {
+    return Status::Error(
+        "--imu_tk_calib_out belongs to --mode=imu_tk, whose result imu_tk's files hold; "
+        "--mode=ml writes its calibration with --calibration_out");
+  }
+  if (FLAGS_mode == "ml" && FlagGiven("gyro_bias")) {
+    return Status::Error(
+        "--gyro_bias belongs to --mode=imu_tk; --mode=ml estimates the gyroscope's offsets from "
+        "every pose's mean");
+  }
   TriadNoiseChoice noise;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadNoiseChoice(FLAGS_noise, &noise).WithContext("--noise"));
   if (!(FLAGS_alpha > 0.0 && FLAGS_alpha < 0.5)) {
@@ -274,9 +286,8 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
       report->gyroscope_sha256 = source->files.at("log_gyroscope").sha256;
     report->log_notes.push_back(
         "gyroscope: read (" + std::to_string(log->gyroscope.size()) + " samples); " +
-        (FLAGS_mode == "imu_tk"
-             ? std::string("calibrated below by imu_tk's rules")
-             : "not yet calibrated by the ml mode (--mode=imu_tk calibrates it)"));
+        (FLAGS_mode == "imu_tk" ? std::string("calibrated below by imu_tk's rules")
+                                : std::string("calibrated below by maximum likelihood")));
     ACCELCAL_RETURN_IF_ERROR(
         TakeStatedUnitOf(log_source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
                          "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit, &report->log_notes)
@@ -462,6 +473,36 @@ Status SolveImuTkGyroscope(const TriadLog& log, CalibrateImuReport* report) {
   return Status::Ok();
 }
 
+// Mode ml on a log with a gyroscope: imu_tk's gyroscope calibration for comparison (when its
+// rules gave the accelerometer's), then the maximum-likelihood one on the poses of the
+// accelerometer's fit, started from imu_tk's result or the stated gain.
+Status SolveMlGyroscope(const TriadLog& log, CalibrateImuReport* report) {
+  const std::string& where = FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log;
+  if (report->imu_tk_status.ok()) {
+    report->imu_tk_gyroscope_status =
+        CalibrateImuTkGyroscope(log, report->result, report->gyroscope_options, &report->gyroscope);
+    report->has_gyroscope_calibration = report->imu_tk_gyroscope_status.ok();
+  } else {
+    report->imu_tk_gyroscope_status =
+        Status::Error("imu_tk's accelerometer calibration gave none to start from");
+  }
+  GyroscopeMlOptions& options = report->gyroscope_ml_options;
+  options.gravity_mps2 = FLAGS_g;
+  options.unit = report->gyroscope_unit;
+  options.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
+                                                      : report->gyroscope_options.initial;
+  options.quantisation_step = report->gyroscope_unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
+  ACCELCAL_RETURN_IF_ERROR(CalibrateGyroscopeMl(log, report->pose_intervals, report->ml_options,
+                                                report->ml, options, &report->gyroscope_ml)
+                               .WithContext(where + ": the gyroscope"));
+  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
+                                                     report->gyroscope_ml.offset,
+                                                     report->gyroscope_unit)
+                               .WithContext(where));
+  report->has_gyroscope_ml = true;
+  return Status::Ok();
+}
+
 Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   TriadSessionOptions options;
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
@@ -470,7 +511,12 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   // imu_tk's start, and the unit checked against the log with its offset, once for both modes.
   ACCELCAL_RETURN_IF_ERROR(
       InitialGuess(log, options, &report->options.initial, &report->initial_offset_from));
-  if (FLAGS_mode == "ml") return SolveMl(log, options, report);
+  if (FLAGS_mode == "ml") {
+    bool gyroscope = log.has_gyroscope();
+    if (gyroscope) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report, &gyroscope));
+    ACCELCAL_RETURN_IF_ERROR(SolveMl(log, options, report));
+    return gyroscope ? SolveMlGyroscope(log, report) : Status::Ok();
+  }
   // The gyroscope's start is refused before the accelerometer's sweep, which takes seconds.
   bool gyroscope = log.has_gyroscope();
   if (gyroscope) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report, &gyroscope));

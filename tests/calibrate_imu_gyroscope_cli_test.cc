@@ -301,18 +301,48 @@ TEST(CalibrateImuGyroscopeCli, RefusesAUnitTheGyroscopeContradictsAndAnUnknownOn
       "calibrate_imu", "--initial_gyro_gain is for the gyroscope, and the log has none");
 }
 
-TEST(CalibrateImuGyroscopeCli, MlModeKeepsTheGyroscopeUncalibratedAndRefusesItsFlags) {
+// Mode ml on the Xsens pair: the gyroscope calibrated jointly with the accelerometer's poses,
+// every parameter with a sigma, beside imu_tk's (within 2 sigma for the nine imu_tk estimates;
+// its offsets are its initial rest's, which the session's poses put 4 to 11 sigma away: the
+// offset wanders, and the fit estimates that wander). The turns, not used to estimate the wander,
+// fit it: chi2 of the 74 turn components within 3 sd of 74. --gyro_bias and --imu_tk_calib_out
+// belong to imu_tk's mode.
+TEST(CalibrateImuGyroscopeCli, MlModeCalibratesTheGyroscopeWithSigmaBesideImuTk) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   std::vector<std::string> ml = XsensPairArgs(dir);
   ml[3] = "--mode=ml";
-  ExpectBadInputContract(RunBinaryArgs("calibrate_imu", With(ml, {"--initial_gyro_gain=0.001"})),
-                         "calibrate_imu", "--initial_gyro_gain belongs to --mode=imu_tk");
-  const testing::CommandResult result = RunBinaryArgs("calibrate_imu", ml);
+  ExpectBadInputContract(RunBinaryArgs("calibrate_imu", With(ml, {"--initial_gyro_gain=0.000159795",
+                                                                  "--gyro_bias=rest"})),
+                         "calibrate_imu", "--gyro_bias belongs to --mode=imu_tk");
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("gyroscope_ml.json");
+  const testing::CommandResult result = RunBinaryArgs(
+      "calibrate_imu", With(ml, {"--initial_gyro_gain=0.000159795", "--json=" + json_path}));
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
-  EXPECT_NE(result.stdout_text.find("gyroscope: read (51175 samples); not yet calibrated by the "
-                                    "ml mode"),
-            std::string::npos);
-  EXPECT_EQ(result.stdout_text.find("Gyroscope: imu_tk's"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("Gyroscope: maximum likelihood"), std::string::npos);
+  EXPECT_NE(result.stdout_text.find("Earth's rate"), std::string::npos);
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  const nlohmann::json& g = json.at("gyroscope");
+  ASSERT_TRUE(g.is_object());
+  const nlohmann::json& order = g.at("parameter_order");
+  ASSERT_EQ(order.size(), 12u);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string name = order[i];
+    const double value = g.at("parameters").at(name);
+    const double sigma = g.at("stddev").at(name);
+    ASSERT_GT(sigma, 0.0) << name;
+    EXPECT_NEAR(sigma * sigma, g.at("covariance")[i][i].get<double>(), 1e-9 * sigma * sigma);
+    const double imu_tk = g.at("imu_tk").at("parameters").at(name);
+    if (i < 9) EXPECT_LT(std::abs(value - imu_tk), 2.0 * sigma) << name;
+  }
+  // Gains to better than 0.1%: 4779 +- 3 counts per rad/s on x.
+  const double gain_x = g.at("parameters").at("gyroscope_gain_x");
+  EXPECT_LT(g.at("stddev").at("gyroscope_gain_x").get<double>() / gain_x, 1e-3);
+  EXPECT_GT(g.at("fit").at("p_value").get<double>(), 0.01);
+  const double turns = g.at("fit").at("chi2_turns");
+  EXPECT_LT(std::abs(turns - 74.0), 3.0 * std::sqrt(2.0 * 74.0)) << turns;
+  EXPECT_EQ(g.at("turns").size(), 37u);
+  EXPECT_GT(g.at("bias_wander_variance")[0].get<double>(), 0.0);
 }
 
 }  // namespace

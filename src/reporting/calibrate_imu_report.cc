@@ -10,6 +10,7 @@
 #include "estimation/statistics/chi_square.h"
 #include "io/imu_tk_calib_file.h"
 #include "models/triad.h"
+#include "reporting/gyroscope_report.h"
 #include "reporting/triad_discovery_report.h"
 
 namespace accelcal {
@@ -42,6 +43,9 @@ constexpr const char* kImuTkPrintedGyroscope[kGyroscopeParameterCount + 3] = {
 constexpr const char* kDatasheetGyroscope[kGyroscopeParameterCount + 3] = {
     "-", "-", "-", "-", "-", "-", "1/4778", "1/4758", "1/4766", "32768", "32466", "32485"};
 constexpr char kImuTkPrintedResidual[] = "0.00150696";
+}  // namespace
+const char* DatasheetGyroscopeValue(int i) { return kDatasheetGyroscope[i]; }
+namespace {
 // imu_tk's printout on that pair, as its calibrateAccGyro writes it (cout << "Gyroscopes
 // calibration: residual " << cost << endl << gyro_calib_ << endl << ...: the CalibratedTriad's
 // operator<< ends its bias vector with endl, and the endl after it leaves an empty line).
@@ -717,6 +721,7 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   out << "Fit: " << FitDescription(ml, report.allan_noise, report.discovery) << ".\n\n";
   out << TriadDiscoveryTable(report.discovery, report.discovery_options) << "\n";
   out << (full_solver_report ? ml.solver.full_report : ml.solver.brief_report) << "\n";
+  if (report.has_gyroscope_ml) out << GyroscopeMlTable(report);
   return out.str();
 }
 
@@ -894,6 +899,7 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["discovery"] = TriadDiscoveryJson(report.discovery, report.discovery_options);
   json["verdict"] = VerdictCode(report.discovery.verdict_code);
   json["verdict_text"] = report.discovery.verdict;
+  json["gyroscope"] = report.has_gyroscope_ml ? GyroscopeMlJson(report) : nlohmann::json(nullptr);
   return json;
 }
 

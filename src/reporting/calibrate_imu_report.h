@@ -13,6 +13,7 @@
 #include <string>
 
 #include "common/triad_log.h"
+#include "estimation/gyroscope/gyroscope_ml_calibration.h"
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
 #include "estimation/triad/noise_floor_detector.h"
@@ -53,6 +54,13 @@ struct CalibrateImuReport {
   std::string initial_gyro_gain_from;  // how the start's gains were chosen
   ImuTkGyroscopeOptions gyroscope_options;
   ImuTkGyroscopeResult gyroscope;
+  // Mode ml on a log with a gyroscope: its maximum-likelihood calibration
+  // (estimation/gyroscope/gyroscope_ml_calibration.h); imu_tk's above beside it when its rules
+  // gave one (has_gyroscope_calibration), else why not.
+  bool has_gyroscope_ml = false;
+  GyroscopeMlOptions gyroscope_ml_options;
+  GyroscopeMlResult gyroscope_ml;
+  Status imu_tk_gyroscope_status;
   // --imu_tk_calib_out's two files, when asked for ("" when not written).
   std::string imu_tk_calib_acc_path;
   std::string imu_tk_calib_gyro_path;
@@ -97,6 +105,9 @@ bool IsImuTkExample(const CalibrateImuReport& report);
 // The SHA-256 of imu_tk's bin/test_data/xsens_gyro.mat, the example's gyroscope file.
 constexpr char kImuTkXsensGyroSha256[] =
     "e0d6cc7ccbc996aba3dae5063e97360a8b765ad1dffd02eae8ec69820eb37c1d";
+// The datasheet's value of gyroscope parameter i (the 9, then the offsets) on imu_tk's Xsens
+// pair, as SOURCE.txt gives it ("-" for the misalignments it does not give).
+const char* DatasheetGyroscopeValue(int i);
 // The gyroscope's calibration ran on imu_tk's example pair (both files recognised).
 bool IsImuTkGyroscopeExample(const CalibrateImuReport& report);
 // The lines imu_tk prints for the gyroscope, from "Gyroscopes calibration: residual" to the

@@ -165,351 +165,400 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const double earth_axis_variance =
       options.earth_rate_as_noise ? kEarthRateRadPerS * kEarthRateRadPerS / 3.0 : 0.0;
 
-  ceres::Problem problem;
-  double* gyroscope = result->parameters.data();
-  double* offset = result->offset.data();
-  double* effects = result->effects.data();
-  std::vector<ceres::ResidualBlockId> accelerometer_blocks, rest_blocks, turn_blocks;
-  std::vector<double> pose_sigmas;
-  for (int p = 0; p < pose_count; ++p) {
-    double* direction = result->directions[p].data();
-    if (accelerometer.effects_estimated.empty()) {
-      accelerometer_blocks.push_back(problem.AddResidualBlock(
-          TriadPoseResidual::Create(poses[p].mean, accelerometer.mean_stddev[p],
-                                    accelerometer_options.gravity_mps2),
-          nullptr, accelerometer_parameters.data(), direction));
-    } else {
-      TriadPoseContext context;
-      context.time_s = poses[p].time_s - accelerometer.time_origin_s;
-      accelerometer_blocks.push_back(problem.AddResidualBlock(
-          TriadPoseResidual::CreateWithEffects(poses[p].mean, accelerometer.mean_stddev[p],
-                                               accelerometer_options.gravity_mps2, context),
-          nullptr, accelerometer_parameters.data(), accelerometer_effects.data(), direction));
-    }
-    problem.SetManifold(direction, new ceres::SphereManifold<3>());
-    std::array<double, 3> stddev;
-    for (int k = 0; k < 3; ++k) {
-      const double variance =
-          white[k] / rest[p].sample_count + earth_axis_variance / (gain_rad_s[k] * gain_rad_s[k]);
-      stddev[k] = std::sqrt(variance);
-      pose_sigmas.push_back(std::sqrt(white[k] / rest[p].sample_count) * gain_rad_s[k]);
-    }
-    result->rest_means.push_back(rest[p].mean);
-    result->rest_stddev.push_back(stddev);
-    rest_blocks.push_back(problem.AddResidualBlock(
-        GyroscopeRestResidual::Create(rest[p].mean, stddev, options.gravity_mps2), nullptr,
-        gyroscope, offset, effects, direction));
-  }
-  if (!accelerometer.effects_estimated.empty())
-    problem.SetParameterBlockConstant(accelerometer_effects.data());
-
-  // The turns.
-  std::vector<double> turn_sigmas, turn_earth;
-  for (int p = 0; p + 1 < pose_count; ++p) {
-    GyroscopeMlTurn turn;
-    turn.pose_before = p;
-    turn.first_sample = intervals[p].end;
-    turn.last_sample = intervals[p + 1].start;
-    const int count = turn.last_sample - turn.first_sample + 1;
-    if (count < 3) {
-      return Status::Error(
-          StringPrintf("the turn from pose %d to pose %d has %d samples; a turn needs at least 3",
-                       p + 1, p + 2, count));
-    }
-    GyroscopeTurnSamples samples;
-    double weights_squared = 0.0;
-    for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
-      samples.raw.push_back(log.gyroscope[i]);
-      double force[3];
-      TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
-      samples.specific_force.push_back({force[0], force[1], force[2]});
-      const double before =
-          i > turn.first_sample ? log.timestamp_s[i] - log.timestamp_s[i - 1] : 0.0;
-      const double after = i < turn.last_sample ? log.timestamp_s[i + 1] - log.timestamp_s[i] : 0.0;
-      if (i < turn.last_sample) {
-        if (!(after > 0.0)) {
-          return Status::Error(
-              StringPrintf("samples %d and %d: time does not increase (%.17g then %.17g s)", i + 1,
-                           i + 2, log.timestamp_s[i], log.timestamp_s[i + 1]));
-        }
-        samples.step_s.push_back(after);
-      }
-      const double weight = 0.5 * (before + after);
-      weights_squared += weight * weight;
-    }
-    turn.duration_s = log.timestamp_s[turn.last_sample] - log.timestamp_s[turn.first_sample];
-    // The angle's covariance (rad^2), diagonal in the body frame.
-    double angle_variance[3];
-    for (int k = 0; k < 3; ++k) {
-      angle_variance[k] = gain_rad_s[k] * gain_rad_s[k] * white[k] * weights_squared +
-                          earth_axis_variance * turn.duration_s * turn.duration_s;
-    }
-    turn_sigmas.push_back(
-        std::sqrt((angle_variance[0] + angle_variance[1] + angle_variance[2]) / 3.0));
-    turn_earth.push_back(kEarthRateRadPerS * turn.duration_s);
-    turn.angle_stddev_rad = turn_sigmas.back();
-    const Vector3& after = accelerometer.directions[p + 1];
-    const std::array<Vector3, 2> basis = NormalBasis(after);
-    // C = E^T [n]x S [n]x^T E; [n]x^T e = e x n.
-    Eigen::Matrix2d c;
-    for (int a = 0; a < 2; ++a) {
-      for (int b = 0; b < 2; ++b) {
-        const Vector3 ua = Cross(basis[a], after);
-        const Vector3 ub = Cross(basis[b], after);
-        c(a, b) = ua[0] * angle_variance[0] * ub[0] + ua[1] * angle_variance[1] * ub[1] +
-                  ua[2] * angle_variance[2] * ub[2];
-      }
-    }
-    const Eigen::Matrix2d w = Eigen::Matrix2d(c.llt().matrixL()).inverse();
-    const std::array<double, 4> whitening = {w(0, 0), w(0, 1), w(1, 0), w(1, 1)};
-    turn.angle_rad = AngleBetween(accelerometer.directions[p], after);
-    result->turns.push_back(turn);
-    turn_blocks.push_back(problem.AddResidualBlock(
-        new GyroscopeTurnResidual(std::move(samples), basis, whitening), nullptr, gyroscope, offset,
-        effects, result->directions[p].data(), result->directions[p + 1].data()));
-  }
-  if (estimated.empty()) {
-    problem.SetParameterBlockConstant(effects);
-  } else if (static_cast<int>(estimated.size()) < kGyroscopeEffectCoefficientCount) {
-    std::vector<int> held;
-    for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c)
-      if (!std::binary_search(estimated.begin(), estimated.end(), c)) held.push_back(c);
-    problem.SetManifold(effects, new ceres::SubsetManifold(kGyroscopeEffectCoefficientCount, held));
-  }
-
-  // How much the turns go about each body axis (rad, from the accelerometer's directions), and
-  // how far each gyroscope output strays from its offset in them (in its noise's sigmas).
-  std::array<double, 3> turned_about{}, channel_peak_sigmas{};
-  for (const GyroscopeMlTurn& turn : result->turns) {
-    Vector3 axis = Cross(accelerometer.directions[turn.pose_before],
-                         accelerometer.directions[turn.pose_before + 1]);
-    const double norm = std::sqrt(Dot(axis, axis));
-    for (int k = 0; k < 3; ++k) {
-      if (norm > 0.0) turned_about[k] += turn.angle_rad * std::abs(axis[k]) / norm;
-      for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
-        channel_peak_sigmas[k] =
-            std::max(channel_peak_sigmas[k],
-                     std::abs(log.gyroscope[i][k] - result->offset[k]) / std::sqrt(white[k]));
-      }
-    }
-  }
-
-  // The gyroscope's information with everything else marginalised; its near-null directions.
-  std::vector<double*> order = {gyroscope, offset};
-  if (!estimated.empty()) order.push_back(effects);
-  order.push_back(accelerometer_parameters.data());
-  for (Vector3& direction : result->directions) order.push_back(direction.data());
-  auto check_rank = [&]() -> Status {
-    ceres::Problem::EvaluateOptions evaluate;
-    evaluate.parameter_blocks = order;
-    evaluate.num_threads = 1;
-    ceres::CRSMatrix crs;
-    if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs))
-      return Status::Error("the gyroscope's residuals could not be evaluated");
-    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-    for (int row = 0; row < crs.num_rows; ++row)
-      for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
-        jacobian(row, crs.cols[i]) = crs.values[i];
-    const Eigen::MatrixXd information = jacobian.transpose() * jacobian;
-    const int m = unknown_count;
-    const int r = static_cast<int>(information.rows()) - m;
-    const Eigen::MatrixXd rest_information = information.bottomRightCorner(r, r);
-    const Eigen::LDLT<Eigen::MatrixXd> rest_solve(rest_information);
-    const Eigen::MatrixXd marginal =
-        information.topLeftCorner(m, m) -
-        information.topRightCorner(m, r) * rest_solve.solve(information.bottomLeftCorner(r, m));
-    std::vector<std::string> unconstrained;
-    for (int i = 0; i < m; ++i)
-      if (!(marginal(i, i) > 0.0)) unconstrained.push_back(result->names[i]);
-    std::vector<int> weak;
-    if (unconstrained.empty()) {
-      const Eigen::VectorXd scale = marginal.diagonal().cwiseSqrt().cwiseInverse();
-      const Eigen::MatrixXd normalised = scale.asDiagonal() * marginal * scale.asDiagonal();
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normalised);
-      const double largest = eigen.eigenvalues().maxCoeff();
-      std::set<int> named;
-      for (int k = 0; k < m; ++k) {
-        if (eigen.eigenvalues()[k] > options.rank_tolerance * largest) continue;
-        for (int i = 0; i < m; ++i)
-          if (std::abs(eigen.eigenvectors()(i, k)) > 0.1) named.insert(i);
-      }
-      weak.assign(named.begin(), named.end());
-    } else {
-      for (int i = 0; i < m; ++i)
-        if (!(marginal(i, i) > 0.0)) weak.push_back(i);
-    }
-    if (weak.empty()) return Status::Ok();
-    std::set<std::string> axes;
-    std::string names;
-    for (int i : weak) {
-      result->undetermined.push_back(result->names[i]);
-      names += (names.empty() ? "" : ", ") + result->names[i];
-      const std::string axis = GyroscopeTurnAxisOf(i, estimated);
-      if (!axis.empty()) axes.insert(axis);
-    }
-    // An axis whose output stays at its offset through every turn, though the turns (as the
-    // accelerometer sees them) go about it, is a dead channel, not a missing turn.
-    std::string dead, missing;
-    for (const std::string& axis : axes) {
-      const int k = axis[0] - 'x';
-      if (channel_peak_sigmas[k] < 10.0 && turned_about[k] > 0.5) {
-        dead += (dead.empty() ? "" : " and ") + axis;
+  // One fit with a bias wander of variance wander[k] (the output's unit squared) between poses.
+  auto fit = [&](const std::array<double, 3>& wander) -> Status {
+    result->rest_means.clear();
+    result->rest_stddev.clear();
+    result->rest_whitened.clear();
+    result->turns.clear();
+    result->undetermined.clear();
+    result->turn_axes_to_add.clear();
+    result->chi2_rest = result->chi2_turns = 0.0;
+    result->accelerometer_shift_sigma = result->offset_sigma_rad_s = 0.0;
+    ceres::Problem problem;
+    double* gyroscope = result->parameters.data();
+    double* offset = result->offset.data();
+    double* effects = result->effects.data();
+    std::vector<ceres::ResidualBlockId> accelerometer_blocks, rest_blocks, turn_blocks;
+    std::vector<double> pose_sigmas;
+    for (int p = 0; p < pose_count; ++p) {
+      double* direction = result->directions[p].data();
+      if (accelerometer.effects_estimated.empty()) {
+        accelerometer_blocks.push_back(problem.AddResidualBlock(
+            TriadPoseResidual::Create(poses[p].mean, accelerometer.mean_stddev[p],
+                                      accelerometer_options.gravity_mps2),
+            nullptr, accelerometer_parameters.data(), direction));
       } else {
-        result->turn_axes_to_add.push_back(axis);
-        missing += (missing.empty() ? "" : " and ") + axis;
+        TriadPoseContext context;
+        context.time_s = poses[p].time_s - accelerometer.time_origin_s;
+        accelerometer_blocks.push_back(problem.AddResidualBlock(
+            TriadPoseResidual::CreateWithEffects(poses[p].mean, accelerometer.mean_stddev[p],
+                                                 accelerometer_options.gravity_mps2, context),
+            nullptr, accelerometer_parameters.data(), accelerometer_effects.data(), direction));
+      }
+      problem.SetManifold(direction, new ceres::SphereManifold<3>());
+      std::array<double, 3> stddev;
+      for (int k = 0; k < 3; ++k) {
+        const double variance = white[k] / rest[p].sample_count +
+                                earth_axis_variance / (gain_rad_s[k] * gain_rad_s[k]) + wander[k];
+        stddev[k] = std::sqrt(variance);
+        pose_sigmas.push_back(std::sqrt(white[k] / rest[p].sample_count) * gain_rad_s[k]);
+      }
+      result->rest_means.push_back(rest[p].mean);
+      result->rest_stddev.push_back(stddev);
+      rest_blocks.push_back(problem.AddResidualBlock(
+          GyroscopeRestResidual::Create(rest[p].mean, stddev, options.gravity_mps2), nullptr,
+          gyroscope, offset, effects, direction));
+    }
+    if (!accelerometer.effects_estimated.empty())
+      problem.SetParameterBlockConstant(accelerometer_effects.data());
+
+    // The turns.
+    std::vector<double> turn_sigmas, turn_earth;
+    for (int p = 0; p + 1 < pose_count; ++p) {
+      GyroscopeMlTurn turn;
+      turn.pose_before = p;
+      turn.first_sample = intervals[p].end;
+      turn.last_sample = intervals[p + 1].start;
+      const int count = turn.last_sample - turn.first_sample + 1;
+      if (count < 3) {
+        return Status::Error(
+            StringPrintf("the turn from pose %d to pose %d has %d samples; a turn needs at least 3",
+                         p + 1, p + 2, count));
+      }
+      GyroscopeTurnSamples samples;
+      double weights_squared = 0.0;
+      for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+        samples.raw.push_back(log.gyroscope[i]);
+        double force[3];
+        TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
+        samples.specific_force.push_back({force[0], force[1], force[2]});
+        const double before =
+            i > turn.first_sample ? log.timestamp_s[i] - log.timestamp_s[i - 1] : 0.0;
+        const double after =
+            i < turn.last_sample ? log.timestamp_s[i + 1] - log.timestamp_s[i] : 0.0;
+        if (i < turn.last_sample) {
+          if (!(after > 0.0)) {
+            return Status::Error(
+                StringPrintf("samples %d and %d: time does not increase (%.17g then %.17g s)",
+                             i + 1, i + 2, log.timestamp_s[i], log.timestamp_s[i + 1]));
+          }
+          samples.step_s.push_back(after);
+        }
+        const double weight = 0.5 * (before + after);
+        weights_squared += weight * weight;
+      }
+      turn.duration_s = log.timestamp_s[turn.last_sample] - log.timestamp_s[turn.first_sample];
+      // The angle's covariance (rad^2), diagonal in the body frame.
+      double angle_variance[3];
+      for (int k = 0; k < 3; ++k) {
+        angle_variance[k] =
+            gain_rad_s[k] * gain_rad_s[k] *
+                (white[k] * weights_squared + wander[k] * turn.duration_s * turn.duration_s) +
+            earth_axis_variance * turn.duration_s * turn.duration_s;
+      }
+      turn_sigmas.push_back(
+          std::sqrt((angle_variance[0] + angle_variance[1] + angle_variance[2]) / 3.0));
+      turn_earth.push_back(kEarthRateRadPerS * turn.duration_s);
+      turn.angle_stddev_rad = turn_sigmas.back();
+      const Vector3& after = accelerometer.directions[p + 1];
+      const std::array<Vector3, 2> basis = NormalBasis(after);
+      // C = E^T [n]x S [n]x^T E; [n]x^T e = e x n.
+      Eigen::Matrix2d c;
+      for (int a = 0; a < 2; ++a) {
+        for (int b = 0; b < 2; ++b) {
+          const Vector3 ua = Cross(basis[a], after);
+          const Vector3 ub = Cross(basis[b], after);
+          c(a, b) = ua[0] * angle_variance[0] * ub[0] + ua[1] * angle_variance[1] * ub[1] +
+                    ua[2] * angle_variance[2] * ub[2];
+        }
+      }
+      const Eigen::Matrix2d w = Eigen::Matrix2d(c.llt().matrixL()).inverse();
+      const std::array<double, 4> whitening = {w(0, 0), w(0, 1), w(1, 0), w(1, 1)};
+      turn.angle_rad = AngleBetween(accelerometer.directions[p], after);
+      result->turns.push_back(turn);
+      turn_blocks.push_back(problem.AddResidualBlock(
+          new GyroscopeTurnResidual(std::move(samples), basis, whitening), nullptr, gyroscope,
+          offset, effects, result->directions[p].data(), result->directions[p + 1].data()));
+    }
+    if (estimated.empty()) {
+      problem.SetParameterBlockConstant(effects);
+    } else if (static_cast<int>(estimated.size()) < kGyroscopeEffectCoefficientCount) {
+      std::vector<int> held;
+      for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c)
+        if (!std::binary_search(estimated.begin(), estimated.end(), c)) held.push_back(c);
+      problem.SetManifold(effects,
+                          new ceres::SubsetManifold(kGyroscopeEffectCoefficientCount, held));
+    }
+
+    // How much the turns go about each body axis (rad, from the accelerometer's directions), and
+    // how far each gyroscope output strays from its offset in them (in its noise's sigmas).
+    std::array<double, 3> turned_about{}, channel_peak_sigmas{};
+    for (const GyroscopeMlTurn& turn : result->turns) {
+      Vector3 axis = Cross(accelerometer.directions[turn.pose_before],
+                           accelerometer.directions[turn.pose_before + 1]);
+      const double norm = std::sqrt(Dot(axis, axis));
+      for (int k = 0; k < 3; ++k) {
+        if (norm > 0.0) turned_about[k] += turn.angle_rad * std::abs(axis[k]) / norm;
+        for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+          channel_peak_sigmas[k] =
+              std::max(channel_peak_sigmas[k],
+                       std::abs(log.gyroscope[i][k] - result->offset[k]) / std::sqrt(white[k]));
+        }
       }
     }
-    std::string advice;
-    if (!dead.empty()) {
-      advice += "; the gyroscope's " + dead +
-                " output stays within the noise of its offset through every turn, though the "
-                "turns go about that axis (the accelerometer's poses say so): a dead, "
-                "disconnected or stuck channel, or the wrong column (--columns)";
-    }
-    if (!missing.empty()) {
-      advice += "; add turns about the sensor's " + missing +
-                " axis (tilt it so that the axis is level and turn it about that axis by 90 "
-                "degrees or more, several times, both ways)";
-    }
-    if (axes.empty()) advice = "; hold the sensor still in more orientations";
-    return Status::Error(StringPrintf("the %d turns between the %d poses do not determine %s",
-                                      pose_count - 1, pose_count, names.c_str()) +
-                         advice);
-  };
-  ACCELCAL_RETURN_IF_ERROR(check_rank());
-  const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
-  ACCELCAL_RETURN_IF_ERROR(check_rank());
-  ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the gyroscope's maximum-likelihood solve"));
 
-  // Residuals and statistics.
-  auto evaluate_blocks = [&](const std::vector<ceres::ResidualBlockId>& blocks,
-                             std::vector<double>* values) {
-    ceres::Problem::EvaluateOptions evaluate;
-    evaluate.residual_blocks = blocks;
-    evaluate.num_threads = 1;
-    problem.Evaluate(evaluate, nullptr, values, nullptr, nullptr);
-  };
-  std::vector<double> accelerometer_residuals, rest_residuals, turn_residuals;
-  evaluate_blocks(accelerometer_blocks, &accelerometer_residuals);
-  evaluate_blocks(rest_blocks, &rest_residuals);
-  evaluate_blocks(turn_blocks, &turn_residuals);
-  double chi2_accelerometer = 0.0;
-  for (double r : accelerometer_residuals) chi2_accelerometer += r * r;
-  for (int p = 0; p < pose_count; ++p) {
-    std::array<double, 3> whitened;
+    // The gyroscope's information with everything else marginalised; its near-null directions.
+    std::vector<double*> order = {gyroscope, offset};
+    if (!estimated.empty()) order.push_back(effects);
+    order.push_back(accelerometer_parameters.data());
+    for (Vector3& direction : result->directions) order.push_back(direction.data());
+    auto check_rank = [&]() -> Status {
+      ceres::Problem::EvaluateOptions evaluate;
+      evaluate.parameter_blocks = order;
+      evaluate.num_threads = 1;
+      ceres::CRSMatrix crs;
+      if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs))
+        return Status::Error("the gyroscope's residuals could not be evaluated");
+      Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+      for (int row = 0; row < crs.num_rows; ++row)
+        for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
+          jacobian(row, crs.cols[i]) = crs.values[i];
+      const Eigen::MatrixXd information = jacobian.transpose() * jacobian;
+      const int m = unknown_count;
+      const int r = static_cast<int>(information.rows()) - m;
+      const Eigen::MatrixXd rest_information = information.bottomRightCorner(r, r);
+      const Eigen::LDLT<Eigen::MatrixXd> rest_solve(rest_information);
+      const Eigen::MatrixXd marginal =
+          information.topLeftCorner(m, m) -
+          information.topRightCorner(m, r) * rest_solve.solve(information.bottomLeftCorner(r, m));
+      std::vector<std::string> unconstrained;
+      for (int i = 0; i < m; ++i)
+        if (!(marginal(i, i) > 0.0)) unconstrained.push_back(result->names[i]);
+      std::vector<int> weak;
+      if (unconstrained.empty()) {
+        const Eigen::VectorXd scale = marginal.diagonal().cwiseSqrt().cwiseInverse();
+        const Eigen::MatrixXd normalised = scale.asDiagonal() * marginal * scale.asDiagonal();
+        const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normalised);
+        const double largest = eigen.eigenvalues().maxCoeff();
+        std::set<int> named;
+        for (int k = 0; k < m; ++k) {
+          if (eigen.eigenvalues()[k] > options.rank_tolerance * largest) continue;
+          for (int i = 0; i < m; ++i)
+            if (std::abs(eigen.eigenvectors()(i, k)) > 0.1) named.insert(i);
+        }
+        weak.assign(named.begin(), named.end());
+      } else {
+        for (int i = 0; i < m; ++i)
+          if (!(marginal(i, i) > 0.0)) weak.push_back(i);
+      }
+      if (weak.empty()) return Status::Ok();
+      std::set<std::string> axes;
+      std::string names;
+      for (int i : weak) {
+        result->undetermined.push_back(result->names[i]);
+        names += (names.empty() ? "" : ", ") + result->names[i];
+        const std::string axis = GyroscopeTurnAxisOf(i, estimated);
+        if (!axis.empty()) axes.insert(axis);
+      }
+      // An axis whose output stays at its offset through every turn, though the turns (as the
+      // accelerometer sees them) go about it, is a dead channel, not a missing turn.
+      std::string dead, missing;
+      for (const std::string& axis : axes) {
+        const int k = axis[0] - 'x';
+        if (channel_peak_sigmas[k] < 10.0 && turned_about[k] > 0.5) {
+          dead += (dead.empty() ? "" : " and ") + axis;
+        } else {
+          result->turn_axes_to_add.push_back(axis);
+          missing += (missing.empty() ? "" : " and ") + axis;
+        }
+      }
+      std::string advice;
+      if (!dead.empty()) {
+        advice += "; the gyroscope's " + dead +
+                  " output stays within the noise of its offset through every turn, though the "
+                  "turns go about that axis (the accelerometer's poses say so): a dead, "
+                  "disconnected or stuck channel, or the wrong column (--columns)";
+      }
+      if (!missing.empty()) {
+        advice += "; add turns about the sensor's " + missing +
+                  " axis (tilt it so that the axis is level and turn it about that axis by 90 "
+                  "degrees or more, several times, both ways)";
+      }
+      if (axes.empty()) advice = "; hold the sensor still in more orientations";
+      return Status::Error(StringPrintf("the %d turns between the %d poses do not determine %s",
+                                        pose_count - 1, pose_count, names.c_str()) +
+                           advice);
+    };
+    ACCELCAL_RETURN_IF_ERROR(check_rank());
+    const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
+    ACCELCAL_RETURN_IF_ERROR(check_rank());
+    ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the gyroscope's maximum-likelihood solve"));
+
+    // Residuals and statistics.
+    auto evaluate_blocks = [&](const std::vector<ceres::ResidualBlockId>& blocks,
+                               std::vector<double>* values) {
+      ceres::Problem::EvaluateOptions evaluate;
+      evaluate.residual_blocks = blocks;
+      evaluate.num_threads = 1;
+      problem.Evaluate(evaluate, nullptr, values, nullptr, nullptr);
+    };
+    std::vector<double> accelerometer_residuals, rest_residuals, turn_residuals;
+    evaluate_blocks(accelerometer_blocks, &accelerometer_residuals);
+    evaluate_blocks(rest_blocks, &rest_residuals);
+    evaluate_blocks(turn_blocks, &turn_residuals);
+    double chi2_accelerometer = 0.0;
+    for (double r : accelerometer_residuals) chi2_accelerometer += r * r;
+    for (int p = 0; p < pose_count; ++p) {
+      std::array<double, 3> whitened;
+      for (int k = 0; k < 3; ++k) {
+        whitened[k] = rest_residuals[3 * p + k];
+        result->chi2_rest += whitened[k] * whitened[k];
+      }
+      result->rest_whitened.push_back(whitened);
+    }
+    for (size_t t = 0; t < result->turns.size(); ++t) {
+      GyroscopeMlTurn& turn = result->turns[t];
+      turn.whitened = {turn_residuals[2 * t], turn_residuals[2 * t + 1]};
+      result->chi2_turns +=
+          turn.whitened[0] * turn.whitened[0] + turn.whitened[1] * turn.whitened[1];
+      const auto* residual = static_cast<const GyroscopeTurnResidual*>(
+          problem.GetCostFunctionForResidualBlock(turn_blocks[t]));
+      double rotation[9];
+      residual->Rotation(gyroscope, offset, effects, rotation);
+      const Vector3& before = result->directions[turn.pose_before];
+      const Vector3 rotated = {
+          rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
+          rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
+          rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
+      turn.residual_angle_rad = AngleBetween(rotated, result->directions[turn.pose_before + 1]);
+      const double trace = rotation[0] + rotation[4] + rotation[8];
+      turn.rotation_angle_rad = std::acos(std::clamp(0.5 * (trace - 1.0), -1.0, 1.0));
+    }
+    const int turn_count = static_cast<int>(result->turns.size());
+    result->gyroscope_degrees_of_freedom = 3 * pose_count + 2 * turn_count - unknown_count;
+    result->chi2 = chi2_accelerometer + result->chi2_rest + result->chi2_turns;
+    // What the gyroscope adds to the accelerometer's fit alone: the joint fit nests it, so the
+    // increase is chi-square on the gyroscope's residuals minus its unknowns.
+    result->chi2_gyroscope = std::max(0.0, result->chi2 - accelerometer.chi2);
+    result->degrees_of_freedom =
+        6 * pose_count + 2 * turn_count - (kTriadParameterCount + 2 * pose_count + unknown_count);
+    if (result->gyroscope_degrees_of_freedom < 1 || result->degrees_of_freedom < 1) {
+      return Status::Error(StringPrintf(
+          "%d poses and %d turns leave %d degrees of freedom for the gyroscope's %d unknowns; "
+          "hold the sensor in more poses",
+          pose_count, turn_count, result->gyroscope_degrees_of_freedom, unknown_count));
+    }
+    result->p_value = ChiSquareSurvival(result->chi2, result->degrees_of_freedom);
+    result->gyroscope_p_value =
+        ChiSquareSurvival(result->chi2_gyroscope, result->gyroscope_degrees_of_freedom);
+
+    // The covariance, by ceres::Covariance of the whitened problem.
+    ceres::Covariance::Options covariance_options;
+    covariance_options.algorithm_type = ceres::SPARSE_QR;  // see triad_ml_calibration.cc
+    covariance_options.num_threads = 1;
+    ceres::Covariance covariance(covariance_options);
+    std::vector<std::pair<const double*, const double*>> pairs = {
+        {gyroscope, gyroscope},
+        {gyroscope, offset},
+        {offset, offset},
+        {accelerometer_parameters.data(), accelerometer_parameters.data()}};
+    if (!estimated.empty()) {
+      pairs.push_back({gyroscope, effects});
+      pairs.push_back({offset, effects});
+      pairs.push_back({effects, effects});
+    }
+    if (!covariance.Compute(pairs, &problem)) {
+      return Status::Error(StringPrintf(
+          "ceres::Covariance could not invert the information of the gyroscope's %d unknowns",
+          unknown_count));
+    }
+    constexpr int kP = kGyroscopeParameterCount;
+    constexpr int kE = kGyroscopeEffectCoefficientCount;
+    Eigen::MatrixXd full = Eigen::MatrixXd::Zero(kP + 3 + kE, kP + 3 + kE);
+    auto take = [&](const double* a, const double* b, int row, int col, int rows, int cols) {
+      std::vector<double> block(rows * cols);
+      covariance.GetCovarianceBlock(a, b, block.data());
+      for (int i = 0; i < rows; ++i) {
+        for (int j = 0; j < cols; ++j) {
+          full(row + i, col + j) = block[i * cols + j];
+          full(col + j, row + i) = block[i * cols + j];
+        }
+      }
+    };
+    take(gyroscope, gyroscope, 0, 0, kP, kP);
+    take(gyroscope, offset, 0, kP, kP, 3);
+    take(offset, offset, kP, kP, 3, 3);
+    if (!estimated.empty()) {
+      take(gyroscope, effects, 0, kP + 3, kP, kE);
+      take(offset, effects, kP, kP + 3, 3, kE);
+      take(effects, effects, kP + 3, kP + 3, kE, kE);
+    }
+    std::vector<int> rows;
+    for (int i = 0; i < kP + 3; ++i) rows.push_back(i);
+    for (int c : estimated) rows.push_back(kP + 3 + c);
+    result->covariance.resize(unknown_count, unknown_count);
+    result->stddev.resize(unknown_count);
+    for (int i = 0; i < unknown_count; ++i) {
+      for (int j = 0; j < unknown_count; ++j) result->covariance(i, j) = full(rows[i], rows[j]);
+      result->stddev[i] = std::sqrt(std::max(result->covariance(i, i), 0.0));
+    }
+    double accelerometer_block[kTriadParameterCount * kTriadParameterCount];
+    covariance.GetCovarianceBlock(accelerometer_parameters.data(), accelerometer_parameters.data(),
+                                  accelerometer_block);
+    result->accelerometer_joint = accelerometer_parameters;
+    for (int i = 0; i < kTriadParameterCount; ++i) {
+      const double sigma = accelerometer.stddev[i];
+      if (sigma > 0.0) {
+        result->accelerometer_shift_sigma =
+            std::max(result->accelerometer_shift_sigma,
+                     std::abs(accelerometer_parameters[i] - accelerometer.parameters[i]) / sigma);
+      }
+    }
+
+    // The Earth's rate against the noise.
+    result->pose_mean_sigma_rad_s = Median(pose_sigmas);
     for (int k = 0; k < 3; ++k) {
-      whitened[k] = rest_residuals[3 * p + k];
-      result->chi2_rest += whitened[k] * whitened[k];
+      result->offset_sigma_rad_s = std::max(result->offset_sigma_rad_s,
+                                            result->stddev[kGyroscopeOffsetX + k] * gain_rad_s[k]);
     }
-    result->rest_whitened.push_back(whitened);
-  }
-  for (size_t t = 0; t < result->turns.size(); ++t) {
-    GyroscopeMlTurn& turn = result->turns[t];
-    turn.whitened = {turn_residuals[2 * t], turn_residuals[2 * t + 1]};
-    result->chi2_turns += turn.whitened[0] * turn.whitened[0] + turn.whitened[1] * turn.whitened[1];
-    const auto* residual = static_cast<const GyroscopeTurnResidual*>(
-        problem.GetCostFunctionForResidualBlock(turn_blocks[t]));
-    double rotation[9];
-    residual->Rotation(gyroscope, offset, effects, rotation);
-    const Vector3& before = result->directions[turn.pose_before];
-    const Vector3 rotated = {
-        rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
-        rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
-        rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
-    turn.residual_angle_rad = AngleBetween(rotated, result->directions[turn.pose_before + 1]);
-    const double trace = rotation[0] + rotation[4] + rotation[8];
-    turn.rotation_angle_rad = std::acos(std::clamp(0.5 * (trace - 1.0), -1.0, 1.0));
-  }
-  const int turn_count = static_cast<int>(result->turns.size());
-  result->gyroscope_degrees_of_freedom = 3 * pose_count + 2 * turn_count - unknown_count;
-  result->chi2 = chi2_accelerometer + result->chi2_rest + result->chi2_turns;
-  // What the gyroscope adds to the accelerometer's fit alone: the joint fit nests it, so the
-  // increase is chi-square on the gyroscope's residuals minus its unknowns.
-  result->chi2_gyroscope = std::max(0.0, result->chi2 - accelerometer.chi2);
-  result->degrees_of_freedom =
-      6 * pose_count + 2 * turn_count - (kTriadParameterCount + 2 * pose_count + unknown_count);
-  if (result->gyroscope_degrees_of_freedom < 1 || result->degrees_of_freedom < 1) {
-    return Status::Error(StringPrintf(
-        "%d poses and %d turns leave %d degrees of freedom for the gyroscope's %d unknowns; "
-        "hold the sensor in more poses",
-        pose_count, turn_count, result->gyroscope_degrees_of_freedom, unknown_count));
-  }
-  result->p_value = ChiSquareSurvival(result->chi2, result->degrees_of_freedom);
-  result->gyroscope_p_value =
-      ChiSquareSurvival(result->chi2_gyroscope, result->gyroscope_degrees_of_freedom);
-
-  // The covariance, by ceres::Covariance of the whitened problem.
-  ceres::Covariance::Options covariance_options;
-  covariance_options.algorithm_type = ceres::SPARSE_QR;  // see triad_ml_calibration.cc
-  covariance_options.num_threads = 1;
-  ceres::Covariance covariance(covariance_options);
-  std::vector<std::pair<const double*, const double*>> pairs = {
-      {gyroscope, gyroscope},
-      {gyroscope, offset},
-      {offset, offset},
-      {accelerometer_parameters.data(), accelerometer_parameters.data()}};
-  if (!estimated.empty()) {
-    pairs.push_back({gyroscope, effects});
-    pairs.push_back({offset, effects});
-    pairs.push_back({effects, effects});
-  }
-  if (!covariance.Compute(pairs, &problem)) {
-    return Status::Error(StringPrintf(
-        "ceres::Covariance could not invert the information of the gyroscope's %d unknowns",
-        unknown_count));
-  }
-  constexpr int kP = kGyroscopeParameterCount;
-  constexpr int kE = kGyroscopeEffectCoefficientCount;
-  Eigen::MatrixXd full = Eigen::MatrixXd::Zero(kP + 3 + kE, kP + 3 + kE);
-  auto take = [&](const double* a, const double* b, int row, int col, int rows, int cols) {
-    std::vector<double> block(rows * cols);
-    covariance.GetCovarianceBlock(a, b, block.data());
-    for (int i = 0; i < rows; ++i) {
-      for (int j = 0; j < cols; ++j) {
-        full(row + i, col + j) = block[i * cols + j];
-        full(col + j, row + i) = block[i * cols + j];
-      }
-    }
+    result->turn_angle_sigma_rad = Median(turn_sigmas);
+    result->turn_earth_angle_rad = Median(turn_earth);
+    return Status::Ok();
   };
-  take(gyroscope, gyroscope, 0, 0, kP, kP);
-  take(gyroscope, offset, 0, kP, kP, 3);
-  take(offset, offset, kP, kP, 3, 3);
-  if (!estimated.empty()) {
-    take(gyroscope, effects, 0, kP + 3, kP, kE);
-    take(offset, effects, kP, kP + 3, 3, kE);
-    take(effects, effects, kP + 3, kP + 3, kE, kE);
-  }
-  std::vector<int> rows;
-  for (int i = 0; i < kP + 3; ++i) rows.push_back(i);
-  for (int c : estimated) rows.push_back(kP + 3 + c);
-  result->covariance.resize(unknown_count, unknown_count);
-  result->stddev.resize(unknown_count);
-  for (int i = 0; i < unknown_count; ++i) {
-    for (int j = 0; j < unknown_count; ++j) result->covariance(i, j) = full(rows[i], rows[j]);
-    result->stddev[i] = std::sqrt(std::max(result->covariance(i, i), 0.0));
-  }
-  double accelerometer_block[kTriadParameterCount * kTriadParameterCount];
-  covariance.GetCovarianceBlock(accelerometer_parameters.data(), accelerometer_parameters.data(),
-                                accelerometer_block);
-  result->accelerometer_joint = accelerometer_parameters;
-  for (int i = 0; i < kTriadParameterCount; ++i) {
-    const double sigma = accelerometer.stddev[i];
-    if (sigma > 0.0) {
-      result->accelerometer_shift_sigma =
-          std::max(result->accelerometer_shift_sigma,
-                   std::abs(accelerometer_parameters[i] - accelerometer.parameters[i]) / sigma);
-    }
-  }
-
-  // The Earth's rate against the noise.
-  result->pose_mean_sigma_rad_s = Median(pose_sigmas);
+  result->bias_wander_variance = {0.0, 0.0, 0.0};
+  ACCELCAL_RETURN_IF_ERROR(fit(result->bias_wander_variance));
+  if (!options.estimate_bias_wander) return Status::Ok();
+  // The poses' offsets scatter more than their white noise allows: the offset wanders (bias
+  // instability, temperature). Its variance between poses by the method of moments per axis:
+  // the tau^2 >= 0 that makes sum_p e_p^2 / (sigma_p^2 + tau^2) = P - 1, e_p the pose's residual.
+  bool wanders = false;
   for (int k = 0; k < 3; ++k) {
-    result->offset_sigma_rad_s =
-        std::max(result->offset_sigma_rad_s, result->stddev[kGyroscopeOffsetX + k] * gain_rad_s[k]);
+    std::vector<double> e2, s2;
+    for (int p = 0; p < pose_count; ++p) {
+      const double sigma = result->rest_stddev[p][k];
+      const double e = result->rest_whitened[p][k] * sigma;
+      e2.push_back(e * e);
+      s2.push_back(sigma * sigma);
+    }
+    auto statistic = [&](double tau2) {
+      double sum = 0.0;
+      for (int p = 0; p < pose_count; ++p) sum += e2[p] / (s2[p] + tau2);
+      return sum;
+    };
+    const double target = pose_count - 1;
+    if (statistic(0.0) <= target) continue;
+    double low = 0.0, high = *std::max_element(e2.begin(), e2.end()) + 1.0;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+      const double middle = 0.5 * (low + high);
+      (statistic(middle) > target ? low : high) = middle;
+    }
+    result->bias_wander_variance[k] = 0.5 * (low + high);
+    wanders = true;
   }
-  result->turn_angle_sigma_rad = Median(turn_sigmas);
-  result->turn_earth_angle_rad = Median(turn_earth);
-  return Status::Ok();
+  if (!wanders) return Status::Ok();
+  const std::array<double, 3> wander = result->bias_wander_variance;
+  return fit(wander);
 }
 
 }  // namespace accelcal

@@ -32,8 +32,10 @@
 //     c_i the trapezoid weights of sample i, s), plus (Omega T)^2 / 3 for the Earth's rate over
 //     the turn's T seconds when options.earth_rate_as_noise; the residual's 2 x 2 covariance is
 //     that angle covariance seen at n_p+1: E^T [n]x S [n]x^T E.
-// Bias instability is not modelled: over turns of seconds it is below the white noise of every
-// sensor we have (docs/gyroscope.md gives the figures); the fit statistic would show it.
+//   - a bias wander: when the poses' offsets scatter beyond that (bias instability, temperature),
+//     a variance tau_k^2 between poses estimated from their scatter (options.estimate_bias_wander)
+//     added to every pose mean, and (gain_k tau_k T)^2 to a turn's angle; the fit is repeated
+//     with it. The rest residuals then fit by construction; the turns are the check.
 //
 // Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 3 samples; the
 // gyroscope parameters' information (the accelerometer's and the directions' marginalised)
@@ -76,6 +78,10 @@ struct GyroscopeMlOptions {
   GyroscopeEffectCoefficients initial_effects{};
   double quantisation_step = 0.0;  // the output's step (1 for counts), 0: not quantised
   bool earth_rate_as_noise = true;
+  // When the poses' offsets scatter beyond their white noise, estimate a bias wander between
+  // poses (a variance per axis, method of moments) and refit with it: each pose mean gets it, and
+  // each turn the angle of an offset that far off over its duration.
+  bool estimate_bias_wander = true;
   // A singular value ratio of the column-normalised marginal information below this marks a
   // direction the turns do not determine.
   double rank_tolerance = 1e-8;
@@ -106,6 +112,7 @@ struct GyroscopeMlResult {
   std::vector<std::string> units;
 
   std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
+  std::array<double, 3> bias_wander_variance{};      // between poses, the unit squared; 0: none
   std::vector<std::array<double, 3>> rest_means;     // per pose, the output's unit
   std::vector<std::array<double, 3>> rest_whitened;  // per pose
   std::vector<std::array<double, 3>> rest_stddev;    // per pose: the means' sigma

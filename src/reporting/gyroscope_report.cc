@@ -1,0 +1,198 @@
+#include "reporting/gyroscope_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/format.h"
+#include "reporting/calibrate_imu_report.h"
+
+namespace accelcal {
+namespace {
+
+// imu_tk's value of unknown i (the 9, then the offsets) on this session, when it ran.
+double ImuTkValue(const CalibrateImuReport& report, int i) {
+  return i < kGyroscopeParameterCount ? report.gyroscope.parameters[i]
+                                      : report.gyroscope.offset[i - kGyroscopeParameterCount];
+}
+
+}  // namespace
+
+std::string EarthRateSentence(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  const double earth = kEarthRateRadPerS;
+  auto compare = [&](double sigma) {
+    return StringPrintf("%s (%.2g rad/s)", earth > sigma ? "above" : "below", sigma);
+  };
+  return StringPrintf(
+      "Earth's rate (%.3g rad/s): %s one pose mean's sigma, %s the offsets' sigma; over a turn it "
+      "adds %.2g rad, %s the turn's angle noise (%.2g rad)%s",
+      earth, compare(g.pose_mean_sigma_rad_s).c_str(), compare(g.offset_sigma_rad_s).c_str(),
+      g.turn_earth_angle_rad, g.turn_earth_angle_rad > g.turn_angle_sigma_rad ? "above" : "below",
+      g.turn_angle_sigma_rad,
+      report.gyroscope_ml_options.earth_rate_as_noise
+          ? "; its direction in the body is not known, so the fit counts it as noise of "
+            "7.29e-5/sqrt(3) rad/s per axis in every pose mean and turn"
+          : "; the fit leaves it out");
+}
+
+std::string GyroscopeMlTable(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  const GyroscopeOutputUnit unit = report.gyroscope_ml_options.unit;
+  const char* unit_name = GyroscopeOutputUnitName(unit);
+  const bool with_imu_tk = report.has_gyroscope_calibration;
+  const bool example = IsImuTkGyroscopeExample(report);
+  std::ostringstream out;
+  out << "\nGyroscope: maximum likelihood with the accelerometer's poses, w = T K (u - b) in rad/s "
+         "(docs/gyroscope.md)\n";
+  out << StringPrintf(
+      "gyroscope log: %s, outputs in %s (--gyro_unit); offsets from every pose's mean, turns "
+      "integrated by the fourth-order rule; start: %s\n",
+      report.gyroscope_path.empty() ? "the log's gyroscope columns" : report.gyroscope_path.c_str(),
+      unit_name,
+      with_imu_tk
+          ? "imu_tk's result"
+          : StringPrintf("gains %.9g (%s)", report.gyroscope_options.initial[kGyroscopeGainX],
+                         report.initial_gyro_gain_from.c_str())
+                .c_str());
+  out << StringPrintf(
+      "noise: white %.3g, %.3g, %.3g %s per sample (pooled within the %zu poses); bias wander "
+      "between poses %.3g, %.3g, %.3g %s (sd, from the scatter of the poses' offsets; 0: none "
+      "beyond the white noise); the turns' angle sigma %.2g rad (median over %zu turns)\n\n",
+      std::sqrt(g.noise_variance[0]), std::sqrt(g.noise_variance[1]),
+      std::sqrt(g.noise_variance[2]), unit_name, g.rest_means.size(),
+      std::sqrt(g.bias_wander_variance[0]), std::sqrt(g.bias_wander_variance[1]),
+      std::sqrt(g.bias_wander_variance[2]), unit_name, g.turn_angle_sigma_rad, g.turns.size());
+  out << StringPrintf("  %-32s %-16s %-28s", "parameter", "unit", "estimate +- sigma");
+  if (with_imu_tk) out << StringPrintf(" %-14s %-9s", "imu_tk", "(ml-imu_tk)/sigma");
+  if (example) out << StringPrintf(" %s", "datasheet");
+  out << "\n";
+  for (int i = 0; i < g.stddev.size(); ++i) {
+    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
+                         : i < kGyroscopeCalibrationCount
+                             ? g.offset[i - kGyroscopeParameterCount]
+                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    out << StringPrintf("  %-32s %-16s %-28s", g.names[i].c_str(), g.units[i].c_str(),
+                        StringPrintf("%.8g +- %.2g", value, g.stddev[i]).c_str());
+    if (with_imu_tk && i < kGyroscopeCalibrationCount) {
+      const double imu_tk = ImuTkValue(report, i);
+      out << StringPrintf(" %-14.8g %+9.2f", imu_tk, (value - imu_tk) / g.stddev[i]);
+    }
+    if (example && i < kGyroscopeCalibrationCount)
+      out << StringPrintf("   %s", DatasheetGyroscopeValue(i));
+    out << "\n";
+  }
+  out << StringPrintf("  inverse gain (%s per rad/s):", unit_name);
+  for (int k = 0; k < 3; ++k) {
+    const double gain = g.parameters[kGyroscopeGainX + k];
+    out << StringPrintf(" %c %.6g +- %.2g", "xyz"[k], 1.0 / gain,
+                        g.stddev[kGyroscopeGainX + k] / (gain * gain));
+  }
+  if (with_imu_tk) {
+    const std::array<double, 3> inverse = report.gyroscope.inverse_gains();
+    out << StringPrintf("   (imu_tk: %.6g %.6g %.6g)", inverse[0], inverse[1], inverse[2]);
+  }
+  out << "\n";
+  if (with_imu_tk) {
+    out << "  (imu_tk's offsets are its initial rest's means, not estimated; it gives no sigma)\n";
+  } else if (!report.imu_tk_gyroscope_status.ok()) {
+    out << "  (imu_tk's gyroscope calibration gave no result: "
+        << report.imu_tk_gyroscope_status.message() << ")\n";
+  }
+  double worst_angle = 0.0;
+  int worst = -1;
+  for (size_t t = 0; t < g.turns.size(); ++t) {
+    if (g.turns[t].residual_angle_rad > worst_angle) {
+      worst_angle = g.turns[t].residual_angle_rad;
+      worst = static_cast<int>(t);
+    }
+  }
+  out << StringPrintf(
+      "\nFit: chi2 %.1f on %d degrees of freedom added to the accelerometer's (p = %.3g; the "
+      "gyroscope's %zu pose means and %zu turns, each turn's two components)",
+      g.chi2_gyroscope, g.gyroscope_degrees_of_freedom, g.gyroscope_p_value, g.rest_means.size(),
+      g.turns.size());
+  out << StringPrintf(
+      "; rest %.1f, turns %.1f. The largest turn residual: %.3g mrad (turn %d, poses %d to %d, "
+      "its angle sigma %.3g mrad). The joint fit moves the accelerometer's parameters by at "
+      "most %.2f sigma.\n",
+      g.chi2_rest, g.chi2_turns, 1e3 * worst_angle, worst + 1,
+      worst >= 0 ? g.turns[worst].pose_before + 1 : 0,
+      worst >= 0 ? g.turns[worst].pose_before + 2 : 0,
+      worst >= 0 ? 1e3 * g.turns[worst].angle_stddev_rad : 0.0, g.accelerometer_shift_sigma);
+  out << EarthRateSentence(report) << ".\n";
+  return out.str();
+}
+
+nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  nlohmann::json parameters, stddev, units;
+  nlohmann::json order = nlohmann::json::array();
+  for (int i = 0; i < g.stddev.size(); ++i) {
+    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
+                         : i < kGyroscopeCalibrationCount
+                             ? g.offset[i - kGyroscopeParameterCount]
+                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    parameters[g.names[i]] = value;
+    stddev[g.names[i]] = g.stddev[i];
+    units[g.names[i]] = g.units[i];
+    order.push_back(g.names[i]);
+  }
+  nlohmann::json covariance = nlohmann::json::array();
+  for (int i = 0; i < g.covariance.rows(); ++i) {
+    nlohmann::json row = nlohmann::json::array();
+    for (int j = 0; j < g.covariance.cols(); ++j) row.push_back(g.covariance(i, j));
+    covariance.push_back(row);
+  }
+  nlohmann::json turns = nlohmann::json::array();
+  for (const GyroscopeMlTurn& turn : g.turns) {
+    turns.push_back({{"pose_before", turn.pose_before + 1},
+                     {"first_sample", turn.first_sample},
+                     {"last_sample", turn.last_sample},
+                     {"duration_s", turn.duration_s},
+                     {"tilt_angle_rad", turn.angle_rad},
+                     {"rotation_angle_rad", turn.rotation_angle_rad},
+                     {"residual_angle_rad", turn.residual_angle_rad},
+                     {"angle_stddev_rad", turn.angle_stddev_rad},
+                     {"whitened_residual", turn.whitened}});
+  }
+  nlohmann::json imu_tk = nullptr;
+  if (report.has_gyroscope_calibration) {
+    nlohmann::json values;
+    for (int i = 0; i < kGyroscopeCalibrationCount; ++i) values[g.names[i]] = ImuTkValue(report, i);
+    imu_tk = {{"parameters", values}, {"cost", report.gyroscope.cost}};
+  }
+  return {{"model", "w = T K (u - b), docs/gyroscope.md"},
+          {"method",
+           "maximum likelihood, jointly with the accelerometer's poses: its pose means, the "
+           "gyroscope's pose means and the turns between consecutive poses"},
+          {"output_unit", GyroscopeOutputUnitName(report.gyroscope_ml_options.unit)},
+          {"parameter_order", order},
+          {"parameters", parameters},
+          {"stddev", stddev},
+          {"units", units},
+          {"covariance", covariance},
+          {"noise_variance", g.noise_variance},
+          {"bias_wander_variance", g.bias_wander_variance},
+          {"fit",
+           {{"chi2", g.chi2_gyroscope},
+            {"degrees_of_freedom", g.gyroscope_degrees_of_freedom},
+            {"p_value", g.gyroscope_p_value},
+            {"chi2_rest", g.chi2_rest},
+            {"chi2_turns", g.chi2_turns},
+            {"joint_chi2", g.chi2},
+            {"joint_degrees_of_freedom", g.degrees_of_freedom},
+            {"accelerometer_shift_sigma", g.accelerometer_shift_sigma}}},
+          {"earth_rate",
+           {{"rate_rad_s", kEarthRateRadPerS},
+            {"pose_mean_sigma_rad_s", g.pose_mean_sigma_rad_s},
+            {"offset_sigma_rad_s", g.offset_sigma_rad_s},
+            {"turn_angle_sigma_rad", g.turn_angle_sigma_rad},
+            {"turn_earth_angle_rad", g.turn_earth_angle_rad},
+            {"counted_as_noise", report.gyroscope_ml_options.earth_rate_as_noise},
+            {"text", EarthRateSentence(report)}}},
+          {"turns", turns},
+          {"imu_tk", imu_tk}};
+}
+
+}  // namespace accelcal
