@@ -39,6 +39,7 @@
 #include <iostream>
 #include <map>
 
+#include "estimation/gyroscope/gyroscope_discovery.h"
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
@@ -492,9 +493,13 @@ Status SolveMlGyroscope(const TriadLog& log, CalibrateImuReport* report) {
   options.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
                                                       : report->gyroscope_options.initial;
   options.quantisation_step = report->gyroscope_unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
-  ACCELCAL_RETURN_IF_ERROR(CalibrateGyroscopeMl(log, report->pose_intervals, report->ml_options,
-                                                report->ml, options, &report->gyroscope_ml)
+  GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
+  discovery.alpha = FLAGS_alpha;
+  discovery.fit = options;
+  ACCELCAL_RETURN_IF_ERROR(DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
+                                             report->ml, discovery, &report->gyroscope_discovery)
                                .WithContext(where + ": the gyroscope"));
+  report->gyroscope_ml = report->gyroscope_discovery.baseline;
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
                                                      report->gyroscope_ml.offset,
                                                      report->gyroscope_unit)

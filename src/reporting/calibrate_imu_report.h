@@ -13,6 +13,7 @@
 #include <string>
 
 #include "common/triad_log.h"
+#include "estimation/gyroscope/gyroscope_discovery.h"
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
@@ -59,7 +60,9 @@ struct CalibrateImuReport {
   // gave one (has_gyroscope_calibration), else why not.
   bool has_gyroscope_ml = false;
   GyroscopeMlOptions gyroscope_ml_options;
-  GyroscopeMlResult gyroscope_ml;
+  GyroscopeMlResult gyroscope_ml;  // the 12 unknowns: discovery's baseline
+  GyroscopeDiscoveryOptions gyroscope_discovery_options;
+  GyroscopeDiscoveryResult gyroscope_discovery;
   Status imu_tk_gyroscope_status;
   // --imu_tk_calib_out's two files, when asked for ("" when not written).
   std::string imu_tk_calib_acc_path;

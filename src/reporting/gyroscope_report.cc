@@ -121,7 +121,90 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
       worst >= 0 ? g.turns[worst].pose_before + 2 : 0,
       worst >= 0 ? 1e3 * g.turns[worst].angle_stddev_rad : 0.0, g.accelerometer_shift_sigma);
   out << EarthRateSentence(report) << ".\n";
+  out << GyroscopeDiscoveryTable(report.gyroscope_discovery,
+                                 report.gyroscope_discovery_options.alpha);
   return out.str();
+}
+
+std::string GyroscopeDiscoveryTable(const GyroscopeDiscoveryResult& d, double alpha) {
+  std::ostringstream out;
+  out << StringPrintf(
+      "\nGyroscope discovery (alpha = %g: noise alpha/4, effects alpha/2, what remains "
+      "alpha/4; docs/gyroscope.md)\n",
+      alpha);
+  out << "  noise: " << d.noise_note << "\n";
+  for (const GyroscopeEffectScore& score : d.scores) {
+    out << StringPrintf("  step %d  %-20s chi2 %8.2f on %d  p = %-10.3g%s\n", score.step,
+                        score.effect.c_str(), score.delta_chi2, score.coefficients, score.p_value,
+                        score.significant ? "  significant" : "");
+  }
+  for (const std::string& line : d.not_tested) out << "  not tested: " << line << "\n";
+  for (const GyroscopeFoundEffect& effect : d.effects) {
+    out << StringPrintf("  found %s (the final model loses chi2 %.1f without it, p = %.3g):",
+                        effect.effect.c_str(), effect.delta_chi2, effect.p_value);
+    for (size_t i = 0; i < effect.names.size(); ++i) {
+      out << StringPrintf("%s %s = %.3g +- %.2g", i == 0 ? "" : ",", effect.names[i].c_str(),
+                          effect.estimates[i], effect.stddevs[i]);
+    }
+    out << "\n";
+  }
+  for (const ResidualCheck& check : d.checks) {
+    out << StringPrintf("  check %-12s %s  p = %.3g%s\n", check.name.c_str(),
+                        check.description.c_str(), check.p_value, check.flagged ? "  flagged" : "");
+  }
+  for (const GyroscopeLookAlike& look_alike : d.look_alikes) {
+    out << StringPrintf("  look-alike: %s and %s (chi2 %.1f apart)\n", look_alike.effect.c_str(),
+                        look_alike.alternative.c_str(), look_alike.worse);
+  }
+  out << "Verdict (gyroscope, " << VerdictCode(d.verdict_code) << "): " << d.verdict << "\n";
+  return out.str();
+}
+
+nlohmann::json GyroscopeDiscoveryJson(const GyroscopeDiscoveryResult& d, double alpha) {
+  nlohmann::json scores = nlohmann::json::array();
+  for (const GyroscopeEffectScore& score : d.scores) {
+    scores.push_back({{"step", score.step},
+                      {"effect", score.effect},
+                      {"delta_chi2", score.delta_chi2},
+                      {"coefficients", score.coefficients},
+                      {"p_value", score.p_value},
+                      {"significant", score.significant}});
+  }
+  nlohmann::json effects = nlohmann::json::array();
+  for (const GyroscopeFoundEffect& effect : d.effects) {
+    effects.push_back({{"effect", effect.effect},
+                       {"coefficients", effect.names},
+                       {"estimates", effect.estimates},
+                       {"stddev", effect.stddevs},
+                       {"delta_chi2", effect.delta_chi2},
+                       {"p_value", effect.p_value}});
+  }
+  nlohmann::json checks = nlohmann::json::array();
+  for (const ResidualCheck& check : d.checks) {
+    checks.push_back({{"name", check.name},
+                      {"statistic", check.statistic},
+                      {"dof", check.dof},
+                      {"p_value", check.p_value},
+                      {"flagged", check.flagged},
+                      {"description", check.description}});
+  }
+  nlohmann::json look_alikes = nlohmann::json::array();
+  for (const GyroscopeLookAlike& look_alike : d.look_alikes) {
+    look_alikes.push_back({{"effect", look_alike.effect},
+                           {"alternative", look_alike.alternative},
+                           {"delta_chi2", look_alike.worse}});
+  }
+  return {{"alpha", alpha},
+          {"noise", d.noise_note},
+          {"bias_wander", d.bias_wander},
+          {"scores", scores},
+          {"not_tested", d.not_tested},
+          {"effects", effects},
+          {"checks", checks},
+          {"remaining", d.remaining},
+          {"look_alikes", look_alikes},
+          {"verdict", VerdictCode(d.verdict_code)},
+          {"verdict_text", d.verdict}};
 }
 
 nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
@@ -192,7 +275,11 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"counted_as_noise", report.gyroscope_ml_options.earth_rate_as_noise},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
-          {"imu_tk", imu_tk}};
+          {"imu_tk", imu_tk},
+          {"discovery", GyroscopeDiscoveryJson(report.gyroscope_discovery,
+                                               report.gyroscope_discovery_options.alpha)},
+          {"verdict", VerdictCode(report.gyroscope_discovery.verdict_code)},
+          {"verdict_text", report.gyroscope_discovery.verdict}};
 }
 
 }  // namespace accelcal

@@ -12,9 +12,15 @@
 namespace accelcal {
 
 struct CalibrateImuReport;
+struct GyroscopeDiscoveryResult;
 
 std::string GyroscopeMlTable(const CalibrateImuReport& report);
 nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report);
+
+// Discovery on the gyroscope (estimation/gyroscope/gyroscope_discovery.h): its steps and the
+// gyroscope's verdict line, and the same as JSON.
+std::string GyroscopeDiscoveryTable(const GyroscopeDiscoveryResult& discovery, double alpha);
+nlohmann::json GyroscopeDiscoveryJson(const GyroscopeDiscoveryResult& discovery, double alpha);
 
 // One sentence: where the Earth's rate (7.29e-5 rad/s) is below the noise and where it is not.
 std::string EarthRateSentence(const CalibrateImuReport& report);

@@ -526,9 +526,20 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->turn_earth_angle_rad = Median(turn_earth);
     return Status::Ok();
   };
+  if (options.bias_wander_fixed) {
+    result->bias_wander_variance = options.bias_wander_variance;
+    return fit(result->bias_wander_variance);
+  }
   result->bias_wander_variance = {0.0, 0.0, 0.0};
   ACCELCAL_RETURN_IF_ERROR(fit(result->bias_wander_variance));
-  if (!options.estimate_bias_wander) return Status::Ok();
+  // The rest residuals under white noise: 3 per pose, less the 3 offsets (and the g-sensitivity's
+  // coefficients, which they determine too).
+  int rest_unknowns = 3;
+  for (int c : estimated)
+    if (c < kGyroscopeScaleAsymmetry) ++rest_unknowns;
+  const int rest_dof = std::max(1, 3 * pose_count - rest_unknowns);
+  result->white_rest_p_value = ChiSquareSurvival(result->chi2_rest, rest_dof);
+  if (!(result->white_rest_p_value < options.bias_wander_alpha)) return Status::Ok();
   // The poses' offsets scatter more than their white noise allows: the offset wanders (bias
   // instability, temperature). Its variance between poses by the method of moments per axis:
   // the tau^2 >= 0 that makes sum_p e_p^2 / (sigma_p^2 + tau^2) = P - 1, e_p the pose's residual.

@@ -33,9 +33,10 @@
 //     the turn's T seconds when options.earth_rate_as_noise; the residual's 2 x 2 covariance is
 //     that angle covariance seen at n_p+1: E^T [n]x S [n]x^T E.
 //   - a bias wander: when the poses' offsets scatter beyond that (bias instability, temperature),
-//     a variance tau_k^2 between poses estimated from their scatter (options.estimate_bias_wander)
-//     added to every pose mean, and (gain_k tau_k T)^2 to a turn's angle; the fit is repeated
-//     with it. The rest residuals then fit by construction; the turns are the check.
+//     a variance tau_k^2 between poses estimated from their scatter when significant
+//     (options.bias_wander_alpha) added to every pose mean, and (gain_k tau_k T)^2 to a turn's
+//     angle; the fit is repeated with it. The rest residuals then fit by construction; the turns
+//     are the check.
 //
 // Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 3 samples; the
 // gyroscope parameters' information (the accelerometer's and the directions' marginalised)
@@ -78,10 +79,14 @@ struct GyroscopeMlOptions {
   GyroscopeEffectCoefficients initial_effects{};
   double quantisation_step = 0.0;  // the output's step (1 for counts), 0: not quantised
   bool earth_rate_as_noise = true;
-  // When the poses' offsets scatter beyond their white noise, estimate a bias wander between
-  // poses (a variance per axis, method of moments) and refit with it: each pose mean gets it, and
-  // each turn the angle of an offset that far off over its duration.
-  bool estimate_bias_wander = true;
+  // The bias wander between poses (a variance per axis, the output's unit squared): each pose
+  // mean gets it, and each turn the angle of an offset that far off over its duration. When
+  // `bias_wander_fixed`, the given one; else it is estimated when the poses' offsets scatter
+  // beyond their white noise (the rest residuals' chi-square, white, rejected at
+  // bias_wander_alpha; 0: never) by the method of moments, and the fit repeated with it.
+  bool bias_wander_fixed = false;
+  std::array<double, 3> bias_wander_variance{};
+  double bias_wander_alpha = 0.0025;
   // A singular value ratio of the column-normalised marginal information below this marks a
   // direction the turns do not determine.
   double rank_tolerance = 1e-8;
@@ -112,7 +117,8 @@ struct GyroscopeMlResult {
   std::vector<std::string> units;
 
   std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
-  std::array<double, 3> bias_wander_variance{};      // between poses, the unit squared; 0: none
+  std::array<double, 3> bias_wander_variance{};  // between poses, the unit squared; 0: none
+  double white_rest_p_value = 1.0;  // the rest residuals' chi-square under white noise alone
   std::vector<std::array<double, 3>> rest_means;     // per pose, the output's unit
   std::vector<std::array<double, 3>> rest_whitened;  // per pose
   std::vector<std::array<double, 3>> rest_stddev;    // per pose: the means' sigma

@@ -1,0 +1,306 @@
+#include "estimation/gyroscope/gyroscope_discovery.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/format.h"
+#include "estimation/statistics/chi_square.h"
+
+namespace accelcal {
+namespace {
+
+// The fits discovery makes: the session, the accelerometer's fit, the fit options with the noise
+// model fixed, and a set of effect groups (indices into GyroscopeEffectInfos()).
+class GyroscopeFitter {
+ public:
+  GyroscopeFitter(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                  const TriadMlOptions& accelerometer_options, const TriadMlResult& accelerometer,
+                  const GyroscopeMlOptions& options)
+      : log_(log),
+        intervals_(intervals),
+        accelerometer_options_(accelerometer_options),
+        accelerometer_(accelerometer),
+        options_(options) {}
+
+  Status Fit(const std::vector<int>& groups, GyroscopeMlResult* result) const {
+    GyroscopeMlOptions options = options_;
+    options.effects.clear();
+    for (int group : groups) {
+      const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
+      for (int c = info.first; c < info.first + info.coefficients; ++c)
+        options.effects.push_back(c);
+    }
+    return CalibrateGyroscopeMl(log_, intervals_, accelerometer_options_, accelerometer_, options,
+                                result);
+  }
+
+ private:
+  const TriadLog& log_;
+  const std::vector<StaticInterval>& intervals_;
+  const TriadMlOptions& accelerometer_options_;
+  const TriadMlResult& accelerometer_;
+  const GyroscopeMlOptions options_;
+};
+
+class GyroscopeGeometry : public DiscoveryGeometry {
+ public:
+  GyroscopeGeometry(const GyroscopeFitter& fitter, const GyroscopeMlResult& baseline,
+                    double ambiguity_delta_chi2)
+      : fitter_(fitter), current_(baseline), ambiguity_delta_chi2_(ambiguity_delta_chi2) {}
+
+  const GyroscopeMlResult& current() const { return current_; }
+
+  Status TestCandidates(const std::vector<int>& candidates,
+                        std::vector<CandidateTest>* tests) override {
+    tests->assign(candidates.size(), CandidateTest());
+    fits_.assign(candidates.size(), GyroscopeMlResult());
+    tested_ = candidates;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      CandidateTest& test = (*tests)[i];
+      std::vector<int> extended = model_;
+      extended.push_back(candidates[i]);
+      const Status status = fitter_.Fit(extended, &fits_[i]);
+      if (!status.ok()) {
+        test.tested = false;
+        test.not_tested = "not testable: the fit with it fails (" + status.message() + ")";
+        continue;
+      }
+      test.delta_chi2 = std::max(0.0, current_.chi2 - fits_[i].chi2);
+      test.p_value =
+          ChiSquareSurvival(test.delta_chi2, GyroscopeEffectInfos()[candidates[i]].coefficients);
+    }
+    return Status::Ok();
+  }
+
+  Status Add(int candidate, double* delta_chi2) override {
+    const auto at = std::find(tested_.begin(), tested_.end(), candidate);
+    if (at == tested_.end()) return Status::Error("a candidate not tested");
+    const GyroscopeMlResult& fit = fits_[at - tested_.begin()];
+    *delta_chi2 = current_.chi2 - fit.chi2;
+    current_ = fit;
+    model_.push_back(candidate);
+    return Status::Ok();
+  }
+
+  Status TestEffects(std::vector<CandidateTest>* tests) override {
+    tests->assign(model_.size(), {true, HUGE_VAL, 0.0, ""});
+    for (size_t e = 0; e < model_.size(); ++e) {
+      GyroscopeMlResult reduced;
+      if (fitter_.Fit(Without(e), &reduced).ok()) {
+        (*tests)[e].delta_chi2 = std::max(0.0, reduced.chi2 - current_.chi2);
+        (*tests)[e].p_value = ChiSquareSurvival((*tests)[e].delta_chi2,
+                                                GyroscopeEffectInfos()[model_[e]].coefficients);
+      }
+    }
+    return Status::Ok();
+  }
+
+  Status Drop(size_t effect) override {
+    GyroscopeMlResult reduced;
+    ACCELCAL_RETURN_IF_ERROR(fitter_.Fit(Without(effect), &reduced));
+    current_ = reduced;
+    model_.erase(model_.begin() + effect);
+    return Status::Ok();
+  }
+
+  const std::vector<int>& Effects() const override { return model_; }
+
+  bool Swap(size_t effect, int candidate, SwapFit* swap) override {
+    std::vector<int> swapped = Without(effect);
+    swapped.push_back(candidate);
+    GyroscopeMlResult fit;
+    if (!fitter_.Fit(swapped, &fit).ok()) return false;
+    swap->worse = fit.chi2 - current_.chi2;
+    return true;
+  }
+
+  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+    const double scatter = std::max(1.0, current_.chi2 / current_.degrees_of_freedom);
+    return swap.worse < ambiguity_delta_chi2_ * scatter;
+  }
+
+ private:
+  std::vector<int> Without(size_t effect) const {
+    std::vector<int> without;
+    for (size_t e = 0; e < model_.size(); ++e)
+      if (e != effect) without.push_back(model_[e]);
+    return without;
+  }
+
+  const GyroscopeFitter& fitter_;
+  GyroscopeMlResult current_;
+  double ambiguity_delta_chi2_;
+  std::vector<int> model_;
+  std::vector<int> tested_;
+  std::vector<GyroscopeMlResult> fits_;
+};
+
+// A chi-square's upper tail as a check.
+ResidualCheck ChiSquareCheck(const std::string& name, double chi2, int dof,
+                             const std::string& what) {
+  ResidualCheck check;
+  check.name = name;
+  check.statistic = chi2;
+  check.dof = dof;
+  check.p_value = ChiSquareSurvival(chi2, dof);
+  check.description =
+      StringPrintf("%s: chi2 %.1f on %d (chi2/dof %.2f)", what.c_str(), chi2, dof, chi2 / dof);
+  return check;
+}
+
+}  // namespace
+
+Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>& intervals,
+                         const TriadMlOptions& accelerometer_options,
+                         const TriadMlResult& accelerometer,
+                         const GyroscopeDiscoveryOptions& options,
+                         GyroscopeDiscoveryResult* result) {
+  *result = GyroscopeDiscoveryResult();
+  if (!options.fit.effects.empty())
+    return Status::Error("discovery starts from the gyroscope's 12 unknowns: no effects");
+  // 1. Noise: the baseline, with a bias wander when the rest residuals reject white noise.
+  GyroscopeMlOptions fit_options = options.fit;
+  fit_options.bias_wander_fixed = false;
+  fit_options.bias_wander_alpha = options.alpha / 4.0;
+  ACCELCAL_RETURN_IF_ERROR(CalibrateGyroscopeMl(log, intervals, accelerometer_options,
+                                                accelerometer, fit_options, &result->baseline));
+  const std::array<double, 3>& wander = result->baseline.bias_wander_variance;
+  result->bias_wander = wander != std::array<double, 3>{};
+  result->noise_note =
+      result->bias_wander
+          ? StringPrintf(
+                "the poses' offsets scatter beyond their white noise (p = %.2g < alpha/4): a bias "
+                "wander between poses of %.3g, %.3g, %.3g (sd, the output's unit) is the noise "
+                "model",
+                result->baseline.white_rest_p_value, std::sqrt(wander[0]), std::sqrt(wander[1]),
+                std::sqrt(wander[2]))
+          : StringPrintf("white noise (the poses' offsets scatter as it says, p = %.2g)",
+                         result->baseline.white_rest_p_value);
+  fit_options.bias_wander_fixed = true;
+  fit_options.bias_wander_variance = wander;
+
+  // 2. Effects: the one procedure.
+  GyroscopeFitter fitter(log, intervals, accelerometer_options, accelerometer, fit_options);
+  GyroscopeGeometry geometry(fitter, result->baseline, options.ambiguity_delta_chi2);
+  SelectionOptions selection;
+  selection.alpha = options.alpha / 2.0;
+  selection.max_effects = options.max_effects;
+  SelectionRecord record;
+  std::vector<int> candidates;
+  for (int e = 0; e < kGyroscopeEffectCount; ++e) candidates.push_back(e);
+  ACCELCAL_RETURN_IF_ERROR(SelectEffects(&geometry, candidates, selection, &record));
+  const auto& infos = GyroscopeEffectInfos();
+  for (const SelectionRecord::NotTested& entry : record.not_tested)
+    result->not_tested.push_back(std::string(infos[entry.candidate].name) + ": " + entry.why);
+  for (const SelectionRecord::Score& score : record.scores) {
+    result->scores.push_back({score.step, infos[score.candidate].name, score.delta_chi2,
+                              infos[score.candidate].coefficients, score.p_value,
+                              score.significant});
+  }
+  std::vector<CandidateTest> necessity;
+  ACCELCAL_RETURN_IF_ERROR(geometry.TestEffects(&necessity));
+  // The final model with its own noise model: the wander the baseline needed may have been an
+  // effect found (a g-sensitivity shifts each pose's offset), so it is estimated again.
+  result->final_fit = geometry.current();
+  if (!geometry.Effects().empty()) {
+    GyroscopeMlOptions final_options = options.fit;
+    final_options.bias_wander_alpha = options.alpha / 4.0;
+    for (int group : geometry.Effects()) {
+      const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
+      for (int c = info.first; c < info.first + info.coefficients; ++c)
+        final_options.effects.push_back(c);
+    }
+    GyroscopeMlResult refit;
+    if (CalibrateGyroscopeMl(log, intervals, accelerometer_options, accelerometer, final_options,
+                             &refit)
+            .ok()) {
+      result->final_fit = refit;
+    }
+  }
+  const GyroscopeMlResult& current = result->final_fit;
+  result->final_bias_wander = current.bias_wander_variance != std::array<double, 3>{};
+  std::vector<double> necessary;
+  for (const CandidateTest& test : necessity) necessary.push_back(test.delta_chi2);
+  const std::vector<int> model = geometry.Effects();
+  for (size_t e = 0; e < model.size(); ++e) {
+    const GyroscopeEffectInfo& info = infos[model[e]];
+    GyroscopeFoundEffect found;
+    found.effect = info.name;
+    for (size_t i = kGyroscopeCalibrationCount; i < current.names.size(); ++i) {
+      const int c = current.effects_estimated[i - kGyroscopeCalibrationCount];
+      if (c < info.first || c >= info.first + info.coefficients) continue;
+      found.names.push_back(current.names[i]);
+      found.estimates.push_back(current.effects[c]);
+      found.stddevs.push_back(current.stddev[i]);
+    }
+    if (necessity[e].delta_chi2 != HUGE_VAL) {
+      found.delta_chi2 = necessity[e].delta_chi2;
+      found.p_value = necessity[e].p_value;
+    }
+    result->effects.push_back(found);
+  }
+  for (const LookAlike& look_alike : FindLookAlikes(&geometry, candidates, necessary)) {
+    result->look_alikes.push_back({infos[model[look_alike.effect]].name,
+                                   infos[look_alike.alternative].name, look_alike.fit.worse});
+  }
+
+  // 3. What remains.
+  const int turn_components = 2 * static_cast<int>(current.turns.size());
+  result->checks.push_back(
+      ChiSquareCheck("turns_chi2", current.chi2_turns, turn_components, "the turns' residuals"));
+  if (!result->final_bias_wander) {
+    result->checks.push_back(ChiSquareCheck(
+        "rest_chi2", current.chi2_rest,
+        std::max(1, 3 * static_cast<int>(current.rest_means.size()) - 3), "the poses' offsets"));
+  }
+  FlagByHolm(options.alpha / 4.0, &result->checks);
+  for (const ResidualCheck& check : result->checks) {
+    if (!check.flagged) continue;
+    result->remaining.push_back(
+        check.name == "turns_chi2"
+            ? check.description +
+                  ": the calibrated rates miss the turns by more than the noise allows (a "
+                  "time offset between the sensors, a rate beyond the gyroscope's range, or an "
+                  "effect the model does not know)"
+            : check.description + ": the poses' offsets scatter beyond the noise model");
+  }
+
+  // The verdict.
+  std::string found;
+  for (const GyroscopeFoundEffect& effect : result->effects) {
+    found += (found.empty() ? "" : ", ") + effect.effect +
+             StringPrintf(" (chi2 %.1f on %zu, p = %.2g)", effect.delta_chi2, effect.names.size(),
+                          effect.p_value);
+  }
+  if (result->final_bias_wander)
+    found = "a bias wander between poses" + (found.empty() ? "" : "; " + found);
+  else if (result->bias_wander && !result->effects.empty())
+    result->noise_note += "; with the effects found, the final model's poses need no wander";
+  result->verdict_code =
+      DecideVerdict(!result->remaining.empty(), !result->look_alikes.empty(), !found.empty());
+  switch (result->verdict_code) {
+    case Verdict::kUnexplained:
+      result->verdict = "unexplained structure remains: " + result->remaining.front() +
+                        (found.empty() ? "" : " (found: " + found + ")");
+      break;
+    case Verdict::kCannotTellApart:
+      result->verdict =
+          "cannot tell apart: " + result->look_alikes.front().effect + " and " +
+          result->look_alikes.front().alternative +
+          StringPrintf(" fit within %.1f of each other", result->look_alikes.front().worse);
+      break;
+    case Verdict::kMissing:
+      result->verdict = "missing from the 12-unknown model, found: " + found +
+                        "; the extended model explains the turns";
+      break;
+    case Verdict::kExplained:
+      result->verdict = StringPrintf(
+          "the 12-unknown model explains the gyroscope: no effect is significant at "
+          "alpha = %g, and nothing remains that the checks see",
+          options.alpha);
+      break;
+  }
+  return Status::Ok();
+}
+
+}  // namespace accelcal
