@@ -26,6 +26,7 @@ DEFINE_int32(poses, 30, "Poses per session, 3 to 1000 (poses - 1 turns).");
 DEFINE_double(hold_s, 4.0, "Each pose's duration, s, in [0.5, 600].");
 DEFINE_double(gyro_noise, 3.0, "The gyroscope's white noise per sample, counts, in (0, 1e4] (at the Xsens-like gain of 1/4770 (rad/s)/count, 3 counts is 6.3e-4 rad/s).");
 DEFINE_string(effects, "", "Gyroscope effects to simulate AND estimate, comma-separated: g_sensitivity (G = 2e-4 (rad/s)/(m/s^2) on the diagonal, 1e-4 off it), scale_asymmetry (2e-3, -1e-3, 1.5e-3), scale_nonlinearity (1e-3, -2e-3, 1.5e-3 1/(rad/s)). Empty: the 12 unknowns of the model.");
+DEFINE_double(discovery, 0.0, "Also run the gyroscope's discovery at this alpha (e.g. 0.01) on every session and count its verdicts: with no --effects, the rate of any verdict but explained is its false-alarm rate (must be <= alpha + 2 sd); with --effects (then also estimated in the calibration), how often each is found. 0: no discovery.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 ACCELCAL_DEFINE_THREADS_FLAG(0);
 ACCELCAL_DEFINE_PROGRESS_FLAG();
@@ -34,6 +35,7 @@ ACCELCAL_FLAG_RANGE(trials, 10, 1000000);
 ACCELCAL_FLAG_RANGE(poses, 3, 1000);
 ACCELCAL_FLAG_RANGE(hold_s, 0.5, 600.0);
 ACCELCAL_FLAG_OPEN_RANGE(gyro_noise, 0.0, 10000.0);
+ACCELCAL_FLAG_RANGE(discovery, 0.0, 0.5);
 
 namespace accelcal {
 namespace {
@@ -93,6 +95,7 @@ Status OptionsFromFlags(GyroscopeMonteCarloOptions* options, DataSource* source)
   options->trials = FLAGS_trials;
   options->seed = FLAGS_seed;
   options->threads = FLAGS_threads;
+  options->discovery_alpha = FLAGS_discovery;
   options->design.poses = FLAGS_poses;
   options->design.hold_s = FLAGS_hold_s;
   options->design.gyroscope_noise = {FLAGS_gyro_noise, FLAGS_gyro_noise, FLAGS_gyro_noise};

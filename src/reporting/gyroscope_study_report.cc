@@ -1,5 +1,6 @@
 #include "reporting/gyroscope_study_report.h"
 
+#include <algorithm>
 #include <sstream>
 
 #include "common/format.h"
@@ -7,7 +8,7 @@
 namespace accelcal {
 namespace {
 
-std::string Verdict(const GyroscopeMonteCarloResult& result) {
+std::string StudyVerdict(const GyroscopeMonteCarloResult& result) {
   if (result.refused) return "REFUSED (the design does not determine the gyroscope)";
   if (!result.passed) return "FAIL";
   return result.claim_possible ? "PASS" : "PASS (fewer than 1000 trials: no claim)";
@@ -30,7 +31,7 @@ std::string GyroscopeStudyText(const GyroscopeStudyReport& report) {
       static_cast<unsigned long long>(options.seed));
   if (result.refused) {
     out << "refused: " << result.refusal << "\n";
-    out << "verdict: " << Verdict(result) << "\n";
+    out << "verdict: " << StudyVerdict(result) << "\n";
     return out.str();
   }
   out << StringPrintf("%d of %d trials calibrated (%.1f s)\n\n", result.succeeded, result.trials,
@@ -50,8 +51,21 @@ std::string GyroscopeStudyText(const GyroscopeStudyReport& report) {
       "in %.2f%% of trials (expected 1%%)\n",
       result.mean_chi2_per_dof, 100.0 * result.p_below_001);
   out << "expected: ratio in [0.9, 1.1], coverage 68.3/95.4/99.7% within 3 binomial sd\n";
+  if (options.discovery_alpha > 0.0) {
+    const double n = std::max(1, result.succeeded);
+    out << StringPrintf(
+        "discovery at alpha = %g: explained %.1f%%, missing %.1f%%, unexplained %.1f%%, cannot "
+        "tell apart %.1f%% of %d sessions",
+        options.discovery_alpha, 100.0 * result.verdicts[0] / n, 100.0 * result.verdicts[1] / n,
+        100.0 * result.verdicts[2] / n, 100.0 * result.verdicts[3] / n, result.succeeded);
+    for (int e = 0; e < kGyroscopeEffectCount; ++e) {
+      out << StringPrintf("; %s found in %.1f%%", GyroscopeEffectInfos()[e].name,
+                          100.0 * result.found[e] / n);
+    }
+    out << "\n";
+  }
   for (const std::string& failure : result.failures) out << "  " << failure << "\n";
-  out << "verdict: " << Verdict(result) << "\n";
+  out << "verdict: " << StudyVerdict(result) << "\n";
   return out.str();
 }
 
@@ -94,8 +108,23 @@ nlohmann::json GyroscopeStudyJson(const GyroscopeStudyReport& report) {
   json["fit_statistic"] = {{"mean_chi2_per_dof", result.mean_chi2_per_dof},
                            {"p_below_0.01", result.p_below_001},
                            {"ok", result.p_ok}};
+  if (options.discovery_alpha > 0.0) {
+    nlohmann::json found;
+    for (int e = 0; e < kGyroscopeEffectCount; ++e)
+      found[GyroscopeEffectInfos()[e].name] = result.found[e];
+    json["discovery"] = {{"alpha", options.discovery_alpha},
+                         {"verdicts",
+                          {{"explained", result.verdicts[0]},
+                           {"missing", result.verdicts[1]},
+                           {"unexplained", result.verdicts[2]},
+                           {"cannot_tell_apart", result.verdicts[3]}}},
+                         {"found", found},
+                         {"null_rate_ok", result.null_rate_ok}};
+  } else {
+    json["discovery"] = nullptr;
+  }
   json["failures"] = result.failures;
-  json["verdict"] = Verdict(result);
+  json["verdict"] = StudyVerdict(result);
   json["seconds"] = result.seconds;
   return json;
 }

@@ -24,6 +24,8 @@ bool WithinBinomialBand(double fraction, double expected, int n) {
 struct Trial {
   bool ok = false;
   std::string failure;
+  int verdict = -1;  // with discovery
+  std::array<bool, kGyroscopeEffectCount> found{};
   std::vector<double> estimate;
   std::vector<double> stddev;
   double chi2_per_dof = 0.0;
@@ -125,6 +127,7 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   options.quantisation_step = 1.0;
   options.earth_rate_as_noise = design.earth_rate_allowance;
   options.effects = estimated;
+  fit->gyroscope_options = options;
   return CalibrateGyroscopeMl(fit->session.log, fit->intervals, fit->accelerometer_options,
                               fit->accelerometer, options, &fit->gyroscope);
 }
@@ -151,6 +154,22 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
       return;
     }
     trial.ok = true;
+    if (options.discovery_alpha > 0.0) {
+      GyroscopeDiscoveryOptions discovery;
+      discovery.alpha = options.discovery_alpha;
+      discovery.fit = fit.gyroscope_options;
+      discovery.fit.effects.clear();
+      GyroscopeDiscoveryResult result;
+      if (DiscoverGyroscope(fit.session.log, fit.intervals, fit.accelerometer_options,
+                            fit.accelerometer, discovery, &result)
+              .ok()) {
+        trial.verdict = static_cast<int>(result.verdict_code);
+        for (const GyroscopeFoundEffect& effect : result.effects) {
+          for (int e = 0; e < kGyroscopeEffectCount; ++e)
+            if (effect.effect == GyroscopeEffectInfos()[e].name) trial.found[e] = true;
+        }
+      }
+    }
     const GyroscopeMlResult& g = fit.gyroscope;
     trial.estimate.assign(g.parameters.begin(), g.parameters.end());
     trial.estimate.insert(trial.estimate.end(), g.offset.begin(), g.offset.end());
@@ -239,6 +258,32 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
     result->p_below_001 += (trial->p_value < 0.01) / n;
   }
   result->p_ok = WithinBinomialBand(result->p_below_001, 0.01, result->succeeded);
+  if (options.discovery_alpha > 0.0) {
+    for (const Trial* trial : good) {
+      if (trial->verdict < 0) {
+        ++result->discovery_failures;
+        continue;
+      }
+      ++result->verdicts[trial->verdict];
+      for (int e = 0; e < kGyroscopeEffectCount; ++e) result->found[e] += trial->found[e];
+    }
+    const bool null = options.design.effects == GyroscopeEffectCoefficients{};
+    if (null) {
+      const double alpha = options.discovery_alpha;
+      const double rate = 1.0 - static_cast<double>(result->verdicts[0]) / n;
+      result->null_rate_ok = rate <= alpha + 2.0 * std::sqrt(alpha * (1.0 - alpha) / n);
+      if (!result->null_rate_ok) {
+        result->failures.push_back(StringPrintf(
+            "discovery: %.1f%% of sessions with nothing hidden got a verdict but explained, "
+            "above alpha = %g + 2 sd",
+            100.0 * rate, alpha));
+      }
+    }
+    if (result->discovery_failures > 0) {
+      result->failures.push_back(
+          StringPrintf("discovery failed on %d sessions", result->discovery_failures));
+    }
+  }
   if (!result->p_ok) {
     result->failures.push_back(
         StringPrintf("fit statistic: p < 0.01 in %.1f%% of trials", 100.0 * result->p_below_001));

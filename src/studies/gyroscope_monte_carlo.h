@@ -25,6 +25,7 @@
 
 #include "common/progress.h"
 #include "common/status.h"
+#include "estimation/gyroscope/gyroscope_discovery.h"
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
 #include "estimation/triad/static_intervals.h"
 #include "estimation/triad/triad_ml_calibration.h"
@@ -74,6 +75,7 @@ struct GyroscopeSessionFit {
   std::vector<StaticInterval> intervals;  // the true holds
   TriadMlOptions accelerometer_options;
   TriadMlResult accelerometer;
+  GyroscopeMlOptions gyroscope_options;
   GyroscopeMlResult gyroscope;
 };
 Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
@@ -99,6 +101,11 @@ struct GyroscopeMonteCarloOptions {
   int trials = 1000;
   uint64_t seed = 1;
   std::vector<int> estimated;  // effect coefficients estimated
+  // Also run discovery (estimation/gyroscope/gyroscope_discovery.h) at this alpha on every session
+  // and count its verdicts: on sessions with nothing simulated beyond the model, the rate of any
+  // verdict but "explained" is the false-alarm rate the procedure promises to keep at most alpha;
+  // with effects simulated, the rate of finding each is the power. 0: no discovery.
+  double discovery_alpha = 0.0;
   int threads = 0;
   ProgressFn progress;
 };
@@ -117,6 +124,13 @@ struct GyroscopeMonteCarloResult {
   double mean_chi2_per_dof = 0.0;  // the gyroscope's part
   double p_below_001 = 0.0;
   bool p_ok = false;
+  // With discovery: the verdicts' counts (explained, missing, unexplained, cannot_tell_apart),
+  // the sessions in which each effect group was found, and the false-alarm verdict: when nothing
+  // is simulated, the rate of not-explained within alpha + 2 binomial sd.
+  std::array<int, 4> verdicts{};
+  std::array<int, kGyroscopeEffectCount> found{};
+  int discovery_failures = 0;
+  bool null_rate_ok = true;
   bool passed = false;          // nothing found wrong
   bool claim_possible = false;  // and at least 1000 trials succeeded
   double seconds = 0.0;
