@@ -316,8 +316,10 @@ TEST(CalibrateImuGyroscopeCli, MlModeCalibratesTheGyroscopeWithSigmaBesideImuTk)
                          "calibrate_imu", "--gyro_bias belongs to --mode=imu_tk");
   testing::ScratchDir scratch;
   const std::string json_path = scratch.File("gyroscope_ml.json");
-  const testing::CommandResult result = RunBinaryArgs(
-      "calibrate_imu", With(ml, {"--initial_gyro_gain=0.000159795", "--json=" + json_path}));
+  const std::string report_path = scratch.File("gyroscope_ml.html");
+  const testing::CommandResult result =
+      RunBinaryArgs("calibrate_imu", With(ml, {"--initial_gyro_gain=0.000159795",
+                                               "--json=" + json_path, "--report=" + report_path}));
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   EXPECT_NE(result.stdout_text.find("Gyroscope: maximum likelihood"), std::string::npos);
   EXPECT_NE(result.stdout_text.find("Earth's rate"), std::string::npos);
@@ -343,6 +345,14 @@ TEST(CalibrateImuGyroscopeCli, MlModeCalibratesTheGyroscopeWithSigmaBesideImuTk)
   EXPECT_LT(std::abs(turns - 74.0), 3.0 * std::sqrt(2.0 * 74.0)) << turns;
   EXPECT_EQ(g.at("turns").size(), 37u);
   EXPECT_GT(g.at("bias_wander_variance")[0].get<double>(), 0.0);
+  // One gyroscope verdict, the same in the table, the JSON and the HTML report.
+  const std::string verdict = g.at("verdict_text");
+  const std::string code = g.at("verdict");
+  EXPECT_NE(result.stdout_text.find("Verdict (gyroscope, " + code + "): " + verdict),
+            std::string::npos);
+  const std::string html = testing::ReadText(report_path);
+  EXPECT_NE(html.find("6. The gyroscope"), std::string::npos);
+  EXPECT_NE(html.find("Verdict (gyroscope, " + code + "): " + verdict), std::string::npos);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "io/cleanup.h"
 #include "io/json_file.h"
 #include "models/triad.h"
+#include "reporting/gyroscope_report.h"
 #include "reporting/report_document.h"
 #include "reporting/triad_discovery_report.h"
 
@@ -297,6 +298,77 @@ ReportSection DiscoverySection(const CalibrateImuReport& report) {
   return section;
 }
 
+// The gyroscope's maximum-likelihood calibration (estimation/gyroscope/), when the log had one:
+// its parameters beside imu_tk's and the datasheet's, the noise model, the fit, the Earth's rate.
+ReportSection GyroscopeSection(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  ReportSection section;
+  section.title = "6. The gyroscope";
+  section.paragraphs.push_back(
+      "Maximum likelihood jointly with the accelerometer's poses, w = T K (u - b) in rad/s "
+      "(docs/gyroscope.md): the offsets from every pose's mean, the turns between consecutive "
+      "poses integrated by the fourth-order rule, each parameter's sigma from ceres::Covariance.");
+  section.paragraphs.push_back(StringPrintf(
+      "Noise: white %.3g, %.3g, %.3g %s per sample; a bias wander between poses of %.3g, %.3g, "
+      "%.3g %s (0: none needed).",
+      std::sqrt(g.noise_variance[0]), std::sqrt(g.noise_variance[1]),
+      std::sqrt(g.noise_variance[2]), GyroscopeOutputUnitName(report.gyroscope_ml_options.unit),
+      std::sqrt(g.bias_wander_variance[0]), std::sqrt(g.bias_wander_variance[1]),
+      std::sqrt(g.bias_wander_variance[2]),
+      GyroscopeOutputUnitName(report.gyroscope_ml_options.unit)));
+  section.table.push_back({"parameter", "unit", "estimate", "sigma", "imu_tk", "datasheet"});
+  const bool example = IsImuTkGyroscopeExample(report);
+  for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
+    const double value =
+        i < kGyroscopeParameterCount ? g.parameters[i] : g.offset[i - kGyroscopeParameterCount];
+    const double imu_tk = i < kGyroscopeParameterCount
+                              ? report.gyroscope.parameters[i]
+                              : report.gyroscope.offset[i - kGyroscopeParameterCount];
+    section.table.push_back({g.names[i], g.units[i], StringPrintf("%.8g", value),
+                             StringPrintf("%.2g", g.stddev[i]),
+                             report.has_gyroscope_calibration ? StringPrintf("%.8g", imu_tk) : "-",
+                             example ? DatasheetGyroscopeValue(i) : "-"});
+  }
+  section.paragraphs.push_back(StringPrintf(
+      "Fit: chi2 %.1f on %d degrees of freedom added to the accelerometer's, p = %.3g (the "
+      "poses' offsets %.1f, the turns %.1f on %zu components).",
+      g.chi2_gyroscope, g.gyroscope_degrees_of_freedom, g.gyroscope_p_value, g.chi2_rest,
+      g.chi2_turns, 2 * g.turns.size()));
+  section.paragraphs.push_back(EarthRateSentence(report) + ".");
+  return section;
+}
+
+// Each turn's residual, and discovery on the gyroscope.
+ReportSection GyroscopeTurnsSection(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  const GyroscopeDiscoveryResult& d = report.gyroscope_discovery;
+  ReportSection section;
+  section.title = "7. The gyroscope's turns, and what its model misses";
+  section.table.push_back({"turn", "poses", "duration (s)", "tilt (deg)", "rotation (deg)",
+                           "residual (mrad)", "sigma (mrad)", "whitened"});
+  for (size_t t = 0; t < g.turns.size(); ++t) {
+    const GyroscopeMlTurn& turn = g.turns[t];
+    section.table.push_back({StringPrintf("%zu", t + 1),
+                             StringPrintf("%d -> %d", turn.pose_before + 1, turn.pose_before + 2),
+                             StringPrintf("%.2f", turn.duration_s),
+                             StringPrintf("%.2f", turn.angle_rad * 180 / M_PI),
+                             StringPrintf("%.2f", turn.rotation_angle_rad * 180 / M_PI),
+                             StringPrintf("%.3g", 1e3 * turn.residual_angle_rad),
+                             StringPrintf("%.3g", 1e3 * turn.angle_stddev_rad),
+                             StringPrintf("%+.2f, %+.2f", turn.whitened[0], turn.whitened[1])});
+  }
+  section.paragraphs.push_back("Noise: " + d.noise_note + ".");
+  for (const GyroscopeEffectScore& score : d.scores) {
+    section.paragraphs.push_back(StringPrintf("Step %d: %s removes chi2 %.2f on %d, p = %.3g%s.",
+                                              score.step, score.effect.c_str(), score.delta_chi2,
+                                              score.coefficients, score.p_value,
+                                              score.significant ? " (significant)" : ""));
+  }
+  section.paragraphs.push_back(std::string("Verdict (gyroscope, ") + VerdictCode(d.verdict_code) +
+                               "): " + d.verdict + ".");
+  return section;
+}
+
 ReportDocument Document(const CalibrateImuReport& report, const DataSource& source,
                         const std::map<std::string, std::string>& absent) {
   const TriadMlResult& ml = report.ml;
@@ -319,7 +391,15 @@ ReportDocument Document(const CalibrateImuReport& report, const DataSource& sour
   doc.sections.push_back(ParameterSection(report));
   doc.sections.push_back(FitSection(report));
   doc.sections.push_back(DiscoverySection(report));
-  doc.sections.push_back(ProvenanceSection(source, "6. Provenance"));
+  if (report.has_gyroscope_ml) {
+    doc.summary.push_back(std::string("The gyroscope: ") +
+                          VerdictCode(report.gyroscope_discovery.verdict_code) + ", " +
+                          report.gyroscope_discovery.verdict + " (sections 6 and 7).");
+    doc.sections.push_back(GyroscopeSection(report));
+    doc.sections.push_back(GyroscopeTurnsSection(report));
+  }
+  doc.sections.push_back(
+      ProvenanceSection(source, report.has_gyroscope_ml ? "8. Provenance" : "6. Provenance"));
   // A figure that could not be drawn is named where it would stand, with the reason.
   int not_drawn = 0;
   for (ReportSection& section : doc.sections) {
