@@ -25,6 +25,7 @@
 #include <ceres/jet.h>
 #include <ceres/sized_cost_function.h>
 
+#include <algorithm>
 #include <array>
 #include <utility>
 #include <vector>
@@ -79,10 +80,55 @@ class GyroscopeTurnResidual
   static constexpr int kUnknowns = kGyroscopeParameterCount + 3 + kGyroscopeEffectCoefficientCount;
 
   // `basis`: E's two columns; `whitening`: W, row-major.
+  // `estimated`: the effect coefficients the fit estimates (the others' derivatives are not
+  // computed; their block columns come out 0, as a held coefficient's are).
   GyroscopeTurnResidual(GyroscopeTurnSamples samples,
                         const std::array<std::array<double, 3>, 2>& basis,
-                        const std::array<double, 4>& whitening)
-      : samples_(std::move(samples)), basis_(basis), whitening_(whitening) {}
+                        const std::array<double, 4>& whitening, std::vector<int> estimated = {})
+      : samples_(std::move(samples)),
+        basis_(basis),
+        whitening_(whitening),
+        estimated_(std::move(estimated)) {}
+
+  static constexpr int kGyroscopeCalibrationUnknowns = kGyroscopeParameterCount + 3;
+
+  // R at the blocks' values, and the derivatives of R^T n_before by the first N unknowns (the 9
+  // parameters, the offsets, then the effects; the others' columns left as they are).
+  template <int N>
+  void RotationJacobian(double const* const* blocks, const double* before, double* rotation,
+                        double (*rotated_jacobian)[kUnknowns]) const {
+    using Jet = ceres::Jet<double, N>;
+    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
+    int index = 0;
+    for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], index++);
+    for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], index++);
+    // Column of each Jet index in the 27 unknowns: the 12, then the estimated coefficients (all
+    // 15 when N is 27).
+    int column[N];
+    for (int i = 0; i < kGyroscopeCalibrationUnknowns && i < N; ++i) column[i] = i;
+    const bool all = N == kUnknowns;
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) {
+      const bool differentiated =
+          all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end();
+      if (differentiated && index < N) {
+        column[index] = kGyroscopeCalibrationUnknowns + i;
+        effects[i] = Jet(blocks[2][i], index++);
+      } else {
+        effects[i] = Jet(blocks[2][i]);
+      }
+    }
+    Jet jet_rotation[9];
+    Rotation(parameters, offset, effects, jet_rotation);
+    for (int i = 0; i < 9; ++i) rotation[i] = jet_rotation[i].a;
+    for (int k = 0; k < 3; ++k) {
+      for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
+      for (int u = 0; u < index; ++u) {
+        rotated_jacobian[k][column[u]] = jet_rotation[k].v[u] * before[0] +
+                                         jet_rotation[3 + k].v[u] * before[1] +
+                                         jet_rotation[6 + k].v[u] * before[2];
+      }
+    }
+  }
 
   // R (row-major) at the given unknowns.
   template <typename T>
@@ -104,24 +150,30 @@ class GyroscopeTurnResidual
     const bool gyroscope_jacobian =
         jacobians != nullptr &&
         (jacobians[0] != nullptr || jacobians[1] != nullptr || jacobians[2] != nullptr);
-    if (gyroscope_jacobian) {
-      using Jet = ceres::Jet<double, kUnknowns>;
-      Jet parameters[kGyroscopeParameterCount], offset[3],
-          effects[kGyroscopeEffectCoefficientCount];
-      int index = 0;
-      for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], index++);
-      for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], index++);
-      for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i)
-        effects[i] = Jet(blocks[2][i], index++);
-      Jet jet_rotation[9];
-      Rotation(parameters, offset, effects, jet_rotation);
-      for (int i = 0; i < 9; ++i) rotation[i] = jet_rotation[i].a;
-      for (int k = 0; k < 3; ++k) {
-        for (int u = 0; u < kUnknowns; ++u) {
-          rotated_jacobian[k][u] = jet_rotation[k].v[u] * before[0] +
-                                   jet_rotation[3 + k].v[u] * before[1] +
-                                   jet_rotation[6 + k].v[u] * before[2];
-        }
+    if (gyroscope_jacobian && jacobians[2] == nullptr) {
+      // The effects held (the model without them, or constant): 12 unknowns' derivatives.
+      RotationJacobian<kGyroscopeCalibrationUnknowns>(blocks, before, rotation, rotated_jacobian);
+    } else if (gyroscope_jacobian) {
+      // Derivatives by the estimated effects' coefficients only (held ones have zero columns).
+      switch (estimated_.size()) {
+        case 3:
+          RotationJacobian<kGyroscopeCalibrationUnknowns + 3>(blocks, before, rotation,
+                                                              rotated_jacobian);
+          break;
+        case 6:
+          RotationJacobian<kGyroscopeCalibrationUnknowns + 6>(blocks, before, rotation,
+                                                              rotated_jacobian);
+          break;
+        case 9:
+          RotationJacobian<kGyroscopeCalibrationUnknowns + 9>(blocks, before, rotation,
+                                                              rotated_jacobian);
+          break;
+        case 12:
+          RotationJacobian<kGyroscopeCalibrationUnknowns + 12>(blocks, before, rotation,
+                                                               rotated_jacobian);
+          break;
+        default:
+          RotationJacobian<kUnknowns>(blocks, before, rotation, rotated_jacobian);
       }
     } else {
       Rotation(blocks[0], blocks[1], blocks[2], rotation);
@@ -180,6 +232,7 @@ class GyroscopeTurnResidual
   const GyroscopeTurnSamples samples_;
   const std::array<std::array<double, 3>, 2> basis_;
   const std::array<double, 4> whitening_;
+  const std::vector<int> estimated_;
 };
 
 }  // namespace accelcal

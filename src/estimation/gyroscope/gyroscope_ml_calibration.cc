@@ -278,8 +278,9 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       turn.angle_rad = AngleBetween(accelerometer.directions[p], after);
       result->turns.push_back(turn);
       turn_blocks.push_back(problem.AddResidualBlock(
-          new GyroscopeTurnResidual(std::move(samples), basis, whitening), nullptr, gyroscope,
-          offset, effects, result->directions[p].data(), result->directions[p + 1].data()));
+          new GyroscopeTurnResidual(std::move(samples), basis, whitening, estimated), nullptr,
+          gyroscope, offset, effects, result->directions[p].data(),
+          result->directions[p + 1].data()));
     }
     if (estimated.empty()) {
       problem.SetParameterBlockConstant(effects);
