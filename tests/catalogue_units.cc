@@ -22,9 +22,10 @@ int main() {
         accelcal::TriadParameterUnit(p, accelcal::TriadOutputUnit::kCount);
   }
   units["scale_nonlinearity_z"] = units["scale_nonlinearity_x"];
-  // The gyroscope's (imu_tk's calibration of it), for outputs in counts.
-  for (int p = 0; p < accelcal::kGyroscopeParameterCount; ++p) {
-    units[accelcal::GyroscopeParameterInfos()[p].name] =
+  // The gyroscope's (imu_tk's calibration of it, a calibration file's gyroscope section: the
+  // block's 9 and the offsets), for outputs in counts.
+  for (int p = 0; p < accelcal::kGyroscopeCalibrationParameterCount; ++p) {
+    units[accelcal::GyroscopeCalibrationParameterName(p)] =
         accelcal::GyroscopeParameterUnit(p, accelcal::GyroscopeOutputUnit::kCount);
   }
   std::cout << units.dump() << "\n";

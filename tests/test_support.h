@@ -279,6 +279,37 @@ inline double PlainTrapezoidEndpoint(const std::vector<double>& a, double dt, do
   return position;
 }
 
+// A gyroscope's correction written out from docs/gyroscope.md's matrices, independent of
+// models/gyroscope.h: `values` the 12 of a calibration file's gyroscope section (misalignment
+// yz, zy, zx, xz, xy, yx; gain x, y, z; offset x, y, z), `raw` one output; w = T K (u - b), rad/s.
+inline Eigen::Vector3d PlainGyroscopeRate(const Eigen::VectorXd& values,
+                                          const Eigen::Vector3d& raw) {
+  const double yz = values[0], zy = values[1], zx = values[2];
+  const double xz = values[3], xy = values[4], yx = values[5];
+  Eigen::Matrix3d misalignment;
+  misalignment << 1.0, -yz, zy, xz, 1.0, -zx, -xy, yx, 1.0;
+  const Eigen::Vector3d gain = values.segment<3>(6);
+  const Eigen::Vector3d offset = values.segment<3>(9);
+  return misalignment * gain.asDiagonal() * (raw - offset);
+}
+
+// The covariance of PlainGyroscopeRate that the parameters' `covariance` gives, J C J^T, with J
+// by central differences (exact up to rounding: w is linear in each parameter alone), steps of
+// each parameter's sigma.
+inline Eigen::Matrix3d PlainGyroscopeRateCovariance(const Eigen::VectorXd& values,
+                                                    const Eigen::MatrixXd& covariance,
+                                                    const Eigen::Vector3d& raw) {
+  Eigen::MatrixXd jacobian(3, values.size());
+  for (int p = 0; p < values.size(); ++p) {
+    const double step = std::sqrt(covariance(p, p));
+    Eigen::VectorXd up = values, down = values;
+    up[p] += step;
+    down[p] -= step;
+    jacobian.col(p) = (PlainGyroscopeRate(up, raw) - PlainGyroscopeRate(down, raw)) / (2 * step);
+  }
+  return jacobian * covariance * jacobian.transpose();
+}
+
 }  // namespace testing
 }  // namespace accelcal
 

@@ -1,10 +1,12 @@
 #include "io/calibration_file.h"
 
 #include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 
 #include "common/format.h"
 #include "io/input_file.h"
+#include "io/input_text.h"
 #include "io/json_file.h"
 #include "models/effects.h"
 
@@ -36,16 +38,36 @@ Status ReadString(const nlohmann::json& object, const std::string& key, std::str
   return Status::Ok();
 }
 
+// A block of named parameters as the file writes them: `parameter_order`, `parameters`,
+// `units`, `stddev` and `covariance` of one object (the file's top level for the sensor of its
+// geometry, the "gyroscope" object for a triad's gyroscope). Messages name its keys after
+// `prefix` ("" or "gyroscope/").
+struct ParameterBlock {
+  std::string prefix;
+  std::string owner;  // whose parameter_order it is: "geometry triad", "the gyroscope section"
+  std::vector<std::string> names;
+  std::vector<std::string> units;
+  double limit = 1e6;  // |value| at most: finite and of a sane size
+  // A hand-written file of version 1 may omit the accelerometer's stddev (it repeats the
+  // covariance); the gyroscope's section came with it from the start.
+  bool stddev_required = false;
+};
+
+// The relative tolerance between a stddev and the square root of its variance: the writer
+// writes both from one double, so only an edit of one of them sets them apart.
+constexpr double kStddevTolerance = 1e-6;
+
 Status CheckCovariance(const Eigen::MatrixXd& covariance,
-                       const std::vector<std::string>& parameters) {
+                       const std::vector<std::string>& parameters, const std::string& prefix) {
   for (int i = 0; i < covariance.rows(); ++i) {
     if (!(covariance(i, i) > 0.0)) {
-      return Status::Error("covariance: the variance of " + parameters[i] + " is not positive");
+      return Status::Error(prefix + "covariance: the variance of " + parameters[i] +
+                           " is not positive");
     }
     for (int j = 0; j < i; ++j) {
       const double scale = std::sqrt(covariance(i, i) * covariance(j, j));
       if (std::abs(covariance(i, j) - covariance(j, i)) > 1e-9 * scale) {
-        return Status::Error("covariance is not symmetric (" + parameters[i] + ", " +
+        return Status::Error(prefix + "covariance is not symmetric (" + parameters[i] + ", " +
                              parameters[j] + ")");
       }
     }
@@ -56,58 +78,175 @@ Status CheckCovariance(const Eigen::MatrixXd& covariance,
       inverse_sigma.asDiagonal() * covariance * inverse_sigma.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver(correlation);
   if (solver.eigenvalues().minCoeff() < -1e-9) {
-    return Status::Error(StringPrintf(
-        "covariance is not positive semi-definite (smallest eigenvalue of the correlation "
-        "matrix %.3g)",
-        solver.eigenvalues().minCoeff()));
+    return Status::Error(prefix + StringPrintf("covariance is not positive semi-definite (smallest "
+                                               "eigenvalue of the correlation matrix %.3g)",
+                                               solver.eigenvalues().minCoeff()));
   }
   return Status::Ok();
 }
 
-Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
-                       CalibrationRecord* record) {
-  if (!json.contains("parameter_order") || json["parameter_order"] != geometry.parameters) {
-    std::string expected;
-    for (const std::string& name : geometry.parameters)
-      expected += (expected.empty() ? "" : ", ") + name;
-    return Status::Error("parameter_order must be [" + expected + "] for geometry " +
-                         record->geometry);
-  }
-  const size_t n = geometry.parameters.size();
-  record->parameter_order = geometry.parameters;
-  record->values.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const std::string& name = geometry.parameters[i];
-    // Finite and of a sane size; a triad's offsets are counts of ADCs of up to 30 bits.
-    const double limit = record->geometry == "triad" ? 1e9 : 1e6;
-    ACCELCAL_RETURN_IF_ERROR(ReadNumber(json.value("parameters", nlohmann::json()), name,
-                                        "parameters", -limit, limit, &record->values[i]));
-    const nlohmann::json units = json.value("units", nlohmann::json());
-    if (!units.is_object() || !units.contains(name) || units[name] != geometry.units[i]) {
-      return Status::Error("units/" + name + " must be \"" + geometry.units[i] + "\", the unit " +
-                           "of the model; convert the file's values rather than its label");
+// Each key of the object at `key` (when it is one) names a parameter of the block.
+Status CheckKnownNames(const nlohmann::json& object, const std::string& key,
+                       const ParameterBlock& block) {
+  const nlohmann::json& map = object.contains(key) ? object.at(key) : nlohmann::json();
+  if (!map.is_object()) return Status::Ok();  // its parameters' reads say what is wrong
+  for (auto it = map.begin(); it != map.end(); ++it) {
+    if (std::find(block.names.begin(), block.names.end(), it.key()) == block.names.end()) {
+      return Status::Error(block.prefix + key + "/" + EchoInput(it.key()) +
+                           ": not a parameter of " + block.owner + " (parameter_order names them)");
     }
   }
-  const nlohmann::json& covariance = json.value("covariance", nlohmann::json());
-  if (!covariance.is_array() || covariance.size() != n) {
-    return Status::Error("covariance must be a " + std::to_string(n) + "x" + std::to_string(n) +
-                         " array of arrays in parameter_order's order");
+  return Status::Ok();
+}
+
+// stddev, when given (or required), is the square root of the covariance's diagonal.
+Status CheckStddev(const nlohmann::json& object, const ParameterBlock& block,
+                   const Eigen::MatrixXd& covariance) {
+  if (!object.contains("stddev") && !block.stddev_required) return Status::Ok();
+  const nlohmann::json& stddev = object.contains("stddev") ? object.at("stddev") : nlohmann::json();
+  if (!stddev.is_object()) {
+    return Status::Error(block.prefix + "stddev must be an object: each parameter's standard " +
+                         "deviation, the square root of its variance in covariance");
   }
-  record->covariance.resize(n, n);
+  for (size_t i = 0; i < block.names.size(); ++i) {
+    const std::string key = block.prefix + "stddev/" + block.names[i];
+    if (!stddev.contains(block.names[i])) {
+      return Status::Error("the key \"" + key + "\" is missing");
+    }
+    const nlohmann::json& item = stddev.at(block.names[i]);
+    if (!item.is_number() || !std::isfinite(item.get<double>())) {
+      return Status::Error(key + " must be a finite number");
+    }
+    const double value = item.get<double>();
+    const double sigma = std::sqrt(covariance(i, i));
+    if (!(std::abs(value - sigma) <= kStddevTolerance * sigma)) {
+      return Status::Error(StringPrintf(
+          "%sstddev/%s = %s contradicts %scovariance[%zu][%zu] = %s, whose square root is %s "
+          "(relative difference %.3g, more than %g): one of the two was edited; correct it",
+          block.prefix.c_str(), block.names[i].c_str(), RoundTripDouble(value).c_str(),
+          block.prefix.c_str(), i, i, RoundTripDouble(covariance(i, i)).c_str(),
+          RoundTripDouble(sigma).c_str(), std::abs(value - sigma) / sigma, kStddevTolerance));
+    }
+  }
+  return CheckKnownNames(object, "stddev", block);
+}
+
+Status ParseParameterBlock(const nlohmann::json& object, const ParameterBlock& block,
+                           Eigen::VectorXd* values, Eigen::MatrixXd* covariance) {
+  if (!object.contains("parameter_order") || object["parameter_order"] != block.names) {
+    std::string expected;
+    for (const std::string& name : block.names) expected += (expected.empty() ? "" : ", ") + name;
+    return Status::Error(block.prefix + "parameter_order must be [" + expected + "] for " +
+                         block.owner);
+  }
+  const size_t n = block.names.size();
+  values->resize(n);
+  const nlohmann::json parameters = object.value("parameters", nlohmann::json());
+  const nlohmann::json units = object.value("units", nlohmann::json());
   for (size_t i = 0; i < n; ++i) {
-    if (!covariance[i].is_array() || covariance[i].size() != n) {
-      return Status::Error("covariance row " + std::to_string(i) + " must hold " +
+    const std::string& name = block.names[i];
+    ACCELCAL_RETURN_IF_ERROR(ReadNumber(parameters, name, block.prefix + "parameters", -block.limit,
+                                        block.limit, &(*values)[i]));
+    if (!units.is_object() || !units.contains(name) || units[name] != block.units[i]) {
+      return Status::Error(block.prefix + "units/" + name + " must be \"" + block.units[i] +
+                           "\", the unit of the model; convert the file's values rather than " +
+                           "its label");
+    }
+  }
+  ACCELCAL_RETURN_IF_ERROR(CheckKnownNames(object, "parameters", block));
+  ACCELCAL_RETURN_IF_ERROR(CheckKnownNames(object, "units", block));
+  const nlohmann::json& matrix = object.value("covariance", nlohmann::json());
+  if (!matrix.is_array() || matrix.size() != n) {
+    return Status::Error(block.prefix + "covariance must be a " + std::to_string(n) + "x" +
+                         std::to_string(n) + " array of arrays in parameter_order's order");
+  }
+  covariance->resize(n, n);
+  for (size_t i = 0; i < n; ++i) {
+    if (!matrix[i].is_array() || matrix[i].size() != n) {
+      return Status::Error(block.prefix + "covariance row " + std::to_string(i) + " must hold " +
                            std::to_string(n) + " numbers");
     }
     for (size_t j = 0; j < n; ++j) {
-      const nlohmann::json& item = covariance[i][j];
+      const nlohmann::json& item = matrix[i][j];
       if (!item.is_number() || !std::isfinite(item.get<double>())) {
-        return Status::Error(StringPrintf("covariance[%zu][%zu] is not a finite number", i, j));
+        return Status::Error(block.prefix +
+                             StringPrintf("covariance[%zu][%zu] is not a finite number", i, j));
       }
-      record->covariance(i, j) = item.get<double>();
+      (*covariance)(i, j) = item.get<double>();
     }
   }
-  return CheckCovariance(record->covariance, record->parameter_order);
+  ACCELCAL_RETURN_IF_ERROR(CheckCovariance(*covariance, block.names, block.prefix));
+  return CheckStddev(object, block, *covariance);
+}
+
+// The keys ParseParameterBlock reads, written.
+nlohmann::json ParameterBlockJson(const std::vector<std::string>& names,
+                                  const std::vector<std::string>& units,
+                                  const Eigen::VectorXd& values,
+                                  const Eigen::MatrixXd& covariance) {
+  nlohmann::json parameters = nlohmann::json::object();
+  nlohmann::json unit_of = nlohmann::json::object();
+  nlohmann::json stddev = nlohmann::json::object();
+  nlohmann::json matrix = nlohmann::json::array();
+  for (int i = 0; i < values.size(); ++i) {
+    const std::string& name = names[i];
+    parameters[name] = values[i];
+    unit_of[name] = i < static_cast<int>(units.size()) ? units[i] : "";
+    stddev[name] = std::sqrt(covariance(i, i));
+    nlohmann::json row = nlohmann::json::array();
+    for (int j = 0; j < values.size(); ++j) row.push_back(covariance(i, j));
+    matrix.push_back(row);
+  }
+  return {{"parameter_order", names},
+          {"parameters", parameters},
+          {"units", unit_of},
+          {"stddev", stddev},
+          {"covariance", matrix}};
+}
+
+// The gyroscope section's block, for outputs in `unit`. Offsets in counts reach 2^30 as the
+// triad's do.
+ParameterBlock GyroscopeBlock(GyroscopeOutputUnit unit) {
+  ParameterBlock block;
+  block.prefix = "gyroscope/";
+  block.owner = "the gyroscope section";
+  for (int p = 0; p < kGyroscopeCalibrationParameterCount; ++p) {
+    block.names.push_back(GyroscopeCalibrationParameterName(p));
+    block.units.push_back(GyroscopeParameterUnit(p, unit));
+  }
+  block.limit = 1e9;
+  block.stddev_required = true;
+  return block;
+}
+
+Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
+                       CalibrationRecord* record) {
+  ParameterBlock block;
+  block.owner = "geometry " + record->geometry;
+  block.names = geometry.parameters;
+  block.units = geometry.units;
+  // A triad's offsets are counts of ADCs of up to 30 bits.
+  block.limit = record->geometry == "triad" ? 1e9 : 1e6;
+  record->parameter_order = geometry.parameters;
+  return ParseParameterBlock(json, block, &record->values, &record->covariance);
+}
+
+// A gyroscope's gains are positive (an axis wired backwards is a sign the fit should not hide,
+// as the triad's) and agree with its output unit.
+Status CheckGyroscopeSection(const GyroscopeCalibrationSection& section) {
+  GyroscopeParameters parameters;
+  GyroscopeOffset offset;
+  Eigen::MatrixXd covariance;
+  GyroscopeOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(GyroscopeCalibration(section, &parameters, &offset, &covariance, &unit));
+  for (int k = 0; k < 3; ++k) {
+    if (!(parameters[kGyroscopeGainX + k] > 0.0)) {
+      return Status::Error("gyroscope/parameters/" +
+                           GyroscopeCalibrationParameterName(kGyroscopeGainX + k) +
+                           " is not positive");
+    }
+  }
+  return CheckGyroscopeMatchesUnit(parameters, offset, unit).WithContext("gyroscope/parameters");
 }
 
 // A correction divides by 1 + scale_k; no real sensor's gain is off by 90%. A triad's gains
@@ -188,48 +327,63 @@ Status GeometryOf(const std::string& geometry, const std::string& output_unit, G
   return Status::Error("unknown sensor geometry '" + geometry + "' (known: two_axis, triad)");
 }
 
+namespace {
+
+// The gyroscope section's object.
+nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) {
+  GyroscopeOutputUnit unit;
+  const bool known = ParseGyroscopeOutputUnit(section.output_unit, &unit).ok();
+  nlohmann::json json = ParameterBlockJson(
+      section.parameter_order, known ? GyroscopeBlock(unit).units : std::vector<std::string>(),
+      section.values, section.covariance);
+  json["model"] = {
+      {"measurement",
+       "w = T K (u - b), T = [[1, -gyroscope_misalignment_yz, gyroscope_misalignment_zy], "
+       "[gyroscope_misalignment_xz, 1, -gyroscope_misalignment_zx], [-gyroscope_misalignment_xy, "
+       "gyroscope_misalignment_yx, 1]], K = diag(gyroscope_gain_x, gyroscope_gain_y, "
+       "gyroscope_gain_z), b = (gyroscope_offset_x, gyroscope_offset_y, gyroscope_offset_z)"},
+      {"conventions",
+       "u: the gyroscope's output in output_unit; w: angular rate in rad/s in the "
+       "accelerometer's frame (model.conventions: x along the accelerometer's x sensing axis, y "
+       "in the plane of its x and y sensing axes); misalignment angles in rad, "
+       "gyroscope_misalignment_ij the i sensing axis rotated about the j axis (imu_tk's mis_ij); "
+       "gains in rad/s per unit of output; offsets, the output at zero rate, in output_unit"},
+      {"document", "docs/calibration.md, docs/gyroscope.md"}};
+  json["output_unit"] = section.output_unit;
+  json["fit"] = section.fit;
+  return json;
+}
+
+}  // namespace
+
 nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   GeometryInfo geometry;
   const bool known = GeometryOf(record.geometry, record.output_unit, &geometry).ok();
-  nlohmann::json parameters = nlohmann::json::object();
-  nlohmann::json units = nlohmann::json::object();
-  nlohmann::json stddev = nlohmann::json::object();
-  nlohmann::json covariance = nlohmann::json::array();
-  for (int i = 0; i < record.values.size(); ++i) {
-    const std::string& name = record.parameter_order[i];
-    parameters[name] = record.values[i];
-    units[name] = known ? geometry.units[i] : "";
-    stddev[name] = std::sqrt(record.covariance(i, i));
-    nlohmann::json row = nlohmann::json::array();
-    for (int j = 0; j < record.values.size(); ++j) row.push_back(record.covariance(i, j));
-    covariance.push_back(row);
-  }
   nlohmann::json noise = {{"unit", "(" + record.output_unit + ")^2"},
                           {"from", record.noise_variance_from}};
   for (size_t k = 0; k < record.noise_variance.size() && k < geometry.axes.size(); ++k) {
     noise[geometry.axes[k]] = record.noise_variance[k];
   }
-  nlohmann::json json = {{"format", kCalibrationFormat},
-                         {"format_version", kCalibrationFormatVersion},
-                         {"model",
-                          {{"geometry", record.geometry},
-                           {"axes", geometry.axes},
-                           {"effects", geometry.effects},
-                           {"measurement", known ? geometry.measurement : ""},
-                           {"correction", known ? geometry.correction : ""},
-                           {"output_unit", record.output_unit},
-                           {"conventions", known ? geometry.conventions : ""},
-                           {"document", "docs/calibration.md"}}},
-                         {"gravity_mps2", record.gravity_mps2},
-                         {"parameter_order", record.parameter_order},
-                         {"parameters", parameters},
-                         {"units", units},
-                         {"stddev", stddev},
-                         {"covariance", covariance},
-                         {"noise_variance", noise},
-                         {"fit", record.fit},
-                         {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}};
+  nlohmann::json json =
+      ParameterBlockJson(record.parameter_order, geometry.units, record.values, record.covariance);
+  json.update({{"format", kCalibrationFormat},
+               {"format_version", kCalibrationFormatVersion},
+               {"model",
+                {{"geometry", record.geometry},
+                 {"axes", geometry.axes},
+                 {"effects", geometry.effects},
+                 {"measurement", known ? geometry.measurement : ""},
+                 {"correction", known ? geometry.correction : ""},
+                 {"output_unit", record.output_unit},
+                 {"conventions", known ? geometry.conventions : ""},
+                 {"document", "docs/calibration.md"}}},
+               {"gravity_mps2", record.gravity_mps2},
+               {"noise_variance", noise},
+               {"fit", record.fit},
+               {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}});
   json["poorly_determined"] = record.poorly_determined;
+  json["gyroscope"] =
+      record.has_gyroscope ? GyroscopeSectionJson(record.gyroscope) : nlohmann::json(nullptr);
   AddProvenanceJson(record.source, &json);
   return json;
 }
@@ -254,6 +408,40 @@ Status ReadPoorlyDetermined(const nlohmann::json& json, CalibrationRecord* parse
     }
   }
   parsed->poorly_determined = list;
+  return Status::Ok();
+}
+
+// The optional gyroscope section: absent (files written before it) or null (none), or a
+// triad's gyroscope, checked as the accelerometer's part is.
+Status ReadGyroscopeSection(const nlohmann::json& json, CalibrationRecord* parsed) {
+  if (!json.contains("gyroscope") || json["gyroscope"].is_null()) return Status::Ok();
+  const nlohmann::json& object = json["gyroscope"];
+  if (!object.is_object()) {
+    return Status::Error("\"gyroscope\" must be an object (the gyroscope's calibration) or null");
+  }
+  if (parsed->geometry != "triad") {
+    return Status::Error(
+        "\"gyroscope\": a gyroscope's calibration belongs to a triad's file; "
+        "this one's geometry is " +
+        parsed->geometry);
+  }
+  GyroscopeCalibrationSection section;
+  if (!object.contains("output_unit") || !object["output_unit"].is_string()) {
+    return Status::Error("the key \"gyroscope/output_unit\" is missing or not a string");
+  }
+  section.output_unit = object["output_unit"].get<std::string>();
+  GyroscopeOutputUnit unit;  // the file's text echoed fit for one line: no unit is changed by it
+  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(EchoInput(section.output_unit), &unit)
+                               .WithContext("gyroscope/output_unit"));
+  const ParameterBlock block = GyroscopeBlock(unit);
+  section.parameter_order = block.names;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseParameterBlock(object, block, &section.values, &section.covariance));
+  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeSection(section));
+  section.fit = object.value("fit", nlohmann::json::object());
+  if (!section.fit.is_object()) return Status::Error("gyroscope/fit must be an object");
+  parsed->has_gyroscope = true;
+  parsed->gyroscope = std::move(section);
   return Status::Ok();
 }
 
@@ -305,6 +493,7 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   parsed.noise_variance_from = noise.value("from", "");
   parsed.fit = json.value("fit", nlohmann::json::object());
   ACCELCAL_RETURN_IF_ERROR(in_file(ReadPoorlyDetermined(json, &parsed)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(ReadGyroscopeSection(json, &parsed)));
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");
   parsed.written_by_command_line = json.value("command_line", "");
@@ -335,6 +524,55 @@ Status TriadCalibration(const CalibrationRecord& record, const std::string& path
   for (int p = 0; p < kTriadParameterCount; ++p) (*parameters)[p] = record.values[p];
   *covariance = record.covariance;
   return ParseTriadOutputUnit(record.output_unit, unit).WithContext(path);
+}
+
+Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
+                                       const GyroscopeOffset& offset,
+                                       const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
+                                       GyroscopeCalibrationSection* section) {
+  GyroscopeCalibrationSection made;
+  made.output_unit = GyroscopeOutputUnitName(unit);
+  const ParameterBlock block = GyroscopeBlock(unit);
+  made.parameter_order = block.names;
+  constexpr int n = kGyroscopeCalibrationParameterCount;
+  if (covariance.rows() != n || covariance.cols() != n) {
+    return Status::Error(StringPrintf("gyroscope/covariance is %dx%d, not %dx%d",
+                                      static_cast<int>(covariance.rows()),
+                                      static_cast<int>(covariance.cols()), n, n));
+  }
+  made.values.resize(n);
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) made.values[p] = parameters[p];
+  for (int k = 0; k < 3; ++k) made.values[kGyroscopeCalibrationOffsetX + k] = offset[k];
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(made.values[i]) || std::abs(made.values[i]) > block.limit) {
+      return Status::Error("gyroscope/parameters/" + block.names[i] + " = " +
+                           RoundTripDouble(made.values[i]) + " is not a finite number within " +
+                           RoundTripDouble(block.limit));
+    }
+  }
+  if (!covariance.allFinite()) return Status::Error("gyroscope/covariance is not finite");
+  made.covariance = covariance;
+  ACCELCAL_RETURN_IF_ERROR(CheckCovariance(made.covariance, made.parameter_order, block.prefix));
+  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeSection(made));
+  *section = std::move(made);
+  return Status::Ok();
+}
+
+Status GyroscopeCalibration(const GyroscopeCalibrationSection& section,
+                            GyroscopeParameters* parameters, GyroscopeOffset* offset,
+                            Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit) {
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseGyroscopeOutputUnit(section.output_unit, unit).WithContext("gyroscope/output_unit"));
+  if (section.values.size() != kGyroscopeCalibrationParameterCount ||
+      section.covariance.rows() != kGyroscopeCalibrationParameterCount ||
+      section.covariance.cols() != kGyroscopeCalibrationParameterCount) {
+    return Status::Error(
+        "the gyroscope section does not hold its 12 parameters and their 12x12 covariance");
+  }
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) (*parameters)[p] = section.values[p];
+  for (int k = 0; k < 3; ++k) (*offset)[k] = section.values[kGyroscopeCalibrationOffsetX + k];
+  *covariance = section.covariance;
+  return Status::Ok();
 }
 
 Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record) {

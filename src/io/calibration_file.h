@@ -16,12 +16,28 @@
 //    "fit": {...}, "poorly_determined": [...] or null, "created_utc": "...", and the
 //    provenance keys (io/provenance.h)}
 //
+//
+// A triad's file may carry its gyroscope's calibration too, in an object of its own (null when
+// there is none; a file without the key, written before it, reads as none):
+//
+//   "gyroscope": {"model": {"measurement": "w = T K (u - b), ...", "conventions": ...},
+//                 "output_unit": "count", "parameter_order": [the 9 of models/gyroscope.h's
+//                 block, then "gyroscope_offset_x", "_y", "_z"], "parameters", "units",
+//                 "stddev", "covariance" (12x12), "fit": {...}}
+//
+// Version 1 still: the section adds a key and changes none, and a version-1 reader that does
+// not know it ignores it (ParseCalibration reads only the keys it knows).
+//
 // The reader refuses, in one line naming the file and the key, a file of another format or
 // a newer version, a parameter missing or unknown, a unit other than the model's, a
-// covariance that is not symmetric positive semi-definite with positive variances, and any
-// non-finite number, and a `poorly_determined` that is not a list of objects each naming a
-// parameter of the file: a calibration applied with a wrong unit or a broken covariance would
-// give confident wrong answers downstream.
+// covariance that is not symmetric positive semi-definite with positive variances, a stddev
+// that is not the square root of the covariance's diagonal (relative 1e-6; optional in the
+// accelerometer's part, which hand-written files of version 1 omit, required in the
+// gyroscope's), and any non-finite number, and a `poorly_determined` that is not a list of
+// objects each naming a parameter of the file: a calibration applied with a wrong unit or a
+// broken covariance would give confident wrong answers downstream. The gyroscope's section is
+// checked alike. Arrays and objects nested deeper than kMaxJsonDepth are refused before
+// anything is built from them (io/json_file.h).
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
@@ -30,6 +46,8 @@
 
 #include "common/status.h"
 #include "io/provenance.h"
+#include "models/gyroscope.h"
+#include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
 
@@ -37,6 +55,35 @@ namespace accelcal {
 
 constexpr char kCalibrationFormat[] = "accelcal-calibration";
 constexpr int kCalibrationFormatVersion = 1;
+
+// A triad's gyroscope calibration: w = T K (u - b) (models/gyroscope.h), the block's 9
+// parameters then the offsets, with their joint covariance. Build it with
+// MakeGyroscopeCalibrationSection.
+struct GyroscopeCalibrationSection {
+  // The unit of the gyroscope's log: "count", "rad/s" or "deg/s" (models/gyroscope_units.h);
+  // it sets the gains' and offsets' units.
+  std::string output_unit = "count";
+  std::vector<std::string> parameter_order;       // GyroscopeCalibrationParameterName(0..11)
+  Eigen::VectorXd values;                         // parameter_order's order
+  Eigen::MatrixXd covariance;                     // 12x12, parameter_order's order
+  nlohmann::json fit = nlohmann::json::object();  // the estimator's own summary, free form
+};
+
+// The section of a gyroscope's calibration: `parameters` (the block), `offset` (in `unit`) and
+// their 12x12 `covariance` (the block's 9 in order, then the offset's x, y, z); `fit` is left
+// empty for the caller. Fails, in one line naming the key, for what the file's reader would
+// refuse (a covariance of another size, not finite, not symmetric positive semi-definite with
+// positive variances; gains that are not positive or contradict `unit`), so that a file
+// written is a file apply reads.
+Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
+                                       const GyroscopeOffset& offset,
+                                       const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
+                                       GyroscopeCalibrationSection* section);
+
+// The section's block, offset, covariance and unit, for apply.
+Status GyroscopeCalibration(const GyroscopeCalibrationSection& section,
+                            GyroscopeParameters* parameters, GyroscopeOffset* offset,
+                            Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit);
 
 // A calibration: parameters by name with their joint covariance, under a sensor geometry.
 struct CalibrationRecord {
@@ -59,6 +106,9 @@ struct CalibrationRecord {
   // correlated_with, suggestion}; null when not assessed (a two-axis calibration, or a file
   // written before the key existed, which the reader accepts), an empty array when none.
   nlohmann::json poorly_determined = nullptr;
+  // A triad's gyroscope, when calibrated with it (written as "gyroscope": null otherwise).
+  bool has_gyroscope = false;
+  GyroscopeCalibrationSection gyroscope;
   std::string created_utc;  // ISO 8601, set by the writer
   DataSource source;        // the tilt test it was computed from (written, not read back)
   // Read back only: the writer's version and command line.

@@ -77,6 +77,10 @@ struct Frame {
   size_t index = 0;            // an array's current element
 };
 
+// Thrown by the parser's callback to stop at a level deeper than kMaxJsonDepth, before the
+// document holds it.
+struct TooDeep {};
+
 }  // namespace
 
 Status ParseJsonStrict(const std::string& text, nlohmann::json* document) {
@@ -84,11 +88,19 @@ Status ParseJsonStrict(const std::string& text, nlohmann::json* document) {
   std::vector<Frame> frames;
   std::string duplicate_key;
   std::string duplicate_pointer;
+  std::string deep_pointer;
   const json::parser_callback_t callback = [&](int /*depth*/, json::parse_event_t event,
                                                json& parsed) {
     switch (event) {
       case json::parse_event_t::object_start:
       case json::parse_event_t::array_start:
+        if (frames.size() >= static_cast<size_t>(kMaxJsonDepth)) {
+          // Where it happens, by the outermost key or element: the rest is a long "/0/0/0...".
+          const Frame& outer = frames.front();
+          deep_pointer =
+              "/" + (outer.array ? std::to_string(outer.index) : PointerToken(outer.key));
+          throw TooDeep();
+        }
         frames.emplace_back();
         frames.back().array = event == json::parse_event_t::array_start;
         break;
@@ -121,6 +133,12 @@ Status ParseJsonStrict(const std::string& text, nlohmann::json* document) {
   } catch (const json::exception& error) {
     *document = json();
     return Status::Error("not valid JSON (" + ParseErrorText(error.what()) + ")");
+  } catch (const TooDeep&) {
+    *document = json();
+    return Status::Error("arrays and objects nested more than " + std::to_string(kMaxJsonDepth) +
+                         " deep, under " + deep_pointer +
+                         "; no accelcal input nests beyond a few levels: the file is damaged or "
+                         "not the one meant");
   } catch (const std::bad_alloc&) {
     *document = json();
     return Status::Error(

@@ -20,10 +20,18 @@ namespace accelcal {
 // `json`, or "" when every number is finite.
 std::string FirstNonFiniteNumber(const nlohmann::json& json);
 
+// The deepest nesting of arrays and objects ParseJsonStrict accepts. No accelcal input nests
+// beyond a few levels, and nlohmann::json copies, compares and prints a document by recursion,
+// so a crafted file of a hundred thousand '[' would overflow the stack in whatever first copied
+// it; the parser itself is iterative, and stops at the first level too deep.
+constexpr int kMaxJsonDepth = 64;
+
 // Parses `text` as one JSON document into `document`. Fails on invalid JSON ("not valid
-// JSON (...)", the parser's message with the text it quotes cut to EchoInput's length), and
-// on a key given twice in one object: 'key "dt" is given twice in one object, at /run/dt;
-// ...' (the second occurrence's JSON pointer, RFC 6901). On failure `document` is null.
+// JSON (...)", the parser's message with the text it quotes cut to EchoInput's length), on
+// arrays and objects nested deeper than kMaxJsonDepth ("arrays and objects nested more than 64
+// deep, under /model; ..."), and on a key given twice in one object: 'key "dt" is given twice
+// in one object, at /run/dt; ...' (the second occurrence's JSON pointer, RFC 6901). On failure
+// `document` is null.
 Status ParseJsonStrict(const std::string& text, nlohmann::json* document);
 
 // Writes `json` (indented, newline-terminated) atomically (io/atomic_file.h), after

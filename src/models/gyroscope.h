@@ -25,6 +25,7 @@
 
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace accelcal {
@@ -63,6 +64,19 @@ GyroscopeParameterInfos() {
 
 using GyroscopeParameters = std::array<double, kGyroscopeParameterCount>;
 using GyroscopeOffset = std::array<double, 3>;  // counts, x, y, z
+
+// A gyroscope's whole calibration, block and offset: the block's 9 in its order, then the
+// offset's x, y, z. The order of a calibration file's gyroscope section and of its 12x12
+// covariance (io/calibration_file.h).
+constexpr int kGyroscopeCalibrationOffsetX = kGyroscopeParameterCount;
+constexpr int kGyroscopeCalibrationParameterCount = kGyroscopeParameterCount + 3;
+
+// The name of parameter `index` of the 12: the block's (GyroscopeParameterInfos), then
+// "gyroscope_offset_x", "gyroscope_offset_y", "gyroscope_offset_z".
+inline std::string GyroscopeCalibrationParameterName(int index) {
+  if (index < kGyroscopeParameterCount) return GyroscopeParameterInfos()[index].name;
+  return std::string("gyroscope_offset_") + "xyz"[index - kGyroscopeCalibrationOffsetX];
+}
 
 // Angles 0 and the given gains (imu_tk's default guess has gains 1; its Xsens example 1/6258).
 inline GyroscopeParameters GyroscopeParametersWithGain(double gain_x, double gain_y,

@@ -44,6 +44,7 @@ double GyroscopeNominalGain(GyroscopeOutputUnit unit) {
 }
 
 std::string GyroscopeParameterUnit(int index, GyroscopeOutputUnit unit) {
+  if (index >= kGyroscopeCalibrationOffsetX) return GyroscopeOutputUnitName(unit);
   if (index >= kGyroscopeGainX && index <= kGyroscopeGainZ) {
     if (unit == GyroscopeOutputUnit::kRadPerS) return "1";
     if (unit == GyroscopeOutputUnit::kDegPerS) return "(rad/s)/(deg/s)";

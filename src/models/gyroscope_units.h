@@ -27,8 +27,9 @@ Status ParseGyroscopeOutputUnit(const std::string& name, GyroscopeOutputUnit* un
 // 0 for counts, which have no nominal gain (the datasheet's sensitivity gives it).
 double GyroscopeNominalGain(GyroscopeOutputUnit unit);
 
-// The unit of parameter `index` (models/gyroscope.h's block order) for this output unit: rad for
-// an angle, "(rad/s)/count", "1" or "(rad/s)/(deg/s)" for a gain.
+// The unit of parameter `index` of a gyroscope's calibration (models/gyroscope.h: the block's 9,
+// then the offsets) for this output unit: rad for an angle; "(rad/s)/count", "1" or
+// "(rad/s)/(deg/s)" for a gain; the output's unit for an offset.
 std::string GyroscopeParameterUnit(int index, GyroscopeOutputUnit unit);
 
 // Refuses a calibration that contradicts the stated unit, as CheckGainsMatchUnit does the

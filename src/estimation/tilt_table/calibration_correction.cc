@@ -23,21 +23,57 @@ CorrectedSample CorrectBaseline(const Eigen::Vector4d& parameters,
   return sample;
 }
 
+namespace {
+
+// The value of `model` (3 outputs of N parameters, a generic lambda over ceres::Jet) at `values`
+// and its covariance J C J^T, J the Jacobian by automatic differentiation of `model` itself.
+template <int N, typename Model>
+void PropagateCovariance(const std::array<double, N>& values, const Eigen::MatrixXd& covariance,
+                         const Model& model, Eigen::Vector3d* value,
+                         Eigen::Matrix3d* value_covariance) {
+  using Jet = ceres::Jet<double, N>;
+  std::array<Jet, N> variables;
+  for (int p = 0; p < N; ++p) variables[p] = Jet(values[p], p);
+  std::array<Jet, 3> outputs;
+  model(variables.data(), outputs.data());
+  Eigen::Matrix<double, 3, N> jacobian;
+  for (int k = 0; k < 3; ++k) {
+    (*value)[k] = outputs[k].a;
+    jacobian.row(k) = outputs[k].v.transpose();
+  }
+  *value_covariance = jacobian * covariance * jacobian.transpose();
+}
+
+}  // namespace
+
 CorrectedTriadSample CorrectTriad(const TriadParameters& parameters,
                                   const Eigen::MatrixXd& covariance,
                                   const std::array<double, 3>& output) {
-  using Jet = ceres::Jet<double, kTriadParameterCount>;
-  std::array<Jet, kTriadParameterCount> variables;
-  for (int p = 0; p < kTriadParameterCount; ++p) variables[p] = Jet(parameters[p], p);
-  std::array<Jet, 3> force;
-  TriadSpecificForce(variables.data(), output.data(), force.data());
   CorrectedTriadSample sample;
-  Eigen::Matrix<double, 3, kTriadParameterCount> jacobian;
-  for (int k = 0; k < 3; ++k) {
-    sample.acceleration[k] = force[k].a;
-    jacobian.row(k) = force[k].v.transpose();
-  }
-  sample.covariance = jacobian * covariance * jacobian.transpose();
+  PropagateCovariance<kTriadParameterCount>(
+      parameters, covariance,
+      [&output](const auto* variables, auto* force) {
+        TriadSpecificForce(variables, output.data(), force);
+      },
+      &sample.acceleration, &sample.covariance);
+  return sample;
+}
+
+CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeParameters& parameters,
+                                          const GyroscopeOffset& offset,
+                                          const Eigen::MatrixXd& covariance,
+                                          const std::array<double, 3>& output) {
+  std::array<double, kGyroscopeCalibrationParameterCount> values;
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) values[p] = parameters[p];
+  for (int k = 0; k < 3; ++k) values[kGyroscopeCalibrationOffsetX + k] = offset[k];
+  CorrectedGyroscopeSample sample;
+  PropagateCovariance<kGyroscopeCalibrationParameterCount>(
+      values, covariance,
+      [&output](const auto* variables, auto* rate) {
+        GyroscopeAngularRate(variables, variables + kGyroscopeCalibrationOffsetX, output.data(),
+                             rate);
+      },
+      &sample.angular_rate, &sample.covariance);
   return sample;
 }
 

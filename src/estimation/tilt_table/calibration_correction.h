@@ -18,6 +18,7 @@
 #include <array>
 
 #include "estimation/tilt_table/baseline_parameters.h"
+#include "models/gyroscope.h"
 #include "models/triad.h"
 
 namespace accelcal {
@@ -45,6 +46,21 @@ struct CorrectedTriadSample {
 CorrectedTriadSample CorrectTriad(const TriadParameters& parameters,
                                   const Eigen::MatrixXd& covariance,
                                   const std::array<double, 3>& output);
+
+// A gyroscope's correction w = T K (u - b) (models/gyroscope.h) of one output u (in the
+// calibration's output unit), and the covariance of w that the 12x12 covariance of the block
+// and the offset (kGyroscopeCalibrationParameterCount, that order) gives, to first order,
+// J C J^T with J = d w / d (block, offset) by automatic differentiation of
+// GyroscopeAngularRate. Shared by every sample, as the triad's, and without the gyroscope's
+// noise.
+struct CorrectedGyroscopeSample {
+  Eigen::Vector3d angular_rate = Eigen::Vector3d::Zero();  // rad/s
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();    // (rad/s)^2
+};
+CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeParameters& parameters,
+                                          const GyroscopeOffset& offset,
+                                          const Eigen::MatrixXd& covariance,
+                                          const std::array<double, 3>& output);
 
 }  // namespace accelcal
 
