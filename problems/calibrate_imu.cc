@@ -600,8 +600,11 @@ int Run(int argc, char** argv) {
     ImuTkCalibFiles(&report, &acc_calib_text, &gyro_calib_text);
   if (status.ok() && !FLAGS_json.empty())
     status = JsonText(WithProvenance(CalibrateImuJson(report), source), &json_text);
-  if (status.ok() && !FLAGS_calibration_out.empty())
-    status = JsonText(CalibrationJson(TriadCalibrationRecord(report, source)), &calibration_text);
+  if (status.ok() && !FLAGS_calibration_out.empty()) {
+    CalibrationRecord record = TriadCalibrationRecord(report, source);
+    status = AddGyroscopeSection(report, &record);
+    if (status.ok()) status = JsonText(CalibrationJson(record), &calibration_text);
+  }
   if (status.ok() && !FLAGS_report.empty()) {
     status = TriadReportHtml(log, report, source,
                              {DefaultToolsDir(ACCELCAL_TOOLS_DIR), "/usr/bin/python3"},

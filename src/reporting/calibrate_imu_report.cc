@@ -725,6 +725,30 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   return out.str();
 }
 
+Status AddGyroscopeSection(const CalibrateImuReport& report, CalibrationRecord* record) {
+  if (!report.has_gyroscope_ml) return Status::Ok();
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  const Eigen::MatrixXd covariance =
+      g.covariance.topLeftCorner(kGyroscopeCalibrationCount, kGyroscopeCalibrationCount);
+  GyroscopeCalibrationSection section;
+  ACCELCAL_RETURN_IF_ERROR(MakeGyroscopeCalibrationSection(
+      g.parameters, g.offset, covariance, report.gyroscope_ml_options.unit, &section));
+  const GyroscopeDiscoveryResult& d = report.gyroscope_discovery;
+  section.fit = {{"method", "maximum likelihood, jointly with the accelerometer's poses"},
+                 {"poses", g.rest_means.size()},
+                 {"turns", g.turns.size()},
+                 {"chi2", g.chi2_gyroscope},
+                 {"degrees_of_freedom", g.gyroscope_degrees_of_freedom},
+                 {"p_value", g.gyroscope_p_value},
+                 {"noise_variance", g.noise_variance},
+                 {"bias_wander_variance", g.bias_wander_variance},
+                 {"verdict", VerdictCode(d.verdict_code)},
+                 {"verdict_text", d.verdict}};
+  record->gyroscope = section;
+  record->has_gyroscope = true;
+  return Status::Ok();
+}
+
 CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
                                          const DataSource& source) {
   const TriadMlResult& ml = report.ml;

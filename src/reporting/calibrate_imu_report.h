@@ -128,6 +128,10 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
 // Mode ml's result as a calibration file's record (io/calibration_file.h, geometry triad).
 CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
                                          const DataSource& source);
+// Mode ml with a gyroscope: its calibration (the 12 unknowns' fit, discovery's baseline) as the
+// calibration file's gyroscope section, its fit and verdict in the section's `fit`. Fails, in one
+// line, where the file's reader would refuse it.
+Status AddGyroscopeSection(const CalibrateImuReport& report, CalibrationRecord* record);
 nlohmann::json CalibrateImuJson(const CalibrateImuReport& report);
 
 }  // namespace accelcal

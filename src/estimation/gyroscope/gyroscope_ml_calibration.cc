@@ -50,8 +50,8 @@ double Median(std::vector<double> values) {
 
 std::vector<std::string> UnknownNames(const std::vector<int>& effects) {
   std::vector<std::string> names;
-  for (const GyroscopeParameterInfo& info : GyroscopeParameterInfos()) names.push_back(info.name);
-  for (const char* axis : {"x", "y", "z"}) names.push_back(std::string("gyroscope_offset_") + axis);
+  for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
+    names.push_back(GyroscopeCalibrationParameterName(i));
   for (int c : effects) names.push_back(GyroscopeEffectCoefficientName(c));
   return names;
 }
@@ -99,9 +99,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const std::vector<int>& estimated = result->effects_estimated;
   const int unknown_count = kGyroscopeCalibrationCount + static_cast<int>(estimated.size());
   result->names = UnknownNames(estimated);
-  for (int i = 0; i < kGyroscopeParameterCount; ++i)
+  for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
     result->units.push_back(GyroscopeParameterUnit(i, options.unit));
-  for (int k = 0; k < 3; ++k) result->units.push_back(GyroscopeOutputUnitName(options.unit));
   for (int c : estimated) result->units.push_back(GyroscopeEffectCoefficientUnit(c));
 
   // The gyroscope's pose means and pooled white noise.

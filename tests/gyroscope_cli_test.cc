@@ -1,0 +1,120 @@
+// The whole IMU, start to finish (issue 32, 6): a simulated hand-held session written as the CSV
+// a logger writes (t, ax, ay, az, gx, gy, gz in counts), calibrated by calibrate_imu --mode=ml
+// (both sensors, the gyroscope's truth recovered within its sigma, its section in the calibration
+// file equal to the JSON's), then corrected by apply (the gyroscope at rest reads zero within its
+// noise); gyroscope_study's refusal of a design whose turns are all about one axis.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/format.h"
+#include "studies/gyroscope_monte_carlo.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+using testing::RunBinaryArgs;
+
+TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscopeColumns) {
+  GyroscopeSessionDesign design;
+  const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 21);
+  GyroscopeSessionFit fit;
+  ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 22, {}, &fit).ok());
+  const TriadLog& log = fit.session.log;
+  testing::ScratchDir scratch;
+  const std::string csv = scratch.File("session.csv");
+  {
+    std::ofstream out(csv);
+    out << "t,ax,ay,az,gx,gy,gz\n";
+    for (size_t i = 0; i < log.size(); ++i) {
+      out << StringPrintf("%.2f,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f\n", log.timestamp_s[i],
+                          log.output[i][0], log.output[i][1], log.output[i][2], log.gyroscope[i][0],
+                          log.gyroscope[i][1], log.gyroscope[i][2]);
+    }
+  }
+  const std::string json_path = scratch.File("out.json");
+  const std::string calibration = scratch.File("calibration.json");
+  const testing::CommandResult run =
+      RunBinaryArgs("calibrate_imu", {"--log=" + csv, "--mode=ml", "--g=9.81744",
+                                      "--gyro_unit=count", "--initial_gyro_gain=0.00021",
+                                      "--json=" + json_path, "--calibration_out=" + calibration});
+  ASSERT_EQ(run.exit_status, 0) << run.stderr_text;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  const nlohmann::json& g = json.at("gyroscope");
+  const nlohmann::json file = nlohmann::json::parse(testing::ReadText(calibration));
+  const nlohmann::json& section = file.at("gyroscope");
+  ASSERT_TRUE(section.is_object());
+  std::vector<double> truth(design.truth.begin(), design.truth.end());
+  truth.insert(truth.end(), design.offset.begin(), design.offset.end());
+  const nlohmann::json& order = g.at("parameter_order");
+  ASSERT_EQ(order.size(), 12u);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string name = order[i];
+    const double value = g.at("parameters").at(name);
+    const double sigma = g.at("stddev").at(name);
+    EXPECT_LT(std::abs(value - truth[i]), 4.0 * sigma) << name << " " << value << " +- " << sigma;
+    EXPECT_DOUBLE_EQ(section.at("parameters").at(name).get<double>(), value) << name;
+    EXPECT_DOUBLE_EQ(section.at("stddev").at(name).get<double>(), sigma) << name;
+  }
+
+  const std::string corrected = scratch.File("corrected.csv");
+  const testing::CommandResult applied =
+      RunBinaryArgs("apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + corrected});
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  // The corrected rates over the true holds: zero within the mean's noise (3 counts of
+  // 2.1e-4 rad/s per sample, some 10^4 samples) and the offsets' sigma.
+  std::istringstream lines(testing::ReadText(corrected));
+  std::string line;
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    if (header.empty()) {
+      header = fields;
+      continue;
+    }
+    std::vector<double> row;
+    for (const std::string& cell : fields) row.push_back(std::stod(cell));
+    rows.push_back(row);
+  }
+  ASSERT_EQ(rows.size(), log.size());
+  const auto column = [&](const std::string& name) {
+    return static_cast<int>(std::find(header.begin(), header.end(), name) - header.begin());
+  };
+  const int gx = column("gx_radps");
+  const int sigma_gx = column("sigma_gx_radps");
+  ASSERT_LT(sigma_gx, static_cast<int>(header.size()));
+  for (int k = 0; k < 3; ++k) {
+    double sum = 0.0;
+    int count = 0;
+    for (const TriadHoldSamples& hold : fit.session.holds) {
+      for (int i = hold.start; i <= hold.end; ++i, ++count) sum += rows[i][gx + k];
+    }
+    EXPECT_LT(std::abs(sum / count), 1e-4) << "axis " << k;
+    EXPECT_GT(rows[0][sigma_gx + k], 0.0);
+  }
+}
+
+TEST(GyroscopeCli, StudyReportsTheRefusalOfTurnsAboutOneAxisAndRefusesBadFlags) {
+  const testing::CommandResult planar =
+      RunBinaryArgs("gyroscope_study", {"--trials=10", "--turn_set=planar"});
+  ASSERT_EQ(planar.exit_status, 0) << planar.stderr_text;
+  EXPECT_NE(planar.stdout_text.find("verdict: REFUSED"), std::string::npos) << planar.stdout_text;
+  testing::ExpectBadInputContract(RunBinaryArgs("gyroscope_study", {"--effects=warmup"}),
+                                  "gyroscope_study", "unknown effect 'warmup'");
+  testing::ExpectBadInputContract(RunBinaryArgs("gyroscope_study", {"--turn_set=cube"}),
+                                  "gyroscope_study", "unknown turn set 'cube'");
+}
+
+}  // namespace
+}  // namespace accelcal
