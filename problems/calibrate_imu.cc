@@ -496,9 +496,24 @@ Status SolveMlGyroscope(const TriadLog& log, CalibrateImuReport* report) {
   GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
   discovery.alpha = FLAGS_alpha;
   discovery.fit = options;
-  ACCELCAL_RETURN_IF_ERROR(DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
-                                             report->ml, discovery, &report->gyroscope_discovery)
-                               .WithContext(where + ": the gyroscope"));
+  const Status status = DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
+                                          report->ml, discovery, &report->gyroscope_discovery)
+                            .WithContext(where + ": the gyroscope");
+  if (!status.ok()) {
+    // Asked for (its file, its unit or its gain given), a gyroscope that cannot be calibrated is
+    // the run's refusal; read from columns the user said nothing of, it is a note, and the
+    // accelerometer's calibration stands.
+    const bool asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||
+                       FlagGiven("initial_gyro_gain");
+    if (asked) return status;
+    for (std::string& note : report->log_notes) {
+      if (note.rfind("gyroscope: read (", 0) != 0) continue;
+      note = note.substr(0, note.find(';')) + "; not calibrated: " +
+             WithoutPrefix(status.message(), where + ": ") +
+             " (give --gyro_unit or --initial_gyro_gain to make this a refusal)";
+    }
+    return Status::Ok();
+  }
   report->gyroscope_ml = report->gyroscope_discovery.baseline;
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
                                                      report->gyroscope_ml.offset,

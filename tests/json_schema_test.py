@@ -186,10 +186,14 @@ def main():
     runs += [
         ("triad_study", ["triad_study", "--trials=20", "--threads=2"], "json"),
         ("triad_study", ["triad_study", "--trials=20", "--pose_set=planar"], "json"),
+        ("gyroscope_study", ["gyroscope_study", "--trials=10", "--discovery=0.01"], "json"),
+        ("gyroscope_study", ["gyroscope_study", "--trials=10", "--turn_set=planar"], "json"),
     ]
     skipped = set()
     if os.path.isfile(xsens):
         log = [f"--log={xsens}", "--g=9.81744"]
+        gyro = [f"--gyro_log={os.path.join(imu_tk, 'xsens_gyro.mat')}",
+                "--initial_gyro_gain=0.000159795"]
         runs += [
             ("calibrate_imu", ["calibrate_imu"] + log, "json"),
             ("calibrate_imu", ["calibrate_imu"] + log + [
@@ -200,6 +204,8 @@ def main():
             ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml", "--scale_nonlinearity"] + log,
              "json"),
             ("calibrate", ["calibrate_imu", "--mode=ml"] + log, "--calibration_out"),
+            ("calibrate_imu_ml", ["calibrate_imu", "--mode=ml"] + log + gyro, "json"),
+            ("calibrate", ["calibrate_imu", "--mode=ml"] + log + gyro, "--calibration_out"),
             ("allan", ["allan", f"--log={xsens}", "--bootstrap=200"], "json"),
         ]
     else:

@@ -241,9 +241,12 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
   }
   nlohmann::json imu_tk = nullptr;
   if (report.has_gyroscope_calibration) {
-    nlohmann::json values;
-    for (int i = 0; i < kGyroscopeCalibrationCount; ++i) values[g.names[i]] = ImuTkValue(report, i);
-    imu_tk = {{"parameters", values}, {"cost", report.gyroscope.cost}};
+    nlohmann::json values, imu_tk_units;
+    for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
+      values[g.names[i]] = ImuTkValue(report, i);
+      imu_tk_units[g.names[i]] = g.units[i];
+    }
+    imu_tk = {{"parameters", values}, {"units", imu_tk_units}, {"cost", report.gyroscope.cost}};
   }
   return {{"model", "w = T K (u - b), docs/gyroscope.md"},
           {"method",
