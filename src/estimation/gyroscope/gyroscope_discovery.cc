@@ -178,6 +178,10 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
                          result->baseline.white_rest_p_value);
   fit_options.bias_wander_fixed = true;
   fit_options.bias_wander_variance = wander;
+  // Every later fit starts from the baseline's solution (the effects from 0).
+  fit_options.initial = result->baseline.parameters;
+  fit_options.offset_given = true;
+  fit_options.initial_offset = result->baseline.offset;
 
   // 2. Effects: the one procedure.
   GyroscopeFitter fitter(log, intervals, accelerometer_options, accelerometer, fit_options);
