@@ -242,10 +242,13 @@ void IntegrateAngularRate(int sample_count, const RateAt& rate_at,
 // trapezoid rule with its end correction: exact for a cubic rate, where imu_tk's rule leaves the
 // error dt^2 (w'(end) - w'(start)) / 12 of the trapezoid. rate_at(j, T* rate) writes rate j
 // (any order; called more than once per j).
+// `path`, when not null, gets the attitude quaternion at every sample (the identity at the first).
 template <typename T, typename RateAt>
 void IntegrateAngularRateHermite(int sample_count, const RateAt& rate_at,
-                                 const std::vector<double>& step_s, T* rotation) {
+                                 const std::vector<double>& step_s, T* rotation,
+                                 std::vector<std::array<T, 4>>* path = nullptr) {
   T quaternion[4] = {T(1.0), T(0.0), T(0.0), T(0.0)};
+  if (path != nullptr) path->assign(1, {T(1.0), T(0.0), T(0.0), T(0.0)});
   if (sample_count < 2) {
     QuaternionToRotationMatrix(quaternion, rotation);
     return;
@@ -278,6 +281,8 @@ void IntegrateAngularRateHermite(int sample_count, const RateAt& rate_at,
       middle[k] = T(0.5) * (w[1][k] + w[2][k]) + T(dt / 8.0) * (slope_here[k] - slope_next[k]);
     }
     QuaternionRk4Step(w[1], middle, w[2], dt, quaternion);
+    if (path != nullptr)
+      path->push_back({quaternion[0], quaternion[1], quaternion[2], quaternion[3]});
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) w[i][k] = w[i + 1][k];
     if (j + 3 < sample_count) rate_at(j + 3, w[3]);

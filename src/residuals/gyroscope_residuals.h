@@ -92,6 +92,20 @@ class GyroscopeTurnResidual
 
   static constexpr int kGyroscopeCalibrationUnknowns = kGyroscopeParameterCount + 3;
 
+  // How the derivatives are computed: by transport (the default, TransportedJacobian) or through
+  // the Runge-Kutta stages (RotationJacobian, the reference the tests compare it with).
+  void set_exact_derivatives(bool exact) { exact_derivatives_ = exact; }
+
+  template <int N>
+  void Derivatives(double const* const* blocks, const double* before, double* rotation,
+                   double (*rotated_jacobian)[kUnknowns]) const {
+    if (exact_derivatives_) {
+      RotationJacobian<N>(blocks, before, rotation, rotated_jacobian);
+    } else {
+      TransportedJacobian<N>(blocks, before, rotation, rotated_jacobian);
+    }
+  }
+
   // R at the blocks' values, and the derivatives of R^T n_before by the first N unknowns (the 9
   // parameters, the offsets, then the effects; the others' columns left as they are).
   template <int N>
@@ -130,6 +144,89 @@ class GyroscopeTurnResidual
     }
   }
 
+  // The same derivatives by transporting each sample's rate perturbation to the turn's end
+  // (docs/gyroscope.md): a change dw_j of the rate at sample j, held over its trapezoid weight c_j,
+  // turns the end attitude by dtheta = c_j R_N^T R_j dw_j (the end's body frame), and R^T n
+  // changes by [v]x dtheta, v = R^T n. Only each sample's rate is differentiated (one Jet
+  // evaluation of the calibrated rate per sample, where RotationJacobian carries Jets through
+  // four Runge-Kutta stages); the sum is the continuous-time sensitivity, which the discrete
+  // rule's differs from by O((w dt)^2) relative (GyroscopeTurnResidual's test measures it).
+  template <int N>
+  void TransportedJacobian(double const* const* blocks, const double* before, double* rotation,
+                           double (*rotated_jacobian)[kUnknowns]) const {
+    using Jet = ceres::Jet<double, N>;
+    const int count = static_cast<int>(samples_.raw.size());
+    std::vector<std::array<double, 4>> path;
+    IntegrateAngularRateHermite(
+        count,
+        [&](int j, double* rate) {
+          GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples_.raw[j].data(),
+                                 samples_.specific_force[j].data(), rate);
+        },
+        samples_.step_s, rotation, &path);
+    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
+    int column[N];
+    int index = 0;
+    for (int i = 0; i < kGyroscopeParameterCount; ++i) {
+      column[index] = index;
+      parameters[i] = Jet(blocks[0][i], index++);
+    }
+    for (int i = 0; i < 3; ++i) {
+      column[index] = index;
+      offset[i] = Jet(blocks[1][i], index++);
+    }
+    const bool all = N == kUnknowns;
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) {
+      const bool differentiated =
+          all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end();
+      if (differentiated && index < N) {
+        column[index] = kGyroscopeCalibrationUnknowns + i;
+        effects[i] = Jet(blocks[2][i], index++);
+      } else {
+        effects[i] = Jet(blocks[2][i]);
+      }
+    }
+    // D = sum_j c_j R_N^T R_j dw_j/du (3 x index).
+    double end[9];
+    QuaternionToRotationMatrix(path.back().data(), end);
+    std::vector<std::array<double, 3>> sum(index, {0.0, 0.0, 0.0});
+    for (int j = 0; j < count; ++j) {
+      const double weight = 0.5 * ((j > 0 ? samples_.step_s[j - 1] : 0.0) +
+                                   (j + 1 < count ? samples_.step_s[j] : 0.0));
+      double here[9];
+      QuaternionToRotationMatrix(path[j].data(), here);
+      double transport[9];  // c_j R_N^T R_j
+      for (int r = 0; r < 3; ++r) {
+        for (int c = 0; c < 3; ++c) {
+          transport[3 * r + c] =
+              weight * (end[r] * here[c] + end[3 + r] * here[3 + c] + end[6 + r] * here[6 + c]);
+        }
+      }
+      Jet rate[3];
+      GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
+                             samples_.specific_force[j].data(), rate);
+      for (int u = 0; u < index; ++u) {
+        for (int r = 0; r < 3; ++r) {
+          sum[u][r] += transport[3 * r] * rate[0].v[u] + transport[3 * r + 1] * rate[1].v[u] +
+                       transport[3 * r + 2] * rate[2].v[u];
+        }
+      }
+    }
+    // v = R^T n_before; d(R^T n)/du = v x D.
+    const double v[3] = {
+        rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
+        rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
+        rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
+    for (int k = 0; k < 3; ++k)
+      for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
+    for (int u = 0; u < index; ++u) {
+      const std::array<double, 3>& d = sum[u];
+      rotated_jacobian[0][column[u]] = v[1] * d[2] - v[2] * d[1];
+      rotated_jacobian[1][column[u]] = v[2] * d[0] - v[0] * d[2];
+      rotated_jacobian[2][column[u]] = v[0] * d[1] - v[1] * d[0];
+    }
+  }
+
   // R (row-major) at the given unknowns.
   template <typename T>
   void Rotation(const T* parameters, const T* offset, const T* effects, T* rotation) const {
@@ -152,28 +249,28 @@ class GyroscopeTurnResidual
         (jacobians[0] != nullptr || jacobians[1] != nullptr || jacobians[2] != nullptr);
     if (gyroscope_jacobian && jacobians[2] == nullptr) {
       // The effects held (the model without them, or constant): 12 unknowns' derivatives.
-      RotationJacobian<kGyroscopeCalibrationUnknowns>(blocks, before, rotation, rotated_jacobian);
+      Derivatives<kGyroscopeCalibrationUnknowns>(blocks, before, rotation, rotated_jacobian);
     } else if (gyroscope_jacobian) {
       // Derivatives by the estimated effects' coefficients only (held ones have zero columns).
       switch (estimated_.size()) {
         case 3:
-          RotationJacobian<kGyroscopeCalibrationUnknowns + 3>(blocks, before, rotation,
-                                                              rotated_jacobian);
+          Derivatives<kGyroscopeCalibrationUnknowns + 3>(blocks, before, rotation,
+                                                         rotated_jacobian);
           break;
         case 6:
-          RotationJacobian<kGyroscopeCalibrationUnknowns + 6>(blocks, before, rotation,
-                                                              rotated_jacobian);
+          Derivatives<kGyroscopeCalibrationUnknowns + 6>(blocks, before, rotation,
+                                                         rotated_jacobian);
           break;
         case 9:
-          RotationJacobian<kGyroscopeCalibrationUnknowns + 9>(blocks, before, rotation,
-                                                              rotated_jacobian);
+          Derivatives<kGyroscopeCalibrationUnknowns + 9>(blocks, before, rotation,
+                                                         rotated_jacobian);
           break;
         case 12:
-          RotationJacobian<kGyroscopeCalibrationUnknowns + 12>(blocks, before, rotation,
-                                                               rotated_jacobian);
+          Derivatives<kGyroscopeCalibrationUnknowns + 12>(blocks, before, rotation,
+                                                          rotated_jacobian);
           break;
         default:
-          RotationJacobian<kUnknowns>(blocks, before, rotation, rotated_jacobian);
+          Derivatives<kUnknowns>(blocks, before, rotation, rotated_jacobian);
       }
     } else {
       Rotation(blocks[0], blocks[1], blocks[2], rotation);
@@ -233,6 +330,7 @@ class GyroscopeTurnResidual
   const std::array<std::array<double, 3>, 2> basis_;
   const std::array<double, 4> whitening_;
   const std::vector<int> estimated_;
+  bool exact_derivatives_ = false;
 };
 
 }  // namespace accelcal
