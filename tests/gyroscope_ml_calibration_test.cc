@@ -238,5 +238,23 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesMatchTheRungeKuttaOnes) {
   EXPECT_LT(worst, 1e-3) << worst;
   EXPECT_GT(worst, 0.0);  // two computations, not one
 }
+
+// Which turns determine which unknown: column j of T K multiplies axis j's reading, so turns about
+// j; the offsets and the g-sensitivity come from the poses at rest.
+TEST(GyroscopeMl, NamesTheAxisTurnsMustBeAboutForEachUnknown) {
+  const std::vector<int> effects = {kGyroscopeGSensitivity + 4, kGyroscopeScaleAsymmetry + 1,
+                                    kGyroscopeScaleNonlinearity + 2};
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentYz, effects), "y");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentZy, effects), "z");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentZx, effects), "z");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentXz, effects), "x");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentXy, effects), "x");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentYx, effects), "y");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeGainY, effects), "y");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeOffsetX, effects), "");
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeCalibrationCount, effects), "");       // G(1,1)
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeCalibrationCount + 1, effects), "y");  // asymmetry
+  EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeCalibrationCount + 2, effects), "z");  // k2_z
+}
 }  // namespace
 }  // namespace accelcal
