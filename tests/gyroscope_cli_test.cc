@@ -105,6 +105,51 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
   }
 }
 
+// Another sensor's log: a gyroscope already in rad/s (gains within 2% of 1, offsets of 0.01
+// rad/s, 6e-4 rad/s of noise, not quantised), columns named as a ROS-style export, at 200 Hz, and
+// nothing said of the gyroscope on the command line: the unit comes from the columns' names, the
+// gains start at 1, and both sensors are calibrated, the gyroscope's truth within 4 sigma.
+TEST(GyroscopeCli, CalibratesAGyroscopeInRadPerSecondFromTheColumnsNames) {
+  GyroscopeSessionDesign design;
+  design.rate_hz = 200.0;
+  design.gyroscope_in_counts = false;
+  design.truth = GyroscopeParametersWithGain(1.012, 0.991, 1.004);
+  design.truth[kGyroscopeMisalignmentXy] = 0.004;
+  design.truth[kGyroscopeMisalignmentZx] = -0.007;
+  design.offset = {0.011, -0.008, 0.013};
+  design.gyroscope_noise = {6e-4, 6e-4, 6e-4};
+  const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 31);
+  GyroscopeSessionFit fit;
+  ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 32, {}, &fit).ok());
+  const TriadLog& log = fit.session.log;
+  testing::ScratchDir scratch;
+  const std::string csv = scratch.File("imu.csv");
+  {
+    std::ofstream out(csv);
+    out << "timestamp,acc_x,acc_y,acc_z,gyr_x_radps,gyr_y_radps,gyr_z_radps\n";
+    for (size_t i = 0; i < log.size(); ++i) {
+      out << StringPrintf("%.3f,%.0f,%.0f,%.0f,%.9g,%.9g,%.9g\n", log.timestamp_s[i],
+                          log.output[i][0], log.output[i][1], log.output[i][2], log.gyroscope[i][0],
+                          log.gyroscope[i][1], log.gyroscope[i][2]);
+    }
+  }
+  const std::string json_path = scratch.File("out.json");
+  const testing::CommandResult run = RunBinaryArgs(
+      "calibrate_imu", {"--log=" + csv, "--mode=ml", "--g=9.81744", "--json=" + json_path});
+  ASSERT_EQ(run.exit_status, 0) << run.stderr_text;
+  const nlohmann::json g = nlohmann::json::parse(testing::ReadText(json_path)).at("gyroscope");
+  ASSERT_TRUE(g.is_object()) << run.stdout_text;
+  EXPECT_EQ(g.at("output_unit"), "rad/s");
+  std::vector<double> truth(design.truth.begin(), design.truth.end());
+  truth.insert(truth.end(), design.offset.begin(), design.offset.end());
+  for (size_t i = 0; i < truth.size(); ++i) {
+    const std::string name = g.at("parameter_order")[i];
+    const double value = g.at("parameters").at(name);
+    const double sigma = g.at("stddev").at(name);
+    EXPECT_LT(std::abs(value - truth[i]), 4.0 * sigma) << name << " " << value << " +- " << sigma;
+  }
+}
+
 TEST(GyroscopeCli, StudyReportsTheRefusalOfTurnsAboutOneAxisAndRefusesBadFlags) {
   const testing::CommandResult planar =
       RunBinaryArgs("gyroscope_study", {"--trials=10", "--turn_set=planar"});

@@ -88,10 +88,10 @@ const std::map<std::string, std::string>& TimeUnitWords() {
 }
 const std::map<std::string, std::string>& ValueUnitWords() {
   static const std::map<std::string, std::string> words = {
-      {"g", "g"},         {"mps2", "m/s^2"}, {"ms2", "m/s^2"}, {"mg", "mg"},
-      {"rads", "rad/s"},  {"rad", "rad/s"},  {"dps", "deg/s"}, {"degs", "deg/s"},
-      {"deg", "deg/s"},   {"lsb", "count"},  {"raw", "count"}, {"counts", "count"},
-      {"count", "count"}, {"si", ""}};
+      {"g", "g"},         {"mps2", "m/s^2"},   {"ms2", "m/s^2"},   {"mg", "mg"},
+      {"rads", "rad/s"},  {"rad", "rad/s"},    {"dps", "deg/s"},   {"degs", "deg/s"},
+      {"radps", "rad/s"}, {"degps", "deg/s"},  {"deg", "deg/s"},   {"lsb", "count"},
+      {"raw", "count"},   {"counts", "count"}, {"count", "count"}, {"si", ""}};
   return words;
 }
 

@@ -101,6 +101,7 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   simulation.gyroscope.offset = design.offset;
   simulation.gyroscope.effects = design.effects;
   simulation.gyroscope.noise_stddev = design.gyroscope_noise;
+  simulation.gyroscope.round_to_counts = design.gyroscope_in_counts;
   RandomSource random(noise_seed, 1);
   fit->session = SimulateTriadSession(simulation, holds, &random);
   fit->intervals.clear();
@@ -124,7 +125,8 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   double gain = 0.0;
   for (int k = 0; k < 3; ++k) gain += design.truth[kGyroscopeGainX + k] / 3.0;
   options.initial = GyroscopeParametersWithGain(gain, gain, gain);
-  options.quantisation_step = 1.0;
+  options.quantisation_step = design.gyroscope_in_counts ? 1.0 : 0.0;
+  if (!design.gyroscope_in_counts) options.unit = GyroscopeOutputUnit::kRadPerS;
   options.earth_rate_as_noise = design.earth_rate_allowance;
   options.effects = estimated;
   fit->gyroscope_options = options;

@@ -59,6 +59,9 @@ struct GyroscopeSessionDesign {
   GyroscopeParameters truth = XsensLikeGyroscope();
   GyroscopeOffset offset = XsensLikeGyroscopeOffset();
   GyroscopeEffectCoefficients effects{};  // simulated
+  // The gyroscope's outputs rounded to whole counts (and the fit told so), or continuous (a log
+  // already in rad/s or deg/s: truth and noise then in that unit).
+  bool gyroscope_in_counts = true;
   // The simulation has no Earth rate; the fit's allowance for it (GyroscopeMlOptions::
   // earth_rate_as_noise) is then off, unless this asks for it (its sigmas are then wider than the
   // spread by design).
