@@ -220,9 +220,9 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       turn.first_sample = intervals[p].end;
       turn.last_sample = intervals[p + 1].start;
       const int count = turn.last_sample - turn.first_sample + 1;
-      if (count < 3) {
+      if (count < 2) {
         return Status::Error(
-            StringPrintf("the turn from pose %d to pose %d has %d samples; a turn needs at least 3",
+            StringPrintf("the turn from pose %d to pose %d has %d samples; a turn needs at least 2",
                          p + 1, p + 2, count));
       }
       GyroscopeTurnSamples samples;

@@ -38,7 +38,7 @@
 //     angle; the fit is repeated with it. The rest residuals then fit by construction; the turns
 //     are the check.
 //
-// Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 3 samples; the
+// Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 2 samples; the
 // gyroscope parameters' information (the accelerometer's and the directions' marginalised)
 // rank-deficient: the parameters in its near-null space named, with the body axes the turns
 // must turn about to determine them (a gain or a misalignment column is determined by turns about
