@@ -84,8 +84,8 @@ DEFINE_string(noise, "auto", "Mode ml: the noise model of the pose means. white:
 DEFINE_double(alpha, 0.01, "Mode ml: discovery's family-wise error rate, in (0, 0.5): a session the 9-parameter model and its noise model explain gets any verdict but explained at most this often (docs/triad-discovery.md).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
 DEFINE_string(report, "", "Mode ml: write a self-contained HTML report to this file (the poses, each pose's whitened residual, the parameters +- sigma beside imu_tk's and the datasheet's, the fit; figures embedded, drawn by tools/plot_triad.py with /usr/bin/python3 when it has matplotlib). Written atomically with the other outputs.");
-DEFINE_string(gyro_unit, "count", "Mode imu_tk, a log with a gyroscope (its columns, or --gyro_log): the unit of the gyroscope's outputs, count (raw ADC counts, as imu_tk's example), rad/s or deg/s; by default the unit the gyroscope columns' names state (gyr_x_dps), else count. It sets the units of the gyroscope's gains ((rad/s) per unit) and offsets (the unit).");
-DEFINE_double(initial_gyro_gain, 0.0, "Mode imu_tk, a log with a gyroscope: the gyroscope's gain to start from, in rad/s per unit of its output, the same for the three axes (the angles start at 0). Not given: 1 for --gyro_unit=rad/s, pi/180 for deg/s; counts need it: 1/S for a datasheet sensitivity S in counts per rad/s, (pi/180)/S for S in counts per deg/s (LSB/(deg/s)). imu_tk's Xsens example: 1/6258 = 0.000159795.");
+DEFINE_string(gyro_unit, "count", "Modes imu_tk and ml, a log with a gyroscope (its columns, or --gyro_log): the unit of the gyroscope's outputs, count (raw ADC counts, as imu_tk's example), rad/s or deg/s; by default the unit the gyroscope columns' names state (gyr_x_dps), else count. It sets the units of the gyroscope's gains ((rad/s) per unit) and offsets (the unit).");
+DEFINE_double(initial_gyro_gain, 0.0, "Modes imu_tk and ml, a log with a gyroscope: the gyroscope's gain to start from, in rad/s per unit of its output, the same for the three axes (the angles start at 0). Not given: 1 for --gyro_unit=rad/s, pi/180 for deg/s; counts need it: 1/S for a datasheet sensitivity S in counts per rad/s, (pi/180)/S for S in counts per deg/s (LSB/(deg/s)). imu_tk's Xsens example: 1/6258 = 0.000159795.");
 DEFINE_string(gyro_bias, "rest", "Mode imu_tk: how the gyroscope's offset is found. rest (the only value): imu_tk's rule, the mean of its output over the initial rest (--init_rest_s), subtracted and not estimated.");
 DEFINE_string(imu_tk_calib_out, "", "Mode imu_tk: write imu_tk's calibration files PREFIX_acc.calib and PREFIX_gyro.calib (the gyroscope's only when the log has one), byte for byte the text imu_tk's CalibratedTriad_::save writes and its load reads: the misalignment matrix, the scale matrix (gains on its diagonal) and the bias vector (offsets, the log's unit), 6 significant digits (docs/gyroscope.md). Written atomically with the other outputs, nothing on failure.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
@@ -116,14 +116,18 @@ constexpr char kUsage[] =
     "(docs/gyroscope.md); --imu_tk_calib_out=PREFIX writes imu_tk's .calib files.\n"
     "Mode ml: maximum likelihood on static poses found from the log's own noise floor (pose\n"
     "means, unknown gravity directions, white noise): every parameter +- sigma, a chi-square fit\n"
-    "statistic, imu_tk's answer beside it, and --calibration_out for apply.\n"
+    "statistic, imu_tk's answer beside it, and --calibration_out for apply; with a gyroscope\n"
+    "(in rad/s or deg/s by its columns' names, or --gyro_unit with --initial_gyro_gain), its\n"
+    "calibration jointly with the accelerometer's poses: w = T K (u - b) +- sigma, offsets from\n"
+    "every pose, the fit, the Earth's rate against the noise, discovery (docs/gyroscope.md).\n"
     "Mode ferraris: imucal's closed form on its six holds (--session), and the least squares\n"
     "that six holds allow (docs/imucal.md).\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  calibrate_imu --log=xsens_acc.mat --g=9.81744 --mode=imu_tk|ml [--json=out.json]\n"
     "  calibrate_imu --log=xsens_acc.mat --gyro_log=xsens_gyro.mat --g=9.81744 --mode=imu_tk\n"
     "      --initial_gyro_gain=0.000159795 [--imu_tk_calib_out=test_imu]\n"
-    "      [--calibration_out=cal.json]\n"
+    "  calibrate_imu --log=xsens_acc.mat --gyro_log=xsens_gyro.mat --g=9.81744 --mode=ml\n"
+    "      --initial_gyro_gain=0.000159795 [--calibration_out=cal.json]\n"
     "  calibrate_imu --mode=ferraris --session=annotated_session.csv [--reference=cal.json]";
 
 // --imu_tk_calib_out's file of `sensor` ("acc" or "gyro"), as imu_tk's example names them
@@ -503,13 +507,13 @@ Status SolveMlGyroscope(const TriadLog& log, CalibrateImuReport* report) {
     // Asked for (its file, its unit or its gain given), a gyroscope that cannot be calibrated is
     // the run's refusal; read from columns the user said nothing of, it is a note, and the
     // accelerometer's calibration stands.
-    const bool asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||
-                       FlagGiven("initial_gyro_gain");
+    const bool asked =
+        !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") || FlagGiven("initial_gyro_gain");
     if (asked) return status;
     for (std::string& note : report->log_notes) {
       if (note.rfind("gyroscope: read (", 0) != 0) continue;
-      note = note.substr(0, note.find(';')) + "; not calibrated: " +
-             WithoutPrefix(status.message(), where + ": ") +
+      note = note.substr(0, note.find(';')) +
+             "; not calibrated: " + WithoutPrefix(status.message(), where + ": ") +
              " (give --gyro_unit or --initial_gyro_gain to make this a refusal)";
     }
     return Status::Ok();
