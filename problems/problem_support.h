@@ -26,6 +26,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/build_info.h"
 #include "common/format.h"
 #include "common/measurements.h"
 #include "common/status.h"
@@ -236,6 +237,7 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
   InstallInterruptCleanup();
   RecordCommandLine(*argc, *argv);
   gflags::SetUsageMessage(usage);
+  gflags::SetVersionString(BuildInfoLine());
   for (int i = 1; i < *argc; ++i) {
     const char* argument = (*argv)[i];
     if (std::strcmp(argument, "--help") == 0 || std::strcmp(argument, "-help") == 0 ||
