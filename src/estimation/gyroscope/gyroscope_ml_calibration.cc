@@ -6,6 +6,8 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -320,18 +322,24 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       ceres::CRSMatrix crs;
       if (!problem.Evaluate(evaluate, nullptr, nullptr, nullptr, &crs))
         return Status::Error("the gyroscope's residuals could not be evaluated");
-      Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+      // Sparse: the directions couple only through consecutive turns, so the rest's
+      // information is banded and its factorisation linear in the poses.
+      std::vector<Eigen::Triplet<double>> entries;
+      entries.reserve(crs.values.size());
       for (int row = 0; row < crs.num_rows; ++row)
         for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
-          jacobian(row, crs.cols[i]) = crs.values[i];
-      const Eigen::MatrixXd information = jacobian.transpose() * jacobian;
+          entries.emplace_back(row, crs.cols[i], crs.values[i]);
+      Eigen::SparseMatrix<double> jacobian(crs.num_rows, crs.num_cols);
+      jacobian.setFromTriplets(entries.begin(), entries.end());
+      const Eigen::SparseMatrix<double> information =
+          Eigen::SparseMatrix<double>(jacobian.transpose()) * jacobian;
       const int m = unknown_count;
       const int r = static_cast<int>(information.rows()) - m;
-      const Eigen::MatrixXd rest_information = information.bottomRightCorner(r, r);
-      const Eigen::LDLT<Eigen::MatrixXd> rest_solve(rest_information);
-      const Eigen::MatrixXd marginal =
-          information.topLeftCorner(m, m) -
-          information.topRightCorner(m, r) * rest_solve.solve(information.bottomLeftCorner(r, m));
+      const Eigen::SparseMatrix<double> rest_information = information.bottomRightCorner(r, r);
+      const Eigen::MatrixXd cross = Eigen::MatrixXd(information.bottomLeftCorner(r, m));
+      const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> rest_solve(rest_information);
+      const Eigen::MatrixXd marginal = Eigen::MatrixXd(information.topLeftCorner(m, m)) -
+                                       cross.transpose() * rest_solve.solve(cross);
       std::vector<std::string> unconstrained;
       for (int i = 0; i < m; ++i)
         if (!(marginal(i, i) > 0.0)) unconstrained.push_back(result->names[i]);
