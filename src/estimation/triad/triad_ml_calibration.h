@@ -68,7 +68,7 @@ namespace accelcal {
 struct TriadMlOptions {
   double gravity_mps2 = 9.81;
   TriadParameters initial = TriadParametersWithOffset(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
-  QuietSolveOptions solve;  // LM, dense QR, tolerances 1e-14 (estimation/solver/ceres_solve.h)
+  QuietSolveOptions solve;  // LM, tolerances 1e-14 (estimation/solver/ceres_solve.h)
   // A singular value of the column-normalised Jacobian (the directions eliminated:
   // triad_identifiability.h) below this times the largest marks a
   // direction of parameter space the poses do not determine. Exact degeneracy is blurred by
