@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -142,6 +143,9 @@ TEST(TriadReducedInformation, NamesTheParametersTheWholeJacobianNamesOnPlanarPos
             UnidentifiableParametersReduced(jacobian, reduced, names, 1e-4);
         SCOPED_TRACE("axis " + std::to_string(axis) + (with_k2 ? " with k2" : "") +
                      (at_truth ? " at the truth" : " at the initial guess"));
+        if (at_truth)
+          std::printf("  axis %c%s: %s\n", "xyz"[axis], with_k2 ? " with k2" : "",
+                      Joined(by_reduction).c_str());
         EXPECT_FALSE(whole.empty());
         EXPECT_EQ(by_reduction, whole)
             << "reduced: " << Joined(by_reduction) << "\nwhole:   " << Joined(whole);
