@@ -1,11 +1,24 @@
 #include "estimation/solver/ceres_solve.h"
 
+#include <memory>
+
 namespace accelcal {
 
-Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
-                    SolverReport* report) {
+namespace {
+
+Status Solve(const QuietSolveOptions& options, const std::vector<double*>& eliminated,
+             ceres::Problem* problem, SolverReport* report) {
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
+  if (!eliminated.empty()) {
+    solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+    auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+    std::vector<double*> blocks;
+    problem->GetParameterBlocks(&blocks);
+    for (double* block : blocks) ordering->AddElementToGroup(block, 1);
+    for (double* block : eliminated) ordering->AddElementToGroup(block, 0);
+    solver_options.linear_solver_ordering = ordering;
+  }
   solver_options.initial_trust_region_radius = options.initial_trust_region_radius;
   solver_options.max_num_iterations = options.max_iterations;
   solver_options.function_tolerance = options.tolerance;
@@ -36,7 +49,19 @@ Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
         "use a test with more angles");
   }
   return Status::Error("Ceres did not converge: " + summary.message);
-  return Status::Ok();
+}
+
+}  // namespace
+
+Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
+                    SolverReport* report) {
+  return Solve(options, {}, problem, report);
+}
+
+Status SolveQuietlyEliminating(const QuietSolveOptions& options,
+                               const std::vector<double*>& eliminated, ceres::Problem* problem,
+                               SolverReport* report) {
+  return Solve(options, eliminated, problem, report);
 }
 
 }  // namespace accelcal

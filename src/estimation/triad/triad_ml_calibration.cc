@@ -10,6 +10,7 @@
 
 #include "common/format.h"
 #include "estimation/statistics/chi_square.h"
+#include "estimation/triad/triad_identifiability.h"
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
@@ -47,48 +48,6 @@ Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<d
     }
   }
   return Status::Ok();
-}
-
-// The directions of parameter space the poses do not determine: the right singular vectors of
-// the column-normalised Jacobian (so that counts, rad and (m/s^2)/count compare) whose singular
-// values are below rank_tolerance times the largest. Returns the names of the triad
-// parameters with a weight above 0.1 in that null space, empty when the Jacobian has full rank.
-std::vector<std::string> UnidentifiableParameters(const ceres::CRSMatrix& crs,
-                                                  const std::vector<std::string>& parameter_names,
-                                                  double rank_tolerance) {
-  const int parameter_count = static_cast<int>(parameter_names.size());
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int row = 0; row < crs.num_rows; ++row) {
-    for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
-      jacobian(row, crs.cols[i]) = crs.values[i];
-  }
-  Eigen::VectorXd norms = jacobian.colwise().norm().transpose();
-  const double largest_norm = norms.maxCoeff();
-  for (int c = 0; c < jacobian.cols(); ++c) {
-    // A column of zeros is a parameter nothing depends on: left at zero, it is in the null space.
-    if (norms[c] > 1e-300 * largest_norm) jacobian.col(c) /= norms[c];
-  }
-  std::vector<std::string> names;
-  // The usual case, full rank, from the eigenvalues of J^T J alone (the squared singular
-  // values; the tolerance's 1e-8 in squares is far above rounding): a tenth of the SVD's cost.
-  const Eigen::MatrixXd normal = jacobian.transpose() * jacobian;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(normal, Eigen::EigenvaluesOnly);
-  const Eigen::VectorXd& squared = eigen.eigenvalues();  // ascending
-  if (squared[0] > 4.0 * rank_tolerance * rank_tolerance * squared[squared.size() - 1])
-    return names;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeFullV);
-  const Eigen::VectorXd& singular = svd.singularValues();
-  int rank = 0;
-  for (int i = 0; i < singular.size(); ++i)
-    if (singular[i] > rank_tolerance * singular[0]) ++rank;
-  const int nullity = static_cast<int>(jacobian.cols()) - rank;
-  if (nullity == 0) return names;
-  const Eigen::MatrixXd null_space = svd.matrixV().rightCols(nullity);
-  for (int p = 0; p < parameter_count; ++p) {
-    if (null_space.row(p).norm() > 0.1) names.push_back(parameter_names[p]);
-  }
-  if (names.empty()) names.push_back("the gravity directions of some poses");
-  return names;
 }
 
 // When the directions lie near a plane: its normal, to say how the sensor was turned.
@@ -316,26 +275,33 @@ std::vector<std::array<double, 3>> SuggestedPoses(const ProblemState& state,
 }
 
 // Evaluates the whitened residuals and their Jacobian (in the directions' tangent space) and
-// refuses, naming the parameters and the poses to add, when the Jacobian is rank-deficient.
+// refuses, naming the parameters and the poses to add, when the sensor parameters' reduced
+// information (triad_identifiability.h: the directions eliminated pose by pose) is
+// rank-deficient. `reduced`, when given, receives that information.
 Status CheckIdentifiable(const ProblemState& state,
                          const std::vector<std::array<double, 3>>& directions,
                          ceres::Problem* problem, std::vector<double>* residuals,
-                         TriadMlResult* result) {
+                         TriadReducedInformation* reduced, TriadMlResult* result) {
   const int pose_count = static_cast<int>(directions.size());
   ceres::Problem::EvaluateOptions evaluate_options;
   evaluate_options.parameter_blocks = state.blocks;
   evaluate_options.residual_blocks = state.residual_blocks;
   double cost = 0.0;
   std::vector<double> values;
-  ceres::CRSMatrix jacobian;
-  if (!problem->Evaluate(evaluate_options, &cost, &values, nullptr, &jacobian)) {
+  ceres::CRSMatrix crs;
+  if (!problem->Evaluate(evaluate_options, &cost, &values, nullptr, &crs)) {
     return Status::Error("the residuals could not be evaluated at the parameters reached");
   }
   const int parameter_count = static_cast<int>(state.parameter_names.size());
-  CHECK_EQ(jacobian.num_cols, parameter_count + 2 * pose_count);
+  CHECK_EQ(crs.num_cols, parameter_count + 2 * pose_count);
   if (residuals != nullptr) *residuals = values;
-  const std::vector<std::string> unidentifiable =
-      UnidentifiableParameters(jacobian, state.parameter_names, state.options->rank_tolerance);
+  TriadArrowJacobian jacobian;
+  CHECK(TriadArrowJacobianFromCrs(crs, parameter_count, &jacobian))
+      << "a pose's residuals depend on another pose's direction";
+  TriadReducedInformation information = ReducedInformation(jacobian);
+  const std::vector<std::string> unidentifiable = UnidentifiableParametersReduced(
+      jacobian, information, state.parameter_names, state.options->rank_tolerance);
+  if (reduced != nullptr) *reduced = std::move(information);
   if (unidentifiable.empty()) return Status::Ok();
   result->unidentifiable = unidentifiable;
   result->suggested_directions = SuggestedPoses(state, directions);
@@ -504,16 +470,21 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
 
   // The rank check at the initial guess first: a rank-deficient problem wanders along its null
   // space while solving, which blurs what the poses cannot determine (and the plane they lie in).
-  ACCELCAL_RETURN_IF_ERROR(CheckIdentifiable(state, result->directions, &problem, nullptr, result));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckIdentifiable(state, result->directions, &problem, nullptr, nullptr, result));
   // A failed solve is reported after the rank check: a rank-deficient problem often does not
   // converge, and naming what cannot be determined is the more useful refusal.
-  const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
+  // The directions eliminated first (DENSE_SCHUR): each step costs O(poses), not O(poses^3).
+  const std::vector<double*> directions(state.blocks.end() - pose_count, state.blocks.end());
+  const Status solved =
+      SolveQuietlyEliminating(options.solve, directions, &problem, &result->solver);
 
   // At the solution: the whitened residuals, and the rank check again (the initial guess may
   // have hidden a degeneracy).
   std::vector<double> residuals;
+  TriadReducedInformation reduced;
   ACCELCAL_RETURN_IF_ERROR(
-      CheckIdentifiable(state, result->directions, &problem, &residuals, result));
+      CheckIdentifiable(state, result->directions, &problem, &residuals, &reduced, result));
   result->whitened_residuals.resize(pose_count);
   result->chi2 = 0.0;
   for (int p = 0; p < pose_count; ++p) {
@@ -556,46 +527,34 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
         SuggestionText(result->suggested_directions, false).c_str()));
   }
 
-  ceres::Covariance::Options covariance_options;
-  // Sparse QR, not dense SVD: under gcc's AddressSanitizer, Ceres' DENSE_SVD path (Eigen's
-  // BDCSVD) frees memory it did not allocate (an allocator mismatch between the prebuilt
-  // libceres and this build's Eigen), and the rank is checked above anyway.
-  covariance_options.algorithm_type = ceres::SPARSE_QR;
-  covariance_options.num_threads = 1;
-  ceres::Covariance covariance(covariance_options);
-  std::vector<std::pair<const double*, const double*>> pairs = {
-      {result->parameters.data(), result->parameters.data()}};
-  if (effects != nullptr) {
-    pairs.push_back({effects, effects});
-    pairs.push_back({result->parameters.data(), effects});
-  }
-  if (!covariance.Compute(pairs, &problem)) {
+  // The covariance of the sensor parameters: the inverse of their reduced information, the
+  // directions eliminated (the same marginal covariance as ceres::Covariance over every block,
+  // to rounding: tests/triad_identifiability_test.cc), without an inverse over every pose.
+  Eigen::MatrixXd covariance;
+  if (!ReducedCovariance(reduced, &covariance)) {
     return Status::Error(StringPrintf(
         "ceres::Covariance could not invert the information of the %d triad parameters; the "
         "poses do not determine them",
         parameter_count));
   }
-  constexpr int kE = kTriadEffectCoefficientCount;
-  double block[kTriadParameterCount * kTriadParameterCount];
-  covariance.GetCovarianceBlock(result->parameters.data(), result->parameters.data(), block);
   for (int i = 0; i < kTriadParameterCount; ++i) {
-    for (int j = 0; j < kTriadParameterCount; ++j)
-      result->covariance[i][j] = block[i * kTriadParameterCount + j];
+    for (int j = 0; j < kTriadParameterCount; ++j) result->covariance[i][j] = covariance(i, j);
     result->stddev[i] = std::sqrt(result->covariance[i][i]);
   }
-  if (effects != nullptr) {
-    std::vector<double> effect_block(kE * kE);
-    covariance.GetCovarianceBlock(effects, effects, effect_block.data());
-    for (int i = 0; i < kE; ++i) {
-      for (int j = 0; j < kE; ++j) result->effects_covariance[i][j] = effect_block[i * kE + j];
-      result->effects_stddev[i] = std::sqrt(std::max(result->effects_covariance[i][i], 0.0));
+  // The effects' tangent coordinates are the estimated coefficients in ascending order (the
+  // SubsetManifold holds the others); the held ones have no covariance.
+  const int estimated_count = static_cast<int>(estimated.size());
+  for (int a = 0; a < estimated_count; ++a) {
+    const int c = estimated[a];
+    for (int b = 0; b < estimated_count; ++b) {
+      result->effects_covariance[c][estimated[b]] =
+          covariance(kTriadParameterCount + a, kTriadParameterCount + b);
     }
-    std::vector<double> cross_block(kTriadParameterCount * kE);
-    covariance.GetCovarianceBlock(result->parameters.data(), effects, cross_block.data());
-    for (int i = 0; i < kTriadParameterCount; ++i) {
-      for (int j = 0; j < kE; ++j) result->cross_covariance[i][j] = cross_block[i * kE + j];
-    }
+    for (int i = 0; i < kTriadParameterCount; ++i)
+      result->cross_covariance[i][c] = covariance(i, kTriadParameterCount + a);
   }
+  for (int c = 0; c < kTriadEffectCoefficientCount; ++c)
+    result->effects_stddev[c] = std::sqrt(std::max(result->effects_covariance[c][c], 0.0));
 
   result->degrees_of_freedom = pose_count - parameter_count;
   const double dof = result->degrees_of_freedom;

@@ -15,8 +15,11 @@
 // the mean of pose p then has variance s_k^2 / N_p. 3P residuals, 9 + 2P unknowns,
 // P - 9 degrees of freedom.
 //
-// Covariance of the 9 parameters: ceres::Covariance (sparse QR) of the whitened problem, the
-// inverse of the information with the directions as nuisance parameters. Fit statistic:
+// Solved by Levenberg-Marquardt with the directions eliminated first (Ceres' DENSE_SCHUR: the
+// normal equations are an arrow matrix, each step O(P)). Covariance of the 9 parameters: the
+// inverse of the information with the directions as nuisance parameters, i.e. of the sensor
+// parameters' reduced information (estimation/triad/triad_identifiability.h), the number
+// ceres::Covariance over every block gives (to rounding), in O(P). Fit statistic:
 // chi2 = sum r^2 on P - 9 degrees of freedom, p = P(chi2_{P-9} > chi2); chi2/dof has mean 1
 // and standard deviation sqrt(2/dof) when the noise model holds.
 //
@@ -35,8 +38,9 @@
 //
 // Refusals (a Status naming what cannot be determined, not a crash): fewer poses than
 // parameters + 1; a Jacobian that is rank-deficient at the initial guess or at the solution
-// (e.g. all gravity directions in a plane), with the parameters in its null space named and
-// the poses to add computed (below); ceres::Covariance failing.
+// (e.g. all gravity directions in a plane; decided on the reduced information,
+// triad_identifiability.h), with the parameters in its null space named and the poses to add
+// computed (below); the reduced information not positive definite.
 //
 // The poses to add: each pose p gives the parameters the rank-one information a_p a_p^T
 // (its direction marginalised: a_p = J_p^T q_p, q_p the residual direction the pose's own
@@ -64,8 +68,9 @@ namespace accelcal {
 struct TriadMlOptions {
   double gravity_mps2 = 9.81;
   TriadParameters initial = TriadParametersWithOffset(0.0, 0.0, 0.0);  // e.g. imu_tk's solution
-  QuietSolveOptions solve;  // LM, dense QR, tolerances 1e-14 (estimation/solver/ceres_solve.h)
-  // A singular value of the column-normalised Jacobian below this times the largest marks a
+  QuietSolveOptions solve;  // LM, tolerances 1e-14 (estimation/solver/ceres_solve.h)
+  // A singular value of the column-normalised Jacobian (the directions eliminated:
+  // triad_identifiability.h) below this times the largest marks a
   // direction of parameter space the poses do not determine. Exact degeneracy is blurred by
   // noise (directions in a plane give ~1e-6 with 3 counts of noise); well-spread poses give
   // ~0.1.
