@@ -399,7 +399,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
                            advice);
     };
     ACCELCAL_RETURN_IF_ERROR(check_rank());
-    const Status solved = SolveQuietly(options.solve, &problem, &result->solver);
+    const Status solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
     ACCELCAL_RETURN_IF_ERROR(check_rank());
     ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the gyroscope's maximum-likelihood solve"));
 

@@ -7,9 +7,9 @@ namespace accelcal {
 namespace {
 
 Status Solve(const QuietSolveOptions& options, const std::vector<double*>& eliminated,
-             ceres::Problem* problem, SolverReport* report) {
+             ceres::Problem* problem, SolverReport* report, bool sparse = false) {
   ceres::Solver::Options solver_options;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.linear_solver_type = sparse ? ceres::SPARSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
   if (!eliminated.empty()) {
     solver_options.linear_solver_type = ceres::DENSE_SCHUR;
     auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
@@ -56,6 +56,11 @@ Status Solve(const QuietSolveOptions& options, const std::vector<double*>& elimi
 Status SolveQuietly(const QuietSolveOptions& options, ceres::Problem* problem,
                     SolverReport* report) {
   return Solve(options, {}, problem, report);
+}
+
+Status SolveQuietlySparse(const QuietSolveOptions& options, ceres::Problem* problem,
+                          SolverReport* report) {
+  return Solve(options, {}, problem, report, true);
 }
 
 Status SolveQuietlyEliminating(const QuietSolveOptions& options,

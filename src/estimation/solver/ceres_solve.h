@@ -33,6 +33,13 @@ Status SolveQuietlyEliminating(const QuietSolveOptions& options,
                                const std::vector<double*>& eliminated, ceres::Problem* problem,
                                SolverReport* report);
 
+// The same with Ceres' SPARSE_NORMAL_CHOLESKY (SuiteSparse in Debian's Ceres): for a problem whose
+// nuisance blocks are linked in a chain (the gyroscope's turns join consecutive poses' directions,
+// so no independent set eliminates them), each step costs what its sparse normal equations do,
+// linear in the chain's length.
+Status SolveQuietlySparse(const QuietSolveOptions& options, ceres::Problem* problem,
+                          SolverReport* report);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_ESTIMATION_SOLVER_CERES_SOLVE_H_
