@@ -36,6 +36,7 @@
 #include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
+#include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
@@ -265,6 +266,8 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
                         int* argc, char*** argv) {
   // First, before any thread starts: an interruption removes our temporary files.
   InstallInterruptCleanup();
+  // The provenance's checksums are of the bytes the readers parsed (io/input_file.h).
+  StartRecordingInputReads();
   RecordCommandLine(*argc, *argv);
   gflags::SetUsageMessage(usage);
   for (int i = 1; i < *argc; ++i) {
