@@ -135,6 +135,18 @@ TEST_F(InputReads, AMatLogChangedAfterItWasReadIsRefused) {
                         path + ": the file changed after it was read");
 }
 
+// A logger caught mid-line: the bytes after the last complete line are a partial line. The log is
+// refused (cut short) and nothing of it is recorded, so no checksum can stand for a count of
+// samples it did not give.
+TEST_F(InputReads, ALogEndingInAPartialLineIsRefusedAndNotRecorded) {
+  const std::string path = scratch_.Write("log.csv", LogText(200) + "2.00,1,2,9");
+  TriadLog log;
+  EXPECT_ERROR_CONTAINS(ReadImuLog(path, ImuLogReadOptions(), &log, ImuLogSpacing::kAny),
+                        "line 202 has no line end: the file looks cut short");
+  InputRead read;
+  EXPECT_FALSE(FindInputRead(path, &read));
+}
+
 // A whole-file reader (the calibration file, a CSV) records its bytes too.
 TEST_F(InputReads, AWholeFileReadIsRecordedAndMustNotChangeAfter) {
   const std::string path = scratch_.Write("notes.txt", "one\n");
