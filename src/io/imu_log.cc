@@ -102,11 +102,6 @@ bool ReadFourShortDecimals(std::string_view trimmed, double values[4]) {
   return p == end;
 }
 
-bool LooksNotFinite(std::string_view cell) {
-  const std::string lowered = LowerAscii(cell);
-  return lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
-}
-
 // ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave: no step
 // above kMaxGapSteps median steps (a gap), and no block of consecutive steps whose median
 // step is more than kMaxRateChange from the log's (a change of rate). Jitter and a few lost
@@ -240,8 +235,7 @@ Status ImuLogLineParser::Cell(int column, const char* role, double* value) const
   return Status::Error(Where(line_number_) + ", " + where + ": '" + EchoInput(cell) + "' is " +
                        (cell.empty()
                             ? "empty; every sample needs a value (remove the row or fill it)"
-                        : LooksNotFinite(cell) ? "not a finite number; remove or repair the sample"
-                                               : "not a number"));
+                            : NotAFiniteNumberReason(cell)));
 }
 
 Status ImuLogLineParser::ParseLine(std::string_view line, bool* is_sample) {
