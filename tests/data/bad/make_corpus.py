@@ -468,7 +468,9 @@ def calibration_fuzz_seeds():
     large, each under the fuzzer's 64 KB."""
     import copy
     import json
+    import sys
 
+    sys.setrecursionlimit(100000)  # json.dumps recurses once per level of the deepest seed
     seeds = os.path.join(HERE, "..", "..", "fuzz", "seeds", "calibration_file")
     with open(os.path.join(seeds, "triad_gyroscope.json")) as f:
         triad = json.load(f)
@@ -519,6 +521,8 @@ def calibration_fuzz_seeds():
     gyroscope = copy.deepcopy(triad["gyroscope"])
     gyroscope["fit"] = {"turns": nested(300)}
     write("deep_gyroscope_fit_300.json", with_changes(triad, gyroscope=gyroscope))
+    # Inside a key the reader copies (fit), as deep as 64 KB holds: what crashed apply.
+    write("deep_fit_30000.json", with_changes(two_axis, fit=nested(30000)))
     write("deep_brackets_20000.json", "[" * 20000)
     write("deep_objects_2000.json", '{"fit":' * 2000 + "1" + "}" * 2000)
     # Size: long lists, long rows, long strings and numbers, many keys.
