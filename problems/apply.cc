@@ -305,6 +305,22 @@ std::string PoorlyDeterminedLine(const CalibrationRecord& record) {
          names + "\n";
 }
 
+// A log the triad's reader refused (`refusal`) that the two-axis readers take: the course's
+// two-axis data (a run of t, ax, ay; a tilt test of theta, ax, ay) given with a triad's
+// calibration, said as such rather than as a log without a third axis.
+Status TwoAxisDataForATriad(const Status& refusal) {
+  VehicleRun run;
+  CalibrationTest test;
+  const char* what = LoadMeasuredLog(FLAGS_in, &run).ok()        ? "a run: t, ax, ay"
+                     : LoadCalibrationTest(FLAGS_in, &test).ok() ? "a tilt test: theta, ax, ay"
+                                                                 : nullptr;
+  if (what == nullptr) return refusal;
+  return Status::Error(FLAGS_in + " is the course's two-axis data (" + what +
+                       "), and the calibration is a triad's (x, y, z; " + FLAGS_calibration +
+                       "): correct a triad's log with it, or this file with a two-axis "
+                       "calibration (calibrate writes one)");
+}
+
 // The triad path of Run: its own log layout and output columns.
 Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   TriadParameters parameters;
@@ -316,8 +332,8 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
   TriadLog log;
   ImuLogSource log_source;
-  ACCELCAL_RETURN_IF_ERROR(
-      ReadImuLog(FLAGS_in, read_options, &log, ImuLogSpacing::kAny, &log_source));
+  const Status read = ReadImuLog(FLAGS_in, read_options, &log, ImuLogSpacing::kAny, &log_source);
+  if (!read.ok()) return TwoAxisDataForATriad(read);
   DataSource source;
   ACCELCAL_RETURN_IF_ERROR(
       DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source));

@@ -11,8 +11,10 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -35,6 +37,7 @@
 #include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
+#include "io/input_file.h"
 #include "io/json_file.h"
 #include "io/output_paths.h"
 #include "io/provenance.h"
@@ -73,19 +76,48 @@ inline int ExitWithError(const char* program, const Status& status) {
   return kExitBadInput;
 }
 
-// main() of every binary: `run` with no exception escaping. Running out of memory is one
-// line and exit status 2 like any other failure; anything else is a bug, said as such.
+// What stdout received: the table printed is the only result of a run without --json, so a
+// write to it that failed (a full disk, ENOSPC; a pipe whose reader is gone, EPIPE; EIO) is a
+// failure like a failed file write: one line on stderr and exit status 2, never a silent 0.
+// Flushes stdout (std::cout writes through it) and returns `exit_status` when every write
+// reached it; a run that failed already keeps its own status and its one line.
+inline int CheckStdoutWritten(const char* program, int exit_status) {
+  errno = 0;
+  std::cout.flush();
+  const bool flush_failed = std::fflush(stdout) != 0;
+  int error = flush_failed ? errno : 0;
+  if (!flush_failed && !std::ferror(stdout) && !std::cout.fail()) return exit_status;
+  if (exit_status != 0) return exit_status;
+  // A write that failed earlier in the run left no errno behind: one more byte, to an output
+  // already lost or cut, says why (ENOSPC, EPIPE, EIO).
+  if (error == 0 && ::write(STDOUT_FILENO, "\n", 1) < 0) error = errno;
+  std::cerr << program << ": error: writing the results to stdout failed ("
+            << (error != 0 ? std::strerror(error) : "an earlier write failed")
+            << "): the printed output is lost or incomplete; free space on the device, or keep "
+               "the reader of the pipe open, and run again (or write --json where the binary has "
+               "it)\n";
+  return kExitBadInput;
+}
+
+// main() of every binary: `run` with no exception escaping, and its stdout checked
+// (CheckStdoutWritten). Running out of memory is one line and exit status 2 like any other
+// failure; anything else is a bug, said as such. SIGPIPE is ignored so that a write into a
+// closed pipe fails with EPIPE and is said, instead of ending the process without a word.
 inline int GuardedMain(const char* program, int (*run)(int, char**), int argc, char** argv) {
+  std::signal(SIGPIPE, SIG_IGN);
+  int exit_status = 0;
   try {
-    return run(argc, argv);
+    exit_status = run(argc, argv);
   } catch (const std::bad_alloc&) {
     // clang-format off
-    return ExitWithError(program, Status::Error("not enough memory for this input; free memory, raise the limit (ulimit -v) or use less data"));
+    exit_status = ExitWithError(program, Status::Error("not enough memory for this input; free memory, raise the limit (ulimit -v) or use less data"));
     // clang-format on
   } catch (const std::exception& exception) {
-    return ExitWithError(program, Status::Error(std::string("internal error (") + exception.what() +
-                                                "); please report it with the command line"));
+    exit_status =
+        ExitWithError(program, Status::Error(std::string("internal error (") + exception.what() +
+                                             "); please report it with the command line"));
   }
+  return CheckStdoutWritten(program, exit_status);
 }
 
 // A flag holding a comma-separated list of at most 20 numbers, each accepted by `valid`; a
@@ -235,6 +267,8 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
                         int* argc, char*** argv) {
   // First, before any thread starts: an interruption removes our temporary files.
   InstallInterruptCleanup();
+  // The provenance's checksums are of the bytes the readers parsed (io/input_file.h).
+  StartRecordingInputReads();
   RecordCommandLine(*argc, *argv);
   gflags::SetUsageMessage(usage);
   gflags::SetVersionString(BuildInfoLine());
@@ -243,7 +277,7 @@ inline bool InitProblem(const char* program, const char* usage, const char* sour
     if (std::strcmp(argument, "--help") == 0 || std::strcmp(argument, "-help") == 0 ||
         std::strcmp(argument, "-h") == 0) {
       gflags::ShowUsageWithFlagsRestrict(program, source_fragment);
-      std::exit(0);
+      std::exit(CheckStdoutWritten(program, 0));
     }
   }
   const std::string bad_argument = FirstBadArgument(*argc, *argv);

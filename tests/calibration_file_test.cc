@@ -174,6 +174,50 @@ TEST(CalibrationFile, RefusesAStddevThatContradictsTheCovariance) {
   EXPECT_TRUE(status.ok()) << status.message();
 }
 
+// The model's words are the format version's for the geometry (issue 35, 2): a file whose
+// model.measurement, correction, axes or effects say another model was written for another
+// model, and its parameters do not mean what this reader takes them for. A file without them
+// (hand-written) is read; the gyroscope's measurement must at least be its equation.
+TEST(CalibrationFile, RefusesAModelTextThatIsNotTheVersionsForItsGeometry) {
+  const nlohmann::json good = CalibrationJson(ExampleRecord());
+  CalibrationRecord record;
+  struct Damage {
+    const char* pointer;
+    nlohmann::json value;
+  };
+  const Damage damages[] = {
+      {"/model/measurement", "m_k = scale_k a_k + bias_k + noise_k, k = x, y"},
+      {"/model/correction", "a_k = m_k / (1 + scale_k) - bias_k"},
+      {"/model/axes", nlohmann::json::array({"x", "z"})},
+      {"/model/effects", nlohmann::json::array({"bias", "scale", "angle_offset"})},
+  };
+  for (const Damage& damage : damages) {
+    SCOPED_TRACE(damage.pointer);
+    nlohmann::json damaged = good;
+    damaged[nlohmann::json::json_pointer(damage.pointer)] = damage.value;
+    const std::string key = std::string(damage.pointer).substr(1);
+    EXPECT_ERROR_CONTAINS(ParseCalibration(damaged.dump(), "cal.json", &record),
+                          "cal.json: " + key + " is ");
+    EXPECT_ERROR_CONTAINS(ParseCalibration(damaged.dump(), "cal.json", &record),
+                          "but format_version 1 writes ");
+  }
+  nlohmann::json hand_written = good;
+  for (const char* key : {"measurement", "correction", "axes", "effects", "conventions"})
+    hand_written["model"].erase(key);
+  const Status status = ParseCalibration(hand_written.dump(), "cal.json", &record);
+  EXPECT_TRUE(status.ok()) << status.message();
+
+  nlohmann::json triad = CalibrationJson(testing::ExampleTriadRecordWithGyroscope());
+  triad["gyroscope"]["model"]["measurement"] = "w = K (u - b)";
+  EXPECT_ERROR_CONTAINS(
+      ParseCalibration(triad.dump(), "cal.json", &record),
+      "cal.json: gyroscope/model/measurement is \"w = K (u - b)\", but format_version "
+      "1 writes \"w = T K (u - b)");
+  triad["gyroscope"]["model"]["measurement"] = "w = T K (u - b)";  // the equation alone
+  const Status short_form = ParseCalibration(triad.dump(), "cal.json", &record);
+  EXPECT_TRUE(short_form.ok()) << short_form.message();
+}
+
 // nlohmann::json copies a document by recursion: a file nested a hundred thousand deep would
 // overflow the stack in the first copy. The parser stops at kMaxJsonDepth and says where.
 TEST(CalibrationFile, RefusesJsonNestedTooDeepInOneLine) {

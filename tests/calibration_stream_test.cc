@@ -216,6 +216,10 @@ TEST(CalibrationStream, RefusesBadInputWithParseCsvsMessages) {
       {"theta,ax,ay\r\n0,1,2\r\n0,abc,2\r\n", "line 3, column 'ax': 'abc' is not a number"},
       {"theta,ax,ay\n0,1,NaN\n", "line 2, column 'ay': 'NaN' is not a finite number"},
       {"theta,ax,ay\n0,inf,1\n", "not a finite number"},
+      // A number, but beyond a double (issue 35, 6): not finite, rather than "not a number".
+      {"theta,ax,ay\n0,1,-1e999\n",
+       "line 2, column 'ay': '-1e999' is not a finite number (beyond a double's range"},
+      {"theta,ax,ay\n0,1e-999,1\n", "'1e-999' is too close to zero for a double"},
       {"theta,ax,ay\n0,,1\n", "line 2, column 'ax': '' is not a number"},
       {"theta,ax,ay\n# only a comment\n\n", "no data rows after the header"},
       {"theta;ax;ay\n0;1;2\n", "export it with ',' between fields"},

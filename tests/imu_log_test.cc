@@ -312,6 +312,44 @@ TEST(ImuLogLayouts, ASampleNumberIsNotTakenForATime) {
       << message;
 }
 
+// Issue 35, item 4: a 100 Hz log whose time column is the sample index (0, 1, 2, ... N-1) is
+// never read as 1 Hz without a word, whatever its name says: refused naming --rate_hz and
+// --time_unit, a sample dropped or not; --rate_hz gives its time, and --time_unit=s, which says
+// it is a 1 Hz log, reads it so and says so.
+TEST(ImuLogLayouts, ASampleIndexAsTimeIsRefusedWhateverTheColumnsNameSays) {
+  const int rows = 3000;  // 30 s at 100 Hz
+  auto log_with = [rows](const std::string& header, int dropped) {
+    std::string text = header.empty() ? "" : header + ",ax,ay,az\n";
+    const char separator = header.empty() ? ' ' : ',';
+    for (int j = 0; j < rows; ++j) {
+      if (j == dropped) continue;
+      text += StringPrintf("%d%c1%c2%c9.8\n", j, separator, separator, separator);
+    }
+    return text;
+  };
+  for (const std::string header : {"t", "t_s", "time [s]", "Time (s)", "timestamp_s", ""}) {
+    for (const int dropped : {-1, 1500}) {
+      SCOPED_TRACE("header '" + header + "', dropped " + std::to_string(dropped));
+      const std::string message = Refusal(log_with(header, dropped));
+      EXPECT_NE(message.find("counts 0, 1, 2, ... by 1"), std::string::npos) << message;
+      EXPECT_NE(message.find("--rate_hz=R"), std::string::npos) << message;
+      EXPECT_NE(message.find("--time_unit=s"), std::string::npos) << message;
+    }
+  }
+  ImuLogReadOptions rate;
+  rate.rate_hz = 100.0;
+  EXPECT_NEAR(ReadOk(log_with("t_s", -1), rate).timestamp_s[1], 0.01, 1e-12);
+  ImuLogReadOptions seconds;
+  seconds.time_unit = "s";
+  ImuLogSource source;
+  const TriadLog one_hz = ReadOk(log_with("t_s", -1), seconds, &source);
+  EXPECT_DOUBLE_EQ(one_hz.timestamp_s[1], 1.0);
+  ASSERT_FALSE(source.notes.empty());
+  EXPECT_NE(source.notes[0].find("in s (--time_unit)"), std::string::npos) << source.notes[0];
+  // A time in ms that counts by 1 is a 1 kHz log its name states: read so.
+  EXPECT_NEAR(ReadOk(log_with("t_ms", -1)).timestamp_s[1], 0.001, 1e-12);
+}
+
 // The suggestion a refusal prints (from "--columns=" to the end of its word), followed.
 std::string SuggestedColumns(const std::string& message) {
   const size_t start = message.find("--columns=");

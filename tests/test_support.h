@@ -7,6 +7,7 @@
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -164,26 +165,42 @@ inline CommandResult RunBinary(const std::string& binary, const std::string& arg
 }
 
 // Runs build/bin/<binary> with `arguments` as its argument vector (no shell, so nothing
-// needs quoting), its stdout and stderr into the files named. Returns its wait status, -1
-// when it could not start.
-inline int SpawnBinary(const std::string& binary, const std::vector<std::string>& arguments,
-                       const std::string& stdout_path, const std::string& stderr_path) {
+// needs quoting), its descriptors set up by `actions`, SIGPIPE at its default as from a shell.
+// Returns its wait status, -1 when it could not start.
+inline int SpawnBinaryWithActions(const std::string& binary,
+                                  const std::vector<std::string>& arguments,
+                                  const posix_spawn_file_actions_t* actions) {
   std::vector<std::string> strings = {BinaryPath(binary)};
   strings.insert(strings.end(), arguments.begin(), arguments.end());
   std::vector<char*> argv;
   for (std::string& argument : strings) argv.push_back(argument.data());
   argv.push_back(nullptr);
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  sigset_t defaults;
+  sigemptyset(&defaults);
+  sigaddset(&defaults, SIGPIPE);
+  posix_spawnattr_setsigdefault(&attributes, &defaults);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGDEF);
+  pid_t pid = -1;
+  const int spawned = posix_spawn(&pid, argv[0], actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
+  EXPECT_EQ(spawned, 0) << argv[0];
+  int status = 0;
+  if (spawned != 0 || waitpid(pid, &status, 0) != pid) return -1;
+  return status;
+}
+
+// Runs build/bin/<binary> with `arguments`, its stdout and stderr into the files named.
+inline int SpawnBinary(const std::string& binary, const std::vector<std::string>& arguments,
+                       const std::string& stdout_path, const std::string& stderr_path) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   const int flags = O_WRONLY | O_CREAT | O_TRUNC;
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_path.c_str(), flags, 0600);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_path.c_str(), flags, 0600);
-  pid_t pid = -1;
-  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int status = SpawnBinaryWithActions(binary, arguments, &actions);
   posix_spawn_file_actions_destroy(&actions);
-  EXPECT_EQ(spawned, 0) << argv[0];
-  int status = 0;
-  if (spawned != 0 || waitpid(pid, &status, 0) != pid) return -1;
   return status;
 }
 

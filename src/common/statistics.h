@@ -16,6 +16,14 @@ inline double UpperMedian(std::vector<double> values) {
   return *middle;
 }
 
+// The element of rank round(q (n - 1)) in increasing order, q in [0, 1]; `values` (not empty) is
+// reordered. O(n).
+inline double RankQuantile(std::vector<double>* values, double q) {
+  const size_t rank = static_cast<size_t>(q * (values->size() - 1) + 0.5);
+  std::nth_element(values->begin(), values->begin() + rank, values->end());
+  return (*values)[rank];
+}
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_COMMON_STATISTICS_H_

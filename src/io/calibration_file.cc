@@ -53,6 +53,14 @@ struct ParameterBlock {
   bool stddev_required = false;
 };
 
+// The gyroscope section's model.measurement, and the length of its equation: "w = T K (u - b)".
+constexpr char kGyroscopeMeasurement[] =
+    "w = T K (u - b), T = [[1, -gyroscope_misalignment_yz, gyroscope_misalignment_zy], "
+    "[gyroscope_misalignment_xz, 1, -gyroscope_misalignment_zx], [-gyroscope_misalignment_xy, "
+    "gyroscope_misalignment_yx, 1]], K = diag(gyroscope_gain_x, gyroscope_gain_y, "
+    "gyroscope_gain_z), b = (gyroscope_offset_x, gyroscope_offset_y, gyroscope_offset_z)";
+constexpr size_t kGyroscopeEquationLength = 15;
+
 // The relative tolerance between a stddev and the square root of its variance: the writer
 // writes both from one double, so only an edit of one of them sets them apart.
 constexpr double kStddevTolerance = 1e-6;
@@ -97,6 +105,24 @@ Status CheckKnownNames(const nlohmann::json& object, const std::string& key,
     }
   }
   return Status::Ok();
+}
+
+// A key of the model's text, when the file gives it, against what format_version 1 writes for
+// the geometry: `exact`, or its start `prefix` (the gyroscope's equation, which a hand-written
+// section may give without the matrices spelled out).
+Status CheckModelKey(const nlohmann::json& model, const std::string& where, const char* key,
+                     const nlohmann::json& written, size_t prefix = 0) {
+  if (!model.is_object() || !model.contains(key)) return Status::Ok();
+  const nlohmann::json& given = model.at(key);
+  const bool agrees = prefix == 0 ? given == written
+                                  : given.is_string() && written.is_string() &&
+                                        given.get<std::string>().compare(
+                                            0, prefix, written.get<std::string>(), 0, prefix) == 0;
+  if (agrees) return Status::Ok();
+  return Status::Error(where + "model/" + key + " is " + EchoInput(given.dump()) +
+                       ", but format_version 1 writes " + EchoInput(written.dump()) +
+                       ": the file describes another model than the one its parameters are read "
+                       "with; write it again with accelcal, or remove the key");
 }
 
 // stddev, when given (or required), is the square root of the covariance's diagonal.
@@ -337,11 +363,7 @@ nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) 
       section.parameter_order, known ? GyroscopeBlock(unit).units : std::vector<std::string>(),
       section.values, section.covariance);
   json["model"] = {
-      {"measurement",
-       "w = T K (u - b), T = [[1, -gyroscope_misalignment_yz, gyroscope_misalignment_zy], "
-       "[gyroscope_misalignment_xz, 1, -gyroscope_misalignment_zx], [-gyroscope_misalignment_xy, "
-       "gyroscope_misalignment_yx, 1]], K = diag(gyroscope_gain_x, gyroscope_gain_y, "
-       "gyroscope_gain_z), b = (gyroscope_offset_x, gyroscope_offset_y, gyroscope_offset_z)"},
+      {"measurement", kGyroscopeMeasurement},
       {"conventions",
        "u: the gyroscope's output in output_unit; w: angular rate in rad/s in the "
        "accelerometer's frame (model.conventions: x along the accelerometer's x sensing axis, y "
@@ -429,6 +451,9 @@ Status ReadGyroscopeSection(const nlohmann::json& json, CalibrationRecord* parse
   if (!object.contains("output_unit") || !object["output_unit"].is_string()) {
     return Status::Error("the key \"gyroscope/output_unit\" is missing or not a string");
   }
+  ACCELCAL_RETURN_IF_ERROR(CheckModelKey(object.value("model", nlohmann::json()), "gyroscope/",
+                                         "measurement", kGyroscopeMeasurement,
+                                         kGyroscopeEquationLength));
   section.output_unit = object["output_unit"].get<std::string>();
   GyroscopeOutputUnit unit;  // the file's text echoed fit for one line: no unit is changed by it
   ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(EchoInput(section.output_unit), &unit)
@@ -479,6 +504,10 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   GeometryInfo geometry;
   ACCELCAL_RETURN_IF_ERROR(
       in_file(GeometryOf(parsed.geometry, parsed.output_unit, &geometry).WithContext("model")));
+  ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "measurement", geometry.measurement)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "correction", geometry.correction)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "axes", geometry.axes)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "effects", geometry.effects)));
   ACCELCAL_RETURN_IF_ERROR(in_file(ParseParameters(json, geometry, &parsed)));
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckGains(parsed)));
   ACCELCAL_RETURN_IF_ERROR(

@@ -37,7 +37,9 @@
 // objects each naming a parameter of the file: a calibration applied with a wrong unit or a
 // broken covariance would give confident wrong answers downstream. The gyroscope's section is
 // checked alike. Arrays and objects nested deeper than kMaxJsonDepth are refused before
-// anything is built from them (io/json_file.h).
+// anything is built from them (io/json_file.h). The model's text, when given (model.measurement,
+// correction, axes, effects; the gyroscope's measurement from its equation "w = T K (u - b)"),
+// must be what this version writes for the geometry: a file of another model is refused.
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>

@@ -34,15 +34,6 @@ class FileDescriptor {
   int fd_;
 };
 
-// Reads up to `size` bytes, retrying when a signal interrupts the call.
-ssize_t ReadSome(int fd, char* data, size_t size) {
-  ssize_t count;
-  do {
-    count = read(fd, data, size);
-  } while (count < 0 && errno == EINTR);
-  return count;
-}
-
 // Parsed samples waiting for the sink, and what the whole stream has seen of theta.
 class Batcher {
  public:

@@ -60,6 +60,26 @@ bool ParseFiniteNumber(std::string_view text, double* value) {
   return error == std::errc() && pointer == end && std::isfinite(*value);
 }
 
+std::string NotAFiniteNumberReason(std::string_view text) {
+  const std::string lowered = LowerAscii(text);
+  if (lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos)
+    return "not a finite number; remove or repair the sample";
+  std::string_view trimmed = Trim(text);
+  if (!trimmed.empty() && trimmed.front() == '+') trimmed.remove_prefix(1);
+  double value = 0.0;
+  const char* end = trimmed.data() + trimmed.size();
+  const auto [pointer, error] = std::from_chars(trimmed.data(), end, value);
+  if (error == std::errc::result_out_of_range && pointer == end) {
+    // from_chars leaves the value unset out of range; strtod tells overflow from underflow.
+    const double magnitude = std::abs(std::strtod(std::string(trimmed).c_str(), nullptr));
+    return magnitude > 1.0 ? "not a finite number (beyond a double's range, about 1.8e308); "
+                             "remove or repair the sample"
+                           : "too close to zero for a double (below about 2.2e-308); write 0 "
+                             "or repair the sample";
+  }
+  return "not a number";
+}
+
 CsvLineParser::CsvLineParser(std::vector<CsvColumn> columns)
     : columns_(std::move(columns)),
       expected_header_(JoinNames(columns_)),
@@ -136,13 +156,8 @@ Status CsvLineParser::ParseRow() {
       continue;
     }
     if (!ParseFiniteNumber(cell, &numbers_[c])) {
-      const std::string lowered = LowerAscii(cell);
-      const bool not_finite =
-          lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
-      return Status::Error(
-          Where(line_number_) + ", column '" + columns_[c].name + "': '" + EchoInput(cell) +
-          "' is " +
-          (not_finite ? "not a finite number; remove or repair the sample" : "not a number"));
+      return Status::Error(Where(line_number_) + ", column '" + columns_[c].name + "': '" +
+                           EchoInput(cell) + "' is " + NotAFiniteNumberReason(cell));
     }
   }
   ++row_count_;

@@ -44,6 +44,11 @@ Status ParseCsv(const std::string& text, const std::vector<CsvColumn>& columns, 
 // Parses one finite decimal number (leading/trailing blanks allowed); false otherwise.
 bool ParseFiniteNumber(std::string_view text, double* value);
 
+// Why ParseFiniteNumber refused a cell, to follow "'<cell>' is ": "not a finite number; remove or
+// repair the sample" for NaN, an infinity or a number beyond a double's range (1e999: a number,
+// but none a double holds), "too close to zero for a double ..." for 1e-999, else "not a number".
+std::string NotAFiniteNumberReason(std::string_view text);
+
 // The rules above applied one line at a time, so that ParseCsv (text in memory) and the
 // streaming reader (io/calibration_stream.h) accept the same files and fail with the same
 // messages. Nothing is allocated per line once the first data row has been parsed: the

@@ -102,11 +102,6 @@ bool ReadFourShortDecimals(std::string_view trimmed, double values[4]) {
   return p == end;
 }
 
-bool LooksNotFinite(std::string_view cell) {
-  const std::string lowered = LowerAscii(cell);
-  return lowered.find("nan") != std::string::npos || lowered.find("inf") != std::string::npos;
-}
-
 // ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave: no step
 // above kMaxGapSteps median steps (a gap), and no block of consecutive steps whose median
 // step is more than kMaxRateChange from the log's (a change of rate). Jitter and a few lost
@@ -240,8 +235,7 @@ Status ImuLogLineParser::Cell(int column, const char* role, double* value) const
   return Status::Error(Where(line_number_) + ", " + where + ": '" + EchoInput(cell) + "' is " +
                        (cell.empty()
                             ? "empty; every sample needs a value (remove the row or fill it)"
-                        : LooksNotFinite(cell) ? "not a finite number; remove or repair the sample"
-                                               : "not a number"));
+                            : NotAFiniteNumberReason(cell)));
 }
 
 Status ImuLogLineParser::ParseLine(std::string_view line, bool* is_sample) {
@@ -398,12 +392,16 @@ bool HasMatSuffix(const std::string& path) {
   return path.size() >= 4 && LowerAscii(path.substr(path.size() - 4)) == ".mat";
 }
 
-Status ReadHead(const std::string& path, std::string* head, bool* whole, uint64_t* size) {
+// The file's first kHeadBytes, whether they are all of it, its size, and its identity when they
+// were read (the whole reading is checked against it: CheckUnchangedSince).
+Status ReadHead(const std::string& path, std::string* head, bool* whole, uint64_t* size,
+                FileIdentity* identity) {
   ACCELCAL_RETURN_IF_ERROR(
       CheckInputFile(path, std::numeric_limits<uint64_t>::max(), "an IMU log", size));
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                        &std::fclose);
   if (!file) return Status::Error(std::string("cannot open: ") + std::strerror(errno));
+  ACCELCAL_RETURN_IF_ERROR(IdentifyOpenFile(fileno(file.get()), identity));
   head->assign(kHeadBytes, '\0');
   const size_t count = std::fread(head->data(), 1, head->size(), file.get());
   if (count < head->size() && std::ferror(file.get()))
@@ -411,6 +409,14 @@ Status ReadHead(const std::string& path, std::string* head, bool* whole, uint64_
   head->resize(count);
   *whole = count < kHeadBytes || std::fgetc(file.get()) == EOF;
   return Status::Ok();
+}
+
+// The file is what it was when its head was read (`before`): the layout was decided from that
+// head, and the samples must all come from one state of the file.
+Status CheckUnchangedSince(const std::string& path, const FileIdentity& before) {
+  FileIdentity now;
+  ACCELCAL_RETURN_IF_ERROR(IdentifyFile(path, &now));
+  return now == before ? Status::Ok() : FileChangedWhileRead(before, now);
 }
 
 // A text log's lines, streamed with the format decided from its head.
@@ -421,7 +427,8 @@ Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
   std::string head;
   bool whole = false;
   uint64_t size = 0;
-  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size).WithContext(path));
+  FileIdentity identity;
+  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size, &identity).WithContext(path));
   if (IsMatHeader(head)) {
     return Status::Error(path +
                          ": a MATLAB .mat file is read whole, not streamed; read it with "
@@ -453,6 +460,7 @@ Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
         return Status::Ok();
       },
       [&](std::string_view) { return parser.UnterminatedLastLine(); }));
+  ACCELCAL_RETURN_IF_ERROR(CheckUnchangedSince(path, identity).WithContext(path));
   ACCELCAL_RETURN_IF_ERROR(parser.Finish().WithContext(path));
   if (batch.size() > 0) on_batch(batch);
   return Status::Ok();
@@ -839,10 +847,21 @@ Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, Tr
   std::string head;
   bool whole = false;
   uint64_t size = 0;
-  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size).WithContext(path));
-  // A MAT file by its header (v5, v7.3), or a binary .mat without one (v4).
-  if (IsMatHeader(head) || (head.find('\0') != std::string::npos && HasMatSuffix(path)))
-    return ReadMatLog(path, options, log, source).WithContext(path);
+  FileIdentity identity;
+  ACCELCAL_RETURN_IF_ERROR(ReadHead(path, &head, &whole, &size, &identity).WithContext(path));
+  // A MAT file by its header (v5, v7.3), or a binary .mat without one (v4). matio reads it by
+  // its path: the file must be unchanged from the head to the end of the reading, and a run's
+  // record of its bytes (io/input_file.h) is their checksum taken in the same state.
+  if (IsMatHeader(head) || (head.find('\0') != std::string::npos && HasMatSuffix(path))) {
+    ACCELCAL_RETURN_IF_ERROR(ReadMatLog(path, options, log, source).WithContext(path));
+    ACCELCAL_RETURN_IF_ERROR(CheckUnchangedSince(path, identity).WithContext(path));
+    if (!RecordingInputReads()) return Status::Ok();
+    InputRead read;
+    ACCELCAL_RETURN_IF_ERROR(HashFile(path, &read).WithContext(path));
+    if (read.identity != identity)
+      return FileChangedWhileRead(identity, read.identity).WithContext(path);
+    return RecordInputRead(path, read).WithContext(path);
+  }
   ACCELCAL_RETURN_IF_ERROR(StreamTextLog(
       path, options, 1 << 16,
       [log](const TriadLog& batch) {

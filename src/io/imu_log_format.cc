@@ -827,29 +827,44 @@ std::vector<int> PreferUsualRate(double raw_step, const std::vector<int>& units)
   return usual.size() == 1 ? usual : units;
 }
 
-Status InferTimeUnit(const std::vector<double>& head_times, const std::string& column,
-                     bool seconds_by_layout, ImuTextFormat* format) {
+namespace {
+
+// Time values that count 0, 1, 2, ... (or from any small integer) by 1, a sample dropped or
+// not: whole numbers whose median step is 1. A sample number far more often than a time.
+bool CountsByOne(const std::vector<double>& head_times) {
+  if (head_times.size() < 2 || !(std::abs(head_times.front()) < 1e6)) return false;
   std::vector<double> steps;
-  bool integers = true;
   for (size_t j = 0; j < head_times.size(); ++j) {
-    integers = integers && head_times[j] == std::floor(head_times[j]);
+    if (head_times[j] != std::floor(head_times[j])) return false;
     if (j > 0) steps.push_back(head_times[j] - head_times[j - 1]);
   }
-  if (steps.empty() || !(head_times.back() > head_times.front())) {
+  return UpperMedian(steps) == 1.0;
+}
+
+// The refusal of a time that counts by 1; `name_says_seconds`: its column's name says seconds,
+// which a flag must confirm.
+Status SampleNumberAsTime(const std::string& column, bool name_says_seconds) {
+  return Status::Error(
+      "time " + column + " counts 0, 1, 2, ... by 1: " +
+      (name_says_seconds ? "its name says seconds, but 1 Hz is no IMU's usual rate and this "
+                           "looks like a sample number"
+                         : "a sample number, not a time") +
+      "; give --rate_hz=R, the rows' rate in Hz (or --time_unit=s, ms, us or ns if it is a " +
+      "time" + (name_says_seconds ? ": --time_unit=s reads a 1 Hz log)" : ")"));
+}
+
+}  // namespace
+
+Status InferTimeUnit(const std::vector<double>& head_times, const std::string& column,
+                     bool seconds_by_layout, ImuTextFormat* format) {
+  if (head_times.size() < 2 || !(head_times.back() > head_times.front())) {
     format->time_scale_s = 1.0;  // the reader's own checks will say what is wrong with time
     format->time_rule = "";
     return Status::Ok();
   }
   // The mean step: host stamps of buffered packets bunch (a median of 1 ms in a 50 Hz log).
   const double step = (head_times.back() - head_times.front()) / (head_times.size() - 1);
-  const bool counts_by_one =
-      std::all_of(steps.begin(), steps.end(), [](double d) { return d == 1.0; });
-  if (integers && counts_by_one && std::abs(head_times.front()) < 1e6) {
-    return Status::Error(
-        "time " + column +
-        " counts 0, 1, 2, ... by 1: a sample number, not a time; give "
-        "--rate_hz=R, the rows' rate in Hz (or --time_unit=s, ms, us or ns if it is a time)");
-  }
+  if (CountsByOne(head_times)) return SampleNumberAsTime(column, false);
   std::vector<int> plausible = TimeUnitsForStep(step);
   // A clock's epoch says its unit by its size (s, ms, us or ns since 1970: 1e9 .. 4e9 s).
   const double first = std::abs(head_times.front());
@@ -899,6 +914,7 @@ Status ChooseTimeUnit(const std::vector<double>& head_times, const std::string& 
                            "' is not a unit; use s, ms, us or ns");
     format->time_rule = "time " + label + " in " + flag_unit + " (--time_unit)";
   } else if (!named_unit.empty()) {
+    if (named_unit == "s" && CountsByOne(head_times)) return SampleNumberAsTime(label, true);
     TimeUnitToSeconds(named_unit, &format->time_scale_s);
     format->time_rule =
         named_unit == "s" ? "" : "time " + label + " in " + named_unit + " (its name says so)";

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "common/sha256.h"
 #include "io/input_file.h"
 
 namespace accelcal {
@@ -29,6 +30,12 @@ Status Stream(const std::string& path, const std::string& what, size_t max_line_
   std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                        &std::fclose);
   if (!file) return Status::Error(std::string("cannot open: ") + std::strerror(errno));
+  FileIdentity before;
+  ACCELCAL_RETURN_IF_ERROR(IdentifyOpenFile(fileno(file.get()), &before));
+  // The checksum of the very bytes parsed, when the run records them (io/input_file.h).
+  const bool recording = RecordingInputReads();
+  Sha256 hash;
+  uint64_t total = 0;
   long long line_number = 0;
   std::string carried;  // the start of a line whose end is in the next chunk
   std::vector<char> chunk(kChunkBytes);
@@ -39,6 +46,8 @@ Status Stream(const std::string& path, const std::string& what, size_t max_line_
         return Status::Error(std::string("cannot read: ") + std::strerror(errno));
       break;
     }
+    if (recording) hash.Update(chunk.data(), count);
+    total += count;
     const std::string_view data(chunk.data(), count);
     size_t begin = 0;
     while (true) {
@@ -62,7 +71,12 @@ Status Stream(const std::string& path, const std::string& what, size_t max_line_
       begin = end + 1;
     }
   }
+  // A logger still appending: the lines parsed are not the file's, whatever its end looks like.
+  FileIdentity after;
+  ACCELCAL_RETURN_IF_ERROR(IdentifyOpenFile(fileno(file.get()), &after));
+  if (after != before || total != after.size) return FileChangedWhileRead(before, after);
   if (!carried.empty()) return on_unterminated(carried);
+  if (recording) return RecordInputRead(path, InputRead{total, hash.HexDigest(), after});
   return Status::Ok();
 }
 

@@ -7,7 +7,9 @@
 // '\n': a last line without one is handed to `on_unterminated`, whose message (the caller's
 // parser knows its line numbers and what a cut-short row looks like) is returned. A line
 // longer than `max_line_bytes` is refused: no row of a log is that long, so the file is not
-// what the caller reads. Every failure, including those of the callbacks, starts with the
+// what the caller reads. A file that changed from its opening to its end (a logger still
+// appending) is refused, and a run that records its inputs' bytes (io/input_file.h) records the
+// SHA-256 of the bytes streamed. Every failure, including those of the callbacks, starts with the
 // file name.
 
 #include <cstddef>

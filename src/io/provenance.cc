@@ -2,7 +2,6 @@
 
 #include <cctype>
 #include <ctime>
-#include <fstream>
 #include <vector>
 
 #include "common/format.h"
@@ -56,22 +55,26 @@ Status HashInputFile(const std::string& path, InputFile* file) {
   constexpr uint64_t kNoCap = ~uint64_t{0};
   uint64_t size = 0;
   ACCELCAL_RETURN_IF_ERROR(CheckInputFile(path, kNoCap, "an input file", &size).WithContext(path));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(path + ": cannot be opened to compute its checksum");
-  Sha256 hash;
-  std::vector<char> buffer(1 << 16);
-  uint64_t total = 0;
-  while (in) {
-    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
-    const std::streamsize got = in.gcount();
-    if (got <= 0) break;
-    hash.Update(buffer.data(), static_cast<size_t>(got));
-    total += static_cast<uint64_t>(got);
+  InputRead read;
+  if (FindInputRead(path, &read)) {
+    // The bytes the run parsed, while the file is still what was parsed.
+    FileIdentity now;
+    ACCELCAL_RETURN_IF_ERROR(IdentifyFile(path, &now).WithContext(path));
+    if (now != read.identity) {
+      return Status::Error(
+          path + StringPrintf(": the file changed after it was read (%llu bytes read, %llu now): a "
+                              "logger may still be writing it; copy it once the recording has "
+                              "stopped and give the copy",
+                              static_cast<unsigned long long>(read.bytes),
+                              static_cast<unsigned long long>(now.size)));
+    }
+  } else {
+    ACCELCAL_RETURN_IF_ERROR(HashFile(path, &read).WithContext(path));
+    ACCELCAL_RETURN_IF_ERROR(RecordInputRead(path, read).WithContext(path));
   }
-  if (in.bad()) return Status::Error(path + ": read error while computing its checksum");
   file->path = path;
-  file->bytes = total;
-  file->sha256 = hash.HexDigest();
+  file->bytes = read.bytes;
+  file->sha256 = read.sha256;
   return Status::Ok();
 }
 

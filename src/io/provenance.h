@@ -38,7 +38,10 @@ struct InputFile {
   std::string sha256;  // 64 lowercase hex digits
 };
 
-// Reads `path` (a regular file) whole through SHA-256, in bounded memory.
+// The bytes and SHA-256 of `path` (a regular file): those a reader of this run parsed, when one
+// did (io/input_file.h, RecordInputRead), provided the file is unchanged since (refused
+// otherwise: the checksum would not be of the bytes the results came from); else the file read
+// whole through SHA-256 in bounded memory, and recorded.
 Status HashInputFile(const std::string& path, InputFile* file);
 
 struct DataSource {

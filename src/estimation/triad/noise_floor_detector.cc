@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/format.h"
+#include "common/statistics.h"
 #include "estimation/statistics/chi_square.h"
 
 namespace accelcal {
@@ -25,13 +26,6 @@ constexpr double kPoseFloorSpread = 16.0;
 constexpr size_t kMaxCombinedRefusalBytes = 380;
 
 const char kAxisNames[] = "xyz";
-
-// The element of rank round(q (n - 1)) in increasing order; `values` is reordered.
-double Quantile(std::vector<double>* values, double q) {
-  const size_t rank = static_cast<size_t>(q * (values->size() - 1) + 0.5);
-  std::nth_element(values->begin(), values->begin() + rank, values->end());
-  return (*values)[rank];
-}
 
 std::vector<double> Column(const std::vector<std::array<double, 3>>& variances, int axis,
                            const std::vector<bool>* keep) {
@@ -53,14 +47,19 @@ std::vector<bool> StillWindows(const std::vector<std::array<double, 3>>& varianc
   return still;
 }
 
+// "steps of one count" for an output in whole numbers, else "steps of 0.0096".
+std::string StepText(double step) {
+  return step == 1.0 ? std::string("steps of one count") : StringPrintf("steps of %.4g", step);
+}
+
 // Called once StuckAxis has passed every axis: the axis changes through the motion, so its
 // constant still windows are noise below the output's step (a quantised output), not a fault.
 Status ZeroFloor(int axis, int window, double step) {
   return Status::Error(StringPrintf(
       "axis %c is constant over much of the log's %d-sample windows while it changes through the "
-      "motion: its noise is below the output's step of %.4g (quantised), so one noise floor for "
-      "the log cannot be set from it",
-      kAxisNames[axis], window, step));
+      "motion: its noise is below the output's resolution, %s (quantised), so one noise floor "
+      "for the log cannot be set from it",
+      kAxisNames[axis], window, StepText(step).c_str()));
 }
 
 // " (2.8 to 51.4 s, median 7.8 s)", or nothing for no intervals.
@@ -68,7 +67,7 @@ std::string DescribeDurations(const std::vector<StaticInterval>& intervals) {
   if (intervals.empty()) return "";
   std::vector<double> durations;
   for (const StaticInterval& interval : intervals) durations.push_back(interval.duration_s);
-  const double median = Quantile(&durations, 0.5);
+  const double median = RankQuantile(&durations, 0.5);
   const auto [shortest, longest] = std::minmax_element(durations.begin(), durations.end());
   return StringPrintf(" (%.1f to %.1f s, median %.1f s)", *shortest, *longest, median);
 }
@@ -184,18 +183,34 @@ double WhiteQuantile(double q, int window) {
 }
 
 // The shape check on one axis: quantile_0.1 / median of `values` over white noise's, stored in
-// *shape; a refusal naming `whose` windows below kMinFloorShape.
+// *shape; a refusal naming `whose` windows below kMinFloorShape. `median_variance` is the still
+// windows' median variance on the axis and `step` its output's: when the step is as large as
+// their standard deviation, a few level changes make a window's variance, and the refusal says
+// the output's resolution rather than motion alone.
 Status CheckShape(std::vector<double> values, int axis, double white_shape, const char* whose,
-                  double* shape) {
-  const double median = Quantile(&values, 0.5);
-  const double low = Quantile(&values, kShapeLowQuantile);
+                  double step, double median_variance, double* shape) {
+  const double median = RankQuantile(&values, 0.5);
+  const double low = RankQuantile(&values, kShapeLowQuantile);
   *shape = median > 0.0 ? low / median / white_shape : 0.0;
   if (*shape >= kMinFloorShape) return Status::Ok();
-  return Status::Error(StringPrintf(
+  const std::string finding = StringPrintf(
       "the quietest windows of %s do not look like sensor noise (on axis %c their %.0f%% quantile "
-      "of variance is %.2f of their median, white noise gives %.2f): the sensor never rests; "
-      "hold it still in each pose",
-      whose, kAxisNames[axis], 100 * kShapeLowQuantile, *shape * white_shape, white_shape));
+      "of variance is %.2f of their median, white noise gives %.2f)",
+      whose, kAxisNames[axis], 100 * kShapeLowQuantile, *shape * white_shape, white_shape);
+  if (step > 0.0 && median_variance <= step * step) {
+    return Status::Error(StringPrintf(
+        "%s: the output's resolution, %s, dominates its noise (s = %.2g): a few level changes "
+        "make each variance; hold the sensor still, or record at a finer resolution",
+        finding.c_str(), StepText(step).c_str(), std::sqrt(median_variance)));
+  }
+  return Status::Error(finding + ": the sensor never rests; hold it still in each pose");
+}
+
+// The median variance on `axis` of the windows `still` marks.
+double MedianVariance(const std::vector<std::array<double, 3>>& variances, int axis,
+                      const std::vector<bool>& still) {
+  std::vector<double> column = Column(variances, axis, &still);
+  return column.empty() ? 0.0 : RankQuantile(&column, 0.5);
 }
 
 // The rule of the header's first part: one noise floor for the whole log.
@@ -212,7 +227,7 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
   for (int axis = 0; axis < 3; ++axis) {
     std::vector<double> column = Column(variances, axis, nullptr);
     provisional_threshold[axis] =
-        factor * Quantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile);
+        factor * RankQuantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile);
     if (!(provisional_threshold[axis] > 0.0)) return ZeroFloor(axis, window, step[axis]);
   }
   std::vector<bool> still = StillWindows(variances, provisional_threshold);
@@ -220,7 +235,7 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
   if (any_still) {
     for (int axis = 0; axis < 3; ++axis) {
       std::vector<double> column = Column(variances, axis, &still);
-      detection->floor_variance[axis] = Quantile(&column, 0.5) / white_quantile(0.5);
+      detection->floor_variance[axis] = RankQuantile(&column, 0.5) / white_quantile(0.5);
       if (!(detection->floor_variance[axis] > 0.0)) return ZeroFloor(axis, window, step[axis]);
       detection->floor_stddev[axis] = std::sqrt(detection->floor_variance[axis]);
       detection->threshold_variance[axis] = factor * detection->floor_variance[axis];
@@ -234,8 +249,9 @@ Status GlobalFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
     const double white_shape = white_quantile(kShapeLowQuantile) / white_quantile(0.5);
     std::array<Status, 3> shape;
     for (int axis = 0; axis < 3; ++axis) {
-      shape[axis] = CheckShape(Column(variances, axis, &still), axis, white_shape, "the log",
-                               &detection->floor_shape[axis]);
+      shape[axis] =
+          CheckShape(Column(variances, axis, &still), axis, white_shape, "the log", step[axis],
+                     MedianVariance(variances, axis, still), &detection->floor_shape[axis]);
     }
     for (const Status& status : shape) ACCELCAL_RETURN_IF_ERROR(status);
   }
@@ -342,7 +358,7 @@ Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
     resolution[axis] = step[axis] * step[axis] / 12.0;
     std::vector<double> column = Column(variances, axis, nullptr);
     detection->floor_variance[axis] = std::max(
-        Quantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile), resolution[axis]);
+        RankQuantile(&column, kFloorQuantile) / white_quantile(kFloorQuantile), resolution[axis]);
     detection->floor_stddev[axis] = std::sqrt(detection->floor_variance[axis]);
     loose[axis] = factor * kPoseFloorSpread * detection->floor_variance[axis];
     detection->threshold_variance[axis] = loose[axis];
@@ -369,7 +385,8 @@ Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
         for (int i = j; i <= last; ++i)
           if (keep[i]) run.push_back(variances[i][axis]);
         if (run.empty()) break;
-        const double floor = std::max(Quantile(&run, 0.5) / white_quantile(0.5), resolution[axis]);
+        const double floor =
+            std::max(RankQuantile(&run, 0.5) / white_quantile(0.5), resolution[axis]);
         threshold[axis] = std::min(loose[axis], factor * floor);
       }
       for (int i = j; i <= last; ++i)
@@ -394,6 +411,7 @@ Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
           ratio.push_back(std::max(variances[i][axis], resolution[axis]) / thresholds[i][axis]);
       }
       ACCELCAL_RETURN_IF_ERROR(CheckShape(std::move(ratio), axis, white_shape, "each stretch",
+                                          step[axis], MedianVariance(variances, axis, still),
                                           &detection->floor_shape[axis]));
     }
   }

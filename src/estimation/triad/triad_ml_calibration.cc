@@ -42,8 +42,10 @@ Status PooledNoiseVariance(const std::vector<TriadPoseMean>& poses, std::array<d
   for (int k = 0; k < 3; ++k) {
     if (!((*pooled)[k] > 0.0) || !std::isfinite((*pooled)[k])) {
       return Status::Error(StringPrintf(
-          "the output of axis %c does not vary within any pose (pooled variance %g); the white "
-          "noise model needs a noise to weight the residuals by",
+          "the output of axis %c does not vary within any pose (pooled variance %g): its noise "
+          "is below the output's resolution (each pose sits on one level; steps of one level "
+          "dominate the noise), so the noise that weights the residuals cannot be measured from "
+          "the log; record at a finer resolution (a smaller range or more bits)",
           "xyz"[k], (*pooled)[k]));
     }
   }

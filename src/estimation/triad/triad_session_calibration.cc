@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <string>
 
+#include "estimation/triad/accelerometer_outputs.h"
 #include "estimation/triad/triad_initial_guess.h"
 
 namespace accelcal {
@@ -11,6 +12,8 @@ Status TriadStartOffset(const TriadLog& log, TriadOutputUnit unit, const TriadOf
                         double* offset) {
   *offset = start.value;
   if (start.automatic) *offset = unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
+  // What the log is (clipped, a gyroscope's) before what its size says of the unit.
+  ACCELCAL_RETURN_IF_ERROR(CheckAccelerometerOutputs(log));
   return CheckOutputsMatchUnit(log, unit, *offset);
 }
 

@@ -5,8 +5,8 @@
 // `calibrate_imu --mode=ml` (one log), `calibrate_imu --log=S1,S2,...` (each session of a device)
 // and triad_repeatability (each session of an array):
 //
-//   1. the log's outputs checked against the stated unit, with the offsets' start
-//      (TriadStartOffset);
+//   1. the log's outputs checked to be an accelerometer's (not clipped, following the pose) and
+//      against the stated unit, with the offsets' start (TriadStartOffset);
 //   2. the static poses: from the log's own noise floor (estimation/triad/noise_floor_detector.h),
 //   or
 //      the intervals of a detector the caller ran (imu_tk's at its chosen k), each pose the mean
@@ -46,8 +46,9 @@ struct TriadOffsetStart {
   double value = 0.0;  // when !automatic
 };
 
-// The start's offset for `log` in `unit`, after refusing a log whose outputs contradict the
-// unit (CheckOutputsMatchUnit; the caller adds the file name).
+// The start's offset for `log` in `unit`, after refusing a log whose outputs are not an
+// accelerometer's poses (clipped, or a gyroscope's: estimation/triad/accelerometer_outputs.h) or
+// contradict the unit (CheckOutputsMatchUnit; the caller adds the file name).
 Status TriadStartOffset(const TriadLog& log, TriadOutputUnit unit, const TriadOffsetStart& start,
                         double* offset);
 

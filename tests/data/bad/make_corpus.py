@@ -459,6 +459,87 @@ def calibration_files():
                json.dumps({"problem": "linear_ls", "parameters": {"bias_x": 0.0767}}) + "\n")
 
 
+
+def calibration_fuzz_seeds():
+    """Seeds of the calibration file's fuzz target (tests/fuzz/seeds/calibration_file): a
+    two-axis file, the triad's (triad_gyroscope.json, written by calibrate_imu --mode=ml on
+    imu_tk's Xsens pair, the seeds README says how; with and without its gyroscope section), and
+    the same nested deep (issue 35: a file nested thousands of levels crashed apply) or made
+    large, each under the fuzzer's 64 KB."""
+    import copy
+    import json
+    import sys
+
+    sys.setrecursionlimit(100000)  # json.dumps recurses once per level of the deepest seed
+    seeds = os.path.join(HERE, "..", "..", "fuzz", "seeds", "calibration_file")
+    with open(os.path.join(seeds, "triad_gyroscope.json")) as f:
+        triad = json.load(f)
+
+    def write(name, document, indent=None):
+        # The deep and large ones compact: indentation would only add bytes.
+        text = document if isinstance(document, str) else json.dumps(
+            document, indent=indent, separators=None if indent else (",", ":")) + "\n"
+        assert len(text) < 65536, name
+        with open(os.path.join(seeds, name), "w") as f:
+            f.write(text)
+
+    def nested(depth, leaf=0):
+        value = leaf
+        for _ in range(depth):
+            value = [value]
+        return value
+
+    def with_changes(document, **changes):
+        changed = copy.deepcopy(document)
+        for key, value in changes.items():
+            changed[key] = value
+        return changed
+
+    sigma = [1.25e-5 ** 0.5, 2.6e-7 ** 0.5, 3.2e-5 ** 0.5, 6.7e-7 ** 0.5]
+    names = ["bias_x", "scale_x", "bias_y", "scale_y"]
+    two_axis = {
+        "format": "accelcal-calibration", "format_version": 1,
+        "model": {"geometry": "two_axis", "axes": ["x", "y"], "effects": ["bias", "scale"],
+                  "output_unit": "m/s^2",
+                  "measurement": "m_k = (1 + scale_k) a_k + bias_k + noise_k, k = x, y"},
+        "gravity_mps2": 9.8,
+        "parameter_order": names,
+        "parameters": {"bias_x": 0.0767, "scale_x": -0.0301, "bias_y": -0.0175, "scale_y": 0.01},
+        "units": {"bias_x": "m/s^2", "scale_x": "1", "bias_y": "m/s^2", "scale_y": "1"},
+        "stddev": dict(zip(names, sigma)),
+        "covariance": [[1.25e-5, 0, 0, 0], [0, 2.6e-7, 0, 0], [0, 0, 3.2e-5, 0],
+                       [0, 0, 0, 6.7e-7]],
+        "noise_variance": {"x": 0.25, "y": 0.64, "unit": "(m/s^2)^2", "from": "datos.txt"},
+        "fit": {"samples": 400}, "poorly_determined": None, "gyroscope": None,
+    }
+    write("two_axis.json", two_axis, indent=1)
+    write("triad.json", with_changes(triad, gyroscope=None), indent=1)
+    # Depth: the reader's limit is 64 levels (io/json_file.h); the file's own object is one.
+    write("deep_fit_63.json", with_changes(two_axis, fit=nested(63)))
+    write("deep_fit_64.json", with_changes(two_axis, fit=nested(64)))
+    write("deep_model_200.json", with_changes(two_axis, model=nested(200)))
+    gyroscope = copy.deepcopy(triad["gyroscope"])
+    gyroscope["fit"] = {"turns": nested(300)}
+    write("deep_gyroscope_fit_300.json", with_changes(triad, gyroscope=gyroscope))
+    # Inside a key the reader copies (fit), as deep as 64 KB holds: what crashed apply.
+    write("deep_fit_30000.json", with_changes(two_axis, fit=nested(30000)))
+    write("deep_brackets_20000.json", "[" * 20000)
+    write("deep_objects_2000.json", '{"fit":' * 2000 + "1" + "}" * 2000)
+    # Size: long lists, long rows, long strings and numbers, many keys.
+    write("large_parameter_order.json",
+          with_changes(two_axis, parameter_order=["bias_x%d" % i for i in range(1000)]))
+    write("large_covariance_rows.json",
+          with_changes(two_axis, covariance=[[0.0] * 1000 for _ in range(4)]))
+    write("large_string.json", with_changes(two_axis, created_utc="x" * 20000))
+    write("large_number.json", json.dumps(two_axis, indent=1).replace(
+        '"bias_x": 0.0767', '"bias_x": ' + "9" * 10000, 1))
+    write("large_exponent.json", json.dumps(two_axis, indent=1).replace(
+        "1.25e-05", "1e999", 1))
+    write("many_keys.json", with_changes(two_axis, fit={"k%d" % i: i for i in range(1500)}))
+    write("large_poorly_determined.json", with_changes(
+        triad, poorly_determined=[{"parameter": "gain_x"}] * 600))
+
+
 def main():
     theta, datos = tilt_test()
 
@@ -596,6 +677,7 @@ def main():
 
     mat_integrity()
     fuzz_seeds()
+    calibration_fuzz_seeds()
     calibration_files()
     readers_issue_15()
     conditions_and_landmarks_issue_15()
