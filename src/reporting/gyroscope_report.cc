@@ -121,6 +121,13 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
       worst >= 0 ? g.turns[worst].pose_before + 2 : 0,
       worst >= 0 ? 1e3 * g.turns[worst].angle_stddev_rad : 0.0, g.accelerometer_shift_sigma);
   out << EarthRateSentence(report) << ".\n";
+  for (const GyroscopeClippedTurn& clipped : g.clipped_turns) {
+    out << StringPrintf(
+        "Turn from pose %d to %d left out: the gyroscope's %c output sits at %.9g, the end of its "
+        "range, for %d samples (the rate was beyond what it measures; turn more slowly)\n",
+        clipped.pose_before + 1, clipped.pose_before + 2, "xyz"[clipped.axis], clipped.rail,
+        clipped.samples);
+  }
   out << GyroscopeDiscoveryTable(report.gyroscope_discovery,
                                  report.gyroscope_discovery_options.alpha);
   return out.str();
@@ -239,6 +246,13 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
                      {"angle_stddev_rad", turn.angle_stddev_rad},
                      {"whitened_residual", turn.whitened}});
   }
+  nlohmann::json clipped = nlohmann::json::array();
+  for (const GyroscopeClippedTurn& turn : g.clipped_turns) {
+    clipped.push_back({{"pose_before", turn.pose_before + 1},
+                       {"axis", std::string(1, "xyz"[turn.axis])},
+                       {"rail", turn.rail},
+                       {"samples", turn.samples}});
+  }
   nlohmann::json imu_tk = nullptr;
   if (report.has_gyroscope_calibration) {
     nlohmann::json values, imu_tk_units;
@@ -278,6 +292,7 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"counted_as_noise", report.gyroscope_ml_options.earth_rate_as_noise},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
+          {"clipped_turns", clipped},
           {"imu_tk", imu_tk},
           {"discovery", GyroscopeDiscoveryJson(report.gyroscope_discovery,
                                                report.gyroscope_discovery_options.alpha)},

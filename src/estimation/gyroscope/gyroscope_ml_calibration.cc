@@ -166,12 +166,38 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const double earth_axis_variance =
       options.earth_rate_as_noise ? kEarthRateRadPerS * kEarthRateRadPerS / 3.0 : 0.0;
 
+  // The samples at a rail: each axis's largest or smallest output, held for 3 samples or more.
+  std::array<std::vector<bool>, 3> at_rail;
+  std::array<std::array<double, 2>, 3> rails{};
+  for (int k = 0; k < 3; ++k) {
+    double low = log.gyroscope[0][k], high = low;
+    for (const std::array<double, 3>& u : log.gyroscope) {
+      low = std::min(low, u[k]);
+      high = std::max(high, u[k]);
+    }
+    rails[k] = {low, high};
+    at_rail[k].assign(log.size(), false);
+    for (double rail : {low, high}) {
+      size_t run = 0;
+      for (size_t i = 0; i <= log.size(); ++i) {
+        if (i < log.size() && log.gyroscope[i][k] == rail) {
+          ++run;
+          continue;
+        }
+        if (run >= 3)
+          for (size_t j = i - run; j < i; ++j) at_rail[k][j] = true;
+        run = 0;
+      }
+    }
+  }
+
   // One fit with a bias wander of variance wander[k] (the output's unit squared) between poses.
   auto fit = [&](const std::array<double, 3>& wander) -> Status {
     result->rest_means.clear();
     result->rest_stddev.clear();
     result->rest_whitened.clear();
     result->turns.clear();
+    result->clipped_turns.clear();
     result->undetermined.clear();
     result->turn_axes_to_add.clear();
     result->chi2_rest = result->chi2_turns = 0.0;
@@ -222,6 +248,21 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       turn.first_sample = intervals[p].end;
       turn.last_sample = intervals[p + 1].start;
       const int count = turn.last_sample - turn.first_sample + 1;
+      bool clipped = false;
+      for (int k = 0; k < 3 && !clipped; ++k) {
+        int samples = 0;
+        double rail = 0.0;
+        for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+          if (!at_rail[k][i]) continue;
+          ++samples;
+          rail = log.gyroscope[i][k];
+        }
+        if (samples > 0) {
+          result->clipped_turns.push_back({p, k, rail, samples});
+          clipped = true;
+        }
+      }
+      if (clipped) continue;
       if (count < 2) {
         return Status::Error(
             StringPrintf("the turn from pose %d to pose %d has %d samples; a turn needs at least 2",
@@ -395,7 +436,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       }
       if (axes.empty()) advice = "; hold the sensor still in more orientations";
       return Status::Error(StringPrintf("the %d turns between the %d poses do not determine %s",
-                                        pose_count - 1, pose_count, names.c_str()) +
+                                        static_cast<int>(result->turns.size()), pose_count,
+                                        names.c_str()) +
                            advice);
     };
     ACCELCAL_RETURN_IF_ERROR(check_rank());

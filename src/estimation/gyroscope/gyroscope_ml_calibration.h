@@ -38,6 +38,11 @@
 //     angle; the fit is repeated with it. The rest residuals then fit by construction; the turns
 //     are the check.
 //
+// Clipping: a turn in which an output sits at the end of its range (the log's largest or smallest
+// value on that axis, held for 3 samples or more in a row, as an ADC or a driver saturates) is
+// left out of the fit and listed (clipped_turns): its rate was beyond the range, its rotation is
+// short.
+//
 // Refusals: fewer than 2 poses; gyroscope samples missing; a turn of fewer than 2 samples; the
 // gyroscope parameters' information (the accelerometer's and the directions' marginalised)
 // rank-deficient: the parameters in its near-null space named, with the body axes the turns
@@ -105,6 +110,15 @@ struct GyroscopeMlTurn {
   std::array<double, 2> whitened{};
 };
 
+// A turn left out because the gyroscope's output sat at the end of its range in it: the rate was
+// beyond what it measures, so the integrated rotation is short.
+struct GyroscopeClippedTurn {
+  int pose_before = 0;
+  int axis = 0;       // 0: x, 1: y, 2: z
+  double rail = 0.0;  // the output it sat at (its unit)
+  int samples = 0;    // samples of the turn at the rail
+};
+
 struct GyroscopeMlResult {
   GyroscopeParameters parameters{};
   GyroscopeOffset offset{};
@@ -122,8 +136,9 @@ struct GyroscopeMlResult {
   std::vector<std::array<double, 3>> rest_means;     // per pose, the output's unit
   std::vector<std::array<double, 3>> rest_whitened;  // per pose
   std::vector<std::array<double, 3>> rest_stddev;    // per pose: the means' sigma
-  std::vector<GyroscopeMlTurn> turns;
-  std::vector<std::array<double, 3>> directions;  // the joint fit's n_p
+  std::vector<GyroscopeMlTurn> turns;                // the turns fitted
+  std::vector<GyroscopeClippedTurn> clipped_turns;   // the turns left out (one entry per turn)
+  std::vector<std::array<double, 3>> directions;     // the joint fit's n_p
 
   // The fit: every whitened residual of the joint problem (chi2 on degrees_of_freedom); what the
   // gyroscope adds, the joint chi2 minus the accelerometer's fit alone (its residuals nest in the
