@@ -102,6 +102,7 @@ TEST(GyroscopeMl, ReportedSigmaMatchesTheSpreadOverSessions) {
   ASSERT_TRUE(RunGyroscopeMonteCarlo(options, &result).ok());
   ASSERT_FALSE(result.refused) << result.refusal;
   EXPECT_EQ(result.succeeded, 120) << result.first_failure;
+  EXPECT_EQ(result.clipped_turns, 0) << "turns of a design within range taken for clipped";
   ASSERT_EQ(result.unknowns.size(), 12u);
   for (const GyroscopeUnknownStudy& row : result.unknowns) {
     EXPECT_GT(row.ratio, 0.75) << row.name;

@@ -8,6 +8,7 @@
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/triad_simulator.h"
+#include "studies/sigma_check.h"
 #include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
@@ -18,13 +19,14 @@ constexpr double kRatioBand = 0.1;  // the issue's [0.9, 1.1]
 constexpr double kBandSd = 3.0;
 
 bool WithinBinomialBand(double fraction, double expected, int n) {
-  return std::abs(fraction - expected) <= kBandSd * std::sqrt(expected * (1.0 - expected) / n);
+  return accelcal::WithinBinomialBand(fraction, expected, n, kBandSd);
 }
 
 struct Trial {
   bool ok = false;
   std::string failure;
   int verdict = -1;  // with discovery
+  int clipped_turns = 0;
   std::array<bool, kGyroscopeEffectCount> found{};
   std::vector<double> estimate;
   std::vector<double> stddev;
@@ -173,6 +175,7 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
       }
     }
     const GyroscopeMlResult& g = fit.gyroscope;
+    trial.clipped_turns = static_cast<int>(g.clipped_turns.size());
     trial.estimate.assign(g.parameters.begin(), g.parameters.end());
     trial.estimate.insert(trial.estimate.end(), g.offset.begin(), g.offset.end());
     for (int c : g.effects_estimated) trial.estimate.push_back(g.effects[c]);
@@ -209,6 +212,7 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
     }
   }
   result->succeeded = static_cast<int>(good.size());
+  for (const Trial* trial : good) result->clipped_turns += trial->clipped_turns;
   const double n = good.size();
   std::vector<int> estimated = options.estimated;
   std::sort(estimated.begin(), estimated.end());
@@ -219,21 +223,15 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
     row.name = names[u];
     row.unit = units[u];
     row.truth = truth[u];
-    for (const Trial* trial : good) {
-      row.mean += trial->estimate[u] / n;
-      row.mean_sigma += trial->stddev[u] / n;
-    }
-    double variance = 0.0;
-    for (const Trial* trial : good) {
-      variance += std::pow(trial->estimate[u] - row.mean, 2) / std::max(1.0, n - 1);
-      for (int level = 0; level < 3; ++level) {
-        row.coverage[level] +=
-            (std::abs(trial->estimate[u] - row.truth) <= (level + 1) * trial->stddev[u]) / n;
-      }
-    }
-    row.spread = std::sqrt(variance);
-    row.ratio = row.mean_sigma / row.spread;
-    row.bias_sigmas = (row.mean - row.truth) / row.mean_sigma;
+    const SigmaCheck check = CheckSigma(
+        static_cast<int>(good.size()), row.truth, [&](int i) { return good[i]->estimate[u]; },
+        [&](int i) { return good[i]->stddev[u]; });
+    row.mean = check.mean;
+    row.mean_sigma = check.mean_sigma;
+    row.spread = check.spread;
+    row.ratio = check.ratio;
+    row.bias_sigmas = check.bias_sigma;
+    row.coverage = check.coverage;
     const double ratio_band =
         std::max(kRatioBand, kBandSd * row.ratio / std::sqrt(2.0 * std::max(1.0, n - 1)));
     row.ratio_ok = std::abs(row.ratio - 1.0) <= ratio_band;

@@ -30,6 +30,7 @@
 #include "estimation/triad/static_intervals.h"
 #include "estimation/triad/triad_ml_calibration.h"
 #include "simulation/triad_log_simulator.h"
+#include "studies/sigma_check.h"
 
 namespace accelcal {
 
@@ -114,14 +115,15 @@ struct GyroscopeMonteCarloOptions {
 };
 
 struct GyroscopeMonteCarloResult {
-  static constexpr std::array<double, 3> kExpectedCoverage = {0.6827, 0.9545, 0.9973};
+  static constexpr std::array<double, 3> kExpectedCoverage = kNormalCoverage;
   bool refused = false;  // the design's first session was refused
   std::string refusal;
   std::vector<std::string> undetermined;
   std::vector<std::string> turn_axes_to_add;
   int trials = 0;
   int succeeded = 0;
-  std::string first_failure;          // of a trial
+  int clipped_turns = 0;      // turns the fits left out as clipped (none in an unclipped design)
+  std::string first_failure;  // of a trial
   std::vector<std::string> failures;  // what the verdict found wrong
   std::vector<GyroscopeUnknownStudy> unknowns;
   double mean_chi2_per_dof = 0.0;  // the gyroscope's part

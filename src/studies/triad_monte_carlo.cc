@@ -9,6 +9,7 @@
 #include "simulation/monte_carlo.h"
 #include "simulation/random.h"
 #include "simulation/triad_simulator.h"
+#include "studies/sigma_check.h"
 
 namespace accelcal {
 namespace {
@@ -80,7 +81,7 @@ Status CheckOptions(const TriadMonteCarloOptions& options) {
 
 // Within kBandSd binomial sd of `expected`.
 bool WithinBinomialBand(double fraction, double expected, int n) {
-  return std::abs(fraction - expected) <= kBandSd * std::sqrt(expected * (1.0 - expected) / n);
+  return accelcal::WithinBinomialBand(fraction, expected, n, kBandSd);
 }
 
 void Summarise(const TriadMonteCarloOptions& options, const std::vector<Trial>& trials,
@@ -112,23 +113,17 @@ void Summarise(const TriadMonteCarloOptions& options, const std::vector<Trial>& 
     row.name = info.name;
     row.unit = info.unit;
     row.truth = truth[p];
-    for (const Trial* trial : good) {
-      row.mean += trial->estimate[p] / n;
-      row.mean_sigma += trial->stddev[p] / n;
-    }
-    double variance = 0.0;
-    for (const Trial* trial : good) {
-      variance += std::pow(trial->estimate[p] - row.mean, 2) / std::max(1.0, n - 1);
-      for (int level = 0; level < 3; ++level) {
-        row.coverage[level] +=
-            (std::abs(trial->estimate[p] - row.truth) <= (level + 1) * trial->stddev[p]) / n;
-      }
-    }
-    row.spread = std::sqrt(variance);
-    row.ratio = row.mean_sigma / row.spread;
-    row.ratio_stderr = row.ratio / std::sqrt(2.0 * std::max(1.0, n - 1));
-    row.bias_sigma = (row.mean - row.truth) / row.mean_sigma;
-    row.bias_sigma_stderr = row.spread / std::sqrt(n) / row.mean_sigma;
+    const SigmaCheck check = CheckSigma(
+        static_cast<int>(good.size()), row.truth, [&](int i) { return good[i]->estimate[p]; },
+        [&](int i) { return good[i]->stddev[p]; });
+    row.mean = check.mean;
+    row.mean_sigma = check.mean_sigma;
+    row.spread = check.spread;
+    row.ratio = check.ratio;
+    row.ratio_stderr = check.ratio_stderr;
+    row.bias_sigma = check.bias_sigma;
+    row.bias_sigma_stderr = check.bias_sigma_stderr;
+    row.coverage = check.coverage;
     result->parameters.push_back(row);
   }
   for (const Trial* trial : good) {

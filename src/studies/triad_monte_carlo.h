@@ -33,6 +33,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "models/triad.h"
+#include "studies/sigma_check.h"
 
 namespace accelcal {
 
@@ -105,8 +106,7 @@ struct TriadMonteCarloResult {
   double chi2_per_dof_mean_stderr = 0.0;  // sqrt(2 / dof) / sqrt(N)
   double p_below_001 = 0.0;               // fraction of trials with p < 0.01
   double p_below_001_stderr = 0.0;        // sqrt(0.01 * 0.99 / N)
-  static constexpr std::array<double, 3> kExpectedCoverage = {0.682689492137086, 0.954499736103642,
-                                                              0.997300203936740};
+  static constexpr std::array<double, 3> kExpectedCoverage = kNormalCoverage;
 
   bool claim_possible = false;        // trials_ok >= 1000
   bool passed = false;                // every check below held

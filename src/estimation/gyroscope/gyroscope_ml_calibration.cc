@@ -166,7 +166,9 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const double earth_axis_variance =
       options.earth_rate_as_noise ? kEarthRateRadPerS * kEarthRateRadPerS / 3.0 : 0.0;
 
-  // The samples at a rail: each axis's largest or smallest output, held for 3 samples or more.
+  // The samples at a rail: each axis's largest or smallest output, held for kRailRun samples or
+  // more (a smooth turn's peak, rounded, repeats its largest value a few times at most).
+  constexpr size_t kRailRun = 5;
   std::array<std::vector<bool>, 3> at_rail;
   std::array<std::array<double, 2>, 3> rails{};
   for (int k = 0; k < 3; ++k) {
@@ -184,7 +186,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
           ++run;
           continue;
         }
-        if (run >= 3)
+        if (run >= kRailRun)
           for (size_t j = i - run; j < i; ++j) at_rail[k][j] = true;
         run = 0;
       }

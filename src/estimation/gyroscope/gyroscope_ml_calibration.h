@@ -39,7 +39,7 @@
 //     are the check.
 //
 // Clipping: a turn in which an output sits at the end of its range (the log's largest or smallest
-// value on that axis, held for 3 samples or more in a row, as an ADC or a driver saturates) is
+// value on that axis, held for 5 samples or more in a row, as an ADC or a driver saturates) is
 // left out of the fit and listed (clipped_turns): its rate was beyond the range, its rotation is
 // short.
 //
