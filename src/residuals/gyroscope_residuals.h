@@ -106,20 +106,21 @@ class GyroscopeTurnResidual
     }
   }
 
-  // R at the blocks' values, and the derivatives of R^T n_before by the first N unknowns (the 9
-  // parameters, the offsets, then the effects; the others' columns left as they are).
-  template <int N>
-  void RotationJacobian(double const* const* blocks, const double* before, double* rotation,
-                        double (*rotated_jacobian)[kUnknowns]) const {
-    using Jet = ceres::Jet<double, N>;
-    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
+  // The unknowns as Jets of N derivatives: the 9 parameters and the 3 offsets, then the effect
+  // coefficients the fit estimates (all 15 when N is kUnknowns), the others constant. column[u]:
+  // the unknown (of the 27, in block order) derivative u belongs to. Returns the derivatives used.
+  template <int N, typename Jet>
+  int SeedJets(double const* const* blocks, Jet* parameters, Jet* offset, Jet* effects,
+               int* column) const {
     int index = 0;
-    for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], index++);
-    for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], index++);
-    // Column of each Jet index in the 27 unknowns: the 12, then the estimated coefficients (all
-    // 15 when N is 27).
-    int column[N];
-    for (int i = 0; i < kGyroscopeCalibrationUnknowns && i < N; ++i) column[i] = i;
+    for (int i = 0; i < kGyroscopeParameterCount; ++i) {
+      column[index] = index;
+      parameters[i] = Jet(blocks[0][i], index++);
+    }
+    for (int i = 0; i < 3; ++i) {
+      column[index] = index;
+      offset[i] = Jet(blocks[1][i], index++);
+    }
     const bool all = N == kUnknowns;
     for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) {
       const bool differentiated =
@@ -131,6 +132,18 @@ class GyroscopeTurnResidual
         effects[i] = Jet(blocks[2][i]);
       }
     }
+    return index;
+  }
+
+  // R at the blocks' values, and the derivatives of R^T n_before by the first N unknowns (the 9
+  // parameters, the offsets, then the effects; the others' columns left as they are).
+  template <int N>
+  void RotationJacobian(double const* const* blocks, const double* before, double* rotation,
+                        double (*rotated_jacobian)[kUnknowns]) const {
+    using Jet = ceres::Jet<double, N>;
+    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
+    int column[N];
+    const int index = SeedJets<N>(blocks, parameters, offset, effects, column);
     Jet jet_rotation[9];
     Rotation(parameters, offset, effects, jet_rotation);
     for (int i = 0; i < 9; ++i) rotation[i] = jet_rotation[i].a;
@@ -166,26 +179,7 @@ class GyroscopeTurnResidual
         samples_.step_s, rotation, &path);
     Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
     int column[N];
-    int index = 0;
-    for (int i = 0; i < kGyroscopeParameterCount; ++i) {
-      column[index] = index;
-      parameters[i] = Jet(blocks[0][i], index++);
-    }
-    for (int i = 0; i < 3; ++i) {
-      column[index] = index;
-      offset[i] = Jet(blocks[1][i], index++);
-    }
-    const bool all = N == kUnknowns;
-    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) {
-      const bool differentiated =
-          all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end();
-      if (differentiated && index < N) {
-        column[index] = kGyroscopeCalibrationUnknowns + i;
-        effects[i] = Jet(blocks[2][i], index++);
-      } else {
-        effects[i] = Jet(blocks[2][i]);
-      }
-    }
+    const int index = SeedJets<N>(blocks, parameters, offset, effects, column);
     // D = sum_j c_j R_N^T R_j dw_j/du (3 x index).
     double end[9];
     QuaternionToRotationMatrix(path.back().data(), end);
