@@ -240,6 +240,120 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesMatchTheRungeKuttaOnes) {
   EXPECT_GT(worst, 0.0);  // two computations, not one
 }
 
+// The transported derivatives as TransportedJacobian writes them out (sums of per-sample weights)
+// against the same sum taken with a ceres::Jet of the calibrated rate at every sample, for every
+// effect coefficient non-zero and a specific force that changes through the turn: the same to
+// rounding (1e-10 of each column's largest), whichever groups of effects are differentiated.
+TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
+  GyroscopeSessionDesign design;
+  const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 7);
+  GyroscopeSessionFit fit;
+  ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 13, {}, &fit).ok());
+  const TriadLog& log = fit.session.log;
+  GyroscopeEffectCoefficients effects{};
+  for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c)
+    effects[c] = (c % 2 == 0 ? 1.0 : -1.0) * (c < kGyroscopeScaleAsymmetry ? 2e-4 : 3e-3);
+  const std::vector<std::vector<int>> estimated_sets = {
+      {}, {12, 13, 14}, {0, 1, 2, 3, 4, 5, 6, 7, 8}, {9, 10, 11, 12, 13, 14}, [] {
+        std::vector<int> all;
+        for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c) all.push_back(c);
+        return all;
+      }()};
+  constexpr int kUnknowns = GyroscopeTurnResidual::kUnknowns;
+  using Jet = ceres::Jet<double, kUnknowns>;
+  int compared = 0;
+  for (const std::vector<int>& estimated : estimated_sets) {
+    double worst = 0.0;
+    for (size_t p = 0; p + 1 < fit.intervals.size(); ++p) {
+      GyroscopeTurnSamples samples;
+      for (int i = fit.intervals[p].end; i <= fit.intervals[p + 1].start; ++i) {
+        samples.raw.push_back(log.gyroscope[i]);
+        const double s = 0.01 * (i - fit.intervals[p].end);
+        samples.specific_force.push_back({1.0 + s, -2.0 * s, 9.81 - s});
+        if (i < fit.intervals[p + 1].start)
+          samples.step_s.push_back(log.timestamp_s[i + 1] - log.timestamp_s[i]);
+      }
+      const std::array<std::array<double, 3>, 2> basis = {{{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}};
+      GyroscopeTurnResidual residual(samples, basis, {1.0, 0.0, 0.0, 1.0}, estimated);
+      const std::array<double, 3>& before = fit.accelerometer.directions[p];
+      const std::array<double, 3>& after = fit.accelerometer.directions[p + 1];
+      const double* blocks[5] = {design.truth.data(), design.offset.data(), effects.data(),
+                                 before.data(), after.data()};
+      const int sizes[3] = {kGyroscopeParameterCount, 3, kGyroscopeEffectCoefficientCount};
+      std::vector<double> storage[3];
+      double* jacobians[5] = {nullptr, nullptr, nullptr, nullptr, nullptr};
+      // No effect estimated: Ceres holds the effects' block constant and asks for no derivative.
+      const int blocks_differentiated = estimated.empty() ? 2 : 3;
+      for (int b = 0; b < blocks_differentiated; ++b) {
+        storage[b].assign(2 * sizes[b], 0.0);
+        jacobians[b] = storage[b].data();
+      }
+      double r[2];
+      ASSERT_TRUE(residual.Evaluate(blocks, r, jacobians));
+
+      // The reference: D = sum_j c_j R_N^T R_j dw_j/du with every unknown a Jet.
+      const int count = static_cast<int>(samples.raw.size());
+      std::vector<std::array<double, 4>> path;
+      double rotation[9];
+      IntegrateAngularRateHermite(
+          count,
+          [&](int j, double* rate) {
+            GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples.raw[j].data(),
+                                   samples.specific_force[j].data(), rate);
+          },
+          samples.step_s, rotation, &path);
+      Jet parameters[kGyroscopeParameterCount], offset[3], jet_effects[15];
+      for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], i);
+      for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], 9 + i);
+      for (int i = 0; i < 15; ++i) jet_effects[i] = Jet(effects[i], 12 + i);
+      double end[9];
+      QuaternionToRotationMatrix(path.back().data(), end);
+      std::vector<std::array<double, 3>> d(kUnknowns, {0.0, 0.0, 0.0});
+      for (int j = 0; j < count; ++j) {
+        const double weight = 0.5 * ((j > 0 ? samples.step_s[j - 1] : 0.0) +
+                                     (j + 1 < count ? samples.step_s[j] : 0.0));
+        double here[9];
+        QuaternionToRotationMatrix(path[j].data(), here);
+        Jet rate[3];
+        GyroscopeCorrectedRate(parameters, offset, jet_effects, samples.raw[j].data(),
+                               samples.specific_force[j].data(), rate);
+        for (int u = 0; u < kUnknowns; ++u)
+          for (int row = 0; row < 3; ++row)
+            for (int a = 0; a < 3; ++a)
+              for (int i = 0; i < 3; ++i)
+                d[u][row] += weight * end[3 * i + row] * here[3 * i + a] * rate[a].v[u];
+      }
+      const double v[3] = {
+          rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
+          rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
+          rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
+      int first = 0;
+      for (int b = 0; b < blocks_differentiated; ++b) {
+        for (int i = 0; i < sizes[b]; ++i) {
+          const int u = first + i;
+          const bool differentiated =
+              u < 12 || std::find(estimated.begin(), estimated.end(), u - 12) != estimated.end();
+          const double expected[2] = {differentiated ? v[1] * d[u][2] - v[2] * d[u][1] : 0.0,
+                                      differentiated ? v[2] * d[u][0] - v[0] * d[u][2] : 0.0};
+          const double scale = std::max(std::abs(expected[0]), std::abs(expected[1]));
+          for (int row = 0; row < 2; ++row) {
+            const double got = storage[b][row * sizes[b] + i];
+            if (scale == 0.0) {
+              EXPECT_EQ(got, 0.0) << "unknown " << u;
+            } else {
+              worst = std::max(worst, std::abs(got - expected[row]) / scale);
+              ++compared;
+            }
+          }
+        }
+        first += sizes[b];
+      }
+    }
+    EXPECT_LT(worst, 1e-10) << "estimated " << estimated.size();
+  }
+  EXPECT_GT(compared, 1000);
+}
+
 // Which turns determine which unknown: column j of T K multiplies axis j's reading, so turns about
 // j; the offsets and the g-sensitivity come from the poses at rest.
 TEST(GyroscopeMl, NamesTheAxisTurnsMustBeAboutForEachUnknown) {

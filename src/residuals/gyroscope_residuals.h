@@ -106,30 +106,38 @@ class GyroscopeTurnResidual
     }
   }
 
-  // The unknowns as Jets of N derivatives: the 9 parameters and the 3 offsets, then the effect
-  // coefficients the fit estimates (all 15 when N is kUnknowns), the others constant. column[u]:
-  // the unknown (of the 27, in block order) derivative u belongs to. Returns the derivatives used.
+  // The unknowns differentiated when N derivatives are asked for: the 9 parameters and the 3
+  // offsets, then the effect coefficients the fit estimates (all 15 when N is kUnknowns), as
+  // indices of the 27 (block order) in column[0 .. returned count).
+  template <int N>
+  int DifferentiatedColumns(int* column) const {
+    int index = 0;
+    for (int i = 0; i < kGyroscopeCalibrationUnknowns; ++i) column[index++] = i;
+    const bool all = N == kUnknowns;
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount && index < N; ++i) {
+      if (all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end())
+        column[index++] = kGyroscopeCalibrationUnknowns + i;
+    }
+    return index;
+  }
+
+  // The unknowns as Jets of N derivatives, derivative u belonging to unknown column[u]
+  // (DifferentiatedColumns), the others constant. Returns the derivatives used.
   template <int N, typename Jet>
   int SeedJets(double const* const* blocks, Jet* parameters, Jet* offset, Jet* effects,
                int* column) const {
-    int index = 0;
-    for (int i = 0; i < kGyroscopeParameterCount; ++i) {
-      column[index] = index;
-      parameters[i] = Jet(blocks[0][i], index++);
-    }
-    for (int i = 0; i < 3; ++i) {
-      column[index] = index;
-      offset[i] = Jet(blocks[1][i], index++);
-    }
-    const bool all = N == kUnknowns;
-    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) {
-      const bool differentiated =
-          all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end();
-      if (differentiated && index < N) {
-        column[index] = kGyroscopeCalibrationUnknowns + i;
-        effects[i] = Jet(blocks[2][i], index++);
+    const int index = DifferentiatedColumns<N>(column);
+    for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i]);
+    for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i]);
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) effects[i] = Jet(blocks[2][i]);
+    for (int u = 0; u < index; ++u) {
+      const int unknown = column[u];
+      if (unknown < kGyroscopeParameterCount) {
+        parameters[unknown].v[u] = 1.0;
+      } else if (unknown < kGyroscopeCalibrationUnknowns) {
+        offset[unknown - kGyroscopeParameterCount].v[u] = 1.0;
       } else {
-        effects[i] = Jet(blocks[2][i]);
+        effects[unknown - kGyroscopeCalibrationUnknowns].v[u] = 1.0;
       }
     }
     return index;
@@ -160,53 +168,99 @@ class GyroscopeTurnResidual
   // The same derivatives by transporting each sample's rate perturbation to the turn's end
   // (docs/gyroscope.md): a change dw_j of the rate at sample j, held over its trapezoid weight c_j,
   // turns the end attitude by dtheta = c_j R_N^T R_j dw_j (the end's body frame), and R^T n
-  // changes by [v]x dtheta, v = R^T n. Only each sample's rate is differentiated (one Jet
-  // evaluation of the calibrated rate per sample, where RotationJacobian carries Jets through
-  // four Runge-Kutta stages); the sum is the continuous-time sensitivity, which the discrete
-  // rule's differs from by O((w dt)^2) relative (GyroscopeTurnResidual's test measures it).
+  // changes by [v]x dtheta, v = R^T n. The sum is the continuous-time sensitivity, which the
+  // discrete rule's differs from by O((w dt)^2) relative (GyroscopeTurnResidual's test measures
+  // it). The rate's derivatives are written out (models/gyroscope_effects.h: w = T v' - G f,
+  // v'_k = v_k + a_k |v_k| + n_k v_k^2, v_k = gain_k (u_k - b_k)): each is a column of T or an
+  // entry of dT/dp times a per-sample weight (v', s_k (u_k - b_k), s_k, |v_k|, v_k^2 with
+  // s_k = dv'_k/dv_k, or f), so the turn needs only the sums sum_j c_j R_j (x) weight_j, 27
+  // numbers per kind of weight, and no ceres::Jet per sample.
   template <int N>
   void TransportedJacobian(double const* const* blocks, const double* before, double* rotation,
                            double (*rotated_jacobian)[kUnknowns]) const {
-    using Jet = ceres::Jet<double, N>;
+    const double* parameters = blocks[0];
+    const double* offset = blocks[1];
+    const double* effects = blocks[2];
     const int count = static_cast<int>(samples_.raw.size());
     std::vector<std::array<double, 4>> path;
     IntegrateAngularRateHermite(
         count,
         [&](int j, double* rate) {
-          GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples_.raw[j].data(),
+          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
                                  samples_.specific_force[j].data(), rate);
         },
         samples_.step_s, rotation, &path);
-    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
     int column[N];
-    const int index = SeedJets<N>(blocks, parameters, offset, effects, column);
-    // D = sum_j c_j R_N^T R_j dw_j/du (3 x index).
-    double end[9];
-    QuaternionToRotationMatrix(path.back().data(), end);
-    std::vector<std::array<double, 3>> sum(index, {0.0, 0.0, 0.0});
+    const int index = DifferentiatedColumns<N>(column);
+    bool asymmetry = false, nonlinearity = false, g_sensitivity = false;
+    for (int u = 0; u < index; ++u) {
+      const int c = column[u] - kGyroscopeCalibrationUnknowns;
+      if (c < 0) continue;
+      g_sensitivity |= c < kGyroscopeScaleAsymmetry;
+      asymmetry |= c >= kGyroscopeScaleAsymmetry && c < kGyroscopeScaleNonlinearity;
+      nonlinearity |= c >= kGyroscopeScaleNonlinearity;
+    }
+    // sums[kind][i][a][c] = sum_j c_j R_j(i, a) weight_j(c).
+    enum Kind { kPrimed, kGain, kOffset, kAbsolute, kSquare, kForce, kKinds };
+    double sums[kKinds][3][3][3] = {};
     for (int j = 0; j < count; ++j) {
       const double weight = 0.5 * ((j > 0 ? samples_.step_s[j - 1] : 0.0) +
                                    (j + 1 < count ? samples_.step_s[j] : 0.0));
       double here[9];
       QuaternionToRotationMatrix(path[j].data(), here);
-      double transport[9];  // c_j R_N^T R_j
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 3; ++c) {
-          transport[3 * r + c] =
-              weight * (end[r] * here[c] + end[3 + r] * here[3 + c] + end[6 + r] * here[6 + c]);
-        }
+      for (double& h : here) h *= weight;
+      double weights[kKinds][3];
+      for (int k = 0; k < 3; ++k) {
+        const double centred = samples_.raw[j][k] - offset[k];
+        const double along = parameters[kGyroscopeGainX + k] * centred;
+        const double asymmetry_k = effects[kGyroscopeScaleAsymmetry + k];
+        const double nonlinearity_k = effects[kGyroscopeScaleNonlinearity + k];
+        // ceres::abs's derivative: +1 at 0, as the Jets had it.
+        const double sign = along < 0.0 ? -1.0 : 1.0;
+        const double slope = 1.0 + asymmetry_k * sign + 2.0 * nonlinearity_k * along;
+        weights[kPrimed][k] =
+            along + asymmetry_k * std::abs(along) + nonlinearity_k * along * along;
+        weights[kGain][k] = slope * centred;
+        weights[kOffset][k] = slope;
+        weights[kAbsolute][k] = std::abs(along);
+        weights[kSquare][k] = along * along;
+        weights[kForce][k] = samples_.specific_force[j][k];
       }
-      Jet rate[3];
-      GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
-                             samples_.specific_force[j].data(), rate);
-      for (int u = 0; u < index; ++u) {
-        for (int r = 0; r < 3; ++r) {
-          sum[u][r] += transport[3 * r] * rate[0].v[u] + transport[3 * r + 1] * rate[1].v[u] +
-                       transport[3 * r + 2] * rate[2].v[u];
+      for (int kind = 0; kind < kKinds; ++kind) {
+        if ((kind == kAbsolute && !asymmetry) || (kind == kSquare && !nonlinearity) ||
+            (kind == kForce && !g_sensitivity)) {
+          continue;
         }
+        for (int i = 0; i < 3; ++i)
+          for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c) sums[kind][i][a][c] += here[3 * i + a] * weights[kind][c];
       }
     }
-    // v = R^T n_before; d(R^T n)/du = v x D.
+    // transported[kind][r][a][c] = sum_j (c_j R_N^T R_j)(r, a) weight_j(c).
+    double end[9];
+    QuaternionToRotationMatrix(path.back().data(), end);
+    double transported[kKinds][3][3][3];
+    for (int kind = 0; kind < kKinds; ++kind)
+      for (int r = 0; r < 3; ++r)
+        for (int a = 0; a < 3; ++a)
+          for (int c = 0; c < 3; ++c)
+            transported[kind][r][a][c] = end[r] * sums[kind][0][a][c] +
+                                         end[3 + r] * sums[kind][1][a][c] +
+                                         end[6 + r] * sums[kind][2][a][c];
+    // T and dT/dp (T is linear in the 6 angles; one Jet evaluation gives every entry's slope).
+    using AngleJet = ceres::Jet<double, kGyroscopeParameterCount>;
+    AngleJet angle_parameters[kGyroscopeParameterCount], angle_matrix[9];
+    for (int i = 0; i < kGyroscopeParameterCount; ++i)
+      angle_parameters[i] = AngleJet(parameters[i], i);
+    GyroscopeMisalignmentMatrix(angle_parameters, angle_matrix);
+    // D(:, u) = sum_j c_j R_N^T R_j dw_j/du.
+    auto per_axis = [&](int kind, int k, double factor, double* d) {
+      for (int r = 0; r < 3; ++r) {
+        d[r] = factor * (angle_matrix[k].a * transported[kind][r][0][k] +
+                         angle_matrix[3 + k].a * transported[kind][r][1][k] +
+                         angle_matrix[6 + k].a * transported[kind][r][2][k]);
+      }
+    };
     const double v[3] = {
         rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
         rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
@@ -214,10 +268,32 @@ class GyroscopeTurnResidual
     for (int k = 0; k < 3; ++k)
       for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
     for (int u = 0; u < index; ++u) {
-      const std::array<double, 3>& d = sum[u];
-      rotated_jacobian[0][column[u]] = v[1] * d[2] - v[2] * d[1];
-      rotated_jacobian[1][column[u]] = v[2] * d[0] - v[0] * d[2];
-      rotated_jacobian[2][column[u]] = v[0] * d[1] - v[1] * d[0];
+      const int unknown = column[u];
+      double d[3] = {0.0, 0.0, 0.0};
+      if (unknown < kGyroscopeGainX) {  // an angle: dT/dp v'
+        for (int r = 0; r < 3; ++r)
+          for (int a = 0; a < 3; ++a)
+            for (int c = 0; c < 3; ++c)
+              d[r] += angle_matrix[3 * a + c].v[unknown] * transported[kPrimed][r][a][c];
+      } else if (unknown < kGyroscopeParameterCount) {
+        per_axis(kGain, unknown - kGyroscopeGainX, 1.0, d);
+      } else if (unknown < kGyroscopeCalibrationUnknowns) {
+        const int k = unknown - kGyroscopeParameterCount;
+        per_axis(kOffset, k, -parameters[kGyroscopeGainX + k], d);
+      } else {
+        const int c = unknown - kGyroscopeCalibrationUnknowns;
+        if (c < kGyroscopeScaleAsymmetry) {  // G(q, k): -f_k e_q
+          for (int r = 0; r < 3; ++r) d[r] = -transported[kForce][r][c / 3][c % 3];
+        } else if (c < kGyroscopeScaleNonlinearity) {
+          per_axis(kAbsolute, c - kGyroscopeScaleAsymmetry, 1.0, d);
+        } else {
+          per_axis(kSquare, c - kGyroscopeScaleNonlinearity, 1.0, d);
+        }
+      }
+      // v = R^T n_before; d(R^T n)/du = v x D.
+      rotated_jacobian[0][unknown] = v[1] * d[2] - v[2] * d[1];
+      rotated_jacobian[1][unknown] = v[2] * d[0] - v[0] * d[2];
+      rotated_jacobian[2][unknown] = v[0] * d[1] - v[1] * d[0];
     }
   }
 

@@ -48,6 +48,14 @@ if [ -f "$xsens" ]; then
       --json=xsens.ml_white.json
   run xsens.allan allan --log="$xsens" --static=all --bootstrap=200 --json=xsens.allan.json
   run xsens.apply apply --calibration=xsens.cal.json --in="$xsens" --out=xsens.corrected.csv
+  # Both sensors: the gyroscope by maximum likelihood (with discovery) and imu_tk's rules.
+  xsens_gyro="$shared/imu_tk-xsens/xsens_gyro.mat"
+  run xsens.gyro_ml calibrate_imu --log="$xsens" --gyro_log="$xsens_gyro" --g=9.81744 \
+      --init_rest_s=50 --initial_gyro_gain=0.00015979546180888463 --mode=ml \
+      --json=xsens.gyro_ml.json --calibration_out=xsens.gyro_cal.json
+  run xsens.gyro_imu_tk calibrate_imu --log="$xsens" --gyro_log="$xsens_gyro" --g=9.81744 \
+      --init_rest_s=50 --initial_gyro_gain=0.00015979546180888463 --mode=imu_tk \
+      --json=xsens.gyro_imu_tk.json
 fi
 if [ -d "$mimu" ]; then
   for session in run1/imu1 run3/imu4 run2/imu7; do
