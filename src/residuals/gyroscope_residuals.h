@@ -18,8 +18,8 @@
 // 3 x 2 orthonormal basis of the plane normal to n_p+1 (as estimated before the fit: the residual
 // of unit vectors lies in it to first order), W the inverse Cholesky factor of the residual's
 // 2 x 2 covariance. Blocks: the 9 parameters, the offset, the effects, n_p, n_p+1. The rotation
-// and its derivatives by the 27 gyroscope unknowns are computed with ceres::Jet once per
-// evaluation; the directions' derivatives follow in closed form.
+// is integrated once per point of the gyroscope unknowns (a memo of the last), its derivatives by
+// them by transport (TransportedJacobian); the directions' derivatives follow in closed form.
 
 #include <ceres/autodiff_cost_function.h>
 #include <ceres/jet.h>
@@ -27,6 +27,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
+#include <mutex>
 #include <utility>
 #include <vector>
 
@@ -178,19 +180,36 @@ class GyroscopeTurnResidual
   template <int N>
   void TransportedJacobian(double const* const* blocks, const double* before, double* rotation,
                            double (*rotated_jacobian)[kUnknowns]) const {
+    std::lock_guard<std::mutex> lock(memo_mutex_);
+    const Memo& memo = Integrated(blocks);
+    for (int i = 0; i < 9; ++i) rotation[i] = memo.rotation[i];
+    if (memo.derivatives != N) RateSums<N>(blocks);
+    const double v[3] = {
+        rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
+        rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
+        rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
+    for (int k = 0; k < 3; ++k)
+      for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
+    for (int u = 0; u < memo.derivative_count; ++u) {
+      // v = R^T n_before; d(R^T n)/du = v x D(:, u).
+      const double* d = memo.sums[u];
+      const int unknown = memo.column[u];
+      rotated_jacobian[0][unknown] = v[1] * d[2] - v[2] * d[1];
+      rotated_jacobian[1][unknown] = v[2] * d[0] - v[0] * d[2];
+      rotated_jacobian[2][unknown] = v[0] * d[1] - v[1] * d[0];
+    }
+  }
+
+  // The memo's sums D(:, u) = sum_j c_j R_N^T R_j dw_j/du for the first N unknowns, from its path.
+  // Called with memo_mutex_ held, after Integrated(blocks).
+  template <int N>
+  void RateSums(double const* const* blocks) const {
     const double* parameters = blocks[0];
     const double* offset = blocks[1];
     const double* effects = blocks[2];
     const int count = static_cast<int>(samples_.raw.size());
-    std::vector<std::array<double, 4>> path;
-    IntegrateAngularRateHermite(
-        count,
-        [&](int j, double* rate) {
-          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
-                                 samples_.specific_force[j].data(), rate);
-        },
-        samples_.step_s, rotation, &path);
-    int column[N];
+    const std::vector<std::array<double, 4>>& path = memo_.path;
+    int* column = memo_.column;
     const int index = DifferentiatedColumns<N>(column);
     bool asymmetry = false, nonlinearity = false, g_sensitivity = false;
     for (int u = 0; u < index; ++u) {
@@ -261,15 +280,10 @@ class GyroscopeTurnResidual
                          angle_matrix[6 + k].a * transported[kind][r][2][k]);
       }
     };
-    const double v[3] = {
-        rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
-        rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
-        rotation[2] * before[0] + rotation[5] * before[1] + rotation[8] * before[2]};
-    for (int k = 0; k < 3; ++k)
-      for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
     for (int u = 0; u < index; ++u) {
       const int unknown = column[u];
-      double d[3] = {0.0, 0.0, 0.0};
+      double* d = memo_.sums[u];
+      for (int r = 0; r < 3; ++r) d[r] = 0.0;
       if (unknown < kGyroscopeGainX) {  // an angle: dT/dp v'
         for (int r = 0; r < 3; ++r)
           for (int a = 0; a < 3; ++a)
@@ -290,11 +304,16 @@ class GyroscopeTurnResidual
           per_axis(kSquare, c - kGyroscopeScaleNonlinearity, 1.0, d);
         }
       }
-      // v = R^T n_before; d(R^T n)/du = v x D.
-      rotated_jacobian[0][unknown] = v[1] * d[2] - v[2] * d[1];
-      rotated_jacobian[1][unknown] = v[2] * d[0] - v[0] * d[2];
-      rotated_jacobian[2][unknown] = v[0] * d[1] - v[1] * d[0];
     }
+    memo_.derivative_count = index;
+    memo_.derivatives = N;
+  }
+
+  // R (row-major) at the blocks' values, through the memo.
+  void RotationAt(double const* const* blocks, double* rotation) const {
+    std::lock_guard<std::mutex> lock(memo_mutex_);
+    const Memo& memo = Integrated(blocks);
+    for (int i = 0; i < 9; ++i) rotation[i] = memo.rotation[i];
   }
 
   // R (row-major) at the given unknowns.
@@ -343,7 +362,7 @@ class GyroscopeTurnResidual
           Derivatives<kUnknowns>(blocks, before, rotation, rotated_jacobian);
       }
     } else {
-      Rotation(blocks[0], blocks[1], blocks[2], rotation);
+      RotationAt(blocks, rotation);
     }
     double difference[3];
     for (int k = 0; k < 3; ++k) {
@@ -401,6 +420,47 @@ class GyroscopeTurnResidual
   const std::array<double, 4> whitening_;
   const std::vector<int> estimated_;
   bool exact_derivatives_ = false;
+
+  // The last point the turn was integrated at (the 27 gyroscope unknowns), its attitude at every
+  // sample and R, and the sums D for the last N asked: Ceres evaluates the cost at a candidate
+  // point and, when it accepts it, the Jacobian at the same point; the rank check, the residuals
+  // and the covariance after the solve ask again at the solution. Each is integrated once.
+  struct Memo {
+    bool valid = false;
+    std::array<double, kUnknowns> point{};
+    std::vector<std::array<double, 4>> path;
+    double rotation[9] = {};
+    int derivatives = 0;  // the N the sums are for (0: none)
+    int derivative_count = 0;
+    int column[kUnknowns] = {};
+    double sums[kUnknowns][3] = {};
+  };
+  mutable std::mutex memo_mutex_;
+  mutable Memo memo_;
+
+  // The memo at the blocks' values (integrating when they changed). memo_mutex_ held.
+  const Memo& Integrated(double const* const* blocks) const {
+    std::array<double, kUnknowns> point;
+    std::copy(blocks[0], blocks[0] + kGyroscopeParameterCount, point.begin());
+    std::copy(blocks[1], blocks[1] + 3, point.begin() + kGyroscopeParameterCount);
+    std::copy(blocks[2], blocks[2] + kGyroscopeEffectCoefficientCount,
+              point.begin() + kGyroscopeCalibrationUnknowns);
+    // Bit for bit (memcmp): -0.0 and 0.0 differ, NaN equals itself; a new point integrates.
+    if (memo_.valid && std::memcmp(point.data(), memo_.point.data(), sizeof(point)) == 0)
+      return memo_;
+    memo_.valid = false;
+    memo_.derivatives = 0;
+    IntegrateAngularRateHermite(
+        static_cast<int>(samples_.raw.size()),
+        [&](int j, double* rate) {
+          GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples_.raw[j].data(),
+                                 samples_.specific_force[j].data(), rate);
+        },
+        samples_.step_s, memo_.rotation, &memo_.path);
+    memo_.point = point;
+    memo_.valid = true;
+    return memo_;
+  }
 };
 
 }  // namespace accelcal

@@ -477,7 +477,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       const auto* residual = static_cast<const GyroscopeTurnResidual*>(
           problem.GetCostFunctionForResidualBlock(turn_blocks[t]));
       double rotation[9];
-      residual->Rotation(gyroscope, offset, effects, rotation);
+      const double* at[3] = {gyroscope, offset, effects};
+      residual->RotationAt(at, rotation);
       const Vector3& before = result->directions[turn.pose_before];
       const Vector3 rotated = {
           rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
