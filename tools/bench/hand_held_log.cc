@@ -71,7 +71,8 @@ int Run() {
   std::vector<TriadHold> holds;
   double samples = 0.0;
   std::array<double, 3> direction = {0.0, 0.0, 1.0};
-  while (samples < static_cast<double>(FLAGS_rows) + samples_per_s * FLAGS_hold_max_s) {
+  // 1% to spare: the simulator rounds each hold and turn to whole samples.
+  while (samples < 1.01 * static_cast<double>(FLAGS_rows) + samples_per_s * FLAGS_hold_max_s) {
     const double hold_s =
         holds.empty() ? FLAGS_rest_s
                       : FLAGS_hold_min_s + (FLAGS_hold_max_s - FLAGS_hold_min_s) * random.Uniform();
