@@ -67,6 +67,10 @@ Status CheckFlags(ExportOptions* options) {
                              ? "--out must name the prefix of the .calib pair"
                              : "--out must name the file to write");
   }
+  if (options->format == ExportFormat::kImuTk && FLAGS_out.back() == '/') {
+    return Status::Error("--out='" + FLAGS_out + "' names a folder; give a prefix, e.g. --out=" +
+                         FLAGS_out + "imu (writing imu_acc.calib and imu_gyro.calib)");
+  }
   const bool kalibr = options->format == ExportFormat::kKalibr;
   if (kalibr && (FLAGS_allan.empty() || FLAGS_gyro_allan.empty())) {
     return Status::Error(
