@@ -69,6 +69,7 @@ Status KalibrNoiseFromAllan(const nlohmann::json& allan, const std::string& alla
     return Status::Error(file + "axes must be an object with x, y and z");
   // Per axis of the output, in its unit: the white noise N_k and the random walk K_k.
   Eigen::Vector3d white, walk;
+  std::string resolved_axes, bounded_axes;  // "x, y" ...
   for (int k = 0; k < 3; ++k) {
     const std::string where = file + "axes/" + kAxes[k] + "/";
     if (!allan.at("axes").contains(kAxes[k]))
@@ -97,11 +98,19 @@ Status KalibrNoiseFromAllan(const nlohmann::json& allan, const std::string& alla
       double bound = 0.0, at_tau_s = 0.0;
       ACCELCAL_RETURN_IF_ERROR(RandomWalkBound(axis, where, &bound, &at_tau_s));
       walk[k] = bound / gain;
-      noise->notes.push_back(StringPrintf(
-          "%s %s: random walk K not resolved by the Allan fit; the largest the curve allows, "
-          "sqrt(3/tau) adev_high(tau) at tau = %.6g s (docs/calibration.md, Exports)",
-          sensor.c_str(), kAxes[k], at_tau_s));
+      bounded_axes +=
+          StringPrintf("%s%s (tau = %.6g s)", bounded_axes.empty() ? "" : ", ", kAxes[k], at_tau_s);
     }
+  }
+  if (!resolved_axes.empty()) {
+    noise->notes.push_back(sensor + ": random walk K resolved by the Allan fit on " +
+                           resolved_axes);
+  }
+  if (!bounded_axes.empty()) {
+    noise->notes.push_back(sensor + ": random walk K not resolved by the Allan fit on " +
+                           bounded_axes +
+                           ": the largest the curve allows, min over tau of sqrt(3/tau) "
+                           "adev_high(tau) (docs/calibration.md, Exports)");
   }
   // The corrected axes' terms, x = M u: sqrt(sum_k M_ik^2 term_k^2); Kalibr takes one number.
   const Eigen::Matrix3d squared = matrix.cwiseAbs2();
