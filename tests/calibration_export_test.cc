@@ -86,6 +86,30 @@ TEST(KalibrNoiseFromAllan, RefusesAnotherUnitOrNotAllansJson) {
                         "not allan's JSON");
 }
 
+TEST(ExportCalibration, KalibrRefusesOneLogsAllanFitGivenForBothSensors) {
+  ExportOptions options;
+  options.format = ExportFormat::kKalibr;
+  options.out = "imu.yaml";
+  const Eigen::Vector3d n(0.3, 0.4, 0.5), k(0.01, 0.02, 0.03);
+  options.allan = AllanJson("count", 1.0, n, k);
+  options.allan["input_files"] = {{"log", {{"path", "acc.mat"}, {"sha256", "ab12"}}}};
+  options.gyro_allan = options.allan;
+  options.allan_path = "acc.json";
+  options.gyro_allan_path = "gyro.json";
+  std::vector<ExportedFile> files;
+  std::vector<std::string> notes;
+  EXPECT_ERROR_CONTAINS(ExportCalibration(testing::ExampleTriadRecordWithGyroscope(), "cal.json",
+                                          options, &files, &notes),
+                        "acc.json and gyro.json are Allan fits of the same log");
+  // Two logs: the example's terms go through (the gyroscope's unit is count, as the fits').
+  options.gyro_allan["input_files"]["log"]["sha256"] = "cd34";
+  const Status status = ExportCalibration(testing::ExampleTriadRecordWithGyroscope(), "cal.json",
+                                          options, &files, &notes);
+  EXPECT_TRUE(status.ok()) << status.message();
+  ASSERT_EQ(files.size(), 1u);
+  EXPECT_NE(files[0].contents.find("update_rate: 200  # Hz"), std::string::npos);
+}
+
 TEST(KalibrImuYaml, WritesTheSixKeysWithUnitsAndCommentsOnly) {
   KalibrImuConfig config;
   config.accelerometer.noise_density = 0.006;

@@ -90,9 +90,11 @@ CAL_PARAS = ["K_a", "R_a", "b_a", "K_g", "R_g", "K_ga", "b_g"]
 
 def imucal_load(text):
     raw = json.loads(text)
+    # check_cal_format_version: packaging's Version must equal 2.0.0 ("2.0" does).
     version = raw.pop("_format_version", None)
-    if version is None or tuple(int(p) for p in version.split(".")) [:1] != (2,):
-        fail(f"imucal's _format_version is {version!r}, not 2.x")
+    parts = [int(p) for p in version.split(".")] if isinstance(version, str) else []
+    if (parts + [0, 0, 0])[:3] != [2, 0, 0] or len(parts) > 3:
+        fail(f"imucal's _format_version is {version!r}, not 2.0.0")
     if raw.pop("cal_type", None) != "Ferraris":
         fail("imucal's cal_type is not Ferraris")
     # FerrarisCalibrationInfo(**list_dict): a key that is not a field is a TypeError.

@@ -55,6 +55,16 @@ Status ExportKalibr(const CalibrationRecord& record, const std::string& path,
                     const TriadParameters& triad, const GyroscopeParameters& gyroscope,
                     const std::string& gyroscope_unit, const ExportOptions& options,
                     std::vector<ExportedFile>* files, std::vector<std::string>* notes) {
+  // The same log fit twice (the accelerometer's Allan JSON given for the gyroscope too) would
+  // pass every unit check when both are in counts: refused by the logs' checksums.
+  const nlohmann::json::json_pointer log_sha256("/input_files/log/sha256");
+  if (options.allan.is_object() && options.gyro_allan.is_object() &&
+      options.allan.contains(log_sha256) && options.gyro_allan.contains(log_sha256) &&
+      options.allan.at(log_sha256) == options.gyro_allan.at(log_sha256)) {
+    return Status::Error(options.allan_path + " and " + options.gyro_allan_path +
+                         " are Allan fits of the same log (" + options.allan.at(log_sha256).dump() +
+                         "): give --allan the accelerometer's and --gyro_allan the gyroscope's");
+  }
   KalibrImuConfig config;
   config.rostopic = options.rostopic;
   ACCELCAL_RETURN_IF_ERROR(KalibrNoiseFromAllan(options.allan, options.allan_path,
