@@ -3,6 +3,8 @@
 #include <Eigen/Core>
 #include <sstream>
 
+#include "common/format.h"
+
 namespace accelcal {
 
 ImuTkCalibratedTriad ImuTkAccelerometerTriad(const TriadParameters& parameters) {
@@ -49,6 +51,26 @@ std::string ImuTkCalibText(const ImuTkCalibratedTriad& triad) {
   // << endl.
   const std::array<std::string, 3> matrices = ImuTkTriadMatrices(triad);
   return matrices[0] + "\n\n" + matrices[1] + "\n\n" + matrices[2] + "\n\n";
+}
+
+std::string ImuTkCalibTextFullPrecision(const ImuTkCalibratedTriad& triad,
+                                        const std::vector<std::string>& trailing_comments) {
+  std::string text;
+  for (int row = 0; row < 3; ++row) {
+    text += StringPrintf("%.17g %.17g %.17g\n", triad.misalignment[3 * row],
+                         triad.misalignment[3 * row + 1], triad.misalignment[3 * row + 2]);
+  }
+  text += "\n";
+  for (int row = 0; row < 3; ++row) {
+    double entries[3] = {0.0, 0.0, 0.0};
+    entries[row] = triad.scale[row];
+    text += StringPrintf("%.17g %.17g %.17g\n", entries[0], entries[1], entries[2]);
+  }
+  text += "\n";
+  for (int row = 0; row < 3; ++row) text += StringPrintf("%.17g\n", triad.bias[row]);
+  text += "\n";
+  for (const std::string& comment : trailing_comments) text += "# " + comment + "\n";
+  return text;
 }
 
 }  // namespace accelcal

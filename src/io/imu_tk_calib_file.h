@@ -19,6 +19,7 @@
 
 #include <array>
 #include <string>
+#include <vector>
 
 #include "models/gyroscope.h"
 #include "models/triad.h"
@@ -46,6 +47,15 @@ std::array<std::string, 3> ImuTkTriadMatrices(const ImuTkCalibratedTriad& triad)
 
 // The file's text, byte for byte what imu_tk's save writes.
 std::string ImuTkCalibText(const ImuTkCalibratedTriad& triad);
+
+// The same layout with every number at full precision (17 significant digits, so that the
+// numbers read back are the doubles written: save's 6 digits move a corrected value by up to
+// 1e-6 relative), one matrix row per line, the entries separated by one blank; then, after the
+// final empty line, `trailing_comments`, each on a line of its own starting with "# ". imu_tk's
+// load reads the first 21 numbers with >> and stops, so the lines after them are never read:
+// what calibration_export --format=imu_tk writes (docs/calibration.md, "Exports").
+std::string ImuTkCalibTextFullPrecision(const ImuTkCalibratedTriad& triad,
+                                        const std::vector<std::string>& trailing_comments);
 
 }  // namespace accelcal
 

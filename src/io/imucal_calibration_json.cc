@@ -88,4 +88,43 @@ Status ReadImucalCalibrationJson(const std::string& path, ImucalCalibration* cal
   return ParseImucalCalibrationJson(text, calibration).WithContext(path);
 }
 
+namespace {
+
+nlohmann::ordered_json MatrixJson(const Eigen::Matrix3d& matrix) {
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (int i = 0; i < 3; ++i) rows.push_back({matrix(i, 0), matrix(i, 1), matrix(i, 2)});
+  return rows;
+}
+
+nlohmann::ordered_json VectorJson(const Eigen::Vector3d& vector) {
+  return {vector[0], vector[1], vector[2]};
+}
+
+}  // namespace
+
+std::string ImucalCalibrationJsonText(const ImucalCalibration& calibration,
+                                      const ImucalUnits& units) {
+  // FerrarisCalibrationInfo's fields in its dataclass order, then cal_type and _format_version
+  // (CalibrationInfo._to_list_dict).
+  nlohmann::ordered_json json;
+  json["acc_unit"] = units.acc_unit;
+  json["gyr_unit"] = units.gyr_unit;
+  json["from_acc_unit"] = units.from_acc_unit;
+  json["from_gyr_unit"] = units.from_gyr_unit;
+  json["comment"] = units.comment.empty() ? nlohmann::ordered_json(nullptr)
+                                          : nlohmann::ordered_json(units.comment);
+  const ImucalAccelerometer& acc = calibration.accelerometer;
+  const ImucalGyroscope& gyr = calibration.gyroscope;
+  json["K_a"] = MatrixJson(acc.k_a);
+  json["R_a"] = MatrixJson(acc.r_a);
+  json["b_a"] = VectorJson(acc.b_a);
+  json["K_g"] = MatrixJson(gyr.k_g);
+  json["R_g"] = MatrixJson(gyr.r_g);
+  json["K_ga"] = MatrixJson(gyr.k_ga);
+  json["b_g"] = VectorJson(gyr.b_g);
+  json["cal_type"] = "Ferraris";
+  json["_format_version"] = "2.0.0";
+  return json.dump(4) + "\n";
+}
+
 }  // namespace accelcal

@@ -15,6 +15,25 @@
 
 namespace accelcal {
 
+// The units and comment of imucal's file (its CalibrationInfo fields): acc_unit and gyr_unit, the
+// calibrated data's; from_acc_unit and from_gyr_unit, the raw data's that imucal's calibrate()
+// checks against the unit its caller states ("a.u." for raw counts, as imucal's example).
+struct ImucalUnits {
+  std::string acc_unit = "m/s^2";
+  std::string gyr_unit = "deg/s";
+  std::string from_acc_unit = "a.u.";
+  std::string from_gyr_unit = "a.u.";
+  std::string comment;  // free text; null in the file when empty
+};
+
+// imucal's calibration file for a FerrarisCalibrationInfo (cal_type "Ferraris", _format_version
+// "2.0.0"), the keys in the order its to_json_file writes them and no others (its from_json_file
+// passes every key to the dataclass, which refuses one it does not know); numbers at full
+// precision. `calibration` must have its gyroscope: imucal's calibrate() needs all seven
+// matrices.
+std::string ImucalCalibrationJsonText(const ImucalCalibration& calibration,
+                                      const ImucalUnits& units);
+
 Status ParseImucalCalibrationJson(const std::string& text, ImucalCalibration* calibration);
 
 // The file `path`; failures start with the file name.

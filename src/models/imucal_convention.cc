@@ -83,4 +83,22 @@ ImucalAccelerometer TriadToImucal(const TriadParameters& triad,
   return imucal;
 }
 
+ImucalGyroscope GyroscopeToImucal(const GyroscopeParameters& parameters,
+                                  const GyroscopeOffset& offset, double output_per_radps) {
+  Eigen::Matrix<double, 3, 3, Eigen::RowMajor> misalignment;
+  GyroscopeMisalignmentMatrix(parameters.data(), misalignment.data());
+  const Eigen::Vector3d gains(parameters[kGyroscopeGainX], parameters[kGyroscopeGainY],
+                              parameters[kGyroscopeGainZ]);
+  const Eigen::Matrix3d matrix = output_per_radps * misalignment * gains.asDiagonal();
+  // K_g R_g = (c T_g K_g)^-1, as the accelerometer's.
+  const Eigen::Matrix3d inverse = matrix.inverse();
+  const Eigen::Vector3d norms = inverse.rowwise().norm();
+  ImucalGyroscope imucal;
+  imucal.k_g = norms.asDiagonal();
+  imucal.r_g = norms.cwiseInverse().asDiagonal() * inverse;
+  imucal.k_ga = Eigen::Matrix3d::Zero();
+  imucal.b_g = Eigen::Vector3d(offset[0], offset[1], offset[2]);
+  return imucal;
+}
+
 }  // namespace accelcal

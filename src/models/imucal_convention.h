@@ -18,12 +18,16 @@
 // A rotation exists only when det(R_a) > 0: an R_a that mirrors the frame (holds labelled
 // in a left-handed order, or gravity's sign flipped) is refused, saying so.
 //
-// The gyroscope: imucal's  w = R_g^-1 K_g^-1 (u_g - K_ga a - b_g)  (deg/s), kept in imucal's
-// names only; accelcal has no gyroscope model.
+// The gyroscope: imucal's  w = R_g^-1 K_g^-1 (u_g - K_ga a - b_g)  (its gyr_unit, deg/s by
+// default), a the calibrated acceleration; accelcal's (models/gyroscope.h)  w = T_g K_g (u_g - b_g)
+// in rad/s, in the accelerometer's frame, with no term in a. In one frame the two agree with
+// K_ga = 0, b_g = b and R_g^-1 K_g^-1 = c T_g K_g (c = 180/pi for deg/s, 1 for rad/s), which
+// fixes K_g and R_g as for the accelerometer: K_g R_g = (c T_g K_g)^-1, K_g its row norms.
 
 #include <Eigen/Core>
 
 #include "common/status.h"
+#include "models/gyroscope.h"
 #include "models/triad.h"
 
 namespace accelcal {
@@ -64,6 +68,13 @@ Status ImucalToTriad(const ImucalAccelerometer& imucal, TriadParameters* triad,
 // back imucal's matrices.
 ImucalAccelerometer TriadToImucal(const TriadParameters& triad,
                                   const Eigen::Matrix3d& frame_rotation);
+
+// accelcal's gyroscope -> imucal's in accelcal's frame (that of TriadToImucal with Q = I):
+// K_g, R_g (unit-norm rows), K_ga = 0 and b_g = `offset`, so that R_g^-1 K_g^-1 (u - b_g) is
+// `output_per_radps` T_g K_g (u - b). `output_per_radps` is imucal's gyr_unit per rad/s: 1 for
+// rad/s, 180/pi for deg/s.
+ImucalGyroscope GyroscopeToImucal(const GyroscopeParameters& parameters,
+                                  const GyroscopeOffset& offset, double output_per_radps);
 
 }  // namespace accelcal
 
