@@ -201,8 +201,9 @@ Status ExportCalibration(const CalibrationRecord& record, const std::string& cal
       std::vector<std::string> comment = options.provenance;
       comment.push_back(
           "accelcal's a = T K (u - b) and w = T_g K_g (u_g - b_g) as imucal's Ferraris model: "
-          "K_a R_a = (T K)^-1, K_g R_g = (c T_g K_g)^-1, K_ga = 0 (accelcal estimates no "
-          "g-sensitivity); both in accelcal's frame (the calibration file's model.conventions) "
+          "K_a R_a = (T K)^-1, K_g R_g = (c T_g K_g)^-1, K_ga = 0 (the calibration file's "
+          "gyroscope model has no g-sensitivity term); both in accelcal's frame (the calibration "
+          "file's model.conventions) "
           "(docs/calibration.md, Exports)");
       units.comment = JoinedLines(comment, "; ");
       files->push_back({options.out, ImucalCalibrationJsonText(imucal, units),
