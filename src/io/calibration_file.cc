@@ -345,9 +345,10 @@ Status GeometryOf(const std::string& geometry, const std::string& output_unit, G
         "-misalignment_zx], [0, 0, 1]], K = diag(gain_x, gain_y, gain_z), b = (offset_x, "
         "offset_y, offset_z)";
     info->conventions =
-        "u: the triad's output in output_unit; a: specific force in m/s^2 in the frame whose x "
-        "is the x sensing axis and whose y lies in the plane of the x and y sensing axes; noise "
-        "white, of variance noise_variance.k per sample (output_unit squared)";
+        "u: the triad's output in output_unit; a: specific force in m/s^2 in the frame whose z "
+        "is the z sensing axis and whose y lies in the plane of the y and z sensing axes (T is "
+        "upper-triangular: docs/triad.md, Frames); noise white, of variance noise_variance.k per "
+        "sample (output_unit squared)";
     return Status::Ok();
   }
   return Status::Error("unknown sensor geometry '" + geometry + "' (known: two_axis, triad)");
@@ -366,8 +367,8 @@ nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) 
       {"measurement", kGyroscopeMeasurement},
       {"conventions",
        "u: the gyroscope's output in output_unit; w: angular rate in rad/s in the "
-       "accelerometer's frame (model.conventions: x along the accelerometer's x sensing axis, y "
-       "in the plane of its x and y sensing axes); misalignment angles in rad, "
+       "accelerometer's frame (model.conventions: z along the accelerometer's z sensing axis, y "
+       "in the plane of its y and z sensing axes); misalignment angles in rad, "
        "gyroscope_misalignment_ij the i sensing axis rotated about the j axis (imu_tk's mis_ij); "
        "gains in rad/s per unit of output; offsets, the output at zero rate, in output_unit"},
       {"document", "docs/calibration.md, docs/gyroscope.md"}};
