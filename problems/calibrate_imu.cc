@@ -271,11 +271,12 @@ Status ValidateFlags() {
 Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit,
-                                                  FLAGS_gyro_log, &read_options));
+                                                  FLAGS_gyro_log, FLAGS_topic, FLAGS_bag_time,
+                                                  &read_options));
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(
       ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
-  std::map<std::string, std::string> files = {{"log", FLAGS_log}};
+  std::map<std::string, std::string> files = LogInputFiles(FLAGS_log, log_source);
   if (!FLAGS_gyro_log.empty()) files["log_gyroscope"] = FLAGS_gyro_log;
   ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", files, source));
   report->log_path = FLAGS_log;
