@@ -294,10 +294,11 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
         "gyroscope: read (" + std::to_string(log->gyroscope.size()) + " samples); " +
         (FLAGS_mode == "imu_tk" ? std::string("calibrated below by imu_tk's rules")
                                 : std::string("calibrated below by maximum likelihood")));
-    ACCELCAL_RETURN_IF_ERROR(
-        TakeStatedUnitOf(log_source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
-                         "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit, &report->log_notes)
-            .WithContext(FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log));
+    ACCELCAL_RETURN_IF_ERROR(TakeStatedUnitOf(log_source.gyroscope_unit,
+                                              {"count", "rad/s", "deg/s"}, "gyro_unit",
+                                              "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit,
+                                              &report->log_notes, log_source.units_stated_by)
+                                 .WithContext(FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log));
   } else {
     for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias"}) {
       if (FlagGiven(name)) {

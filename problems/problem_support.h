@@ -369,12 +369,20 @@ inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
 // The unit a triad's columns' names state (acc_x_g, "a_x [m s^-2]", gyr_x_dps) stands for its
 // unit flag (`*unit_flag`, --`flag`) when that was not given, said in `notes`, and must agree
 // with it when it was. `outputs` names the outputs in the note ("outputs", "gyroscope outputs"),
-// `sensor` the columns ("accelerometer").
+// `sensor` the columns ("accelerometer"). `stated_by`: what states the unit when it is not the
+// columns' names (a ROS 2 bag's message type, ImuLogSource::units_stated_by).
 inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std::string>& known,
                                const char* flag, const char* outputs, const char* sensor,
-                               std::string* unit_flag, std::vector<std::string>* notes) {
+                               std::string* unit_flag, std::vector<std::string>* notes,
+                               const std::string& stated_by = "") {
   if (std::find(known.begin(), known.end(), stated) == known.end()) return Status::Ok();
-  const std::string columns = std::string("the ") + sensor + " columns' names say ";
+  const std::string columns =
+      stated_by.empty() ? std::string("the ") + sensor + " columns' names say " : stated_by + " ";
+  if (!stated_by.empty() && !gflags::GetCommandLineFlagInfoOrDie(flag).is_default &&
+      stated != *unit_flag) {
+    return Status::Error("--" + std::string(flag) + "=" + *unit_flag + ", but " + columns + stated +
+                         ": give --" + flag + "=" + stated + ", or leave --" + flag + " out");
+  }
   if (gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
     if (stated != *unit_flag) {
       notes->push_back(std::string(outputs) + " in " + stated + ", as " + columns + "(--" + flag +
@@ -395,7 +403,7 @@ inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std:
 inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
                              std::vector<std::string>* notes) {
   return TakeStatedUnitOf(log_source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit", "outputs",
-                          "accelerometer", unit_flag, notes);
+                          "accelerometer", unit_flag, notes, log_source.units_stated_by);
 }
 
 // The provenance's files (role -> path) of the log at `path` as read (`source`): the path itself

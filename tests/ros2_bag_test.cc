@@ -60,7 +60,8 @@ TEST(Ros2ImuMessage, DecodesWhatItEncodesInBothByteOrders) {
 }
 
 // The bytes of a known message, written out by hand from the CDR rules (not by the encoder):
-// the stamp, an empty frame_id (length 1: its NUL), padding to 8, then 37 doubles.
+// the stamp, frame_id "imu0" (length 5 with its NUL), padding to the next multiple of 8 (24:
+// a float64's alignment is 8 in CDR version 1, 4 in XCDR2's), then 37 doubles.
 TEST(Ros2ImuMessage, ReadsTheFieldsWhereCdrPutsThem) {
   std::string data = {'\0', '\x01', '\0', '\0'};
   auto u32 = [&data](uint32_t v) {
@@ -73,14 +74,14 @@ TEST(Ros2ImuMessage, ReadsTheFieldsWhereCdrPutsThem) {
   };
   u32(5);
   u32(7);
-  u32(1);
-  data.push_back('\0');
-  data.append(3, '\0');  // 13 bytes after the header, padded to 16
+  u32(5);
+  data.append("imu0", 5);
+  data.append(7, '\0');  // 17 bytes after the header, padded to 24
   for (int i = 0; i < 37; ++i) f64(i);
   Ros2ImuMessage message;
   ASSERT_TRUE(DecodeRos2ImuMessage(data, &message).ok());
   EXPECT_EQ(message.StampNs(), 5000000007);
-  EXPECT_EQ(message.frame_id, "");
+  EXPECT_EQ(message.frame_id, "imu0");
   EXPECT_EQ(message.angular_velocity_radps, (std::array<double, 3>{13, 14, 15}));
   EXPECT_EQ(message.linear_acceleration_mps2, (std::array<double, 3>{25, 26, 27}));
   EXPECT_EQ(message.linear_acceleration_covariance[8], 36);

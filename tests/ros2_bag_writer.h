@@ -153,7 +153,7 @@ inline std::string BagMetadataYaml(const std::vector<std::string>& files,
 // the gyroscope's (zeros without one).
 inline std::vector<BagMessage> ImuMessages(const TriadLog& log, int32_t start_sec,
                                            int64_t latency_ns = 2000000,
-                                           const std::string& frame_id = "imu_link") {
+                                           const std::string& frame_id = "imu0") {
   std::vector<BagMessage> messages;
   for (size_t i = 0; i < log.size(); ++i) {
     const int64_t t_ns = static_cast<int64_t>(std::llround(log.timestamp_s[i] * 1e9));

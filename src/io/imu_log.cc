@@ -871,6 +871,7 @@ Status ReadBagLog(const std::string& path, const ImuLogReadOptions& options, Tri
     source->notes = bag.notes;
     source->accelerometer_unit = "m/s^2";  // REP 145
     source->gyroscope_unit = "rad/s";
+    source->units_stated_by = "sensor_msgs/msg/Imu (REP 145) says";
     source->files = bag.files;
   }
   return Status::Ok();

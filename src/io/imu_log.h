@@ -54,6 +54,9 @@ struct ImuLogSource {
   std::vector<std::string> metadata;
   std::string accelerometer_unit;  // stated by the columns' names, else ""
   std::string gyroscope_unit;
+  // What states those units when not the columns' names, as a sentence's subject and verb
+  // ("sensor_msgs/msg/Imu (REP 145) says"), else "".
+  std::string units_stated_by;
   std::string gyroscope_path;  // the paired file, when the gyroscope came from one
   // The files read when they are not the path given (a ROS 2 bag's folder: its metadata.yaml
   // and .db3 files), for the provenance; empty: the path itself.
