@@ -276,7 +276,7 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(
       ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
-  std::map<std::string, std::string> files = LogInputFiles(FLAGS_log, log_source);
+  std::map<std::string, std::string> files = {{"log", FLAGS_log}};
   if (!FLAGS_gyro_log.empty()) files["log_gyroscope"] = FLAGS_gyro_log;
   ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", files, source));
   report->log_path = FLAGS_log;

@@ -406,26 +406,6 @@ inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_f
                           "accelerometer", unit_flag, notes, log_source.units_stated_by);
 }
 
-// The provenance's files (role -> path) of the log at `path` as read (`source`): the path itself
-// ("log"), or, for a ROS 2 bag's folder, the files read in it: the first .db3 as "log", the
-// next ones "log_part_2", ..., the metadata.yaml "log_metadata".
-inline std::map<std::string, std::string> LogInputFiles(const std::string& path,
-                                                        const ImuLogSource& source) {
-  if (source.files.empty()) return {{"log", path}};
-  std::map<std::string, std::string> files;
-  int part = 0;
-  for (const std::string& file : source.files) {
-    const bool metadata =
-        file.size() >= 13 && file.compare(file.size() - 13, 13, "metadata.yaml") == 0;
-    if (metadata) {
-      files["log_metadata"] = file;
-    } else {
-      files[++part == 1 ? std::string("log") : "log_part_" + std::to_string(part)] = file;
-    }
-  }
-  return files;
-}
-
 #define ACCELCAL_IMU_LOG_OPTIONS(options)                                               \
   ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, "", \
                                      FLAGS_topic, FLAGS_bag_time, options)

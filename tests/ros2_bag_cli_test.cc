@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -146,6 +147,47 @@ TEST(Ros2BagCli, ABagCalibratesToTheResultOfTheCsvOfTheSameSamplesInBothModes) {
                                    WithoutInputDescription(nlohmann::json::parse(
                                        testing::ReadText(scratch.File("ml_csv.json")))))
                   .empty());
+}
+
+// The lines of a corrected CSV that are not '#' comments (which name the input files).
+std::string DataLines(const std::string& text) {
+  std::string data;
+  size_t begin = 0;
+  while (begin < text.size()) {
+    const size_t end = std::min(text.find('\n', begin), text.size());
+    if (text[begin] != '#') data += text.substr(begin, end - begin + 1);
+    begin = end + 1;
+  }
+  return data;
+}
+
+// apply and allan read bags through the same reader, and cover the bag's files in their
+// provenance: apply corrects the bag's samples to exactly the CSV's corrected values.
+TEST(Ros2BagCli, ApplyCorrectsTheBagAsTheCsvAndAllanReadsIt) {
+  ScratchDir scratch;
+  const TriadLog log = SimulateSiSession();
+  BagTopic imu{"/imu/data"};
+  imu.messages = testing::ImuMessages(log, kStartSec);
+  const std::string bag = WriteBagFolder(scratch, "session", {imu});
+  const std::string csv = scratch.Write("session.csv", Csv(log));
+  const std::string calibration = scratch.File("calibration.json");
+  ASSERT_EQ(Calibrate(bag, "ml", scratch.File("ml.json"), {"--calibration_out=" + calibration})
+                .exit_status,
+            0);
+  const CommandResult from_bag = RunBinaryArgs(
+      "apply", {"--calibration=" + calibration, "--in=" + bag, "--out=" + scratch.File("bag.csv")});
+  ASSERT_EQ(from_bag.exit_status, 0) << from_bag.stderr_text;
+  const CommandResult from_csv = RunBinaryArgs(
+      "apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + scratch.File("csv.csv")});
+  ASSERT_EQ(from_csv.exit_status, 0) << from_csv.stderr_text;
+  const std::string corrected = DataLines(testing::ReadText(scratch.File("bag.csv")));
+  EXPECT_GT(corrected.size(), 1000u);
+  EXPECT_EQ(corrected, DataLines(testing::ReadText(scratch.File("csv.csv"))));
+  EXPECT_NE(testing::ReadText(scratch.File("bag.csv")).find("session_0.db3 (sha256 "),
+            std::string::npos);
+  const CommandResult allan = RunBinaryArgs("allan", {"--log=" + bag});
+  EXPECT_EQ(allan.exit_status, 0) << allan.stderr_text;
+  EXPECT_NE(allan.stdout_text.find("session_0.db3"), std::string::npos);
 }
 
 // Refused in one line, exit status 2, nothing on stdout and no output written.

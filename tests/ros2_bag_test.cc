@@ -151,7 +151,7 @@ TEST(Ros2Bag, AFolderAndItsDb3FileReadAsTheMessagesInMetresPerSecondSquaredAndRa
     EXPECT_NE(source.layout.find("topic /imu/data"), std::string::npos) << source.layout;
     ASSERT_FALSE(source.notes.empty());
     EXPECT_NE(source.notes[0].find("the bag's one sensor_msgs/msg/Imu topic"), std::string::npos);
-    EXPECT_EQ(source.files.back(), folder + "/bag_0.db3");
+    EXPECT_NE(source.notes[1].find("time: the messages' header stamps"), std::string::npos);
   }
 }
 
@@ -174,9 +174,10 @@ TEST(Ros2Bag, ASplitBagIsReadFileAfterFileAndAnOldSchemaToo) {
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(log.size(), 400u);
   EXPECT_EQ(log.output[399], written.output[399]);
-  EXPECT_EQ(source.files,
-            (std::vector<std::string>{folder + "/metadata.yaml", folder + "/split_0.db3",
-                                      folder + "/split_1.db3"}));
+  Ros2BagSource bag;
+  ASSERT_TRUE(ReadRos2BagImuLog(folder, Ros2BagReadOptions(), &log, &bag).ok());
+  EXPECT_EQ(bag.files, (std::vector<std::string>{folder + "/metadata.yaml", folder + "/split_0.db3",
+                                                 folder + "/split_1.db3"}));
   // Without metadata.yaml: the .db3 files by their _N suffix (split_10 after split_1).
   ASSERT_EQ(unlink((folder + "/metadata.yaml").c_str()), 0);
   ASSERT_TRUE(ReadImuLog(folder, ImuLogReadOptions(), &log, ImuLogSpacing::kEven, &source).ok());
@@ -325,6 +326,13 @@ TEST(Ros2Bag, TheRunRecordsEveryFileOfTheBagItRead) {
   EXPECT_TRUE(FindInputRead(folder + "/bag_0.db3", &read));
   EXPECT_EQ(read.bytes, testing::ReadText(folder + "/bag_0.db3").size());
   EXPECT_TRUE(FindInputRead(folder + "/metadata.yaml", &read));
+  // The folder stands for its files in the provenance.
+  std::vector<InputFolderPart> parts;
+  ASSERT_TRUE(FindInputFolder(folder, &parts));
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_EQ(parts[0].role_suffix, "");
+  EXPECT_EQ(parts[0].path, folder + "/bag_0.db3");
+  EXPECT_EQ(parts[1].role_suffix, "_metadata");
 }
 
 }  // namespace

@@ -872,7 +872,6 @@ Status ReadBagLog(const std::string& path, const ImuLogReadOptions& options, Tri
     source->accelerometer_unit = "m/s^2";  // REP 145
     source->gyroscope_unit = "rad/s";
     source->units_stated_by = "sensor_msgs/msg/Imu (REP 145) says";
-    source->files = bag.files;
   }
   return Status::Ok();
 }

@@ -58,9 +58,6 @@ struct ImuLogSource {
   // ("sensor_msgs/msg/Imu (REP 145) says"), else "".
   std::string units_stated_by;
   std::string gyroscope_path;  // the paired file, when the gyroscope came from one
-  // The files read when they are not the path given (a ROS 2 bag's folder: its metadata.yaml
-  // and .db3 files), for the provenance; empty: the path itself.
-  std::vector<std::string> files;
   // How time was read from a column: its name and its factor to seconds (empty name: time came
   // from the rate, or the layout defines it).
   std::string time_column;

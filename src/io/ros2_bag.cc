@@ -566,6 +566,13 @@ Status ReadRos2BagImuLog(const std::string& path, const Ros2BagReadOptions& opti
   }
   if (!metadata.empty()) source->files.push_back(metadata);
   source->files.insert(source->files.end(), paths.begin(), paths.end());
+  if (IsDirectory(path)) {
+    std::vector<InputFolderPart> parts;
+    for (size_t i = 0; i < paths.size(); ++i)
+      parts.push_back({i == 0 ? "" : "_part_" + std::to_string(i + 1), paths[i]});
+    if (!metadata.empty()) parts.push_back({"_metadata", metadata});
+    RecordInputFolder(path, parts);
+  }
   source->topic = topic.name;
   source->layout = StringPrintf(
       "ROS 2 bag (sqlite3, %zu file%s; topic %s, sensor_msgs/msg/Imu in CDR, %zu messages: "
