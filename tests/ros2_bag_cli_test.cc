@@ -82,6 +82,13 @@ std::string WriteBagFolder(const ScratchDir& scratch, const std::string& name,
   return folder;
 }
 
+// The simulated session's Imu topic, named `name`.
+BagTopic SessionTopic(const TriadLog& log, const std::string& name) {
+  BagTopic topic{name};
+  topic.messages = testing::ImuMessages(log, kStartSec);
+  return topic;
+}
+
 // The JSON of a run without what names its input: the provenance (files, command line) and the
 // log's description (its path, layout and reading notes).
 nlohmann::json WithoutInputDescription(nlohmann::json json) {
@@ -103,8 +110,7 @@ CommandResult Calibrate(const std::string& log, const std::string& mode, const s
 TEST(Ros2BagCli, ABagCalibratesToTheResultOfTheCsvOfTheSameSamplesInBothModes) {
   ScratchDir scratch;
   const TriadLog log = SimulateSiSession();
-  BagTopic imu{"/imu/data"};
-  imu.messages = testing::ImuMessages(log, kStartSec);
+  const BagTopic imu = SessionTopic(log, "/imu/data");
   BagTopic status{"/diagnostics", "diagnostic_msgs/msg/DiagnosticArray"};
   status.messages = {{int64_t{kStartSec} * 1000000000 + 5, "not an Imu"}};
   const std::string bag = WriteBagFolder(scratch, "session", {imu, status});
@@ -166,9 +172,7 @@ std::string DataLines(const std::string& text) {
 TEST(Ros2BagCli, ApplyCorrectsTheBagAsTheCsvAndAllanReadsIt) {
   ScratchDir scratch;
   const TriadLog log = SimulateSiSession();
-  BagTopic imu{"/imu/data"};
-  imu.messages = testing::ImuMessages(log, kStartSec);
-  const std::string bag = WriteBagFolder(scratch, "session", {imu});
+  const std::string bag = WriteBagFolder(scratch, "session", {SessionTopic(log, "/imu/data")});
   const std::string csv = scratch.Write("session.csv", Csv(log));
   const std::string calibration = scratch.File("calibration.json");
   ASSERT_EQ(Calibrate(bag, "ml", scratch.File("ml.json"), {"--calibration_out=" + calibration})
@@ -226,8 +230,7 @@ TEST(Ros2BagCli, TheTopicIsChosenOrRefusedNamingTheCandidatesAndTheFlag) {
 TEST(Ros2BagCli, DamagedBagsExitWithStatusTwoInOneLineAndWriteNothing) {
   ScratchDir scratch;
   const TriadLog log = SimulateSiSession();
-  BagTopic imu{"/imu"};
-  imu.messages = testing::ImuMessages(log, kStartSec);
+  const BagTopic imu = SessionTopic(log, "/imu");
   const std::string good = WriteBagFolder(scratch, "good", {imu});
   const std::string bytes = testing::ReadText(good + "/good_0.db3");
   // Truncated, as a copy cut short: the header states more pages than the file holds.
