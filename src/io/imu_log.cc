@@ -876,16 +876,20 @@ Status ReadBagLog(const std::string& path, const ImuLogReadOptions& options, Tri
   return Status::Ok();
 }
 
+// --topic and --bag_time given for a log that is no bag.
+Status RefuseBagOptions(const std::string& path, const ImuLogReadOptions& options) {
+  if (options.topic.empty() && options.bag_time == "header") return Status::Ok();
+  return Status::Error(path +
+                       ": --topic and --bag_time are for ROS 2 bags (a folder with "
+                       "metadata.yaml, or a .db3 file); this log is not one");
+}
+
 // The whole of one file, of any layout, without the spacing check.
 Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
                    ImuLogSource* source) {
   *log = TriadLog();
   if (IsRos2Bag(path)) return ReadBagLog(path, options, log, source);
-  if (!options.topic.empty() || options.bag_time != "header") {
-    return Status::Error(path +
-                         ": --topic and --bag_time are for ROS 2 bags (a folder with "
-                         "metadata.yaml, or a .db3 file); this log is not one");
-  }
+  ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   std::string head;
   bool whole = false;
   uint64_t size = 0;
@@ -1007,6 +1011,7 @@ Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, s
     }
     return Status::Ok();
   }
+  ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   return StreamTextLog(path, options, batch_samples, on_batch, source);
 }
 
