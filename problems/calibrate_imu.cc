@@ -23,8 +23,8 @@
 // sessions path (--log=S1,S2,..., calibrate_imu_sessions.cc) runs on every session.
 //
 // Inputs: the log in any layout io/imu_log.h reads (docs/log-layouts.md: imu_tk's ASCII t x y z,
-// CSV and other text with a header, .mat), in the sensor's own unit; its gyroscope's columns or
-// imu_tk's pair of files (--gyro_log), which mode imu_tk calibrates too.
+// CSV and other text with a header, .mat, a ROS 2 bag's Imu messages), in the sensor's own unit;
+// its gyroscope's columns or imu_tk's pair of files (--gyro_log), which mode imu_tk calibrates too.
 // Outputs: the sweep, the chosen k, the parameters and the static intervals on stdout; JSON
 // with --json.
 //
@@ -62,7 +62,7 @@
 #include "reporting/triad_report.h"
 
 // clang-format off
-DEFINE_string(log, "", "The IMU log, in the layout its tool wrote (docs/log-layouts.md): CSV, ';'-, tab- or blank-separated text with a header naming the columns (t/time/timestamp, ax/acc_x/ACCEL_X..., gyroscope gx/gyr_x/... kept), metadata lines before it or not; imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z, whatever the file's suffix); or a MATLAB .mat (v5 or v7.3) with the variables named. Values in the sensor's unit (e.g. raw counts). Several sessions: --log=S1,S2,...");
+DEFINE_string(log, "", "The IMU log, in the layout its tool wrote (docs/log-layouts.md): CSV, ';'-, tab- or blank-separated text with a header naming the columns (t/time/timestamp, ax/acc_x/ACCEL_X..., gyroscope gx/gyr_x/... kept), metadata lines before it or not; imu_tk's ASCII layout (4 blank-separated columns: t [s], x, y, z, whatever the file's suffix); or a MATLAB .mat (v5 or v7.3) with the variables named; or a ROS 2 bag (its folder with metadata.yaml, or its .db3 file) whose sensor_msgs/msg/Imu messages are read (--topic, --bag_time), in m/s^2 and rad/s. Values in the sensor's unit (e.g. raw counts). Several sessions: --log=S1,S2,...");
 ACCELCAL_DEFINE_IMU_LOG_FLAGS();
 ACCELCAL_DEFINE_GYRO_LOG_FLAG();
 DEFINE_string(mode, "imu_tk", "imu_tk: imu_tk's calibration reproduced (its cost, static detector and threshold sweep). ml: maximum likelihood on the poses of --detector (each pose's mean, unknown gravity direction per pose, white noise), with the covariance of every parameter and a chi-square fit statistic, beside imu_tk's result when its rules give one. ferraris: imucal's closed form on the six holds of --session, and the least squares they allow.");
@@ -271,7 +271,8 @@ Status ValidateFlags() {
 Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit,
-                                                  FLAGS_gyro_log, &read_options));
+                                                  FLAGS_gyro_log, FLAGS_topic, FLAGS_bag_time,
+                                                  &read_options));
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(
       ReadImuLog(FLAGS_log, read_options, log, ImuLogSpacing::kEven, &log_source));
@@ -293,10 +294,11 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
         "gyroscope: read (" + std::to_string(log->gyroscope.size()) + " samples); " +
         (FLAGS_mode == "imu_tk" ? std::string("calibrated below by imu_tk's rules")
                                 : std::string("calibrated below by maximum likelihood")));
-    ACCELCAL_RETURN_IF_ERROR(
-        TakeStatedUnitOf(log_source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
-                         "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit, &report->log_notes)
-            .WithContext(FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log));
+    ACCELCAL_RETURN_IF_ERROR(TakeStatedUnitOf(log_source.gyroscope_unit,
+                                              {"count", "rad/s", "deg/s"}, "gyro_unit",
+                                              "gyroscope outputs", "gyroscope", &FLAGS_gyro_unit,
+                                              &report->log_notes, log_source.units_stated_by)
+                                 .WithContext(FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log));
   } else {
     for (const char* name : {"gyro_unit", "initial_gyro_gain", "gyro_bias"}) {
       if (FlagGiven(name)) {

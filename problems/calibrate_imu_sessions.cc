@@ -38,6 +38,8 @@ DECLARE_string(calibration_out);
 DECLARE_string(columns);
 DECLARE_double(rate_hz);
 DECLARE_string(time_unit);
+DECLARE_string(topic);
+DECLARE_string(bag_time);
 DECLARE_string(gyro_log);
 
 namespace accelcal {

@@ -330,14 +330,21 @@ inline const char* DefaultToolsDir(const char* source_tools_dir) {
 #define ACCELCAL_DEFINE_IMU_LOG_FLAGS()                                                                      \
   DEFINE_string(columns, "", "The log's columns when their names do not say (docs/log-layouts.md): KEY:NAME pairs, keys t (time), index (sample number), ax, ay, az (accelerometer), gx, gy, gz (gyroscope); NAME a header name or a column number from 1, e.g. --columns=t:TIME,ax:ACCEL_BMI160_0_X,ay:ACCEL_BMI160_0_Y,az:ACCEL_BMI160_0_Z. In a .mat file NAME is a variable or NAME(:,K), and acc:NAME, gyr:NAME take N x 3 variables. Keys not given are chosen by name."); \
   DEFINE_double(rate_hz, 0.0, "The log's sampling rate in Hz when it has no time column (or its sample-number column, e.g. imucal's 'samples', gives time): time = row (or sample number) / rate. 0: time from the time column."); \
-  DEFINE_string(time_unit, "", "The unit of the time column: s, ms, us or ns. Empty: the column's name states it (t_s, time_ms, timestamp [ns]) or it is inferred from the median step (1 Hz to 100 kHz), and the output says which; a Unix time is counted from the first sample.")
+  DEFINE_string(time_unit, "", "The unit of the time column: s, ms, us or ns. Empty: the column's name states it (t_s, time_ms, timestamp [ns]) or it is inferred from the median step (1 Hz to 100 kHz), and the output says which; a Unix time is counted from the first sample."); \
+  DEFINE_string(topic, "", "A ROS 2 bag (a folder with metadata.yaml, or its .db3 file; docs/log-layouts.md): the sensor_msgs/msg/Imu topic to read, e.g. --topic=/imu/data. Empty: the bag's one Imu topic (said so in the output); a bag with several is refused, listing them."); \
+  DEFINE_string(bag_time, "header", "A ROS 2 bag: the samples' time. header: the messages' header stamps (sec + nanosec, the driver's sample times); receive: the times the recorder received them (the bag's timestamp column). Counted from the first message.")
 #define ACCELCAL_DEFINE_GYRO_LOG_FLAG() \
   DEFINE_string(gyro_log, "", "imu_tk's pair of files: the gyroscope's log (same layout and time stamps as the accelerometer's --log). Its samples are read and checked beside the accelerometer's.")
 // clang-format on
 
 inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
                                      const std::string& time_unit, const std::string& gyro_log,
+                                     const std::string& topic, const std::string& bag_time,
                                      ImuLogReadOptions* options) {
+  if (bag_time != "header" && bag_time != "receive") {
+    return Status::Error("--bag_time='" + bag_time +
+                         "' is not a time of a bag's messages; use header or receive");
+  }
   std::vector<ImuColumnChoice> choices;
   ACCELCAL_RETURN_IF_ERROR(ParseImuColumnChoices(columns, &choices));
   if (!(rate_hz >= 0.0 && rate_hz <= 1e6)) {
@@ -355,17 +362,27 @@ inline Status ImuLogOptionsFromFlags(const std::string& columns, double rate_hz,
   options->rate_hz = rate_hz;
   options->time_unit = time_unit;
   options->gyroscope_path = gyro_log;
+  options->topic = topic;
+  options->bag_time = bag_time;
   return Status::Ok();
 }
 // The unit a triad's columns' names state (acc_x_g, "a_x [m s^-2]", gyr_x_dps) stands for its
 // unit flag (`*unit_flag`, --`flag`) when that was not given, said in `notes`, and must agree
 // with it when it was. `outputs` names the outputs in the note ("outputs", "gyroscope outputs"),
-// `sensor` the columns ("accelerometer").
+// `sensor` the columns ("accelerometer"). `stated_by`: what states the unit when it is not the
+// columns' names (a ROS 2 bag's message type, ImuLogSource::units_stated_by).
 inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std::string>& known,
                                const char* flag, const char* outputs, const char* sensor,
-                               std::string* unit_flag, std::vector<std::string>* notes) {
+                               std::string* unit_flag, std::vector<std::string>* notes,
+                               const std::string& stated_by = "") {
   if (std::find(known.begin(), known.end(), stated) == known.end()) return Status::Ok();
-  const std::string columns = std::string("the ") + sensor + " columns' names say ";
+  const std::string columns =
+      stated_by.empty() ? std::string("the ") + sensor + " columns' names say " : stated_by + " ";
+  if (!stated_by.empty() && !gflags::GetCommandLineFlagInfoOrDie(flag).is_default &&
+      stated != *unit_flag) {
+    return Status::Error("--" + std::string(flag) + "=" + *unit_flag + ", but " + columns + stated +
+                         ": give --" + flag + "=" + stated + ", or leave --" + flag + " out");
+  }
   if (gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
     if (stated != *unit_flag) {
       notes->push_back(std::string(outputs) + " in " + stated + ", as " + columns + "(--" + flag +
@@ -386,11 +403,12 @@ inline Status TakeStatedUnitOf(const std::string& stated, const std::vector<std:
 inline Status TakeStatedUnit(const ImuLogSource& log_source, std::string* unit_flag,
                              std::vector<std::string>* notes) {
   return TakeStatedUnitOf(log_source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit", "outputs",
-                          "accelerometer", unit_flag, notes);
+                          "accelerometer", unit_flag, notes, log_source.units_stated_by);
 }
 
-#define ACCELCAL_IMU_LOG_OPTIONS(options) \
-  ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, "", options)
+#define ACCELCAL_IMU_LOG_OPTIONS(options)                                               \
+  ::accelcal::ImuLogOptionsFromFlags(FLAGS_columns, FLAGS_rate_hz, FLAGS_time_unit, "", \
+                                     FLAGS_topic, FLAGS_bag_time, options)
 
 // --calibration_file, --run_file, --landmarks_file and --conditions_file: one file of the data,
 // overriding --data_dir's (or, without --data_dir, all four together). Defined by every binary

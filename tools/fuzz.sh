@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Fuzzes the readers users feed files to (CSV, datos.txt, .mat, IMU logs, calibration files) with
-# libFuzzer under AddressSanitizer and UBSan, each for SECONDS (default 30), from the seeds of
-# tests/fuzz/seeds and the bad-input corpus tests/data/bad:
+# Fuzzes the readers users feed files to (CSV, datos.txt, .mat, IMU logs, calibration files, ROS 2
+# bags' Imu messages) with libFuzzer under AddressSanitizer and UBSan, each for SECONDS (default
+# 30), from the seeds of tests/fuzz/seeds and the bad-input corpus tests/data/bad:
 #
 #   ./tools/fuzz.sh [SECONDS] [TARGET[/SET]...]
-#   targets: csv datos_txt mat_file imu_log calibration_file (default: all)
+#   targets: csv datos_txt mat_file imu_log calibration_file ros2_imu_message (default: all)
 #
 # TARGET/SET fuzzes one path of a target from one seed set alone, tests/fuzz/seeds/TARGET/SET
 # (the bad-input corpus left out): mat_file/compressed (zlib streams), mat_file/v73 (HDF5).
@@ -30,7 +30,7 @@ source "$ACCELCAL_ROOT/tools/setup.sh"
 seconds=${1:-30}
 shift || true
 targets=("$@")
-[ ${#targets[@]} -eq 0 ] && targets=(csv datos_txt mat_file imu_log calibration_file)
+[ ${#targets[@]} -eq 0 ] && targets=(csv datos_txt mat_file imu_log calibration_file ros2_imu_message)
 if [ -n "${ACCELCAL_FUZZ_SEED:-}" ] && ! [[ $ACCELCAL_FUZZ_SEED =~ ^[1-9][0-9]*$ ]]; then
   echo "fuzz.sh: ACCELCAL_FUZZ_SEED must be a positive integer, got '$ACCELCAL_FUZZ_SEED'" >&2
   exit 2
@@ -40,9 +40,9 @@ if ! [[ $seconds =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
   exit 2
 fi
 for spec in "${targets[@]}"; do
-  if ! [[ $spec =~ ^(csv|datos_txt|mat_file|imu_log|calibration_file)(/[A-Za-z0-9_]+)?$ ]] ||
+  if ! [[ $spec =~ ^(csv|datos_txt|mat_file|imu_log|calibration_file|ros2_imu_message)(/[A-Za-z0-9_]+)?$ ]] ||
       { [[ $spec == */* ]] && [ ! -d "$ACCELCAL_ROOT/tests/fuzz/seeds/$spec" ]; }; then
-    echo "fuzz.sh: no fuzz target or seed set '$spec' (targets: csv datos_txt mat_file imu_log calibration_file;" \
+    echo "fuzz.sh: no fuzz target or seed set '$spec' (targets: csv datos_txt mat_file imu_log calibration_file ros2_imu_message;" \
       "seed sets: the folders under tests/fuzz/seeds/TARGET/)" >&2
     exit 2
   fi

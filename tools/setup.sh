@@ -6,7 +6,7 @@
 ACCELCAL_PACKAGES=(
   build-essential cmake pkg-config
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
-  libgtest-dev libgmock-dev libmatio-dev zlib1g-dev nlohmann-json3-dev libbenchmark-dev
+  libgtest-dev libgmock-dev libmatio-dev zlib1g-dev nlohmann-json3-dev libbenchmark-dev libsqlite3-dev
   python3-matplotlib python3-numpy python3-scipy
 )
 

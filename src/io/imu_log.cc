@@ -21,6 +21,7 @@
 #include "io/input_text.h"
 #include "io/line_stream.h"
 #include "io/mat_file.h"
+#include "io/ros2_bag.h"
 
 namespace accelcal {
 namespace {
@@ -840,10 +841,55 @@ Status OrderBySampleNumber(TriadLog* log, ImuLogSource* source) {
   return Status::Ok();
 }
 
+// A ROS 2 bag (io/ros2_bag.h): its layout defines the columns, units and time, so the flags
+// that say them for a text or .mat log are refused rather than ignored.
+Status ReadBagLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
+                  ImuLogSource* source) {
+  const char* flag = !options.columns.empty()          ? "--columns"
+                     : options.rate_hz > 0.0           ? "--rate_hz"
+                     : !options.time_unit.empty()      ? "--time_unit"
+                     : !options.gyroscope_path.empty() ? "--gyro_log"
+                     : options.gyroscope_file          ? "--gyro_log"
+                                                       : nullptr;
+  if (flag != nullptr) {
+    return Status::Error(path + ": " + flag +
+                         " is for text and .mat logs; a ROS 2 bag's sensor_msgs/msg/Imu "
+                         "messages name their fields, units and time (choose the topic with "
+                         "--topic, the time with --bag_time)");
+  }
+  Ros2BagReadOptions bag_options;
+  bag_options.topic = options.topic;
+  if (!ParseRos2BagTime(options.bag_time, &bag_options.time)) {
+    return Status::Error("--bag_time='" + EchoInput(options.bag_time) +
+                         "' is not a time of a bag's messages; use header or receive");
+  }
+  Ros2BagSource bag;
+  ACCELCAL_RETURN_IF_ERROR(ReadRos2BagImuLog(path, bag_options, log, &bag));
+  if (source != nullptr) {
+    *source = ImuLogSource();
+    source->layout = bag.layout;
+    source->notes = bag.notes;
+    source->accelerometer_unit = "m/s^2";  // REP 145
+    source->gyroscope_unit = "rad/s";
+    source->units_stated_by = "sensor_msgs/msg/Imu (REP 145) says";
+  }
+  return Status::Ok();
+}
+
+// --topic and --bag_time given for a log that is no bag.
+Status RefuseBagOptions(const std::string& path, const ImuLogReadOptions& options) {
+  if (options.topic.empty() && options.bag_time == "header") return Status::Ok();
+  return Status::Error(path +
+                       ": --topic and --bag_time are for ROS 2 bags (a folder with "
+                       "metadata.yaml, or a .db3 file); this log is not one");
+}
+
 // The whole of one file, of any layout, without the spacing check.
 Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
                    ImuLogSource* source) {
   *log = TriadLog();
+  if (IsRos2Bag(path)) return ReadBagLog(path, options, log, source);
+  ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   std::string head;
   bool whole = false;
   uint64_t size = 0;
@@ -952,6 +998,20 @@ Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, s
   if (!options.gyroscope_path.empty()) {
     return Status::Error("--gyro_log: a pair of files is read whole; this reader streams one file");
   }
+  if (IsRos2Bag(path)) {  // read whole (SQLite's own paging), then handed over in batches
+    TriadLog whole;
+    ACCELCAL_RETURN_IF_ERROR(ReadBagLog(path, options, &whole, source));
+    for (size_t first = 0; first < whole.size(); first += std::max<size_t>(batch_samples, 1)) {
+      const size_t last = std::min(whole.size(), first + std::max<size_t>(batch_samples, 1));
+      TriadLog batch;
+      batch.timestamp_s.assign(whole.timestamp_s.begin() + first, whole.timestamp_s.begin() + last);
+      batch.output.assign(whole.output.begin() + first, whole.output.begin() + last);
+      batch.gyroscope.assign(whole.gyroscope.begin() + first, whole.gyroscope.begin() + last);
+      on_batch(batch);
+    }
+    return Status::Ok();
+  }
+  ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   return StreamTextLog(path, options, batch_samples, on_batch, source);
 }
 

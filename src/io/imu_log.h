@@ -13,6 +13,7 @@
 //   - a MATLAB .mat file (v5 or v7.3, io/mat_file.h) with the variables named: a time vector
 //     and an N x 3 accelerometer (and gyroscope), or one vector per axis, or one N x 4 matrix
 //     t, x, y, z;
+//   - a ROS 2 bag's sensor_msgs/msg/Imu messages (io/ros2_bag.h), in m/s^2 and rad/s;
 //   - imu_tk's pair of files (accelerometer and gyroscope, the same time stamps): the
 //     gyroscope's file given apart (ImuLogReadOptions::gyroscope_path).
 //
@@ -53,6 +54,9 @@ struct ImuLogSource {
   std::vector<std::string> metadata;
   std::string accelerometer_unit;  // stated by the columns' names, else ""
   std::string gyroscope_unit;
+  // What states those units when not the columns' names, as a sentence's subject and verb
+  // ("sensor_msgs/msg/Imu (REP 145) says"), else "".
+  std::string units_stated_by;
   std::string gyroscope_path;  // the paired file, when the gyroscope came from one
   // How time was read from a column: its name and its factor to seconds (empty name: time came
   // from the rate, or the layout defines it).

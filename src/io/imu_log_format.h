@@ -64,6 +64,10 @@ struct ImuLogReadOptions {
   std::string gyroscope_path;
   // Set by the reader for that file: its triad is the gyroscope (named gyr_x, ... or not).
   bool gyroscope_file = false;
+  // A ROS 2 bag (io/ros2_bag.h): the sensor_msgs/msg/Imu topic (--topic; empty: the bag's one
+  // Imu topic) and the time read, "header" (the messages' stamps) or "receive" (--bag_time).
+  std::string topic;
+  std::string bag_time = "header";
 };
 
 // --columns parsed: key -> value, in the order given. Refuses an unknown key, a key twice, an

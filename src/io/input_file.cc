@@ -49,6 +49,7 @@ struct InputReads {
   std::mutex mutex;
   bool on = false;
   std::map<std::string, InputRead> by_path;
+  std::map<std::string, std::vector<InputFolderPart>> folders;
 };
 
 InputReads& TheInputReads() {
@@ -111,6 +112,7 @@ void StartRecordingInputReads() {
   const std::lock_guard<std::mutex> lock(reads.mutex);
   reads.on = true;
   reads.by_path.clear();
+  reads.folders.clear();
 }
 
 bool RecordingInputReads() {
@@ -135,6 +137,21 @@ Status RecordInputRead(const std::string& path, const InputRead& read) {
   }
   found->second.identity = read.identity;
   return Status::Ok();
+}
+
+void RecordInputFolder(const std::string& folder, const std::vector<InputFolderPart>& parts) {
+  InputReads& reads = TheInputReads();
+  const std::lock_guard<std::mutex> lock(reads.mutex);
+  if (reads.on) reads.folders[folder] = parts;
+}
+
+bool FindInputFolder(const std::string& folder, std::vector<InputFolderPart>* parts) {
+  InputReads& reads = TheInputReads();
+  const std::lock_guard<std::mutex> lock(reads.mutex);
+  const auto found = reads.folders.find(folder);
+  if (found == reads.folders.end()) return false;
+  *parts = found->second;
+  return true;
 }
 
 bool FindInputRead(const std::string& path, InputRead* read) {

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "common/status.h"
 
@@ -63,6 +64,17 @@ bool RecordingInputReads();
 Status RecordInputRead(const std::string& path, const InputRead& read);
 // The record of `path`, if the run read it.
 bool FindInputRead(const std::string& path, InputRead* read);
+
+// An input given as a folder whose files a reader chose (a ROS 2 bag: its .db3 files and
+// metadata.yaml): each file with the suffix its role takes in the provenance ("" for the main
+// one, "_part_2", "_metadata"). Recorded by the reader while a run records; the provenance
+// (DescribeMeasuredData) then lists the files, by role + suffix, instead of the folder.
+struct InputFolderPart {
+  std::string role_suffix;
+  std::string path;
+};
+void RecordInputFolder(const std::string& folder, const std::vector<InputFolderPart>& parts);
+bool FindInputFolder(const std::string& folder, std::vector<InputFolderPart>* parts);
 
 // Reads `path` whole, in pieces, through SHA-256 (any size, bounded memory), checking that its
 // identity did not change while it was read.

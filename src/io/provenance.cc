@@ -84,6 +84,13 @@ Status DescribeMeasuredData(const std::string& data_dir,
   described.data_dir = data_dir;
   for (const auto& [role, path] : files) {
     if (path.empty()) continue;
+    std::vector<InputFolderPart> parts;
+    if (FindInputFolder(path, &parts)) {
+      for (const InputFolderPart& part : parts)
+        ACCELCAL_RETURN_IF_ERROR(
+            HashInputFile(part.path, &described.files[role + part.role_suffix]));
+      continue;
+    }
     ACCELCAL_RETURN_IF_ERROR(HashInputFile(path, &described.files[role]));
   }
   *source = std::move(described);

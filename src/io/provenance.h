@@ -58,7 +58,8 @@ struct DataSource {
   std::vector<std::pair<std::string, double>> hidden;
 };
 
-// A measured source: every non-empty path of `files` (role -> path) hashed.
+// A measured source: every non-empty path of `files` (role -> path) hashed; a folder a reader
+// recorded (RecordInputFolder, a ROS 2 bag's) as its files, role + suffix each.
 Status DescribeMeasuredData(const std::string& data_dir,
                             const std::map<std::string, std::string>& files, DataSource* source);
 
