@@ -423,6 +423,7 @@ PYBIND11_MODULE(accelcal, m) {
   static char writer[] = "python3:accelcal";
   static char* writer_argv[] = {writer};
   RecordCommandLine(1, writer_argv);
+  m.attr("__version__") = AccelcalVersion();
   static py::exception<InputError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr pointer) {
     try {

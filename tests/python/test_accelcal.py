@@ -58,6 +58,8 @@ def test_the_module_has_its_api():
                  "Calibration"):
         assert hasattr(accelcal, name), name
     assert issubclass(accelcal.Error, ValueError)
+    version = run_binary("calibrate_imu", "--version").stdout
+    assert accelcal.__version__ and accelcal.__version__ in version
 
 
 @needs_data
