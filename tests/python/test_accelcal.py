@@ -3,8 +3,8 @@ accelcal.calibrate gives calibrate_imu --mode=ml's parameters, covariance and ve
 accelcal.apply gives apply's corrected CSV, to 1e-12 relative; bad input raises accelcal.Error
 (a ValueError) with the binary's one-line message.
 
-Run by ctest (Python.ModuleMatchesTheBinaries) with PYTHONPATH at build/python, ACCELCAL_BIN_DIR
-at build/bin and ACCELCAL_IMU_TK_DATA at ../shared/data/imu_tk-xsens.
+Run by ctest (Python.ModuleMatchesTheBinaries) with PYTHONPATH at build/python and
+ACCELCAL_BIN_DIR at build/bin.
 """
 import csv
 import json
@@ -17,7 +17,9 @@ import pytest
 import accelcal
 
 BIN_DIR = os.environ.get("ACCELCAL_BIN_DIR", "")
-DATA = os.environ.get("ACCELCAL_IMU_TK_DATA", "")
+# As the C++ tests: ACCELCAL_IMU_TK_DATA when set, else ../shared/data/imu_tk-xsens (ctest says
+# where, ACCELCAL_DEFAULT_IMU_TK_DATA).
+DATA = os.environ.get("ACCELCAL_IMU_TK_DATA") or os.environ.get("ACCELCAL_DEFAULT_IMU_TK_DATA", "")
 ACC = os.path.join(DATA, "xsens_acc.mat")
 GYRO = os.path.join(DATA, "xsens_gyro.mat")
 G = 9.81744
