@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "common/sha256.h"
 #include "common/status.h"
 #include "common/triad_log.h"
 #include "estimation/discovery/verdict.h"
@@ -125,6 +126,46 @@ std::shared_ptr<Log> ReadLog(const py::object& path_object, const std::string& c
       if (!log->gyro_log.empty()) files["log_gyroscope"] = log->gyro_log;
       status = DescribeMeasuredData("", files, &log->data);
     }
+  }
+  ThrowIfError(status);
+  return log;
+}
+
+// A log from numpy arrays: written as the CSV text t_s,ax,ay,az[,gx,gy,gz] at full precision and
+// parsed by the readers' own parser (io/imu_log.h's ParseImuLog), so that arrays pass exactly the
+// checks a file does (finite values, increasing and even time, ...). `name` starts the messages;
+// the SHA-256 is the text's, recorded as the input file `name`.
+std::shared_ptr<Log> LogFromArrays(const Array& time_s, const Array& acc, const py::object& gyro,
+                                   const std::string& name) {
+  const std::vector<std::array<double, 3>> acc_rows = Rows(acc, "acc");
+  std::vector<std::array<double, 3>> gyro_rows;
+  if (!gyro.is_none()) gyro_rows = Rows(gyro.cast<Array>(), "gyro");
+  if (time_s.ndim() != 1 || static_cast<size_t>(time_s.shape(0)) != acc_rows.size() ||
+      (!gyro.is_none() && gyro_rows.size() != acc_rows.size())) {
+    throw InputError(name +
+                     ": time_s must be an array of shape (N,) and acc (and gyro) of shape "
+                     "(N, 3), the same N");
+  }
+  auto log = std::make_shared<Log>();
+  log->path = name;
+  auto time = time_s.unchecked<1>();
+  Status status;
+  {
+    py::gil_scoped_release release;
+    std::string text = gyro_rows.empty() ? "t_s,ax,ay,az\n" : "t_s,ax,ay,az,gx,gy,gz\n";
+    for (size_t j = 0; j < acc_rows.size(); ++j) {
+      text += StringPrintf("%.17g,%.17g,%.17g,%.17g", time(j), acc_rows[j][0], acc_rows[j][1],
+                           acc_rows[j][2]);
+      if (!gyro_rows.empty()) {
+        text +=
+            StringPrintf(",%.17g,%.17g,%.17g", gyro_rows[j][0], gyro_rows[j][1], gyro_rows[j][2]);
+      }
+      text += "\n";
+    }
+    status =
+        ParseImuLog(text, ImuLogReadOptions(), &log->samples, ImuLogSpacing::kEven, &log->source)
+            .WithContext(name);
+    log->data.files["log"] = InputFile{name, text.size(), Sha256Hex(text)};
   }
   ThrowIfError(status);
   return log;
@@ -436,6 +477,12 @@ PYBIND11_MODULE(accelcal, m) {
   py::class_<Log, std::shared_ptr<Log>>(m, "Log",
                                         "An IMU log read from its file (read_log): samples in "
                                         "the sensor's own unit.")
+      .def(py::init(&LogFromArrays), py::arg("time_s"), py::arg("acc"),
+           py::arg("gyro") = py::none(), py::arg("name") = "numpy arrays",
+           "A log from arrays: time_s (N,) in s, acc (N, 3) and gyro (N, 3) or None in the "
+           "sensor's units, checked as a file's samples are (finite, time increasing and "
+           "evenly spaced). Messages start with `name`; sha256 is that of the CSV text the "
+           "arrays were written as.")
       .def_property_readonly(
           "time_s",
           [](const Log& log) { return Vector(log.samples.timestamp_s.data(), log.samples.size()); },

@@ -142,6 +142,20 @@ def test_apply_gives_the_binarys_csv(binary_ml, tmp_path):
 
 
 @needs_data
+def test_a_log_from_arrays_calibrates_as_its_file(module_ml):
+    read = accelcal.read_log(ACC)
+    log = accelcal.Log(read.time_s, read.acc, name="xsens arrays")
+    assert np.array_equal(log.acc, read.acc) and np.array_equal(log.time_s, read.time_s)
+    cal = accelcal.calibrate(log, g=G)
+    assert_close(cal.values, module_ml.values, what="parameters from arrays")
+    assert cal.verdict == module_ml.verdict and len(log.sha256) == 64
+    with pytest.raises(accelcal.Error, match="^bad arrays: "):
+        accelcal.Log(read.time_s[::-1], read.acc, name="bad arrays")
+    with pytest.raises(ValueError):
+        accelcal.Log(read.time_s[:10], read.acc)
+
+
+@needs_data
 def test_the_gyroscope_matches_the_binary(tmp_path):
     json_path = tmp_path / "gyro.json"
     result = run_binary("calibrate_imu", f"--log={ACC}", f"--gyro_log={GYRO}", f"--g={G}",
