@@ -30,6 +30,7 @@
 #include "estimation/tilt_table/calibration_correction.h"
 #include "io/atomic_file.h"
 #include "io/calibration_file.h"
+#include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
 #include "io/provenance.h"
@@ -236,22 +237,23 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   } else {
     log = ReadLog(log_or_path, columns, rate_hz, time_unit, gyro_log, true);
   }
-  // The flags' checks of calibrate_imu (ACCELCAL_FLAG_RANGE and ValidateFlags).
-  if (!(g >= 9.7 && g <= 9.9)) {
-    throw InputError(
-        StringPrintf("--g=%g is out of range [9.7, 9.9] (local gravity in m/s^2, not in g)", g));
-  }
+  // The flags' checks of calibrate_imu (ACCELCAL_FLAG_RANGE and ValidateFlags), in its words.
+  const auto out_of_range = [](const char* flag, const std::string& value, const char* range) {
+    return InputError(std::string("--") + flag + "='" + value + "' is not a valid " + range);
+  };
+  if (!(g >= 9.7 && g <= 9.9))
+    throw out_of_range("g", StringPrintf("%g", g), "double in [9.7, 9.9]");
   if (!(alpha > 0.0 && alpha < 0.5))
     throw InputError(StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", alpha));
-  if (window != 0 && (window < 11 || window % 2 == 0)) {
+  if (window != 0 && (window < 11 || window > 100001))
+    throw out_of_range("window", std::to_string(window), "int32 in [11, 100001]");
+  if (window % 2 == 0 && window != 0) {
     throw InputError("--window=" + std::to_string(window) +
-                     " is not an odd number of samples of at least 11");
+                     " is even; the window is centred on its sample, give an odd number");
   }
-  if (initial_gyro_gain < 0.0 || initial_gyro_gain > 100.0) {
-    throw InputError(StringPrintf(
-        "--initial_gyro_gain=%g is not a gain; give the start's gain in rad/s per unit of the "
-        "gyroscope's output, > 0 (imu_tk's Xsens example: 1/6258 = 0.000159795 per count)",
-        initial_gyro_gain));
+  if (!(initial_gyro_gain >= 0.0 && initial_gyro_gain <= 100.0)) {
+    throw out_of_range("initial_gyro_gain", StringPrintf("%g", initial_gyro_gain),
+                       "double in [0, 100]");
   }
   auto calibration = std::make_shared<Calibration>();
   CalibrateImuReport& report = calibration->report;
@@ -266,15 +268,15 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
               "accelerometer", "count", &report.log_notes);
   ThrowIfError(ParseTriadOutputUnit(unit_name, &options.session.unit).WithContext("--unit"));
   options.session.gravity_mps2 = g;
-  if (!initial_offset.is_none() && !(py::isinstance<py::str>(initial_offset) &&
-                                     py::str(initial_offset).cast<std::string>() == "auto")) {
+  // initial_offset: "auto" or a number, as --initial_offset.
+  const std::string offset_text =
+      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
+  if (offset_text != "auto") {
     options.session.offset.automatic = false;
-    options.session.offset.value = initial_offset.cast<double>();
-    if (!std::isfinite(options.session.offset.value) ||
+    if (!ParseFiniteNumber(offset_text, &options.session.offset.value) ||
         std::fabs(options.session.offset.value) > 1e9) {
-      throw InputError(
-          "--initial_offset is neither auto nor a finite number within +-1e9 (the "
-          "log's unit)");
+      throw InputError("--initial_offset='" + offset_text +
+                       "' is neither auto nor a finite number within +-1e9 (the log's unit)");
     }
   }
   options.session.detector.window_samples = window;

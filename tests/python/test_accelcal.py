@@ -198,6 +198,19 @@ def test_a_wrong_unit_raises_the_binarys_message():
                                             "--unit=m/s^2")
 
 
+@needs_data
+@pytest.mark.parametrize("keyword,value,flag", [
+    ("g", 1.0, "--g=1"), ("window", 5, "--window=5"), ("window", 12, "--window=12"),
+    ("alpha", 0.7, "--alpha=0.7"), ("initial_offset", "abc", "--initial_offset=abc"),
+    ("noise", "pink", "--noise=pink"), ("unit", "furlong", "--unit=furlong"),
+    ("detector", "eyes", "--detector=eyes")])
+def test_a_bad_keyword_raises_the_binarys_message(keyword, value, flag):
+    with pytest.raises(accelcal.Error) as error:
+        accelcal.calibrate(ACC, **{keyword: value})
+    expected = binary_error(f"--log={ACC}", "--mode=ml", flag)
+    assert str(error.value) == expected.replace("; see calibrate_imu --help", "")
+
+
 def test_bad_arguments_raise_value_errors_not_aborts(tmp_path):
     with pytest.raises(ValueError):
         accelcal.apply(str(tmp_path / "no_such_calibration.json"), np.zeros((3, 3)))
