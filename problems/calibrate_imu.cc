@@ -58,6 +58,7 @@
 #include "models/triad_units.h"
 #include "problem_support.h"
 #include "reporting/calibrate_imu_report.h"
+#include "reporting/calibrate_imu_run.h"
 #include "reporting/ferraris_report.h"
 #include "reporting/triad_report.h"
 
@@ -344,210 +345,28 @@ Status TriadSessionOptionsFromFlags(TriadSessionOptions* options) {
 
 namespace {
 
-// imu_tk's start: angles 0, gains 1 per unit of output (9.80665 for g), the offsets of
-// TriadStartOffset (the unit checked against the log with them).
-Status InitialGuess(const TriadLog& log, const TriadSessionOptions& options,
-                    TriadParameters* initial, std::string* offset_from) {
-  double offset = 0.0;
-  ACCELCAL_RETURN_IF_ERROR(
-      TriadStartOffset(log, options.unit, options.offset, &offset).WithContext(FLAGS_log));
-  *offset_from = "--initial_offset";
-  if (options.offset.automatic && options.unit != TriadOutputUnit::kCount) {
-    *offset_from = "auto: 0 for a physical unit";
-  } else if (options.offset.automatic) {
-    *offset_from = offset > 0.0 ? "auto: the mid-scale of an unsigned ADC's range"
-                                : "auto: 0, the mid-scale of a signed ADC";
-  }
-  *initial = TriadParametersWithOffset(offset, offset, offset);
-  if (options.unit == TriadOutputUnit::kG) {
-    for (int k = 0; k < 3; ++k) (*initial)[kTriadGainX + k] = 9.80665;
-  }
-  return Status::Ok();
-}
-
-// imu_tk's calibration: the imu_tk mode's answer, and the ml mode's comparison.
-Status SolveImuTk(const TriadLog& log, CalibrateImuReport* report) {
-  ImuTkOptions& options = report->options;  // options.initial: set by Solve
-  options.gravity_mps2 = FLAGS_g;
+// The flags as the options of calibrate_imu's two modes (reporting/calibrate_imu_run.h), which
+// run the modes' sequences; the Python module runs the same.
+Status Solve(const TriadLog& log, CalibrateImuReport* report) {
+  CalibrateImuOptions options;
+  ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options.session));
   options.init_rest_s = FLAGS_init_rest_s;
-  options.window_samples = FLAGS_window;
+  options.imu_tk_window_samples = FLAGS_window;
   options.interval_samples = FLAGS_interval_samples;
   options.min_intervals = FLAGS_min_intervals;
-  ACCELCAL_RETURN_IF_ERROR(CalibrateImuTk(log, options, &report->result).WithContext(FLAGS_log));
-  ACCELCAL_RETURN_IF_ERROR(
-      CheckGainsMatchUnit(report->result.best().parameters, report->unit).WithContext(FLAGS_log));
-  report->rest_end_s = log.timestamp_s[report->result.rest_end];
-  return Status::Ok();
-}
-
-std::string WithoutPrefix(const std::string& text, const std::string& prefix) {
-  return text.rfind(prefix, 0) == 0 ? text.substr(prefix.size()) : text;
-}
-
-// The intervals imu_tk's calibration used at its chosen k.
-std::vector<StaticInterval> UsedImuTkIntervals(const ImuTkResult& result) {
-  std::vector<StaticInterval> used;
-  for (size_t i = 0; i < result.intervals.size(); ++i) {
-    if (result.interval_used[i]) used.push_back(result.intervals[i]);
-  }
-  return used;
-}
-
-// Mode ml: imu_tk's answer beside the one session's calibration
-// (estimation/triad/triad_session_calibration.h) on the poses of the chosen detector.
-Status SolveMl(const TriadLog& log, const TriadSessionOptions& options,
-               CalibrateImuReport* report) {
-  report->detector = FLAGS_detector;
-  report->imu_tk_status = SolveImuTk(log, report);
-  TriadSessionCalibration session;
-  if (FLAGS_detector == "imu_tk") {
-    ACCELCAL_RETURN_IF_ERROR(report->imu_tk_status);
-    ACCELCAL_RETURN_IF_ERROR(
-        CalibrateTriadSessionOnIntervals(log, UsedImuTkIntervals(report->result), options, &session)
-            .WithContext(FLAGS_log));
-  } else {
-    // A refusal of imu_tk's rules (no rest, too few intervals) does not stop this mode; a
-    // refusal of the noise floor's falls back on imu_tk's intervals when its rules gave them.
-    report->noise_floor_options = options.detector;
-    const std::vector<StaticInterval> imu_tk_intervals = report->imu_tk_status.ok()
-                                                             ? UsedImuTkIntervals(report->result)
-                                                             : std::vector<StaticInterval>();
-    ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSessionWithFallback(
-                                 log, options,
-                                 report->imu_tk_status.ok() ? &imu_tk_intervals : nullptr,
-                                 WithoutPrefix(report->imu_tk_status.message(), FLAGS_log + ": "),
-                                 &session, &report->detector_fallback_reason)
-                                 .WithContext(FLAGS_log));
-    if (!report->detector_fallback_reason.empty()) report->detector = "imu_tk";
-  }
-  TakeSessionCalibration(std::move(session), report);
-  return Status::Ok();
-}
-
-// Mode imu_tk on a log with a gyroscope: the unit and the start of the gyroscope's gains.
-Status GyroscopeStart(CalibrateImuReport* report, bool* calibrate) {
-  *calibrate = true;
-  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &report->gyroscope_unit)
+  options.detector = FLAGS_detector;
+  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &options.gyroscope_unit)
                                .WithContext("--gyro_unit"));
-  double gain = FLAGS_initial_gyro_gain;
-  report->initial_gyro_gain_from = "--initial_gyro_gain";
-  if (!FlagGiven("initial_gyro_gain")) {
-    gain = GyroscopeNominalGain(report->gyroscope_unit);
-    // Gyroscope columns a log carries beside the accelerometer's, in counts, with nothing said
-    // of the gyroscope: the accelerometer is what was asked for; the gyroscope is left, said so.
-    const bool gyroscope_asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||
-                                 FlagGiven("gyro_bias") || !FLAGS_imu_tk_calib_out.empty();
-    if (report->gyroscope_unit == GyroscopeOutputUnit::kCount && !gyroscope_asked) {
-      *calibrate = false;
-      for (std::string& note : report->log_notes) {
-        if (note.rfind("gyroscope: read (", 0) != 0) continue;
-        note = note.substr(0, note.find(';')) +
-               "; not calibrated: its outputs are counts and its calibration needs their gain "
-               "to start from; give --initial_gyro_gain=G in (rad/s) per count (G = 1/S for a "
-               "datasheet sensitivity S in counts per rad/s), or --gyro_unit=rad/s or deg/s";
-      }
-      return Status::Ok();
-    }
-    if (report->gyroscope_unit == GyroscopeOutputUnit::kCount) {
-      return Status::Error(
-          "the gyroscope's outputs are counts (--gyro_unit=count), and its calibration needs "
-          "their gain to start from: give --initial_gyro_gain=G in (rad/s) per count, G = 1/S "
-          "for a datasheet sensitivity S in counts per rad/s, or 0.0174533/S (pi/180/S) for S "
-          "in counts per deg/s (LSB/(deg/s)); imu_tk's Xsens example starts from 1/6258: "
-          "--initial_gyro_gain=0.000159795. A log already in rad/s or deg/s: --gyro_unit=rad/s "
-          "or deg/s");
-    }
-    report->initial_gyro_gain_from = report->gyroscope_unit == GyroscopeOutputUnit::kRadPerS
-                                         ? "1 for rad/s: --initial_gyro_gain not given"
-                                         : "pi/180 for deg/s: --initial_gyro_gain not given";
-  }
-  report->gyroscope_options.initial = GyroscopeParametersWithGain(gain, gain, gain);
-  return Status::Ok();
-}
-
-// imu_tk's gyroscope calibration, on the accelerometer's static intervals and parameters.
-// GyroscopeStart has set the unit and the start.
-Status SolveImuTkGyroscope(const TriadLog& log, CalibrateImuReport* report) {
-  const std::string& where = FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log;
-  ACCELCAL_RETURN_IF_ERROR(
-      CalibrateImuTkGyroscope(log, report->result, report->gyroscope_options, &report->gyroscope)
-          .WithContext(where));
-  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope.parameters,
-                                                     report->gyroscope.offset,
-                                                     report->gyroscope_unit)
-                               .WithContext(where));
-  report->has_gyroscope_calibration = true;
-  return Status::Ok();
-}
-
-// Mode ml on a log with a gyroscope: imu_tk's gyroscope calibration for comparison (when its
-// rules gave the accelerometer's), then the maximum-likelihood one on the poses of the
-// accelerometer's fit, started from imu_tk's result or the stated gain.
-Status SolveMlGyroscope(const TriadLog& log, CalibrateImuReport* report) {
-  const std::string& where = FLAGS_gyro_log.empty() ? FLAGS_log : FLAGS_gyro_log;
-  if (report->imu_tk_status.ok()) {
-    report->imu_tk_gyroscope_status =
-        CalibrateImuTkGyroscope(log, report->result, report->gyroscope_options, &report->gyroscope);
-    report->has_gyroscope_calibration = report->imu_tk_gyroscope_status.ok();
-  } else {
-    report->imu_tk_gyroscope_status =
-        Status::Error("imu_tk's accelerometer calibration gave none to start from");
-  }
-  GyroscopeMlOptions& options = report->gyroscope_ml_options;
-  options.gravity_mps2 = FLAGS_g;
-  options.unit = report->gyroscope_unit;
-  options.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
-                                                      : report->gyroscope_options.initial;
-  options.quantisation_step = report->gyroscope_unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
-  GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
-  discovery.alpha = FLAGS_alpha;
-  discovery.fit = options;
-  const Status status = DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
-                                          report->ml, discovery, &report->gyroscope_discovery)
-                            .WithContext(where + ": the gyroscope");
-  if (!status.ok()) {
-    // Asked for (its file, its unit or its gain given), a gyroscope that cannot be calibrated is
-    // the run's refusal; read from columns the user said nothing of, it is a note, and the
-    // accelerometer's calibration stands.
-    const bool asked =
-        !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") || FlagGiven("initial_gyro_gain");
-    if (asked) return status;
-    for (std::string& note : report->log_notes) {
-      if (note.rfind("gyroscope: read (", 0) != 0) continue;
-      note = note.substr(0, note.find(';')) +
-             "; not calibrated: " + WithoutPrefix(status.message(), where + ": ") +
-             " (give --gyro_unit or --initial_gyro_gain to make this a refusal)";
-    }
-    return Status::Ok();
-  }
-  report->gyroscope_ml = report->gyroscope_discovery.baseline;
-  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
-                                                     report->gyroscope_ml.offset,
-                                                     report->gyroscope_unit)
-                               .WithContext(where));
-  report->has_gyroscope_ml = true;
-  return Status::Ok();
-}
-
-Status Solve(const TriadLog& log, CalibrateImuReport* report) {
-  TriadSessionOptions options;
-  ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
-  report->unit = options.unit;
-  report->mode = FLAGS_mode;
-  // imu_tk's start, and the unit checked against the log with its offset, once for both modes.
-  ACCELCAL_RETURN_IF_ERROR(
-      InitialGuess(log, options, &report->options.initial, &report->initial_offset_from));
-  if (FLAGS_mode == "ml") {
-    bool gyroscope = log.has_gyroscope();
-    if (gyroscope) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report, &gyroscope));
-    ACCELCAL_RETURN_IF_ERROR(SolveMl(log, options, report));
-    return gyroscope ? SolveMlGyroscope(log, report) : Status::Ok();
-  }
-  // The gyroscope's start is refused before the accelerometer's sweep, which takes seconds.
-  bool gyroscope = log.has_gyroscope();
-  if (gyroscope) ACCELCAL_RETURN_IF_ERROR(GyroscopeStart(report, &gyroscope));
-  ACCELCAL_RETURN_IF_ERROR(SolveImuTk(log, report));
-  return gyroscope ? SolveImuTkGyroscope(log, report) : Status::Ok();
+  options.initial_gyro_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
+  // Asked for: a gyroscope that cannot be calibrated is then the run's refusal, else a note
+  // (--gyro_bias and --imu_tk_calib_out belong to mode imu_tk; mode ml refuses them).
+  options.gyroscope_asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||
+                            FlagGiven("initial_gyro_gain") || FlagGiven("gyro_bias") ||
+                            !FLAGS_imu_tk_calib_out.empty();
+  options.log_name = FLAGS_log;
+  options.gyroscope_log_name = FLAGS_gyro_log;
+  return FLAGS_mode == "ml" ? CalibrateImuModeMl(log, options, report)
+                            : CalibrateImuModeImuTk(log, options, report);
 }
 
 // Mode imu_tk, --imu_tk_calib_out: imu_tk's two .calib files' text (the gyroscope's only when

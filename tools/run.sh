@@ -9,4 +9,6 @@ source "$ACCELCAL_ROOT/tools/setup.sh"
 accelcal_install_packages
 # Only analyze and what it links: the tests, benchmarks and fuzz replays are tools/test.sh's.
 accelcal_build "$ACCELCAL_ROOT/build" --target analyze
+# The Python module, registered for /usr/bin/python3 (docs/python.md).
+accelcal_build_python "$ACCELCAL_ROOT/build"
 exec "$ACCELCAL_ROOT/build/bin/analyze" --out_dir="$ACCELCAL_ROOT/report" --overwrite "$@"

@@ -8,6 +8,7 @@ ACCELCAL_PACKAGES=(
   libceres-dev libeigen3-dev libgflags-dev libgoogle-glog-dev
   libgtest-dev libgmock-dev libmatio-dev zlib1g-dev nlohmann-json3-dev libbenchmark-dev libsqlite3-dev
   python3-matplotlib python3-numpy python3-scipy
+  pybind11-dev python3-dev python3-pytest python3-dask python3-distributed
 )
 
 # The sanitizer suite and the fuzzers (./tools/test.sh --sanitize, tools/fuzz.sh) build with
@@ -19,6 +20,7 @@ ACCELCAL_SANITIZE_SKIPPED='^(Discover\.FalseDiscoveryRateOnNullDataIsAtMostAlpha
 ACCELCAL_SANITIZE_CMAKE_ARGS=(
   -DCMAKE_BUILD_TYPE=Release "-DCMAKE_CXX_FLAGS_RELEASE=-O1 -gline-tables-only -DNDEBUG"
   -DCMAKE_CXX_COMPILER=clang++ -DACCELCAL_FUZZ=ON -DACCELCAL_BUILD_BENCHMARKS=OFF
+  -DACCELCAL_PYTHON=OFF
 )
 
 # accelcal_install_packages [extra packages...]: the project's packages and any extra ones.
@@ -78,4 +80,57 @@ accelcal_build() {
     echo "accelcal: build failed; the full log is $build_dir/build.log" >&2
     return 1
   fi
+}
+
+# accelcal_register_python BUILD_DIR: makes the Python module built in BUILD_DIR/python
+# (docs/python.md) importable by the system Python, /usr/bin/python3, with one line in a .pth
+# file of its site directory: the system-wide one when writable (root), else the user's.
+# Idempotent (the file is rewritten, not appended to); the last checkout registered wins. A
+# moved or deleted build directory is harmless: Python skips a .pth line naming no folder, and
+# the next run of run.sh or test.sh writes the new one. Quiet unless the file changes.
+accelcal_register_python() {
+  local module_dir
+  module_dir=$(cd "$1" && pwd)/python
+  # Configured without it (no pybind11, -DACCELCAL_PYTHON=OFF): nothing to register.
+  [ -d "$module_dir/CMakeFiles" ] && [ -x /usr/bin/python3 ] || return 0
+  /usr/bin/python3 - "$module_dir" <<'PYTHON' || echo "accelcal: could not register the Python module (docs/python.md)" >&2
+import os, site, sys
+module_dir = sys.argv[1]
+line = module_dir + "\n"
+# The system-wide site directory (/usr/local/lib/python3.X/dist-packages), else the user's.
+targets = [d for d in site.getsitepackages() if d.startswith("/usr/local/")][:1]
+targets.append(site.getusersitepackages())
+for target in targets:
+    pth = os.path.join(target, "accelcal.pth")
+    try:
+        with open(pth) as f:
+            if f.read() == line:
+                sys.exit(0)
+    except OSError:
+        pass
+    try:
+        os.makedirs(target, exist_ok=True)
+        with open(pth + ".tmp", "w") as f:
+            f.write(line)
+        os.replace(pth + ".tmp", pth)
+    except OSError:
+        continue
+    print(f"accelcal: /usr/bin/python3 imports accelcal from {module_dir} ({pth})",
+          file=sys.stderr)
+    sys.exit(0)
+sys.exit(1)
+PYTHON
+}
+
+# accelcal_build_python BUILD_DIR: the Python module alone (tools/run.sh builds only what the
+# main job links), then its registration; nothing when the build has no module.
+accelcal_build_python() {
+  local build_dir=$1
+  [ -d "$build_dir/python/CMakeFiles" ] || return 0
+  if ! cmake --build "$build_dir" -j "$(nproc 2>/dev/null || echo 2)" --target accelcal_python \
+    >>"$build_dir/build.log" 2>&1; then
+    echo "accelcal: building the Python module failed; the full log is $build_dir/build.log" >&2
+    return 1
+  fi
+  accelcal_register_python "$build_dir"
 }

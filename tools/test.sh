@@ -40,6 +40,7 @@ if [ "${1:-}" = "--sanitize" ]; then
 else
   accelcal_install_packages
   accelcal_build "$build_dir"
+  accelcal_register_python "$build_dir"
 fi
 export ACCELCAL_COURSE_DATA=${ACCELCAL_COURSE_DATA:-$ACCELCAL_ROOT/../shared/data/tp2-2018}
 cd "$build_dir"

@@ -1,0 +1,723 @@
+// The Python module `accelcal` (docs/python.md): reading an IMU log, calibrating a triad by
+// maximum likelihood (calibrate_imu --mode=ml) and applying a calibration to numpy arrays
+// (apply's triad correction). Conversion only: every step is a library call the binaries make
+// (io/imu_log.h, reporting/calibrate_imu_run.h, io/calibration_file.h,
+// estimation/tilt_table/calibration_correction.h), so that the module and the binaries give
+// the same numbers and the same one-line messages. A refused input raises accelcal.Error, a
+// subclass of ValueError, with the binary's message; the C++ calls run without the GIL, so
+// threads (Dask's threaded workers) calibrate in parallel.
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/format.h"
+#include "common/sha256.h"
+#include "common/status.h"
+#include "common/triad_log.h"
+#include "estimation/discovery/verdict.h"
+#include "estimation/tilt_table/calibration_correction.h"
+#include "io/atomic_file.h"
+#include "io/calibration_file.h"
+#include "io/csv_reader.h"
+#include "io/imu_log.h"
+#include "io/json_file.h"
+#include "io/provenance.h"
+#include "models/gyroscope_units.h"
+#include "models/triad.h"
+#include "models/triad_units.h"
+#include "reporting/calibrate_imu_report.h"
+#include "reporting/calibrate_imu_run.h"
+
+namespace py = pybind11;
+
+namespace accelcal {
+namespace {
+
+// A refused input: raised in Python as accelcal.Error (a ValueError).
+struct InputError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+void ThrowIfError(const Status& status) {
+  if (!status.ok()) throw InputError(status.message());
+}
+
+std::string PathOf(const py::object& path) {
+  return py::str(py::module_::import("os").attr("fspath")(path));
+}
+
+using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
+
+Array Columns(const std::vector<std::array<double, 3>>& rows) {
+  Array array({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(3)});
+  auto view = array.mutable_unchecked<2>();
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (int k = 0; k < 3; ++k) view(i, k) = rows[i][k];
+  return array;
+}
+
+Array Vector(const double* values, size_t count) {
+  Array array(static_cast<py::ssize_t>(count));
+  std::copy(values, values + count, array.mutable_data());
+  return array;
+}
+
+Array Matrix(const Eigen::MatrixXd& matrix) {
+  Array array({static_cast<py::ssize_t>(matrix.rows()), static_cast<py::ssize_t>(matrix.cols())});
+  auto view = array.mutable_unchecked<2>();
+  for (Eigen::Index i = 0; i < matrix.rows(); ++i)
+    for (Eigen::Index j = 0; j < matrix.cols(); ++j) view(i, j) = matrix(i, j);
+  return array;
+}
+
+// An N x 3 array's rows; refuses another shape, naming `what`.
+std::vector<std::array<double, 3>> Rows(const Array& array, const char* what) {
+  if (array.ndim() != 2 || array.shape(1) != 3) {
+    throw InputError(std::string(what) + ": expected an array of shape (N, 3), got " +
+                     std::to_string(array.ndim()) + " dimensions");
+  }
+  std::vector<std::array<double, 3>> rows(array.shape(0));
+  auto view = array.unchecked<2>();
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (int k = 0; k < 3; ++k) rows[i][k] = view(i, k);
+  return rows;
+}
+
+// A log read from its file (io/imu_log.h), with what the reader said and the files' checksums.
+struct Log {
+  TriadLog samples;
+  ImuLogSource source;
+  DataSource data;  // the log's file (and the gyroscope's), with their SHA-256
+  std::string path;
+  std::string gyro_log;
+};
+
+std::shared_ptr<Log> ReadLog(const py::object& path_object, const std::string& columns,
+                             double rate_hz, const std::string& time_unit,
+                             const py::object& gyro_log_object, bool even) {
+  auto log = std::make_shared<Log>();
+  log->path = PathOf(path_object);
+  if (!gyro_log_object.is_none()) log->gyro_log = PathOf(gyro_log_object);
+  ImuLogReadOptions options;
+  std::vector<ImuColumnChoice> choices;
+  ThrowIfError(ParseImuColumnChoices(columns, &choices));
+  options.columns = columns;
+  options.rate_hz = rate_hz;
+  options.time_unit = time_unit;
+  options.gyroscope_path = log->gyro_log;
+  Status status;
+  {
+    py::gil_scoped_release release;
+    status = ReadImuLog(log->path, options, &log->samples,
+                        even ? ImuLogSpacing::kEven : ImuLogSpacing::kAny, &log->source);
+    if (status.ok()) {
+      std::map<std::string, std::string> files = {{"log", log->path}};
+      if (!log->gyro_log.empty()) files["log_gyroscope"] = log->gyro_log;
+      status = DescribeMeasuredData("", files, &log->data);
+    }
+  }
+  ThrowIfError(status);
+  return log;
+}
+
+// A log from numpy arrays: written as the CSV text t_s,ax,ay,az[,gx,gy,gz] at full precision and
+// parsed by the readers' own parser (io/imu_log.h's ParseImuLog), so that arrays pass exactly the
+// checks a file does (finite values, increasing and even time, ...). `name` starts the messages;
+// the SHA-256 is the text's, recorded as the input file `name`.
+std::shared_ptr<Log> LogFromArrays(const Array& time_s, const Array& acc, const py::object& gyro,
+                                   const std::string& name) {
+  const std::vector<std::array<double, 3>> acc_rows = Rows(acc, "acc");
+  std::vector<std::array<double, 3>> gyro_rows;
+  if (!gyro.is_none()) gyro_rows = Rows(gyro.cast<Array>(), "gyro");
+  if (time_s.ndim() != 1 || static_cast<size_t>(time_s.shape(0)) != acc_rows.size() ||
+      (!gyro.is_none() && gyro_rows.size() != acc_rows.size())) {
+    throw InputError(name +
+                     ": time_s must be an array of shape (N,) and acc (and gyro) of shape "
+                     "(N, 3), the same N");
+  }
+  auto log = std::make_shared<Log>();
+  log->path = name;
+  auto time = time_s.unchecked<1>();
+  Status status;
+  {
+    py::gil_scoped_release release;
+    std::string text = gyro_rows.empty() ? "t_s,ax,ay,az\n" : "t_s,ax,ay,az,gx,gy,gz\n";
+    for (size_t j = 0; j < acc_rows.size(); ++j) {
+      text += StringPrintf("%.17g,%.17g,%.17g,%.17g", time(j), acc_rows[j][0], acc_rows[j][1],
+                           acc_rows[j][2]);
+      if (!gyro_rows.empty()) {
+        text +=
+            StringPrintf(",%.17g,%.17g,%.17g", gyro_rows[j][0], gyro_rows[j][1], gyro_rows[j][2]);
+      }
+      text += "\n";
+    }
+    status =
+        ParseImuLog(text, ImuLogReadOptions(), &log->samples, ImuLogSpacing::kEven, &log->source)
+            .WithContext(name);
+    log->data.files["log"] = InputFile{name, text.size(), Sha256Hex(text)};
+  }
+  ThrowIfError(status);
+  return log;
+}
+
+// The unit a log's columns' names state stands for the one not given, and must agree with
+// the one given (problems/problem_support.h's TakeStatedUnitOf, the binaries' rule).
+std::string UnitFor(const py::object& given, const std::string& stated,
+                    const std::vector<std::string>& known, const char* flag, const char* outputs,
+                    const char* sensor, const std::string& fallback,
+                    std::vector<std::string>* notes) {
+  const bool is_stated = std::find(known.begin(), known.end(), stated) != known.end();
+  const std::string columns = std::string("the ") + sensor + " columns' names say ";
+  if (given.is_none()) {
+    if (!is_stated) return fallback;
+    if (stated != fallback) {
+      notes->push_back(std::string(outputs) + " in " + stated + ", as " + columns + "(--" + flag +
+                       ", not given, would be " + fallback + ")");
+    }
+    return stated;
+  }
+  const std::string unit = py::str(given);
+  if (is_stated && stated != unit) {
+    throw InputError("--" + std::string(flag) + "=" + unit + ", but " + columns + stated +
+                     ": give --" + flag + "=" + stated + ", or rename the columns if --" + flag +
+                     " is right");
+  }
+  return unit;
+}
+
+// One log's calibration (calibrate_imu --mode=ml) and the data it came from.
+struct Calibration {
+  CalibrateImuReport report;
+  DataSource source;
+};
+
+Array TriadValues(const TriadMlResult& ml) {
+  return Vector(ml.parameters.data(), ml.parameters.size());
+}
+
+Eigen::MatrixXd MlCovariance(const TriadMlResult& ml) {
+  const int n = static_cast<int>(ml.parameters.size());
+  Eigen::MatrixXd covariance(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) covariance(i, j) = ml.covariance[i][j];
+  return covariance;
+}
+
+// The calibration file's record, as calibrate_imu --calibration_out writes it.
+CalibrationRecord RecordOf(const Calibration& calibration) {
+  CalibrationRecord record = TriadCalibrationRecord(calibration.report, calibration.source);
+  ThrowIfError(AddGyroscopeSection(calibration.report, &record));
+  return record;
+}
+
+std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
+                                       const py::object& unit, double alpha,
+                                       const std::string& noise, const std::string& detector,
+                                       const py::object& initial_offset, int window,
+                                       double init_rest_s, int interval_samples, int min_intervals,
+                                       double threshold_factor, double min_interval_s,
+                                       const py::object& gyro_unit, double initial_gyro_gain,
+                                       const std::string& columns, double rate_hz,
+                                       const std::string& time_unit, const py::object& gyro_log) {
+  std::shared_ptr<Log> log;
+  if (py::isinstance<Log>(log_or_path)) {
+    log = log_or_path.cast<std::shared_ptr<Log>>();
+  } else {
+    log = ReadLog(log_or_path, columns, rate_hz, time_unit, gyro_log, true);
+  }
+  // The flags' checks of calibrate_imu (ACCELCAL_FLAG_RANGE and ValidateFlags), in its words.
+  const auto out_of_range = [](const char* flag, const std::string& value, const char* range) {
+    return InputError(std::string("--") + flag + "='" + value + "' is not a valid " + range);
+  };
+  if (!(g >= 9.7 && g <= 9.9))
+    throw out_of_range("g", StringPrintf("%g", g), "double in [9.7, 9.9]");
+  if (!(alpha > 0.0 && alpha < 0.5))
+    throw InputError(StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", alpha));
+  if (window != 0 && (window < 11 || window > 100001))
+    throw out_of_range("window", std::to_string(window), "int32 in [11, 100001]");
+  if (window % 2 == 0 && window != 0) {
+    throw InputError("--window=" + std::to_string(window) +
+                     " is even; the window is centred on its sample, give an odd number");
+  }
+  if (!(initial_gyro_gain >= 0.0 && initial_gyro_gain <= 100.0)) {
+    throw out_of_range("initial_gyro_gain", StringPrintf("%g", initial_gyro_gain),
+                       "double in [0, 100]");
+  }
+  auto calibration = std::make_shared<Calibration>();
+  CalibrateImuReport& report = calibration->report;
+  calibration->source = log->data;
+  report.log_path = log->path;
+  report.log_layout = log->source.layout;
+  report.log_notes = log->source.notes;
+  report.log_metadata = log->source.metadata;
+  CalibrateImuOptions options;
+  const std::string unit_name =
+      UnitFor(unit, log->source.accelerometer_unit, {"count", "m/s^2", "g"}, "unit", "outputs",
+              "accelerometer", "count", &report.log_notes);
+  ThrowIfError(ParseTriadOutputUnit(unit_name, &options.session.unit).WithContext("--unit"));
+  options.session.gravity_mps2 = g;
+  // initial_offset: "auto" or a number, as --initial_offset.
+  const std::string offset_text =
+      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
+  if (offset_text != "auto") {
+    options.session.offset.automatic = false;
+    if (!ParseFiniteNumber(offset_text, &options.session.offset.value) ||
+        std::fabs(options.session.offset.value) > 1e9) {
+      throw InputError("--initial_offset='" + offset_text +
+                       "' is neither auto nor a finite number within +-1e9 (the log's unit)");
+    }
+  }
+  options.session.detector.window_samples = window;
+  options.session.detector.threshold_factor = threshold_factor;
+  options.session.detector.min_interval_s = min_interval_s;
+  ThrowIfError(ParseTriadNoiseChoice(noise, &options.session.noise).WithContext("--noise"));
+  options.session.alpha = alpha;
+  options.init_rest_s = init_rest_s;
+  options.imu_tk_window_samples = window == 0 ? 101 : window;
+  options.interval_samples = interval_samples;
+  options.min_intervals = min_intervals;
+  options.detector = detector;
+  options.log_name = log->path;
+  options.gyroscope_log_name = log->gyro_log;
+  if (log->samples.has_gyroscope()) {
+    report.gyroscope_samples = log->samples.gyroscope.size();
+    report.gyroscope_path = log->gyro_log;
+    if (!log->gyro_log.empty())
+      report.gyroscope_sha256 = log->data.files.at("log_gyroscope").sha256;
+    report.log_notes.push_back("gyroscope: read (" + std::to_string(log->samples.gyroscope.size()) +
+                               " samples); calibrated below by maximum likelihood");
+    const std::string gyroscope_unit =
+        UnitFor(gyro_unit, log->source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
+                "gyroscope outputs", "gyroscope", "count", &report.log_notes);
+    ThrowIfError(ParseGyroscopeOutputUnit(gyroscope_unit, &options.gyroscope_unit)
+                     .WithContext("--gyro_unit"));
+    options.initial_gyro_gain = initial_gyro_gain;
+    options.gyroscope_asked =
+        !log->gyro_log.empty() || !gyro_unit.is_none() || initial_gyro_gain > 0.0;
+  } else if (!gyro_unit.is_none() || initial_gyro_gain > 0.0) {
+    throw InputError(log->path +
+                     ": --gyro_unit and --initial_gyro_gain are for the gyroscope, and the log has "
+                     "none: give imu_tk's gyroscope file with --gyro_log=FILE, or a log with "
+                     "gyroscope columns (gx, gy, gz; docs/log-layouts.md)");
+  }
+  report.log_sha256 = log->data.files.at("log").sha256;
+  report.sample_count = log->samples.size();
+  report.first_t_s = log->samples.timestamp_s.front();
+  report.last_t_s = log->samples.timestamp_s.back();
+  Status status;
+  {
+    py::gil_scoped_release release;
+    status = CalibrateImuModeMl(log->samples, options, &report);
+  }
+  ThrowIfError(status);
+  return calibration;
+}
+
+// The triad's (and the gyroscope's) parameters and covariance for apply: from a calibration
+// file, or from a Calibration through the record its file would hold.
+CalibrationRecord RecordFor(const py::object& calibration, std::string* name) {
+  if (py::isinstance<Calibration>(calibration)) {
+    *name = "the calibration";
+    return RecordOf(calibration.cast<const Calibration&>());
+  }
+  *name = PathOf(calibration);
+  CalibrationRecord record;
+  ThrowIfError(ReadCalibrationFile(*name, &record));
+  return record;
+}
+
+// A sensor's words and range, for apply's refusal of a damaged sample (problems/apply.cc):
+// 10^5 g for an accelerometer, 10^5 rad/s for a gyroscope.
+struct SensorRange {
+  const char* symbol;
+  const char* unit;
+  const char* sensor;
+  double largest;
+};
+constexpr SensorRange kAccelerometerRange = {"a", "m/s^2", "accelerometer", 1e6};
+constexpr SensorRange kGyroscopeRange = {"w", "rad/s", "gyroscope", 1e5};
+
+// Every row of `outputs` corrected by `correct` (value, covariance), without the GIL:
+// (values (N, 3), sigma (N, 3)), each sample finite and within the sensor's range, as apply
+// requires.
+template <typename Correct>
+py::tuple Corrected(const std::vector<std::array<double, 3>>& outputs, const Correct& correct,
+                    const SensorRange& range) {
+  std::vector<Eigen::Vector3d> values(outputs.size());
+  std::vector<Eigen::Matrix3d> covariances(outputs.size());
+  {
+    py::gil_scoped_release release;
+    for (size_t j = 0; j < outputs.size(); ++j) correct(outputs[j], &values[j], &covariances[j]);
+  }
+  Array value_array({static_cast<py::ssize_t>(values.size()), static_cast<py::ssize_t>(3)});
+  Array sigma_array({static_cast<py::ssize_t>(values.size()), static_cast<py::ssize_t>(3)});
+  auto value = value_array.mutable_unchecked<2>();
+  auto sigma = sigma_array.mutable_unchecked<2>();
+  for (size_t j = 0; j < values.size(); ++j) {
+    const double norm = values[j].norm();
+    if (!values[j].allFinite() || !covariances[j].diagonal().allFinite() ||
+        !(norm <= range.largest)) {
+      throw InputError(StringPrintf(
+          "sample %zu corrects to |%s| = %.3g %s, beyond any %s's range (%g %s): a damaged "
+          "value; remove or repair the sample",
+          j + 1, range.symbol, norm, range.unit, range.sensor, range.largest, range.unit));
+    }
+    for (int k = 0; k < 3; ++k) {
+      value(j, k) = values[j][k];
+      sigma(j, k) = std::sqrt(covariances[j](k, k));
+    }
+  }
+  return py::make_tuple(value_array, sigma_array);
+}
+
+py::tuple Apply(const py::object& calibration, const Array& acc) {
+  std::string name;
+  const CalibrationRecord record = RecordFor(calibration, &name);
+  TriadParameters parameters;
+  Eigen::MatrixXd covariance;
+  TriadOutputUnit unit;
+  ThrowIfError(TriadCalibration(record, name, &parameters, &covariance, &unit));
+  const auto correct = [&](const std::array<double, 3>& output, Eigen::Vector3d* value,
+                           Eigen::Matrix3d* value_covariance) {
+    const CorrectedTriadSample sample = CorrectTriad(parameters, covariance, output);
+    *value = sample.acceleration;
+    *value_covariance = sample.covariance;
+  };
+  return Corrected(Rows(acc, "acc"), correct, kAccelerometerRange);
+}
+
+py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro) {
+  std::string name;
+  const CalibrationRecord record = RecordFor(calibration, &name);
+  if (!record.has_gyroscope) {
+    throw InputError(name +
+                     " has no gyroscope section: calibrate a log with the gyroscope's "
+                     "columns (or gyro_log) to correct a gyroscope");
+  }
+  GyroscopeParameters parameters;
+  GyroscopeOffset offset;
+  Eigen::MatrixXd covariance;
+  GyroscopeOutputUnit unit;
+  ThrowIfError(GyroscopeCalibration(record.gyroscope, &parameters, &offset, &covariance, &unit)
+                   .WithContext(name));
+  const auto correct = [&](const std::array<double, 3>& output, Eigen::Vector3d* value,
+                           Eigen::Matrix3d* value_covariance) {
+    const CorrectedGyroscopeSample sample =
+        CorrectGyroscope(parameters, offset, covariance, output);
+    *value = sample.angular_rate;
+    *value_covariance = sample.covariance;
+  };
+  return Corrected(Rows(gyro, "gyro"), correct, kGyroscopeRange);
+}
+
+// A gyroscope's maximum-likelihood calibration, as the Python object Calibration.gyroscope.
+struct GyroscopeView {
+  std::shared_ptr<Calibration> owner;
+  const CalibrateImuReport& report() const { return owner->report; }
+};
+
+py::dict Parameters(const std::vector<std::string>& names, const double* values) {
+  py::dict dict;
+  for (size_t i = 0; i < names.size(); ++i) dict[py::str(names[i])] = values[i];
+  return dict;
+}
+
+std::vector<std::string> TriadNames() {
+  std::vector<std::string> names;
+  for (const TriadParameterInfo& info : TriadParameterInfos()) names.push_back(info.name);
+  return names;
+}
+
+std::vector<std::string> GyroscopeNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
+    names.push_back(GyroscopeCalibrationParameterName(i));
+  return names;
+}
+
+// The gyroscope's 12 values: the block's 9, then the offsets.
+std::vector<double> GyroscopeValues(const GyroscopeMlResult& g) {
+  std::vector<double> values(g.parameters.begin(), g.parameters.end());
+  values.insert(values.end(), g.offset.begin(), g.offset.end());
+  return values;
+}
+
+}  // namespace
+}  // namespace accelcal
+
+PYBIND11_MODULE(accelcal, m) {
+  using namespace accelcal;
+  m.doc() =
+      "accelcal's triad calibration from Python: read_log, calibrate (calibrate_imu "
+      "--mode=ml), apply and apply_gyroscope (apply's correction). docs/python.md.";
+  // The calibration files' command_line: the writer, not a shell command.
+  static char writer[] = "python3:accelcal";
+  static char* writer_argv[] = {writer};
+  RecordCommandLine(1, writer_argv);
+  m.attr("__version__") = AccelcalVersion();
+  static py::exception<InputError> error(m, "Error", PyExc_ValueError);
+  py::register_exception_translator([](std::exception_ptr pointer) {
+    try {
+      if (pointer) std::rethrow_exception(pointer);
+    } catch (const InputError& e) {
+      error(e.what());
+    }
+  });
+
+  py::class_<Log, std::shared_ptr<Log>>(m, "Log",
+                                        "An IMU log read from its file (read_log): samples in "
+                                        "the sensor's own unit.")
+      .def(py::init(&LogFromArrays), py::arg("time_s"), py::arg("acc"),
+           py::arg("gyro") = py::none(), py::arg("name") = "numpy arrays",
+           "A log from arrays: time_s (N,) in s, acc (N, 3) and gyro (N, 3) or None in the "
+           "sensor's units, checked as a file's samples are (finite, time increasing and "
+           "evenly spaced). Messages start with `name`; sha256 is that of the CSV text the "
+           "arrays were written as.")
+      .def_property_readonly(
+          "time_s",
+          [](const Log& log) { return Vector(log.samples.timestamp_s.data(), log.samples.size()); },
+          "Time stamps, s, shape (N,).")
+      .def_property_readonly(
+          "acc", [](const Log& log) { return Columns(log.samples.output); },
+          "Accelerometer outputs x, y, z in the log's unit, shape (N, 3).")
+      .def_property_readonly(
+          "gyro",
+          [](const Log& log) -> py::object {
+            if (!log.samples.has_gyroscope()) return py::none();
+            return Columns(log.samples.gyroscope);
+          },
+          "Gyroscope outputs, shape (N, 3), or None.")
+      .def_property_readonly(
+          "unit",
+          [](const Log& log) -> py::object {
+            if (log.source.accelerometer_unit.empty()) return py::none();
+            return py::str(log.source.accelerometer_unit);
+          },
+          "The accelerometer's unit the columns' names state, or None.")
+      .def_property_readonly(
+          "gyro_unit",
+          [](const Log& log) -> py::object {
+            if (log.source.gyroscope_unit.empty()) return py::none();
+            return py::str(log.source.gyroscope_unit);
+          },
+          "The gyroscope's unit the columns' names state, or None.")
+      .def_property_readonly("path", [](const Log& log) { return log.path; })
+      .def_property_readonly("layout", [](const Log& log) { return log.source.layout; })
+      .def_property_readonly("notes", [](const Log& log) { return log.source.notes; })
+      .def_property_readonly(
+          "source",
+          [](const Log& log) {
+            py::dict files;
+            for (const auto& [key, file] : log.data.files) {
+              py::dict entry;
+              entry["path"] = file.path;
+              entry["bytes"] = file.bytes;
+              entry["sha256"] = file.sha256;
+              files[py::str(key)] = entry;
+            }
+            return files;
+          },
+          "The files read: {'log': {'path', 'bytes', 'sha256'}[, 'log_gyroscope': ...]}.")
+      .def_property_readonly("sha256",
+                             [](const Log& log) { return log.data.files.at("log").sha256; })
+      .def("__len__", [](const Log& log) { return log.samples.size(); })
+      .def("__repr__", [](const Log& log) {
+        return "<accelcal.Log " + log.path + ": " + std::to_string(log.samples.size()) +
+               " samples" + (log.samples.has_gyroscope() ? ", gyroscope" : "") + ">";
+      });
+
+  py::class_<GyroscopeView>(m, "GyroscopeCalibration",
+                            "The gyroscope's maximum-likelihood calibration w = T K (u - b).")
+      .def_property_readonly("names", [](const GyroscopeView&) { return GyroscopeNames(); })
+      .def_property_readonly(
+          "units",
+          [](const GyroscopeView& v) {
+            std::vector<std::string> units;
+            for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
+              units.push_back(GyroscopeParameterUnit(i, v.report().gyroscope_unit));
+            return units;
+          })
+      .def_property_readonly("values",
+                             [](const GyroscopeView& v) {
+                               const std::vector<double> values =
+                                   GyroscopeValues(v.report().gyroscope_ml);
+                               return Vector(values.data(), values.size());
+                             })
+      .def_property_readonly("parameters",
+                             [](const GyroscopeView& v) {
+                               const std::vector<double> values =
+                                   GyroscopeValues(v.report().gyroscope_ml);
+                               return Parameters(GyroscopeNames(), values.data());
+                             })
+      .def_property_readonly(
+          "covariance",
+          [](const GyroscopeView& v) {
+            return Matrix(v.report().gyroscope_ml.covariance.topLeftCorner(
+                kGyroscopeCalibrationParameterCount, kGyroscopeCalibrationParameterCount));
+          })
+      .def_property_readonly("stddev",
+                             [](const GyroscopeView& v) {
+                               const Eigen::VectorXd d =
+                                   v.report()
+                                       .gyroscope_ml.covariance
+                                       .topLeftCorner(kGyroscopeCalibrationParameterCount,
+                                                      kGyroscopeCalibrationParameterCount)
+                                       .diagonal()
+                                       .cwiseSqrt();
+                               return Vector(d.data(), d.size());
+                             })
+      .def_property_readonly(
+          "chi2", [](const GyroscopeView& v) { return v.report().gyroscope_ml.chi2_gyroscope; })
+      .def_property_readonly("dof",
+                             [](const GyroscopeView& v) {
+                               return v.report().gyroscope_ml.gyroscope_degrees_of_freedom;
+                             })
+      .def_property_readonly(
+          "p_value",
+          [](const GyroscopeView& v) { return v.report().gyroscope_ml.gyroscope_p_value; })
+      .def_property_readonly(
+          "unit",
+          [](const GyroscopeView& v) {
+            return std::string(GyroscopeOutputUnitName(v.report().gyroscope_unit));
+          })
+      .def_property_readonly(
+          "verdict", [](const GyroscopeView& v) { return v.report().gyroscope_discovery.verdict; })
+      .def_property_readonly("verdict_kind", [](const GyroscopeView& v) {
+        return std::string(VerdictCode(v.report().gyroscope_discovery.verdict_code));
+      });
+
+  py::class_<Calibration, std::shared_ptr<Calibration>>(
+      m, "Calibration",
+      "A triad's maximum-likelihood calibration a = T K (u - b) (calibrate_imu --mode=ml).")
+      .def_property_readonly("names", [](const Calibration&) { return TriadNames(); })
+      .def_property_readonly("units",
+                             [](const Calibration& c) {
+                               std::vector<std::string> units;
+                               for (int i = 0; i < kTriadParameterCount; ++i)
+                                 units.push_back(TriadParameterUnit(i, c.report.unit));
+                               return units;
+                             })
+      .def_property_readonly("values",
+                             [](const Calibration& c) { return TriadValues(c.report.ml); })
+      .def_property_readonly("parameters",
+                             [](const Calibration& c) {
+                               return Parameters(TriadNames(), c.report.ml.parameters.data());
+                             })
+      .def_property_readonly("covariance",
+                             [](const Calibration& c) { return Matrix(MlCovariance(c.report.ml)); })
+      .def_property_readonly("stddev",
+                             [](const Calibration& c) {
+                               const Eigen::VectorXd d =
+                                   MlCovariance(c.report.ml).diagonal().cwiseSqrt();
+                               return Vector(d.data(), d.size());
+                             })
+      .def_property_readonly("chi2", [](const Calibration& c) { return c.report.ml.chi2; })
+      .def_property_readonly("dof",
+                             [](const Calibration& c) { return c.report.ml.degrees_of_freedom; })
+      .def_property_readonly("p_value", [](const Calibration& c) { return c.report.ml.p_value; })
+      .def_property_readonly("poses", [](const Calibration& c) { return c.report.ml.pose_count; })
+      .def_property_readonly("samples",
+                             [](const Calibration& c) { return c.report.ml_sample_count; })
+      .def_property_readonly(
+          "noise_model",
+          [](const Calibration& c) { return c.report.allan_noise ? "allan" : "white"; })
+      .def_property_readonly("detector", [](const Calibration& c) { return c.report.detector; })
+      .def_property_readonly(
+          "unit",
+          [](const Calibration& c) { return std::string(TriadOutputUnitName(c.report.unit)); })
+      .def_property_readonly("g",
+                             [](const Calibration& c) { return c.report.ml_options.gravity_mps2; })
+      .def_property_readonly(
+          "verdict", [](const Calibration& c) { return c.report.discovery.verdict; },
+          "Discovery's verdict, the text calibrate_imu prints after "
+          "'Verdict (kind): '.")
+      .def_property_readonly(
+          "verdict_kind",
+          [](const Calibration& c) {
+            return std::string(VerdictCode(c.report.discovery.verdict_code));
+          },
+          "explained, missing, unexplained or cannot_tell_apart.")
+      .def_property_readonly("notes", [](const Calibration& c) { return c.report.log_notes; })
+      .def_property_readonly("log_path", [](const Calibration& c) { return c.report.log_path; })
+      .def_property_readonly("log_sha256", [](const Calibration& c) { return c.report.log_sha256; })
+      .def_property_readonly(
+          "gyroscope",
+          [](const std::shared_ptr<Calibration>& c) -> py::object {
+            if (!c->report.has_gyroscope_ml) return py::none();
+            return py::cast(GyroscopeView{c});
+          },
+          "The gyroscope's calibration (GyroscopeCalibration), or None.")
+      .def(
+          "json",
+          [](const Calibration& c) {
+            nlohmann::json json = CalibrateImuJson(c.report);
+            AddProvenanceJson(c.source, &json);
+            std::string text;
+            ThrowIfError(JsonText(json, &text));
+            return text;
+          },
+          "The JSON calibrate_imu --json writes for the same run (text).")
+      .def(
+          "text", [](const Calibration& c) { return CalibrateImuTable(c.report, false); },
+          "The table calibrate_imu prints for the same run.")
+      .def(
+          "file_text",
+          [](const Calibration& c) {
+            std::string text;
+            ThrowIfError(JsonText(CalibrationJson(RecordOf(c)), &text));
+            return text;
+          },
+          "The text write() writes: the calibration file apply reads.")
+      .def(
+          "write",
+          [](const Calibration& c, const py::object& path) {
+            std::string text;
+            ThrowIfError(JsonText(CalibrationJson(RecordOf(c)), &text));
+            const std::string name = PathOf(path);
+            py::gil_scoped_release release;
+            ThrowIfError(WriteFileAtomically(name, text));
+          },
+          py::arg("path"),
+          "Writes the calibration file apply reads (calibrate_imu --calibration_out's), "
+          "atomically.")
+      .def("__repr__", [](const Calibration& c) {
+        return "<accelcal.Calibration " + c.report.log_path + ": " +
+               std::to_string(c.report.ml.pose_count) + " poses, verdict " +
+               VerdictCode(c.report.discovery.verdict_code) + ">";
+      });
+
+  m.def("read_log", &ReadLog, py::arg("path"), py::arg("columns") = "", py::arg("rate_hz") = 0.0,
+        py::arg("time_unit") = "", py::arg("gyro_log") = py::none(), py::arg("even") = true,
+        "Reads an IMU log in any layout calibrate_imu reads (docs/log-layouts.md); the keywords "
+        "are its flags --columns, --rate_hz, --time_unit, --gyro_log. even=False accepts uneven "
+        "time steps (apply's reading).");
+  m.def("calibrate", &Calibrate, py::arg("log"), py::arg("g") = 9.81, py::arg("unit") = py::none(),
+        py::arg("alpha") = 0.01, py::arg("noise") = "auto", py::arg("detector") = "noise_floor",
+        py::arg("initial_offset") = "auto", py::arg("window") = 0, py::arg("init_rest_s") = 50.0,
+        py::arg("interval_samples") = 100, py::arg("min_intervals") = 12,
+        py::arg("threshold_factor") = 10.0, py::arg("min_interval_s") = 1.0,
+        py::arg("gyro_unit") = py::none(), py::arg("initial_gyro_gain") = 0.0,
+        py::arg("columns") = "", py::arg("rate_hz") = 0.0, py::arg("time_unit") = "",
+        py::arg("gyro_log") = py::none(),
+        "calibrate_imu --mode=ml on a Log or a log's path; the keywords are its flags (window "
+        "0: its default). Returns a Calibration.");
+  m.def("apply", &Apply, py::arg("calibration"), py::arg("acc"),
+        "a = T K (u - b) of every row of acc (N, 3, the calibration's output unit), with a "
+        "Calibration or a calibration file's path: (corrected m/s^2 (N, 3), sigma (N, 3)), the "
+        "numbers of apply's CSV.");
+  m.def("apply_gyroscope", &ApplyGyroscope, py::arg("calibration"), py::arg("gyro"),
+        "w = T K (u - b) of every row of gyro (N, 3) by the calibration's gyroscope section: "
+        "(rad/s (N, 3), sigma (N, 3)).");
+}
