@@ -76,7 +76,10 @@ constexpr const char* kUsage =
     "walk) in U/sqrt(Hz) (x 60 for per sqrt(hour)); B (bias instability) in U, the deviation's\n"
     "floor being 0.664 B; K (acceleration random walk) in U sqrt(Hz) = U/sqrt(s). Each term has\n"
     "a --confidence interval from a parametric bootstrap; one reaching 0 is 'not resolved' and\n"
-    "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 (U^2).";
+    "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 "
+    "(U^2).\n"
+    "The log is read whole (some 90 bytes a sample: 0.9 GB at 10^7); the bootstrap's cost does\n"
+    "not grow with it beyond 2^16 samples of static data (docs/noise.md, long data).";
 
 Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
   std::stringstream list(FLAGS_segment);

@@ -25,7 +25,9 @@
 #include <iostream>
 #include <vector>
 
+#include "common/streaming_rank.h"
 #include "estimation/tilt_table/calibration_correction.h"
+#include "io/atomic_file.h"
 #include "io/calibration_file.h"
 #include "io/course_data.h"
 #include "io/imu_log.h"
@@ -37,6 +39,7 @@ DEFINE_string(calibration, "", "The calibration file (calibrate --calibration_ou
 DEFINE_string(in, "", "The log to correct. For a two-axis calibration: CSV with the header t,ax,ay (s, m/s^2) or .mat with t (Mx1, s) and Aerr (Mx2, m/s^2). For a triad calibration: any layout calibrate_imu reads (docs/log-layouts.md; --columns, --rate_hz, --time_unit as there), in the calibration's output unit; its gyroscope columns, if any, in the output unit of the calibration's gyroscope section. Time must increase. Required.");
 ACCELCAL_DEFINE_IMU_LOG_FLAGS();
 DEFINE_string(out, "", "The corrected CSV to write (atomically), after '#' lines of provenance: t_s,ax_mps2,ay_mps2,sigma_ax_mps2,sigma_ay_mps2,corr_axy (two-axis) or t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,corr_yz (triad), then, when the triad's calibration has a gyroscope section and the log gyroscope columns, gx_radps,gy_radps,gz_radps,sigma_gx_radps,sigma_gy_radps,sigma_gz_radps,corr_gxy,corr_gxz,corr_gyz (rad/s; the sigma is the calibration's, not the gyroscope's noise). Required.");
+DEFINE_bool(stream, true, "Correct a text log as it is read, writing as it goes: memory independent of the log's length. A .mat log and a pair of files (--gyro_log) are read whole whatever this says; --stream=false reads a text log whole too (the same output, for comparison).");
 // clang-format on
 
 namespace accelcal {
@@ -53,6 +56,8 @@ constexpr char kUsage[] =
     "all samples; the sensor's white noise, noise_variance in the calibration file, or the\n"
     "gyroscope's, is not in it). A gyroscope section without gyroscope columns, or columns\n"
     "without a section, is said in a '#' line and on stderr; the accelerometer is corrected.\n"
+    "A text log is corrected as it is read (memory does not grow with its length); a .mat log\n"
+    "and a pair of files (--gyro_log) are read whole.\n"
     "Exit status: 0 on success, 2 on bad input (one line on stderr; nothing is written).\n\n"
     "  apply --calibration=cal.json --in=run.csv --out=corrected.csv";
 
@@ -79,13 +84,15 @@ std::string ProvenanceLines(const DataSource& source) {
   return csv;
 }
 
-// The correlation of values i and j, `format`ted.
-std::string Correlation(const Eigen::MatrixXd& covariance, int i, int j,
-                        const char* format = "%.6g") {
+// The correlation of entries i and j of a covariance, 0 when either variance is 0.
+template <typename Matrix>
+double CorrelationOf(const Matrix& covariance, int i, int j) {
   const double scale = std::sqrt(covariance(i, i) * covariance(j, j));
-  return StringPrintf(format, scale > 0.0 ? covariance(i, j) / scale : 0.0);
+  return scale > 0.0 ? covariance(i, j) / scale : 0.0;
 }
 
+// A two-axis log's output (read whole: the course's runs are short), its values at full
+// precision and their sigma and correlation to 6 significant digits.
 std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameters,
                          const Eigen::Matrix4d& covariance, const DataSource& source) {
   std::string csv = ProvenanceLines(source);
@@ -93,11 +100,18 @@ std::string CorrectedCsv(const VehicleRun& log, const Eigen::Vector4d& parameter
   for (int j = 0; j < log.size(); ++j) {
     const CorrectedSample sample =
         CorrectBaseline(parameters, covariance, log.measured_x[j], log.measured_y[j]);
-    csv += RoundTripDouble(log.timestamp_s[j]) + "," + RoundTripDouble(sample.acceleration.x()) +
-           "," + RoundTripDouble(sample.acceleration.y()) + "," +
-           StringPrintf("%.6g", std::sqrt(sample.covariance(0, 0))) + "," +
-           StringPrintf("%.6g", std::sqrt(sample.covariance(1, 1))) + "," +
-           Correlation(sample.covariance, 0, 1) + "\n";
+    AppendRoundTripDouble(log.timestamp_s[j], &csv);
+    for (int k = 0; k < 2; ++k) {
+      csv.push_back(',');
+      AppendRoundTripDouble(sample.acceleration[k], &csv);
+    }
+    for (int k = 0; k < 2; ++k) {
+      csv.push_back(',');
+      AppendGeneral(std::sqrt(sample.covariance(k, k)), 6, &csv);
+    }
+    csv.push_back(',');
+    AppendGeneral(CorrelationOf(sample.covariance, 0, 1), 6, &csv);
+    csv.push_back('\n');
   }
   return csv;
 }
@@ -136,8 +150,8 @@ constexpr SensorRange kGyroscopeRange = {"gyroscope output", "w", "rad/s", "gyro
 
 // A sample far beyond any sensor's range is a damaged value, not a reading: its square
 // overflows the sigma to inf or NaN, and written out it would look like data. Refused, naming
-// sample j of the log, its output `u` (in `output_unit`) and what it corrects to.
-Status CheckInRange(const TriadLog& log, size_t j, const std::array<double, 3>& u,
+// sample j of the log (at t_s), its output `u` (in `output_unit`) and what it corrects to.
+Status CheckInRange(size_t j, double t_s, const std::array<double, 3>& u,
                     const std::string& output_unit, const Eigen::Vector3d& value,
                     const Eigen::Matrix3d& covariance, const SensorRange& range) {
   if (value.allFinite() && covariance.diagonal().allFinite() && value.norm() <= range.largest) {
@@ -146,9 +160,8 @@ Status CheckInRange(const TriadLog& log, size_t j, const std::array<double, 3>& 
   return Status::Error(StringPrintf(
       "%s: sample %zu (t = %.9g s), %s (%.6g, %.6g, %.6g) %s, corrects to |%s| = %.3g %s, beyond "
       "any %s's range (%g %s): a damaged value; remove or repair the sample",
-      FLAGS_in.c_str(), j + 1, log.timestamp_s[j], range.output, u[0], u[1], u[2],
-      output_unit.c_str(), range.symbol, value.norm(), range.unit, range.sensor, range.largest,
-      range.unit));
+      FLAGS_in.c_str(), j + 1, t_s, range.output, u[0], u[1], u[2], output_unit.c_str(),
+      range.symbol, value.norm(), range.unit, range.sensor, range.largest, range.unit));
 }
 
 // The log's gyroscope samples corrected, appended to `samples`.
@@ -158,23 +171,41 @@ Status CorrectGyroscopeLog(const TriadLog& log, const GyroscopeUse& gyroscope,
   for (size_t j = 0; j < log.size(); ++j) {
     samples->push_back(CorrectGyroscope(gyroscope.parameters, gyroscope.offset,
                                         gyroscope.covariance, log.gyroscope[j]));
-    ACCELCAL_RETURN_IF_ERROR(CheckInRange(log, j, log.gyroscope[j], gyroscope.unit,
+    ACCELCAL_RETURN_IF_ERROR(CheckInRange(j, log.timestamp_s[j], log.gyroscope[j], gyroscope.unit,
                                           samples->back().angular_rate, samples->back().covariance,
                                           kGyroscopeRange));
   }
   return Status::Ok();
 }
 
-// Three values, their sigma and their correlations (xy, xz, yz), as CSV fields after a comma:
-// the values at full precision, the sigma and correlations to 9 significant digits (so that a
-// reader can check them against the calibration's covariance to 1e-8).
-std::string ValueSigmaCorrelationFields(const Eigen::Vector3d& value,
-                                        const Eigen::Matrix3d& covariance) {
-  std::string fields;
-  for (int k = 0; k < 3; ++k) fields += "," + RoundTripDouble(value[k]);
-  for (int k = 0; k < 3; ++k) fields += StringPrintf(",%.9g", std::sqrt(covariance(k, k)));
-  return fields + "," + Correlation(covariance, 0, 1, "%.9g") + "," +
-         Correlation(covariance, 0, 2, "%.9g") + "," + Correlation(covariance, 1, 2, "%.9g");
+// Three values, their sigma and their correlations (xy, xz, yz), as CSV fields after a comma,
+// appended to `line`: the values at full precision, the sigma and correlations to 9
+// significant digits (so that a reader can check them against the calibration's covariance to
+// 1e-8). The same bytes as printf's %.17g-or-shorter and %.9g (common/format.h), faster.
+void AppendValueSigmaCorrelationFields(const Eigen::Vector3d& value,
+                                       const Eigen::Matrix3d& covariance, std::string* line) {
+  for (int k = 0; k < 3; ++k) {
+    line->push_back(',');
+    AppendRoundTripDouble(value[k], line);
+  }
+  for (int k = 0; k < 3; ++k) {
+    line->push_back(',');
+    AppendGeneral(std::sqrt(covariance(k, k)), 9, line);
+  }
+  for (const auto& [i, j] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}}) {
+    line->push_back(',');
+    AppendGeneral(CorrelationOf(covariance, i, j), 9, line);
+  }
+}
+
+// One row of a triad's output: t, the accelerometer's fields and, when corrected, the
+// gyroscope's.
+void AppendTriadRow(double t_s, const CorrectedTriadSample& sample,
+                    const CorrectedGyroscopeSample* rate, std::string* csv) {
+  AppendRoundTripDouble(t_s, csv);
+  AppendValueSigmaCorrelationFields(sample.acceleration, sample.covariance, csv);
+  if (rate != nullptr) AppendValueSigmaCorrelationFields(rate->angular_rate, rate->covariance, csv);
+  csv->push_back('\n');
 }
 
 // The '#' line of the gyroscope: what its columns are, or why there are none.
@@ -189,10 +220,77 @@ std::string GyroscopeLine(const GyroscopeUse& gyroscope) {
   return gyroscope.not_used.empty() ? "" : "# gyroscope: " + gyroscope.not_used + "\n";
 }
 
-// A triad's log corrected; refused when the corrected magnitudes are not about 1 g, which an
-// accelerometer's are at rest and in ordinary motion: the log is then in another unit than
-// the calibration's, or from another sensor. The gyroscope's columns too, when `gyroscope`
-// says so.
+// The median |a| a triad's log must have, about 1 g, which an accelerometer's corrected
+// magnitudes are at rest and in ordinary motion; `median` outside it says the log is in another
+// unit than the calibration's, or from another sensor.
+bool MedianMagnitudePlausible(double median, const CalibrationRecord& record) {
+  return median >= 0.5 * record.gravity_mps2 && median <= 2.0 * record.gravity_mps2;
+}
+
+Status ImplausibleMedianMagnitude(double median, const CalibrationRecord& record) {
+  return Status::Error(StringPrintf(
+      "%s: corrected by %s, the log's median |a| is %.4g m/s^2, not about g = %g: is the log "
+      "in the calibration's output unit (%s) and from the same sensor?",
+      FLAGS_in.c_str(), FLAGS_calibration.c_str(), median, record.gravity_mps2,
+      record.output_unit.c_str()));
+}
+
+// A triad's output up to its first row: provenance, the gyroscope's line, the columns.
+std::string TriadHeader(const DataSource& source, const GyroscopeUse& gyroscope) {
+  std::string csv = ProvenanceLines(source) + GyroscopeLine(gyroscope);
+  csv +=
+      "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,"
+      "corr_yz";
+  if (gyroscope.corrected) {
+    csv +=
+        ",gx_radps,gy_radps,gz_radps,sigma_gx_radps,sigma_gy_radps,sigma_gz_radps,corr_gxy,"
+        "corr_gxz,corr_gyz";
+  }
+  return csv + "\n";
+}
+
+// What a triad's summary says of the log: its size and span, its first sample as read and as
+// corrected, the median |a|.
+struct TriadLogSummary {
+  size_t samples = 0;
+  double first_t_s = 0.0;
+  double last_t_s = 0.0;
+  std::array<double, 3> first_output{};
+  std::array<double, 3> first_gyroscope{};
+  CorrectedTriadSample first;
+  CorrectedGyroscopeSample first_rate;
+  double median_magnitude = 0.0;
+};
+
+std::string TriadSummary(const TriadLogSummary& log, const CalibrationRecord& record,
+                         const GyroscopeUse& gyroscope) {
+  const CorrectedTriadSample& first = log.first;
+  std::string summary = StringPrintf(
+      "accelcal apply: %zu triad samples corrected (t %.6g to %.6g s) -> %s\n"
+      "  first sample  output (%.8g, %.8g, %.8g) %s -> corrected (%.6g, %.6g, %.6g) m/s^2, "
+      "sigma (%.3g, %.3g, %.3g) m/s^2\n"
+      "  median |a| over the log %.6g m/s^2 (g = %g)\n",
+      log.samples, log.first_t_s, log.last_t_s, FLAGS_out.c_str(), log.first_output[0],
+      log.first_output[1], log.first_output[2], record.output_unit.c_str(), first.acceleration.x(),
+      first.acceleration.y(), first.acceleration.z(), std::sqrt(first.covariance(0, 0)),
+      std::sqrt(first.covariance(1, 1)), std::sqrt(first.covariance(2, 2)), log.median_magnitude,
+      record.gravity_mps2);
+  if (gyroscope.corrected) {
+    const CorrectedGyroscopeSample& rate = log.first_rate;
+    summary += StringPrintf(
+        "  first sample  gyroscope output (%.8g, %.8g, %.8g) %s -> (%.6g, %.6g, %.6g) rad/s, "
+        "sigma (%.3g, %.3g, %.3g) rad/s\n",
+        log.first_gyroscope[0], log.first_gyroscope[1], log.first_gyroscope[2],
+        gyroscope.unit.c_str(), rate.angular_rate.x(), rate.angular_rate.y(), rate.angular_rate.z(),
+        std::sqrt(rate.covariance(0, 0)), std::sqrt(rate.covariance(1, 1)),
+        std::sqrt(rate.covariance(2, 2)));
+  }
+  return summary;
+}
+
+// A triad's log held whole (a .mat file, a pair of files, rows ordered by sample number)
+// corrected; refused when the corrected magnitudes are not about 1 g. The gyroscope's columns
+// too, when `gyroscope` says so.
 Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
                        const Eigen::MatrixXd& covariance, const CalibrationRecord& record,
                        const GyroscopeUse& gyroscope, const DataSource& source, std::string* csv,
@@ -206,71 +304,42 @@ Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
   for (size_t j = 0; j < log.size(); ++j) {
     samples.push_back(CorrectTriad(parameters, covariance, log.output[j]));
     magnitude.push_back(samples.back().acceleration.norm());
-    ACCELCAL_RETURN_IF_ERROR(CheckInRange(log, j, log.output[j], record.output_unit,
+    ACCELCAL_RETURN_IF_ERROR(CheckInRange(j, log.timestamp_s[j], log.output[j], record.output_unit,
                                           samples.back().acceleration, samples.back().covariance,
                                           kAccelerometerRange));
   }
   std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
   const double median = magnitude[magnitude.size() / 2];
-  if (!(median >= 0.5 * record.gravity_mps2 && median <= 2.0 * record.gravity_mps2)) {
-    return Status::Error(StringPrintf(
-        "%s: corrected by %s, the log's median |a| is %.4g m/s^2, not about g = %g: is the log "
-        "in the calibration's output unit (%s) and from the same sensor?",
-        FLAGS_in.c_str(), FLAGS_calibration.c_str(), median, record.gravity_mps2,
-        record.output_unit.c_str()));
-  }
-  *csv = ProvenanceLines(source) + GyroscopeLine(gyroscope);
-  *csv +=
-      "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,"
-      "corr_yz";
+  if (!MedianMagnitudePlausible(median, record)) return ImplausibleMedianMagnitude(median, record);
+  *csv = TriadHeader(source, gyroscope);
+  for (size_t j = 0; j < log.size(); ++j)
+    AppendTriadRow(log.timestamp_s[j], samples[j], gyroscope.corrected ? &rates[j] : nullptr, csv);
+  TriadLogSummary described;
+  described.samples = log.size();
+  described.first_t_s = log.timestamp_s.front();
+  described.last_t_s = log.timestamp_s.back();
+  described.first_output = log.output.front();
+  described.first = samples.front();
   if (gyroscope.corrected) {
-    *csv +=
-        ",gx_radps,gy_radps,gz_radps,sigma_gx_radps,sigma_gy_radps,sigma_gz_radps,corr_gxy,"
-        "corr_gxz,corr_gyz";
+    described.first_gyroscope = log.gyroscope.front();
+    described.first_rate = rates.front();
   }
-  *csv += "\n";
-  for (size_t j = 0; j < log.size(); ++j) {
-    *csv += RoundTripDouble(log.timestamp_s[j]) +
-            ValueSigmaCorrelationFields(samples[j].acceleration, samples[j].covariance);
-    if (gyroscope.corrected)
-      *csv += ValueSigmaCorrelationFields(rates[j].angular_rate, rates[j].covariance);
-    *csv += "\n";
-  }
-  const CorrectedTriadSample& first = samples.front();
-  *summary = StringPrintf(
-      "accelcal apply: %zu triad samples corrected (t %.6g to %.6g s) -> %s\n"
-      "  first sample  output (%.8g, %.8g, %.8g) %s -> corrected (%.6g, %.6g, %.6g) m/s^2, "
-      "sigma (%.3g, %.3g, %.3g) m/s^2\n"
-      "  median |a| over the log %.6g m/s^2 (g = %g)\n",
-      log.size(), log.timestamp_s.front(), log.timestamp_s.back(), FLAGS_out.c_str(),
-      log.output[0][0], log.output[0][1], log.output[0][2], record.output_unit.c_str(),
-      first.acceleration.x(), first.acceleration.y(), first.acceleration.z(),
-      std::sqrt(first.covariance(0, 0)), std::sqrt(first.covariance(1, 1)),
-      std::sqrt(first.covariance(2, 2)), median, record.gravity_mps2);
-  if (gyroscope.corrected) {
-    const CorrectedGyroscopeSample& rate = rates.front();
-    *summary += StringPrintf(
-        "  first sample  gyroscope output (%.8g, %.8g, %.8g) %s -> (%.6g, %.6g, %.6g) rad/s, "
-        "sigma (%.3g, %.3g, %.3g) rad/s\n",
-        log.gyroscope[0][0], log.gyroscope[0][1], log.gyroscope[0][2], gyroscope.unit.c_str(),
-        rate.angular_rate.x(), rate.angular_rate.y(), rate.angular_rate.z(),
-        std::sqrt(rate.covariance(0, 0)), std::sqrt(rate.covariance(1, 1)),
-        std::sqrt(rate.covariance(2, 2)));
-  }
+  described.median_magnitude = median;
+  *summary = TriadSummary(described, record, gyroscope);
   return Status::Ok();
 }
 
 // Whether the log's gyroscope is corrected: when the calibration has a section and the log
 // gyroscope columns, whose names, when they state a unit, must state the section's.
-Status GyroscopeUseOf(const CalibrationRecord& record, const TriadLog& log,
+Status GyroscopeUseOf(const CalibrationRecord& record, bool log_has_gyroscope,
                       const ImuLogSource& log_source, GyroscopeUse* use) {
-  if (record.has_gyroscope && !log.has_gyroscope()) {
+  if (record.has_gyroscope && !log_has_gyroscope) {
     use->not_used =
         "the calibration's gyroscope section was not used: the log has no gyroscope columns "
         "(gx, gy, gz; docs/log-layouts.md)";
     return Status::Ok();
   }
-  if (!record.has_gyroscope && log.has_gyroscope()) {
+  if (!record.has_gyroscope && log_has_gyroscope) {
     use->not_used =
         "the log's gyroscope columns were not corrected: the calibration has no gyroscope "
         "section";
@@ -321,15 +390,10 @@ Status TwoAxisDataForATriad(const Status& refusal) {
                        "calibration (calibrate writes one)");
 }
 
-// The triad path of Run: its own log layout and output columns.
-Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
-  TriadParameters parameters;
-  Eigen::MatrixXd covariance;
-  TriadOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(
-      TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
-  ImuLogReadOptions read_options;
-  ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+// A triad's log read whole (ReadImuLog), corrected and written.
+Status ApplyTriadWhole(const CalibrationRecord& record, const TriadParameters& parameters,
+                       const Eigen::MatrixXd& covariance, const ImuLogReadOptions& read_options,
+                       std::string* summary) {
   TriadLog log;
   ImuLogSource log_source;
   const Status read = ReadImuLog(FLAGS_in, read_options, &log, ImuLogSpacing::kAny, &log_source);
@@ -338,7 +402,7 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   ACCELCAL_RETURN_IF_ERROR(
       DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source));
   GyroscopeUse gyroscope;
-  ACCELCAL_RETURN_IF_ERROR(GyroscopeUseOf(record, log, log_source, &gyroscope));
+  ACCELCAL_RETURN_IF_ERROR(GyroscopeUseOf(record, log.has_gyroscope(), log_source, &gyroscope));
   std::string csv;
   ACCELCAL_RETURN_IF_ERROR(
       CorrectTriadLog(log, parameters, covariance, record, gyroscope, source, &csv, summary));
@@ -348,6 +412,185 @@ Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
   *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record));
   return Status::Ok();
+}
+
+// Streaming (issue 36, item 2). A text log is corrected batch by batch as it is read and its
+// rows written as they come, to a temporary file renamed over --out only when every check has
+// passed: memory does not grow with the log. The checks ApplyTriadWhole makes on the whole log
+// are made on what the pass counts, with the same outcome: time increases (the reader checks
+// it row by row); its median step lies in the range of an IMU log and the median |a| about g
+// (a median is outside a range exactly when enough values are, which counting tells); the
+// first sample beyond the sensor's range is the one refused (the gyroscope's first, as there).
+// The median |a| the summary prints is found exactly by StreamingRankSelector
+// (common/streaming_rank.h), in the same pass for a log of up to some two million samples,
+// else in one or two more passes that only read and correct. When a check fails on a median,
+// the log is read whole after all (ApplyTriadWhole) so that the message states the median: a
+// refused log's cost, not a corrected one's. So is a log whose rows are ordered by sample number
+// (ImuLogSource::ordered_by_sample_number), which the reader can only sort whole.
+constexpr size_t kBatchSamples = 1 << 16;
+constexpr size_t kWriteBlockBytes = 1 << 20;
+
+// What the streamed pass knows of the log besides its rows.
+struct StreamedTriadPass {
+  TriadLogSummary summary;
+  bool has_gyroscope = false;
+  double previous_t_s = 0.0;
+  uint64_t steps_below = 0;  // of [kMinRunStepS, kMaxRunStepS]
+  uint64_t steps_above = 0;
+  uint64_t magnitudes_below = 0;  // of [0.5 g, 2 g]
+  uint64_t magnitudes_above = 0;
+  Status gyroscope_use;
+  Status gyroscope_range;
+  Status accelerometer_range;
+  Status write;
+  bool read_whole = false;  // a check failed on a median, or the rows need sorting
+};
+
+// Whether `count` values beyond a bound put the value of rank `rank` of `size` beyond it.
+bool RankBeyond(uint64_t count, uint64_t rank, uint64_t size, bool below) {
+  return below ? count >= rank + 1 : count >= size - rank;
+}
+
+// The streamed triad path: true in *streamed when it wrote (or refused) the log, false when the
+// log must be read whole after all (nothing is written then).
+Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters& parameters,
+                          const Eigen::MatrixXd& covariance, const ImuLogReadOptions& read_options,
+                          std::string* summary, bool* streamed) {
+  *streamed = false;
+  // The checksums come first in the output, so the log is hashed before it is streamed (a pass
+  // at disk speed; the reader then checks that it parses the very bytes hashed). A file the
+  // hash cannot read is left to ApplyTriadWhole, which says what the reader says of it.
+  DataSource source;
+  if (!DescribeMeasuredData("", {{"calibration", FLAGS_calibration}, {"log", FLAGS_in}}, &source)
+           .ok()) {
+    return Status::Ok();
+  }
+  const double gravity = record.gravity_mps2;
+  StreamedTriadPass pass;
+  StreamingRankSelector median(0.5 * gravity, 2.0 * gravity);
+  GyroscopeUse gyroscope;
+  ImuLogSource log_source;
+  Status read;
+  const Status written = WriteFileAtomicallyStreamed(FLAGS_out, [&](const AppendFunction& append) {
+    std::string block;
+    size_t& j = pass.summary.samples;
+    read = StreamImuLog(
+        FLAGS_in, read_options, kBatchSamples,
+        [&](const TriadLog& batch) {
+          if (j == 0) {
+            pass.has_gyroscope = batch.has_gyroscope();
+            pass.gyroscope_use = GyroscopeUseOf(record, pass.has_gyroscope, log_source, &gyroscope);
+            block = TriadHeader(source, gyroscope);
+          }
+          for (size_t i = 0; i < batch.size(); ++i, ++j) {
+            const double t_s = batch.timestamp_s[i];
+            if (j > 0) {
+              const double step = t_s - pass.previous_t_s;
+              pass.steps_below += step < kMinRunStepS ? 1 : 0;
+              pass.steps_above += step > kMaxRunStepS ? 1 : 0;
+            }
+            pass.previous_t_s = t_s;
+            if (!pass.gyroscope_use.ok() || !pass.gyroscope_range.ok()) continue;
+            const CorrectedTriadSample sample =
+                CorrectTriad(parameters, covariance, batch.output[i]);
+            const double magnitude = sample.acceleration.norm();
+            median.Add(magnitude);
+            pass.magnitudes_below += magnitude < 0.5 * gravity ? 1 : 0;
+            pass.magnitudes_above += magnitude > 2.0 * gravity ? 1 : 0;
+            if (pass.accelerometer_range.ok()) {
+              pass.accelerometer_range =
+                  CheckInRange(j, t_s, batch.output[i], record.output_unit, sample.acceleration,
+                               sample.covariance, kAccelerometerRange);
+            }
+            CorrectedGyroscopeSample rate;
+            if (gyroscope.corrected) {
+              rate = CorrectGyroscope(gyroscope.parameters, gyroscope.offset, gyroscope.covariance,
+                                      batch.gyroscope[i]);
+              pass.gyroscope_range =
+                  CheckInRange(j, t_s, batch.gyroscope[i], gyroscope.unit, rate.angular_rate,
+                               rate.covariance, kGyroscopeRange);
+            }
+            if (j == 0) {
+              pass.summary.first_t_s = t_s;
+              pass.summary.first_output = batch.output[i];
+              pass.summary.first = sample;
+              if (gyroscope.corrected) {
+                pass.summary.first_gyroscope = batch.gyroscope[i];
+                pass.summary.first_rate = rate;
+              }
+            }
+            if (!pass.accelerometer_range.ok() || !pass.gyroscope_range.ok() || !pass.write.ok())
+              continue;
+            AppendTriadRow(t_s, sample, gyroscope.corrected ? &rate : nullptr, &block);
+            if (block.size() >= kWriteBlockBytes) {
+              pass.write = append(block);
+              block.clear();
+            }
+          }
+          pass.summary.last_t_s = pass.previous_t_s;
+        },
+        &log_source);
+    if (log_source.ordered_by_sample_number) {
+      pass.read_whole = true;
+      return Status::Error("the rows are sorted whole");
+    }
+    if (!read.ok()) return TwoAxisDataForATriad(read);
+    const uint64_t samples = pass.summary.samples;
+    if (samples < 2 || RankBeyond(pass.steps_below, (samples - 1) / 2, samples - 1, true) ||
+        RankBeyond(pass.steps_above, (samples - 1) / 2, samples - 1, false)) {
+      pass.read_whole = true;
+      return Status::Error("the time checks fail");
+    }
+    ACCELCAL_RETURN_IF_ERROR(pass.gyroscope_use);
+    ACCELCAL_RETURN_IF_ERROR(pass.gyroscope_range);
+    ACCELCAL_RETURN_IF_ERROR(pass.accelerometer_range);
+    if (RankBeyond(pass.magnitudes_below, samples / 2, samples, true) ||
+        RankBeyond(pass.magnitudes_above, samples / 2, samples, false)) {
+      pass.read_whole = true;
+      return Status::Error("the median |a| is not about g");
+    }
+    ACCELCAL_RETURN_IF_ERROR(pass.write);
+    ACCELCAL_RETURN_IF_ERROR(append(block));
+    // The median |a| exactly, in further passes when the first could not hold its candidates.
+    while (!median.FinishPass(samples / 2)) {
+      ACCELCAL_RETURN_IF_ERROR(StreamImuLog(
+          FLAGS_in, read_options, kBatchSamples,
+          [&](const TriadLog& batch) {
+            for (const std::array<double, 3>& output : batch.output)
+              median.Add(CorrectTriad(parameters, covariance, output).acceleration.norm());
+          },
+          nullptr));
+    }
+    pass.summary.median_magnitude = median.value();
+    return Status::Ok();
+  });
+  if (pass.read_whole) return Status::Ok();
+  ACCELCAL_RETURN_IF_ERROR(written);
+  *streamed = true;
+  // The notes once the log is corrected, so that a refusal is one line.
+  for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
+  if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
+  *summary = WithDataLine(
+      source, TriadSummary(pass.summary, record, gyroscope) + PoorlyDeterminedLine(record));
+  return Status::Ok();
+}
+
+// The triad path of Run: its own log layout and output columns.
+Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
+  TriadParameters parameters;
+  Eigen::MatrixXd covariance;
+  TriadOutputUnit unit;
+  ACCELCAL_RETURN_IF_ERROR(
+      TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
+  ImuLogReadOptions read_options;
+  ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
+  if (FLAGS_stream && StreamsLikeReadImuLog(FLAGS_in, read_options)) {
+    bool streamed = false;
+    ACCELCAL_RETURN_IF_ERROR(
+        ApplyTriadStreamed(record, parameters, covariance, read_options, summary, &streamed));
+    if (streamed) return Status::Ok();
+  }
+  return ApplyTriadWhole(record, parameters, covariance, read_options, summary);
 }
 
 std::string Summary(const VehicleRun& log, const Eigen::Vector4d& parameters,

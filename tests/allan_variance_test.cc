@@ -124,18 +124,23 @@ struct Coverage {
 
 constexpr int kBootstrapSeries = 1000;
 
-Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
+// `segments` (lengths) pooled, the bootstrap simulating at most `max_simulated_samples` beyond
+// the longest segment (studies/allan_study.h, "Long data").
+Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed,
+                         const std::vector<long long>& segments = {kSamples},
+                         long long max_simulated_samples = 1 << 16) {
+  std::vector<std::vector<double>> zeros;
+  for (long long n : segments) zeros.emplace_back(n, 0.0);
   // The curve's shape (segments and taus), which the truth's bias-instability bank and the
   // bootstrap table are made for; every series has the same.
   AllanCurve shape;
-  EXPECT_TRUE(
-      ComputeAllanVariance({std::vector<double>(kSamples, 0.0)}, 0.01, AllanOptions(), &shape)
-          .ok());
+  EXPECT_TRUE(ComputeAllanVariance(zeros, 0.01, AllanOptions(), &shape).ok());
   const NoiseProcessParameters process = AllanModelProcess(truth, shape);
   AllanBootstrapTable table;
   AllanBootstrapOptions bootstrap;
   bootstrap.series = kBootstrapSeries;
   bootstrap.seed = seed + 1;
+  bootstrap.max_simulated_samples = max_simulated_samples;
   EXPECT_TRUE(MakeAllanBootstrapTable(AllanOptions(), shape, bootstrap, &table).ok());
   const std::array<double, 3> true_values = {truth.white_density, truth.bias_instability,
                                              truth.random_walk};
@@ -145,9 +150,9 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed) {
     RandomSource random(seed, series);
     AllanCurve curve;
     AllanNoiseFit fit;
-    EXPECT_TRUE(ComputeAllanVariance({SimulateNoiseProcess(process, kSamples, &random)},
-                                     process.sample_period_s, AllanOptions(), &curve)
-                    .ok());
+    std::vector<std::vector<double>> data;
+    for (long long n : segments) data.push_back(SimulateNoiseProcess(process, n, &random));
+    EXPECT_TRUE(ComputeAllanVariance(data, process.sample_period_s, AllanOptions(), &curve).ok());
     const Status status = FitAllanNoiseWithBootstrap(AllanOptions(), table, &curve, &fit);
     EXPECT_TRUE(status.ok()) << status.message();
     const AllanTerm* terms[3] = {&fit.white, &fit.bias_instability, &fit.random_walk};
@@ -223,6 +228,22 @@ TEST(AllanMonteCarlo, RecoversBiasInstabilityAndBoundsAWeakRandomWalk) {
   const int unresolved = coverage.series - coverage.resolved[2];
   ASSERT_GE(unresolved, 20);
   EXPECT_GE(1.0 * coverage.bound_covered[2] / unresolved, 0.9);
+}
+
+// Long data (studies/allan_study.h): 40 poses of 20 s pooled, the bootstrap simulating only the
+// longest and every 13th of the others (a tenth of the differences, moved to the data's
+// variance): the intervals cover the truth at the stated rate. Measured: N 91.5%, B 96.5%, K 95.0%
+// of 200 series; the full bootstrap (no cap) on the same series: N 92.0%, B 97.5%, K 95.0%. With
+// the products left at the simulated tenth's spread (not moved), every interval covered 100% and
+// K was resolved in 110 of the 200 series instead of all: intervals sqrt(10) = 3.2 times too wide,
+// which this test fails on.
+TEST(AllanMonteCarlo, LongDataCoverageWithABoundedBootstrap) {
+  AllanNoiseTerms truth;
+  truth.white_density = 1e-3;
+  truth.random_walk = 1e-3;
+  const Coverage coverage = MeasureCoverage(truth, 3141, std::vector<long long>(40, 2000),
+                                            /*max_simulated_samples=*/6000);
+  ExpectStatedCoverage(coverage);
 }
 
 // The variance of a pose mean: for white noise N^2 / T against the spread of simulated T-long

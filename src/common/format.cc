@@ -1,6 +1,7 @@
 #include "common/format.h"
 
 #include <cctype>
+#include <charconv>
 #include <cstdarg>
 #include <cstdio>
 #include <cstdlib>
@@ -27,6 +28,28 @@ std::string RoundTripDouble(double value) {
     if (std::strtod(text.c_str(), nullptr) == value) return text;
   }
   return StringPrintf("%.17g", value);
+}
+
+void AppendGeneral(double value, int precision, std::string* text) {
+  char buffer[64];
+  const std::to_chars_result end =
+      std::to_chars(buffer, buffer + sizeof(buffer), value, std::chars_format::general, precision);
+  text->append(buffer, end.ptr);
+}
+
+void AppendRoundTripDouble(double value, std::string* text) {
+  char buffer[64];
+  for (int precision = 15; precision < 17; ++precision) {
+    const std::to_chars_result end = std::to_chars(buffer, buffer + sizeof(buffer), value,
+                                                   std::chars_format::general, precision);
+    double read = 0.0;
+    const std::from_chars_result parsed = std::from_chars(buffer, end.ptr, read);
+    if (parsed.ec == std::errc() && read == value) {
+      text->append(buffer, end.ptr);
+      return;
+    }
+  }
+  AppendGeneral(value, 17, text);
 }
 
 std::string JoinStrings(const std::vector<std::string>& items, const char* separator) {

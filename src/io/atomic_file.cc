@@ -62,28 +62,36 @@ void MakeReadable(const std::string& temporary_path) {
   chmod(temporary_path.c_str(), 0666 & ~mask);
 }
 
-Status WriteContents(const std::string& path, const std::string& temporary_path,
-                     const std::string& contents) {
-  const int fd = open(temporary_path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
-  if (fd < 0) return Status::Error("cannot open " + temporary_path + " (" + ErrnoText() + ")");
+// Writes all of `contents` to `fd`, retrying after a signal.
+Status WriteAll(int fd, const std::string& path, std::string_view contents) {
   size_t written = 0;
   while (written < contents.size()) {
     const ssize_t n = ::write(fd, contents.data() + written, contents.size() - written);
     if (n < 0) {
       if (errno == EINTR) continue;
-      const Status error = Status::Error("cannot write " + path + " (" + ErrnoText() + ")");
-      close(fd);
-      return error;
+      return Status::Error("cannot write " + path + " (" + ErrnoText() + ")");
     }
     written += static_cast<size_t>(n);
   }
-  if (fsync(fd) != 0) {
-    const Status error = Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
-    close(fd);
-    return error;
-  }
-  if (close(fd) != 0) return Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
   return Status::Ok();
+}
+
+// Opens the temporary file, lets `write` fill it through `fd`, then flushes and closes it.
+Status WriteThroughFd(const std::string& path, const std::string& temporary_path,
+                      const std::function<Status(int fd)>& write) {
+  const int fd = open(temporary_path.c_str(), O_WRONLY | O_TRUNC | O_CLOEXEC);
+  if (fd < 0) return Status::Error("cannot open " + temporary_path + " (" + ErrnoText() + ")");
+  Status status = write(fd);
+  if (status.ok() && fsync(fd) != 0)
+    status = Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
+  if (close(fd) != 0 && status.ok())
+    status = Status::Error("cannot flush " + path + " (" + ErrnoText() + ")");
+  return status;
+}
+
+Status WriteContents(const std::string& path, const std::string& temporary_path,
+                     const std::string& contents) {
+  return WriteThroughFd(path, temporary_path, [&](int fd) { return WriteAll(fd, path, contents); });
 }
 
 // Renames a finished temporary file over `path`.
@@ -118,6 +126,15 @@ Status WriteAtomicallyWith(const std::string& path,
 Status WriteFileAtomically(const std::string& path, const std::string& contents) {
   return WriteAtomicallyWith(path, [&](const std::string& temporary_path) {
     return WriteContents(path, temporary_path, contents);
+  });
+}
+
+Status WriteFileAtomicallyStreamed(const std::string& path,
+                                   const std::function<Status(const AppendFunction&)>& produce) {
+  return WriteAtomicallyWith(path, [&](const std::string& temporary_path) {
+    return WriteThroughFd(path, temporary_path, [&](int fd) {
+      return produce([&](std::string_view piece) { return WriteAll(fd, path, piece); });
+    });
   });
 }
 

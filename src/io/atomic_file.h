@@ -3,6 +3,7 @@
 
 #include <functional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -27,6 +28,14 @@ Status WriteFilesAtomically(const std::vector<std::pair<std::string, std::string
 // renamed to `path`, on failure it is removed.
 Status WriteAtomicallyWith(const std::string& path,
                            const std::function<Status(const std::string& temporary_path)>& write);
+
+// The same for contents made piece by piece, a file too large to hold in memory (apply's
+// output of a long log): `produce` calls `append` with each piece in order, and each goes to
+// the temporary file as it comes. A failure of `produce` or of a write removes the temporary
+// file and leaves `path` as it was, as a kill or a signal does.
+using AppendFunction = std::function<Status(std::string_view piece)>;
+Status WriteFileAtomicallyStreamed(
+    const std::string& path, const std::function<Status(const AppendFunction& append)>& produce);
 
 // The name of the marker file accelcal writes into every folder it creates.
 extern const char kOutputFolderMarker[];

@@ -334,6 +334,7 @@ void FillSource(const ImuTextFormat& format, ImuLogSource* source) {
                               : "'" + EchoInput(format.header[format.time_column]) + "'";
   }
   source->time_scale_s = format.time_scale_s;
+  source->ordered_by_sample_number = format.index_column >= 0 && format.rate_hz > 0.0;
 }
 
 // A time axis whose median step is no IMU's, read from a column in a unit stated or inferred:
@@ -1013,6 +1014,16 @@ Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, s
   }
   ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   return StreamTextLog(path, options, batch_samples, on_batch, source);
+}
+
+bool StreamsLikeReadImuLog(const std::string& path, const ImuLogReadOptions& options) {
+  if (!options.gyroscope_path.empty()) return false;
+  std::string head;
+  bool whole = false;
+  uint64_t size = 0;
+  FileIdentity identity;
+  if (!ReadHead(path, &head, &whole, &size, &identity).ok()) return false;
+  return !IsMatHeader(head) && head.find('\0') == std::string::npos;
 }
 
 Status ReadImuLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,

@@ -62,6 +62,9 @@ struct ImuLogSource {
   // from the rate, or the layout defines it).
   std::string time_column;
   double time_scale_s = 1.0;
+  // Time is a sample-number column over the rate: ReadImuLog puts rows listed out of order back
+  // in order (OrderBySampleNumber), which StreamImuLog, handing rows on as they come, cannot.
+  bool ordered_by_sample_number = false;
 };
 
 // The text of a log already in memory (tests, fuzzing): the layout from the text, samples and
@@ -77,6 +80,12 @@ Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, Tria
 Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, size_t batch_samples,
                     const std::function<void(const TriadLog& batch)>& on_batch,
                     ImuLogSource* source = nullptr);
+
+// Whether StreamImuLog reads `path` as ReadImuLog does, sample for sample: a text log
+// (neither a .mat file nor binary data) without a paired gyroscope file. A row order by sample
+// number is only known once streaming starts (ImuLogSource::ordered_by_sample_number). False
+// when the head cannot be read (ReadImuLog then says why).
+bool StreamsLikeReadImuLog(const std::string& path, const ImuLogReadOptions& options);
 
 // The whole log (a text log streamed, a .mat file through io/mat_file.h, the paired gyroscope
 // file when options.gyroscope_path is set), then CheckLogTime and `spacing`. Failures start

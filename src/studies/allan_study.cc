@@ -191,11 +191,52 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
       AllanBiasInstabilityBank(curve, &table->bank_variance_per_b2);
   if (options.fit_bias_instability) unit[2].markov = bank;
   const size_t points = curve.points.size();
+  // The segments a series simulates: all of them, or beyond the cap (see "Long data") the
+  // longest and every k-th of the others.
+  const std::vector<long long>& segments = curve.segment_samples;
+  std::vector<size_t> simulated(segments.size());
+  for (size_t j = 0; j < segments.size(); ++j) simulated[j] = j;
+  long long total = 0;
+  for (long long n : segments) total += n;
+  if (total > bootstrap.max_simulated_samples && segments.size() > 1) {
+    const size_t longest =
+        static_cast<size_t>(std::max_element(segments.begin(), segments.end()) - segments.begin());
+    const long long others = total - segments[longest];
+    const long long cap = std::max(1LL, bootstrap.max_simulated_samples);
+    for (size_t stride = static_cast<size_t>(std::max(2LL, others / cap));; ++stride) {
+      simulated = {longest};
+      long long kept = segments[longest];
+      for (size_t j = 0, other = 0; j < segments.size(); ++j) {
+        if (j == longest) continue;
+        if (other++ % stride == 0) {
+          simulated.push_back(j);
+          kept += segments[j];
+        }
+      }
+      if (kept <= bootstrap.max_simulated_samples + segments[longest] || simulated.size() <= 1)
+        break;
+    }
+    std::sort(simulated.begin(), simulated.end());
+  }
+  // Per point: the share of its differences simulated, and the products' expectations.
+  std::vector<double> share(points, 1.0);
+  std::vector<std::array<double, kProducts>> expected(points);
+  for (size_t i = 0; i < points; ++i) {
+    const long long m = curve.points[i].cluster_samples;
+    long long differences = 0;
+    for (size_t j : simulated)
+      if (AllanSegmentUsed(segments[j], m)) differences += segments[j] - 2 * m + 1;
+    share[i] =
+        static_cast<double>(differences) / static_cast<double>(curve.points[i].difference_count);
+    expected[i] = {};
+    for (int u = 0; u < 3; ++u) expected[i][u] = NoiseProcessAllanVariance(unit[u], m);
+  }
   table->products.assign(points * bootstrap.series, {});
   for (int s = 0; s < bootstrap.series; ++s) {
     RandomSource random(bootstrap.seed, static_cast<uint64_t>(s));
     std::array<double, kProducts>* products = &table->products[s * points];
-    for (const long long n : curve.segment_samples) {
+    for (size_t j : simulated) {
+      const long long n = segments[j];
       std::array<std::vector<double>, 3> sums;
       for (int u = 0; u < 3; ++u)
         sums[u] = CumulativeSums(SimulateNoiseProcess(unit[u], n, &random));
@@ -216,6 +257,14 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
         const double scale = 1.0 / (2.0 * static_cast<double>(m) * static_cast<double>(m) *
                                     static_cast<double>(curve.points[i].difference_count));
         for (int k = 0; k < kProducts; ++k) products[i][k] += scale * total[k];
+      }
+    }
+    if (simulated.size() == segments.size()) continue;
+    // Over the simulated differences only, then moved to the data's variance.
+    for (size_t i = 0; i < points; ++i) {
+      for (int k = 0; k < kProducts; ++k) {
+        const double mean_simulated = products[i][k] / share[i];
+        products[i][k] = expected[i][k] + std::sqrt(share[i]) * (mean_simulated - expected[i][k]);
       }
     }
   }

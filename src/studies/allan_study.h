@@ -28,6 +28,24 @@
 // weights of its own model; the refit uses those of the model simulated, the same to first
 // order; the Monte Carlo tests (tests/allan_variance_test.cc) measure the resulting coverage.
 //
+// Long data (issue 36, item 2). Simulating every segment of a long log (7,700 poses of a day's
+// hand-held log, 10^7 samples) a thousand times costs a thousand times the Allan variance. Each
+// point's pooled estimate is an average over the segments' differences, so its deviation from
+// its expectation shrinks as the square root of its difference count (the segments are
+// independent and the differences' correlation is short), and its correlation with the other
+// points' is the same in any representative part of the segments. So when the segments hold
+// more than max_simulated_samples, a series simulates the longest segment (every point has it)
+// and every k-th of the others in the log's order, k the smallest that brings the total under the
+// cap, and its products at point i are moved towards their expectation E_i (the unit
+// processes' exact Allan variances for ww, rr, gg, 0 for the cross products):
+//   P_i = E_i + sqrt(f_i) (P_i,simulated - E_i),  f_i = simulated / all differences at point i,
+// which gives them the data's variance. The table then costs max_simulated_samples (plus the
+// longest segment) per series whatever the log's length; below the cap nothing changes (2^16
+// samples: every shared log's static data is below it, the longest, mimu4444's, 37,440 rows). The
+// Monte Carlo test AllanMonteCarlo.LongDataCoverageWithABoundedBootstrap measures the intervals'
+// coverage with a small cap, against the full bootstrap's. A single segment longer than the cap
+// (--static=longest on a day-long rest) is still simulated whole: its long taus need it.
+//
 // Bias instability is simulated as a bank of Gauss-Markov processes of equal q with correlation
 // times tau0/2 * 4^j up to twice the longest cluster time, q^2 = bank_variance_per_b2 B^2 so
 // that the bank's exact Allan variance at the geometric middle of the fitted taus is
@@ -47,6 +65,8 @@ namespace accelcal {
 struct AllanBootstrapOptions {
   int series = 1000;  // simulated series; the 2.5% tails need several hundred
   uint64_t seed = 1;
+  // Samples a simulated series holds at most, beyond its longest segment (see "Long data").
+  long long max_simulated_samples = 1 << 16;
 };
 
 // The unit-size bootstrap series of one curve's segments and taus.
