@@ -50,8 +50,8 @@ void AppendLine(double t, const std::array<double, 3>& u, std::string* text) {
   end = std::to_chars(end, buffer + sizeof(buffer), t, std::chars_format::fixed, 6).ptr;
   for (double value : u) {
     *end++ = ' ';
-    end = std::to_chars(end, buffer + sizeof(buffer), static_cast<long long>(std::lround(value)))
-              .ptr;
+    end =
+        std::to_chars(end, buffer + sizeof(buffer), static_cast<long long>(std::lround(value))).ptr;
   }
   *end++ = '\n';
   text->append(buffer, end);

@@ -11,9 +11,12 @@
 #   read+write  the reference: the time to read the log and write a file of apply's output's
 #               size, measured as `cat LOG >/dev/null; cat OUT > COPY` (block copies, the
 #               floor of any reader and writer; the output is some 5 times the log's size)
+#   parse+fmt   the reference of text: build/bin/text_io_floor reads the log with apply's reader
+#               and writes rows of apply's shape and number format (no correction, checks,
+#               checksum or temporary file), the floor of any apply that reads and writes text
 #   allan       allan --log=LOG --unit=count --static=all
 # and the growth exponents of each in the rows (least squares on the logs over all sizes), and
-# apply's wall time over the reference's.
+# apply's time over each reference's.
 #
 #   tools/bench/stream_scale_bench.sh [BIN_DIR] [ROWS ...]
 #       BIN_DIR: default build/bin; ROWS default 100000 1000000 10000000
@@ -27,7 +30,7 @@ sizes=("$@")
 [ ${#sizes[@]} -eq 0 ] && sizes=(100000 1000000 10000000)
 python=/usr/bin/python3
 say() { echo "stream_scale_bench: $*" >&2; }
-for binary in apply allan calibrate_imu; do
+for binary in apply allan calibrate_imu text_io_floor; do
   [ -x "$bin_dir/$binary" ] || { say "no $bin_dir/$binary"; exit 2; }
 done
 [ -x /usr/bin/time ] || { say "/usr/bin/time is needed (apt-get install time)"; exit 2; }
@@ -82,6 +85,11 @@ for rows in "${sizes[@]}"; do
   printf '%-9s %-10s %9s %9s %9s %4s\n' "$rows" read+write "$wall" "$cpu" "$rss" "$rc"
   results+=("$rows copy $wall $cpu $rss")
   rm -f "$work/corrected_$rows.csv" "$work/copy_$rows.csv"
+  read -r wall cpu rss rc < <(timed "floor_$rows" "$work" "$bin_dir/text_io_floor" \
+      --log="$log" --out="$work/floor_$rows.csv")
+  printf '%-9s %-10s %9s %9s %9s %4s\n' "$rows" parse+fmt "$wall" "$cpu" "$rss" "$rc"
+  results+=("$rows floor $wall $cpu $rss")
+  rm -f "$work/floor_$rows.csv"
   if [ "${ACCELCAL_STREAM_SKIP_ALLAN:-0}" != 1 ]; then
     read -r wall cpu rss rc < <(timed "allan_$rows" "$work" "$bin_dir/allan" --log="$log" \
         --unit=count --static=all)
@@ -104,6 +112,10 @@ for step, r in rows.items():
     print("exponent %-10s wall=%.2f cpu=%.2f rss=%.2f (in rows, %d sizes)" % (
         step, fit([v[1] for v in r]), fit([v[2] for v in r]), fit([v[3] for v in r]), len(r)))
 copy = {v[0]: v[1] for v in rows.get("copy", [])}
-for n, wall, _, _ in rows.get("apply", []):
+floor = {v[0]: (v[1], v[2]) for v in rows.get("floor", [])}
+for n, wall, cpu, _ in rows.get("apply", []):
     if copy.get(n, 0) > 0:
-        print("apply / read+write at %d rows: %.2f" % (n, wall / copy[n]))'
+        print("apply / read+write at %d rows: %.2f (wall)" % (n, wall / copy[n]))
+    if n in floor and floor[n][0] > 0 and floor[n][1] > 0:
+        print("apply / parse+fmt at %d rows: %.2f (wall), %.2f (CPU)" % (
+            n, wall / floor[n][0], cpu / floor[n][1]))'
