@@ -13,8 +13,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   accelcal::Ros2ImuMessage message;
-  if (!accelcal::DecodeRos2ImuMessage(
-           std::string_view(reinterpret_cast<const char*>(data), size), &message)
+  if (!accelcal::DecodeRos2ImuMessage(std::string_view(reinterpret_cast<const char*>(data), size),
+                                      &message)
            .ok())
     return 0;
   if (message.stamp_nanosec >= 1000000000u) std::abort();
