@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""A synthetic hand-held triad log for the scale benchmarks (tools/bench/stream_scale_bench.sh).
+"""A synthetic hand-held triad log for the scale benchmarks (tools/bench/triad_scale_bench.sh,
+stream_scale_bench.sh).
 
-The statistics of tools/bench/triad_scale_bench.sh's embedded generator (100 Hz, holds of 3-20 s
+The logs of tools/bench/triad_scale_bench.sh and stream_scale_bench.sh (100 Hz, holds of 3-20 s
 in random directions at least 30 deg apart, 1.5 s turns with a (1 - cos) profile, a triad of
 ~4000 counts/g with offsets near 32768, off-diagonal angles of a few mrad, 3 counts of white
 noise, rounded to counts; imu_tk's ASCII layout t x y z), written in pieces of 10^6 rows so that

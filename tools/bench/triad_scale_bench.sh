@@ -3,8 +3,10 @@
 # the sizes given), 100 Hz, holds of 3-20 s (uniform) in random directions at least 30 deg apart,
 # 1.5 s turns between them with a (1 - cos) profile, a triad of ~4000 counts/g with offsets near
 # 32768, off-diagonal angles of a few mrad, 3 counts of white noise, rounded to counts. The logs
-# are written by an embedded numpy generator (Debian's /usr/bin/python3) to a temporary folder,
-# imu_tk's ASCII layout (t x y z), seed fixed per size.
+# are written by tools/bench/hand_held_log.py (Debian's /usr/bin/python3 with numpy; the same
+# generator as stream_scale_bench.sh's) to a temporary folder, imu_tk's ASCII layout (t x y z),
+# seed fixed per size. Up to 10^6 rows its logs are byte for byte those of the generator this
+# script embedded before; above, it draws the noise per 10^6-row piece, so they differ by seed.
 #
 # Each size: calibrate_imu --mode=ml (discovery, determination and covariance included: the
 # default run) timed as a whole process by /usr/bin/time -v: wall time, CPU time (user + system)
@@ -29,61 +31,16 @@ say() { echo "triad_scale_bench: $*" >&2; }
 [ -x /usr/bin/time ] || { say "/usr/bin/time is needed (apt-get install time)"; exit 2; }
 "$python" -c 'import numpy' 2>/dev/null || { say "$python with numpy is needed"; exit 2; }
 
+generate=$ACCELCAL_ROOT/tools/bench/hand_held_log.py
 work=$(mktemp -d "${TMPDIR:-/tmp}/accelcal-triad-scale.XXXXXX")
 if [ "${ACCELCAL_SCALE_KEEP:-0}" = 1 ]; then say "logs kept in $work"; else trap 'rm -rf "$work"' EXIT; fi
 
-cat >"$work/generate.py" <<'EOF'
-import sys
-import numpy as np
-
-rows, path, seed = int(sys.argv[1]), sys.argv[2], int(sys.argv[3])
-rng = np.random.default_rng(seed)
-rate_hz, turn_s, g = 100.0, 1.5, 9.81
-gain = np.array([9.81 / 4000.0, 9.81 / 4050.0, 9.81 / 3950.0])  # (m/s^2) per count
-offset = np.array([32768.0 + 40.0, 32768.0 - 25.0, 32768.0 + 10.0])
-T = np.array([[1.0, -0.003, 0.002], [0.0, 1.0, -0.004], [0.0, 0.0, 1.0]])  # a = T K (u - b)
-M = np.linalg.inv(T @ np.diag(gain))
-
-
-def random_direction():
-    v = rng.normal(size=3)
-    return v / np.linalg.norm(v)
-
-
-directions, pieces, count = [random_direction()], [], 0
-while count < rows:
-    n = directions[-1]
-    hold = int(rng.uniform(3.0, 20.0) * rate_hz)
-    pieces.append(np.tile(n, (hold, 1)))
-    count += hold
-    while True:
-        m = random_direction()
-        if np.degrees(np.arccos(np.clip(n @ m, -1, 1))) > 30.0:
-            break
-    turn = int(turn_s * rate_hz)
-    axis = np.cross(n, m)
-    axis /= np.linalg.norm(axis)
-    angle = np.arccos(np.clip(n @ m, -1, 1))
-    tau = np.arange(1, turn + 1) / turn
-    phi = angle * (1 - np.cos(np.pi * tau)) / 2
-    # Rodrigues: n rotated about axis (perpendicular to n) by phi
-    turned = np.outer(np.cos(phi), n) + np.outer(np.sin(phi), np.cross(axis, n))
-    pieces.append(turned)
-    count += turn
-    directions.append(m)
-force = g * np.concatenate(pieces)[:rows]
-u = force @ M.T + offset + rng.normal(scale=3.0, size=force.shape)
-u = np.round(u)
-t = np.arange(rows) / rate_hz
-with open(path, "w") as f:
-    np.savetxt(f, np.column_stack([t, u]), fmt=["%.2f", "%d", "%d", "%d"])
-EOF
 
 printf '%-9s %6s %9s %9s %9s %4s\n' rows poses wall_s cpu_s rss_MB rc
 results=()
 for rows in "${sizes[@]}"; do
   log="$work/hand_held_$rows.txt"
-  "$python" "$work/generate.py" "$rows" "$log" "$rows"
+  "$python" "$generate" "$rows" "$log" "$rows"
   set +e
   /usr/bin/time -v -o "$work/time_$rows.txt" "$bin_dir/calibrate_imu" --log="$log" --g=9.81 \
       --mode=ml --json="$work/ml_$rows.json" >"$work/out_$rows.txt" 2>&1
