@@ -20,28 +20,14 @@
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_monte_carlo.h"
+#include "triad_test_session.h"
 
 namespace accelcal {
 namespace {
 
-constexpr double kGravity = 9.81744;
-
-TriadSimulationOptions SimulationOptions() {
-  TriadSimulationOptions options;
-  options.truth = XsensLikeTriad();
-  options.gravity_mps2 = kGravity;
-  options.samples_per_pose = 100;
-  options.noise_stddev = {3.0, 2.5, 3.5};
-  return options;
-}
-
-TriadMlOptions MlOptions() {
-  TriadMlOptions options;
-  options.gravity_mps2 = kGravity;
-  options.initial = TriadParametersWithOffset(33000.0, 33000.0, 33000.0);
-  for (int k = 0; k < 3; ++k) options.initial[kTriadGainX + k] = 1.0 / 415.0;
-  return options;
-}
+constexpr double kGravity = testing::kTriadTestGravity;
+using testing::TriadTestMlOptions;
+using testing::TriadTestSimulationOptions;
 
 // The ML problem at given parameters and directions, as CalibrateTriadMl builds it: the triad
 // block, the effects block when `estimated` is not empty (the others held by a SubsetManifold),
@@ -129,10 +115,11 @@ TEST(TriadReducedInformation, NamesTheParametersTheWholeJacobianNamesOnPlanarPos
       RandomSource random(5, axis);
       const std::vector<std::array<double, 3>> directions = PlanarPoseDirections(20, axis);
       const std::vector<TriadPoseMean> poses =
-          SimulateTriadPoses(SimulationOptions(), directions, &random);
+          SimulateTriadPoses(TriadTestSimulationOptions(), directions, &random);
       const std::vector<std::array<double, 3>> mean_stddev(poses.size(), {0.3, 0.25, 0.35});
       for (const bool at_truth : {true, false}) {
-        const TriadParameters parameters = at_truth ? XsensLikeTriad() : MlOptions().initial;
+        const TriadParameters parameters =
+            at_truth ? XsensLikeTriad() : TriadTestMlOptions().initial;
         MlProblem problem(poses, parameters, TriadEffectCoefficients{}, estimated, directions,
                           mean_stddev, 0.0);
         const TriadArrowJacobian jacobian = problem.Jacobian(static_cast<int>(names.size()));
@@ -161,7 +148,7 @@ TEST(TriadReducedInformation, FindsFullRankWhereTheWholeJacobianDoes) {
   RandomSource random(11, 0);
   const std::vector<std::array<double, 3>> directions = RandomPoseDirections(30, &random);
   const std::vector<TriadPoseMean> poses =
-      SimulateTriadPoses(SimulationOptions(), directions, &random);
+      SimulateTriadPoses(TriadTestSimulationOptions(), directions, &random);
   const std::vector<std::array<double, 3>> mean_stddev(poses.size(), {0.3, 0.25, 0.35});
   MlProblem problem(poses, XsensLikeTriad(), TriadEffectCoefficients{}, {}, directions, mean_stddev,
                     0.0);
@@ -180,9 +167,9 @@ TEST(TriadReducedInformation, CovarianceIsCeresCovarianceOverEveryBlock) {
   for (const bool with_k2 : {false, true}) {
     SCOPED_TRACE(with_k2 ? "with k2" : "9 parameters");
     RandomSource random(2036, with_k2 ? 1 : 0);
-    const std::vector<TriadPoseMean> poses =
-        SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(40, &random), &random);
-    TriadMlOptions options = MlOptions();
+    const std::vector<TriadPoseMean> poses = SimulateTriadPoses(
+        TriadTestSimulationOptions(), RandomPoseDirections(40, &random), &random);
+    TriadMlOptions options = TriadTestMlOptions();
     options.scale_nonlinearity = with_k2;
     TriadMlResult result;
     const Status status = CalibrateTriadMl(poses, options, &result);

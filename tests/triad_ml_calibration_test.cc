@@ -20,32 +20,18 @@
 #include "residuals/triad_pose_residual.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_monte_carlo.h"
+#include "triad_test_session.h"
 
 namespace accelcal {
 namespace {
 
-constexpr double kGravity = 9.81744;
+constexpr double kGravity = testing::kTriadTestGravity;
 
 // A triad close to the Xsens unit of imu_tk's example (the study's default truth).
 TriadParameters Truth() { return XsensLikeTriad(); }
 
-TriadSimulationOptions SimulationOptions() {
-  TriadSimulationOptions options;
-  options.truth = Truth();
-  options.gravity_mps2 = kGravity;
-  options.samples_per_pose = 100;
-  options.noise_stddev = {3.0, 2.5, 3.5};
-  return options;
-}
-
-// The datasheet's nominal values as the initial guess: angles 0, 415 counts per m/s^2.
-TriadMlOptions MlOptions() {
-  TriadMlOptions options;
-  options.gravity_mps2 = kGravity;
-  options.initial = TriadParametersWithOffset(33000.0, 33000.0, 33000.0);
-  for (int k = 0; k < 3; ++k) options.initial[kTriadGainX + k] = 1.0 / 415.0;
-  return options;
-}
+using testing::TriadTestMlOptions;
+using testing::TriadTestSimulationOptions;
 
 TEST(TriadPoseResidual, IsZeroAtTheTruth) {
   const TriadParameters truth = Truth();
@@ -73,9 +59,9 @@ TEST(TriadPoseResidual, IsZeroAtTheTruth) {
 TEST(TriadMlCalibration, RecoversASimulatedTriadWithin3Sigma) {
   RandomSource random(20, 1);
   const std::vector<TriadPoseMean> poses =
-      SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(30, &random), &random);
+      SimulateTriadPoses(TriadTestSimulationOptions(), RandomPoseDirections(30, &random), &random);
   TriadMlResult result;
-  const Status status = CalibrateTriadMl(poses, MlOptions(), &result);
+  const Status status = CalibrateTriadMl(poses, TriadTestMlOptions(), &result);
   ASSERT_TRUE(status.ok()) << status.message();
   EXPECT_EQ(result.degrees_of_freedom, 21);
   const TriadParameters truth = Truth();
@@ -102,10 +88,10 @@ TEST(TriadMlCalibration, ReportedSigmaMatchesTheMonteCarloSpread) {
     RandomSource random(2020, trial);
     // The same pose set in every trial: the covariance is conditional on the poses.
     RandomSource pose_random(7, 0);
-    const std::vector<TriadPoseMean> poses =
-        SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(30, &pose_random), &random);
+    const std::vector<TriadPoseMean> poses = SimulateTriadPoses(
+        TriadTestSimulationOptions(), RandomPoseDirections(30, &pose_random), &random);
     TriadMlResult result;
-    const Status status = CalibrateTriadMl(poses, MlOptions(), &result);
+    const Status status = CalibrateTriadMl(poses, TriadTestMlOptions(), &result);
     ASSERT_TRUE(status.ok()) << "trial " << trial << ": " << status.message();
     for (int p = 0; p < kTriadParameterCount; ++p) {
       const double error = result.parameters[p] - truth[p];
@@ -140,9 +126,9 @@ TEST(TriadMlCalibration, RefusesPosesInAPlaneNamingTheUnidentifiableParameters) 
     directions.push_back({0.0, std::cos(angle), std::sin(angle)});
   }
   const std::vector<TriadPoseMean> poses =
-      SimulateTriadPoses(SimulationOptions(), directions, &random);
+      SimulateTriadPoses(TriadTestSimulationOptions(), directions, &random);
   TriadMlResult result;
-  const Status status = CalibrateTriadMl(poses, MlOptions(), &result);
+  const Status status = CalibrateTriadMl(poses, TriadTestMlOptions(), &result);
   ASSERT_FALSE(status.ok());
   const std::string& message = status.message();
   std::printf("  refusal: %s\n", message.c_str());
@@ -166,8 +152,8 @@ TEST(TriadMlCalibration, RefusesPosesBunchedAroundOneDirection) {
           {tilt * std::cos(angle), tilt * std::sin(angle), std::sqrt(1.0 - tilt * tilt)});
     }
     const std::vector<TriadPoseMean> poses =
-        SimulateTriadPoses(SimulationOptions(), directions, &random);
-    TriadMlOptions options = MlOptions();
+        SimulateTriadPoses(TriadTestSimulationOptions(), directions, &random);
+    TriadMlOptions options = TriadTestMlOptions();
     options.initial = TriadStartFromPoses(poses, kGravity);
     TriadMlResult result;
     const Status status = CalibrateTriadMl(poses, options, &result);
@@ -185,10 +171,10 @@ TEST(TriadMlCalibration, RefusesPosesBunchedAroundOneDirection) {
 TEST(TriadMlCalibration, RefusesFewerThanTenPoses) {
   for (const int count : {6, 9}) {
     RandomSource random(11, count);
-    const std::vector<TriadPoseMean> poses =
-        SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(count, &random), &random);
+    const std::vector<TriadPoseMean> poses = SimulateTriadPoses(
+        TriadTestSimulationOptions(), RandomPoseDirections(count, &random), &random);
     TriadMlResult result;
-    const Status status = CalibrateTriadMl(poses, MlOptions(), &result);
+    const Status status = CalibrateTriadMl(poses, TriadTestMlOptions(), &result);
     ASSERT_FALSE(status.ok()) << count << " poses";
     std::printf("  refusal: %s\n", status.message().c_str());
     if (count < 9) {
@@ -273,13 +259,13 @@ TEST(TriadResidual, GradientCheckerAgreesWithAutodiff) {
 }
 
 TriadMlOptions TwelveParameterOptions() {
-  TriadMlOptions options = MlOptions();
+  TriadMlOptions options = TriadTestMlOptions();
   options.scale_nonlinearity = true;
   return options;
 }
 
 TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
-  TriadSimulationOptions simulation = SimulationOptions();
+  TriadSimulationOptions simulation = TriadTestSimulationOptions();
   simulation.effects = ScaleNonlinearityEffects();
   RandomSource random(20, 2);
   const std::vector<TriadPoseMean> poses =
@@ -303,7 +289,7 @@ TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
   EXPECT_GT(result.p_value, 0.001);
   // The 9-parameter fit of the same poses does not explain them: k2 is in the data.
   TriadMlResult nine;
-  ASSERT_TRUE(CalibrateTriadMl(poses, MlOptions(), &nine).ok());
+  ASSERT_TRUE(CalibrateTriadMl(poses, TriadTestMlOptions(), &nine).ok());
   EXPECT_LT(nine.p_value, 1e-6) << nine.chi2_per_dof;
 }
 
@@ -312,9 +298,9 @@ TEST(TriadMlCalibration, RecoversTheScaleNonlinearityWithin3Sigma) {
 TEST(TriadMlCalibration, ScaleNonlinearityOptionOffLeavesTheNineParameterFit) {
   RandomSource random(20, 1);
   const std::vector<TriadPoseMean> poses =
-      SimulateTriadPoses(SimulationOptions(), RandomPoseDirections(30, &random), &random);
+      SimulateTriadPoses(TriadTestSimulationOptions(), RandomPoseDirections(30, &random), &random);
   TriadMlResult nine, twelve;
-  ASSERT_TRUE(CalibrateTriadMl(poses, MlOptions(), &nine).ok());
+  ASSERT_TRUE(CalibrateTriadMl(poses, TriadTestMlOptions(), &nine).ok());
   EXPECT_TRUE(nine.effects_estimated.empty());
   for (double value : nine.effects) EXPECT_EQ(value, 0.0);
   ASSERT_TRUE(CalibrateTriadMl(poses, TwelveParameterOptions(), &twelve).ok());
@@ -330,7 +316,7 @@ TEST(TriadMlCalibration, ScaleNonlinearityOptionOffLeavesTheNineParameterFit) {
 // triad identifiable, so the advice is right, not only printed.
 void ExpectSuggestedPosesMakeItIdentifiable(const std::vector<std::array<double, 3>>& directions,
                                             const TriadMlOptions& options, const char* label) {
-  TriadSimulationOptions simulation = SimulationOptions();
+  TriadSimulationOptions simulation = TriadTestSimulationOptions();
   if (options.scale_nonlinearity) simulation.effects = ScaleNonlinearityEffects();
   RandomSource random(31, 0);
   TriadMlResult refused;
@@ -358,12 +344,13 @@ std::vector<std::array<double, 3>> AboutX(int count) {
 }
 
 TEST(TriadMlCalibration, RefusalOfPlanarPosesSaysToHoldTheMissingAxisUpAndDown) {
-  for (const TriadMlOptions& options : {MlOptions(), TwelveParameterOptions()}) {
+  for (const TriadMlOptions& options : {TriadTestMlOptions(), TwelveParameterOptions()}) {
     RandomSource random(5, 0);
     TriadMlResult result;
-    ASSERT_FALSE(CalibrateTriadMl(SimulateTriadPoses(SimulationOptions(), AboutX(20), &random),
-                                  options, &result)
-                     .ok());
+    ASSERT_FALSE(
+        CalibrateTriadMl(SimulateTriadPoses(TriadTestSimulationOptions(), AboutX(20), &random),
+                         options, &result)
+            .ok());
     // The first two poses to add: x up and x down, the axis the turns about x never showed.
     ASSERT_GE(result.suggested_directions.size(), 2u);
     EXPECT_GT(std::abs(result.suggested_directions[0][0]), 0.99);
@@ -376,13 +363,14 @@ TEST(TriadMlCalibration, RefusalOfPlanarPosesSaysToHoldTheMissingAxisUpAndDown) 
 
 TEST(TriadMlCalibration, RefusalOfSixAndOfFewPosesNamesPosesThatFixIt) {
   const std::vector<std::array<double, 3>> six = SixPoseDirections();
-  ExpectSuggestedPosesMakeItIdentifiable(six, MlOptions(), "six, 9");
+  ExpectSuggestedPosesMakeItIdentifiable(six, TriadTestMlOptions(), "six, 9");
   ExpectSuggestedPosesMakeItIdentifiable(six, TwelveParameterOptions(), "six, 12");
   RandomSource random(11, 8);
-  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(8, &random), MlOptions(), "8, 9");
+  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(8, &random), TriadTestMlOptions(),
+                                         "8, 9");
   ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(11, &random),
                                          TwelveParameterOptions(), "11, 12");
-  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(9, &random), MlOptions(),
+  ExpectSuggestedPosesMakeItIdentifiable(RandomPoseDirections(9, &random), TriadTestMlOptions(),
                                          "9 (no dof), 9");
 }
 
