@@ -107,7 +107,7 @@ TEST(GyroscopeMl, ReportedSigmaMatchesTheSpreadOverSessions) {
   for (const GyroscopeUnknownStudy& row : result.unknowns) {
     EXPECT_GT(row.ratio, 0.75) << row.name;
     EXPECT_LT(row.ratio, 1.25) << row.name;
-    EXPECT_LT(std::abs(row.bias_sigmas), 0.35) << row.name;
+    EXPECT_LT(std::abs(row.bias_sigma), 0.35) << row.name;
   }
   EXPECT_GT(result.mean_chi2_per_dof, 0.9);
   EXPECT_LT(result.mean_chi2_per_dof, 1.1);

@@ -41,7 +41,7 @@ std::string GyroscopeStudyText(const GyroscopeStudyReport& report) {
   for (const GyroscopeUnknownStudy& row : result.unknowns) {
     out << StringPrintf("%-36s %13.6g %13.6g %+8.2f %11.4g %11.4g %7.3f  %.1f/%.1f/%.1f%s\n",
                         (row.name + " [" + row.unit + "]").c_str(), row.truth, row.mean,
-                        row.bias_sigmas, row.spread, row.mean_sigma, row.ratio,
+                        row.bias_sigma, row.spread, row.mean_sigma, row.ratio,
                         100.0 * row.coverage[0], 100.0 * row.coverage[1], 100.0 * row.coverage[2],
                         row.ratio_ok && row.coverage_ok ? "" : "  <-");
   }
@@ -96,7 +96,7 @@ nlohmann::json GyroscopeStudyJson(const GyroscopeStudyReport& report) {
                         {"unit", row.unit},
                         {"truth", row.truth},
                         {"mean", row.mean},
-                        {"bias_sigmas", row.bias_sigmas},
+                        {"bias_sigmas", row.bias_sigma},
                         {"spread", row.spread},
                         {"mean_sigma", row.mean_sigma},
                         {"ratio", row.ratio},

@@ -223,17 +223,10 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
     row.name = names[u];
     row.unit = units[u];
     row.truth = truth[u];
-    const SigmaCheck check = CheckSigma(
+    static_cast<SigmaCheck&>(row) = CheckSigma(
         static_cast<int>(good.size()), row.truth, [&](int i) { return good[i]->estimate[u]; },
         [&](int i) { return good[i]->stddev[u]; });
-    row.mean = check.mean;
-    row.mean_sigma = check.mean_sigma;
-    row.spread = check.spread;
-    row.ratio = check.ratio;
-    row.bias_sigmas = check.bias_sigma;
-    row.coverage = check.coverage;
-    const double ratio_band =
-        std::max(kRatioBand, kBandSd * row.ratio / std::sqrt(2.0 * std::max(1.0, n - 1)));
+    const double ratio_band = std::max(kRatioBand, kBandSd * row.ratio_stderr);
     row.ratio_ok = std::abs(row.ratio - 1.0) <= ratio_band;
     row.coverage_ok = true;
     for (int level = 0; level < 3; ++level) {

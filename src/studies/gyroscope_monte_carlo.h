@@ -86,16 +86,11 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
                                      const std::vector<TriadHold>& holds, uint64_t noise_seed,
                                      const std::vector<int>& estimated, GyroscopeSessionFit* fit);
 
-struct GyroscopeUnknownStudy {
+// One unknown: its sigma against the spread of its estimates (studies/sigma_check.h's figures).
+struct GyroscopeUnknownStudy : SigmaCheck {
   std::string name;
   std::string unit;
   double truth = 0.0;
-  double mean = 0.0;
-  double spread = 0.0;
-  double mean_sigma = 0.0;
-  double ratio = 0.0;                // mean_sigma / spread
-  double bias_sigmas = 0.0;          // (mean - truth) / mean_sigma
-  std::array<double, 3> coverage{};  // within 1, 2, 3 sigma
   bool ratio_ok = false;
   bool coverage_ok = false;
 };

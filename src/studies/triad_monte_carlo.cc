@@ -113,17 +113,9 @@ void Summarise(const TriadMonteCarloOptions& options, const std::vector<Trial>& 
     row.name = info.name;
     row.unit = info.unit;
     row.truth = truth[p];
-    const SigmaCheck check = CheckSigma(
+    static_cast<SigmaCheck&>(row) = CheckSigma(
         static_cast<int>(good.size()), row.truth, [&](int i) { return good[i]->estimate[p]; },
         [&](int i) { return good[i]->stddev[p]; });
-    row.mean = check.mean;
-    row.mean_sigma = check.mean_sigma;
-    row.spread = check.spread;
-    row.ratio = check.ratio;
-    row.ratio_stderr = check.ratio_stderr;
-    row.bias_sigma = check.bias_sigma;
-    row.bias_sigma_stderr = check.bias_sigma_stderr;
-    row.coverage = check.coverage;
     result->parameters.push_back(row);
   }
   for (const Trial* trial : good) {

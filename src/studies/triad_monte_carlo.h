@@ -74,18 +74,11 @@ struct TriadMonteCarloOptions {
 // three (a datasheet-like nominal guess, hundreds of counts from the offsets).
 TriadParameters TriadStudyInitialGuess(const TriadParameters& truth);
 
-struct TriadParameterStudy {
+// One parameter: its sigma against the spread of its estimates (studies/sigma_check.h's figures).
+struct TriadParameterStudy : SigmaCheck {
   std::string name;
   std::string unit;
   double truth = 0.0;
-  double mean = 0.0;
-  double bias_sigma = 0.0;           // (mean - truth) / mean_sigma
-  double bias_sigma_stderr = 0.0;    // spread / sqrt(N) / mean_sigma
-  double spread = 0.0;               // sd of the estimates
-  double mean_sigma = 0.0;           // mean reported sigma
-  double ratio = 0.0;                // mean_sigma / spread
-  double ratio_stderr = 0.0;         // ratio / sqrt(2 (N - 1))
-  std::array<double, 3> coverage{};  // fraction within 1, 2, 3 reported sigma
 };
 
 struct TriadMonteCarloResult {
