@@ -18,9 +18,9 @@ that starts with "..." (after spaces) stands for any number of printed lines, an
 ends with " ..." matches a printed line that starts with what comes before it.
 
 Commands are split like a shell would split them (shlex) but run with an argument vector, never a
-shell. They run in a fresh folder laid out like a clone (build/ is the --build_dir, tools/ and
-tests/ link to the source tree, ../shared to --shared), in the order of the files and blocks given,
-so that a block may use a file an earlier block of the same document wrote. Before comparing, both
+shell. Each document's commands run in a fresh folder laid out like a clone (build/ is the
+--build_dir, tools/, tests/ and data/ link to the source tree, ../shared to --shared), in the order
+of its blocks, so that a block may use a file an earlier block of the same document wrote. Before comparing, both
 sides lose trailing blanks, the run's folder reads as ~/accelcal, and the text that changes from run
 to run (elapsed times, the build's commit) is masked; see MASKS.
 
@@ -42,10 +42,13 @@ import tempfile
 MASKS = [
     # the commit in --version lines and report footers
     (re.compile(r"commit [0-9a-f]{7,40}(-modified)?"), "commit C"),
+    # a calibration file's checksum: the file records when and by which build it was written
+    (re.compile(r"(calibration: \S+\.json \(sha256 )[0-9a-f]{64}"), r"\1S"),
     # elapsed times: "in 1.4 s", "2.6 s on 2 threads", "0.9 s to start", "about 38 s left"
     (re.compile(r"\b\d+(\.\d+)? s (on \d+|elapsed|to start|for the tasks|inside them|left)\b"),
      r"T s \2"),
     (re.compile(r"\bin \d+(\.\d+)? s\b"), "in T s"),
+    (re.compile(r"\b(\d+) threads?, \d+(\.\d+)? s\)"), r"\1 threads, T s)"),
     (re.compile(r"\b\d+(\.\d+)? ms\b"), "T ms"),
 ]
 
@@ -106,6 +109,9 @@ def split_commands(block):
             raise ValueError(f"{block.path}:{block.line}: expected a '$ ' command line, got '{lines[i]}'")
         command = lines[i][2:]
         i += 1
+        while command.endswith("\\") and i < len(lines):  # a shell's line continuation
+            command = command[:-1].rstrip() + " " + lines[i].strip()
+            i += 1
         while True:
             try:
                 shlex.split(command)
@@ -165,23 +171,8 @@ def matches(expected, actual, excerpt):
     return gap or pos == len(actual)
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--build_dir", required=True)
-    parser.add_argument("--source_dir", required=True)
-    parser.add_argument("--shared", required=True)
-    parser.add_argument("--timeout", type=float, default=600, help="seconds per command")
-    parser.add_argument("files", nargs="+")
-    args = parser.parse_args()
-    if not os.path.isdir(os.path.join(args.shared, "data")):
-        print(f"check_docs: {args.shared}/data not found: the shared data are needed; skipped")
-        return 77
-    try:
-        documents = [(f, read_blocks(f)) for f in args.files]
-    except (OSError, ValueError) as e:
-        print(f"check_docs: {e}", file=sys.stderr)
-        return 2
-
+def make_workdir(args):
+    """A fresh folder laid out like a clone: build/, tools/, tests/, data/, docs/figures/, ../shared."""
     root = tempfile.mkdtemp(prefix="accelcal-docs-")
     workdir = os.path.join(root, "accelcal")
     os.mkdir(workdir)
@@ -190,18 +181,20 @@ def main():
     for name in ("tools", "tests", "data"):
         os.symlink(os.path.join(os.path.abspath(args.source_dir), name), os.path.join(workdir, name))
     os.makedirs(os.path.join(workdir, "docs", "figures"))
+    return workdir
+
+
+def check(documents, args, quiet=False):
+    """Runs every block of the documents; returns (outputs checked, failures, folders used)."""
+    failures, count = 0, 0
     env = dict(os.environ)
     env["PYTHONPATH"] = os.path.join(os.path.abspath(args.build_dir), "python")
-
-    failures, count = 0, 0
+    workdirs = []
     for path, blocks in documents:
+        workdir = make_workdir(args)  # each document starts from a clean folder
+        workdirs.append(workdir)
         for block in blocks:
-            try:
-                pairs = split_commands(block)
-            except ValueError as e:
-                print(f"check_docs: {e}", file=sys.stderr)
-                return 2
-            for command, expected in pairs:
+            for command, expected in split_commands(block):
                 count += 1
                 where = f"{path}:{block.line}"
                 if command is not None:
@@ -246,8 +239,72 @@ def main():
                     sys.stdout.writelines(difflib.unified_diff(
                         [l + "\n" for l in want], [l + "\n" for l in got],
                         "pasted", "printed now", n=2))
+    return count, failures, workdirs
+
+
+def self_test(args):
+    """The checker against documents whose answer is known: one true, three false."""
+    course = "../shared/data/tp2-2018"
+    printed = subprocess.run(["build/bin/linear_ls", f"--data_dir={course}"], cwd=make_workdir(args),
+                             capture_output=True, text=True, check=True).stdout
+    lines = printed.rstrip("\n").split("\n")
+    changed = [re.sub(r"(scale_x +[-+]\d\.\d{3})(\d)", lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), l)
+               for l in lines]
+    assert changed != lines, "no scale_x line in linear_ls's output"
+    run = f"<!-- check run: build/bin/linear_ls --data_dir={course} -->"
+    cases = [  # (name, document, whether it must pass)
+        ("the truth", [run, "```"] + lines + ["```"], True),
+        ("a changed digit", [run, "```"] + changed + ["```"], False),
+        ("a line never printed", [run.replace("check run:", "check excerpt run:"), "```",
+                                  lines[0], "  bias_x is exactly zero", "```"], False),
+        ("a wrong exit status", ["<!-- check status=2 -->", "```",
+                                 f"$ build/bin/linear_ls --data_dir={course}", lines[0], "```"], False),
+    ]
+    folder = tempfile.mkdtemp(prefix="accelcal-docs-self-test-")
+    wrong = 0
+    for name, document, should_pass in cases:
+        path = os.path.join(folder, name.replace(" ", "_") + ".md")
+        with open(path, "w", encoding="utf-8") as f:
+            f.write("\n".join(document) + "\n")
+        _, failures, _ = check([(path, read_blocks(path))], args)
+        if (failures == 0) != should_pass:
+            wrong += 1
+            print(f"SELF-TEST WRONG: {name}: the checker said {'fail' if failures else 'pass'}")
+    print(f"check_docs --self_test: {len(cases) - wrong} of {len(cases)} known answers given")
+    return 1 if wrong else 0
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--build_dir", required=True)
+    parser.add_argument("--source_dir", required=True)
+    parser.add_argument("--shared", required=True)
+    parser.add_argument("--timeout", type=float, default=600, help="seconds per command")
+    parser.add_argument("--self_test", action="store_true",
+                        help="check that the checker fails on a changed digit, a missing line and a "
+                             "wrong exit status, and passes on the truth")
+    parser.add_argument("files", nargs="*")
+    args = parser.parse_args()
+    if not os.path.isdir(os.path.join(args.shared, "data")):
+        print(f"check_docs: {args.shared}/data not found: the shared data are needed; skipped")
+        return 77
+    if args.self_test:
+        return self_test(args)
+    if not args.files:
+        print("check_docs: no FILE.md given; see --help", file=sys.stderr)
+        return 2
+    try:
+        documents = [(f, read_blocks(f)) for f in args.files]
+        for _, blocks in documents:
+            for block in blocks:
+                split_commands(block)
+    except (OSError, ValueError) as e:
+        print(f"check_docs: {e}", file=sys.stderr)
+        return 2
+
+    count, failures, workdirs = check(documents, args)
     print(f"check_docs: {count - failures} of {count} pasted outputs match"
-          f" ({len(documents)} files; run in {workdir})")
+          f" ({len(documents)} files; run in {', '.join(workdirs)})")
     return 1 if failures else 0
 
 
