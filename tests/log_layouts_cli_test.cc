@@ -65,6 +65,21 @@ TEST(LogLayoutsCli, ImucalsSessionsLoadWithTheirRate) {
   }
 }
 
+TEST(LogLayoutsCli, ImuTkModeOnAnotherSensorShowsNoDatasheetAndNoInverseGain) {
+  ACCELCAL_REQUIRE_IMUCAL_DATA(dir);
+  // imu_tk's rules on imucal's session (outputs in m/s^2): the parameters' table has no imu_tk or
+  // datasheet column, so its note must not speak of a datasheet or of gains printed inverted.
+  const testing::CommandResult result = RunBinaryArgs(
+      "calibrate_imu", {"--log=" + dir + "/example_ferraris_session.csv", "--rate_hz=102.4",
+                        "--unit=m/s^2", "--mode=imu_tk", "--init_rest_s=3", "--gyro_unit=deg/s"});
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("  gain_x           1              1.0034987\n"),
+            std::string::npos)
+      << result.stdout_text;
+  EXPECT_EQ(result.stdout_text.find("datasheet"), std::string::npos) << result.stdout_text;
+  EXPECT_EQ(result.stdout_text.find("1/(counts per m/s^2)"), std::string::npos);
+}
+
 TEST(LogLayoutsCli, EveryMimu4444LogLoads) {
   const std::string dir = testing::DataDirFrom("ACCELCAL_MIMU4444_DATA",
                                                ACCELCAL_DEFAULT_MIMU4444_DATA, "run3/imu8.csv");

@@ -453,7 +453,8 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
       best.used_intervals * options.interval_samples);
 
   out << "Parameters (a = T K (u - b), docs/triad.md)\n";
-  out << StringPrintf("  %-16s %-14s %-16s", "parameter", "unit", "estimate");
+  out << StringPrintf(example ? "  %-16s %-14s %-16s" : "  %-16s %-14s %s", "parameter", "unit",
+                      "estimate");
   if (example) out << StringPrintf(" %-16s %s", "imu_tk printed", "datasheet");
   out << "\n";
   const auto& infos = TriadParameterInfos();
@@ -462,13 +463,19 @@ std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver
     if (p >= kTriadGainX && p <= kTriadGainZ && report.unit == TriadOutputUnit::kCount) {
       value = StringPrintf("1/%.6g", 1.0 / best.parameters[p]);
     }
-    out << StringPrintf("  %-16s %-14s %-16s", infos[p].name,
+    out << StringPrintf(example ? "  %-16s %-14s %-16s" : "  %-16s %-14s %s", infos[p].name,
                         TriadParameterUnit(p, report.unit).c_str(), value.c_str());
     if (example) out << StringPrintf(" %-16s %s", kImuTkPrinted[p], kDatasheet[p]);
     out << "\n";
   }
-  out << "  (gain_k is printed as 1/(counts per m/s^2), the inverse scale imu_tk prints; the "
-         "datasheet gives the misalignment only to 0.01)\n\n";
+  // Each clause only when it describes the table above: the inverse only for counts, the
+  // datasheet only beside imu_tk's own log.
+  std::vector<std::string> notes;
+  if (report.unit == TriadOutputUnit::kCount)
+    notes.push_back("gain_k is printed as 1/(counts per m/s^2), the inverse scale imu_tk prints");
+  if (example) notes.push_back("the datasheet gives the misalignment only to 0.01");
+  if (!notes.empty()) out << "  (" << JoinStrings(notes, "; ") << ")\n";
+  out << "\n";
 
   out << StringPrintf(
       "Static intervals at k = %d (samples 0-based, inclusive; noise = sample "
