@@ -189,6 +189,34 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
   return text;
 }
 
+// The run effects under every plausible landmark tie (TieDependence, discovery.h); null when
+// the final model has no run effect or only one tie is plausible.
+nlohmann::json TieDependenceJson(const TieDependence& dependence) {
+  if (!dependence.Depends()) return nullptr;
+  nlohmann::json names = nlohmann::json::array();
+  for (const Parameter effect : dependence.run_effects) names.push_back(Info(effect).name);
+  nlohmann::json ties = nlohmann::json::array();
+  for (const TieAlternative& tie : dependence.ties) {
+    nlohmann::json estimates = nlohmann::json::object(), stddev = nlohmann::json::object();
+    for (size_t e = 0; e < dependence.run_effects.size(); ++e) {
+      estimates[Info(dependence.run_effects[e]).name] = Finite(tie.estimates[e]);
+      stddev[Info(dependence.run_effects[e]).name] = Finite(tie.stddevs[e]);
+    }
+    ties.push_back({{"landmark", tie.landmark},
+                    {"posterior", Finite(tie.posterior)},
+                    {"tied", tie.tied},
+                    {"estimates", estimates},
+                    {"stddev", stddev},
+                    {"delta_chi2", Finite(tie.delta_chi2)},
+                    {"p_value", Finite(tie.p_value)},
+                    {"needed", tie.needed}});
+  }
+  return {{"run_effects", names},
+          {"undecided", dependence.Undecided()},
+          {"posterior_reported", kTiePosteriorReported},
+          {"ties", ties}};
+}
+
 std::string CrossValidationLine(const CrossValidation& cv) {
   if (cv.folds <= 0) return "";
   // clang-format off
@@ -477,6 +505,7 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
           {"checks", checks},
           {"remaining", result.remaining},
           {"ambiguities", ambiguities},
+          {"tie_dependence", TieDependenceJson(result.tie_dependence)},
           {"reached", ReachedJson(result.extended_decision)},
           {"tied_landmark", result.tied_landmark.empty() ? nlohmann::json(nullptr)
                                                          : nlohmann::json(result.tied_landmark)},

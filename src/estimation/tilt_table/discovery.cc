@@ -838,6 +838,50 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       result->ambiguities.push_back(std::move(ambiguity));
     }
   }
+  // 7. What the run effects owe to the landmark tie: the final model with the run tied to each
+  // landmark (TieDependence in discovery.h).
+  TieDependence& dependence = result->tie_dependence;
+  for (const Parameter effect : joint.effects) {
+    if (ActsOnlyInRun(effect)) dependence.run_effects.push_back(effect);
+  }
+  if (!dependence.run_effects.empty() && landmarks.size() > 1 &&
+      joint.landmark_mode == JointOptions::Landmark::kNamed) {
+    JointOptions every = joint;
+    every.landmark_mode = JointOptions::Landmark::kAuto;
+    JointResult all;
+    ACCELCAL_RETURN_IF_ERROR(SolveJoint(data, every, &all));
+    JointOptions without = joint;
+    without.effects.erase(std::remove_if(without.effects.begin(), without.effects.end(),
+                                         [](Parameter e) { return ActsOnlyInRun(e); }),
+                          without.effects.end());
+    for (const LandmarkHypothesis& hypothesis : all.hypotheses) {
+      TieAlternative tie;
+      tie.landmark = hypothesis.name;
+      tie.posterior = hypothesis.posterior;
+      tie.tied = hypothesis.name == joint.landmark_name;
+      if (!hypothesis.solved || (!tie.tied && !(tie.posterior >= kTiePosteriorReported))) continue;
+      JointOptions with_tie = joint, without_tie = without;
+      with_tie.landmark_name = without_tie.landmark_name = hypothesis.name;
+      JointResult with_fit, without_fit;
+      // A tie the solver refuses (an effect not separable there) is no alternative to report.
+      if (!SolveJoint(data, with_tie, &with_fit).ok() ||
+          !SolveJoint(data, without_tie, &without_fit).ok())
+        continue;
+      for (const Parameter effect : dependence.run_effects) {
+        tie.estimates.push_back(with_fit.estimate.Value(effect));
+        tie.stddevs.push_back(with_fit.estimate.StandardDeviation(effect));
+      }
+      tie.delta_chi2 = std::max(0.0, TotalChi2(without_fit) - TotalChi2(with_fit));
+      tie.p_value = ChiSquareSurvival(tie.delta_chi2, dependence.run_effects.size());
+      tie.needed = tie.p_value <= family_alpha;
+      dependence.ties.push_back(tie);
+    }
+    std::stable_sort(dependence.ties.begin(), dependence.ties.end(),
+                     [](const TieAlternative& a, const TieAlternative& b) {
+                       return a.tied != b.tied ? a.tied : a.posterior > b.posterior;
+                     });
+  }
+
   for (int k = 0; k < 2; ++k) result->final_residuals[k] = extended_residuals[k];
   result->noise_model = {joint.Noise(0), joint.Noise(1)};
 
@@ -849,12 +893,33 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                Fixed(effect.estimate, effect.stddev, info.unit) +
                StringPrintf(" (delta chi2 = %.1f, p = %.2g)", effect.delta_chi2, effect.p_value);
   }
+  // The run effects under every plausible landmark tie, when more than one is.
+  std::string ties;
+  if (dependence.Depends()) {
+    for (const TieAlternative& tie : dependence.ties) {
+      std::string effects;
+      for (size_t e = 0; e < dependence.run_effects.size(); ++e) {
+        const ParameterInfo& info = Info(dependence.run_effects[e]);
+        effects += (effects.empty() ? "" : ", ") + std::string(info.name) + " = " +
+                   Fixed(tie.estimates[e], tie.stddevs[e], info.unit);
+      }
+      effects = tie.needed ? effects + StringPrintf(" (delta chi2 = %.1f)", tie.delta_chi2)
+                           : StringPrintf("no run effect needed (delta chi2 = %.2g, p = %.2g)",
+                                          tie.delta_chi2, tie.p_value);
+      ties += StringPrintf("%s%s %s (posterior %.2g): %s", ties.empty() ? "" : "; ",
+                           tie.tied ? "tied to" : "if it ended at", tie.landmark.c_str(),
+                           tie.posterior, effects.c_str());
+    }
+  }
+  if (dependence.Depends() && !dependence.Undecided()) {
+    missing += "; the run effects depend on the landmark the run reached: " + ties;
+  }
   for (const NoiseFinding& finding : result->noise_findings)
     missing += (missing.empty() ? "" : "; ") + finding.description;
   std::string left;
   for (const std::string& line : result->remaining) left += (left.empty() ? "" : "; ") + line;
-  result->verdict_code =
-      DecideVerdict(!left.empty(), !result->ambiguities.empty(), !missing.empty());
+  result->verdict_code = DecideVerdict(
+      !left.empty(), !result->ambiguities.empty() || dependence.Undecided(), !missing.empty());
   switch (result->verdict_code) {
     case Verdict::kUnexplained:
       result->verdict = (missing.empty() ? std::string("unexplained: structure remains")
@@ -874,6 +939,14 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
               alternative.delta_chi2);
         }
         sets += "; what would separate them: " + ambiguity.separation;
+      }
+      if (dependence.Undecided()) {
+        sets +=
+            (sets.empty() ? "" : "; ") +
+            std::string("whether the run has a run effect depends on the landmark it reached: ") +
+            ties +
+            "; what would separate them: the run's end position measured, or a landmark "
+            "whose position the endpoint's uncertainty cannot confuse with another";
       }
       result->verdict = "cannot tell apart: " + sets + " (the model as fitted: " + missing + ")";
       break;

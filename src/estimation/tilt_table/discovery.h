@@ -98,6 +98,39 @@ struct Ambiguity {
   std::string separation;  // what would tell them apart
 };
 
+// What a run effect of the final model owes to the landmark the run is tied to. A run effect
+// (run_bias_shift_x, ...) moves the endpoint, so it can pay for a tie to the wrong landmark;
+// its estimate, and whether it is needed at all, then depend on the tie. The final model is
+// refitted with the run tied to every landmark (JointOptions::Landmark::kAuto): a tie's
+// posterior is its likelihood under the final model, run effects free, over the other ties'
+// (equal priors). Every tie whose posterior is at least kTiePosteriorReported is kept, with the
+// run effects' estimates under it and their joint chi-square there (the same model without
+// the run effects, tied to the same landmark, minus with them).
+inline constexpr double kTiePosteriorReported = 0.01;
+struct TieAlternative {
+  std::string landmark;
+  double posterior = 0.0;
+  bool tied = false;              // the tie of the reported estimates
+  std::vector<double> estimates;  // per TieDependence::run_effects
+  std::vector<double> stddevs;
+  double delta_chi2 = 0.0;  // what the run effects gain under this tie
+  double p_value = 1.0;     // chi-square on run_effects.size() degrees of freedom
+  bool needed = true;       // p_value <= the verdict's alpha
+};
+struct TieDependence {
+  std::vector<Parameter> run_effects;  // the final model's; empty: nothing depends on the tie
+  std::vector<TieAlternative> ties;    // the tied landmark first, then by posterior
+  // Whether another tie than the one taken is plausible (posterior >= kTiePosteriorReported).
+  bool Depends() const { return ties.size() > 1; }
+  // Whether a plausible tie needs no run effect: the data cannot say whether the run has one.
+  bool Undecided() const {
+    for (const TieAlternative& tie : ties) {
+      if (!tie.needed) return true;
+    }
+    return false;
+  }
+};
+
 struct AxisDiagnostics {
   NoiseLevelTest noise;
   bool noise_flagged = false;
@@ -186,6 +219,7 @@ struct DiscoveryResult {
   std::vector<ResidualCheck> checks;
   std::vector<std::string> remaining;
   std::vector<Ambiguity> ambiguities;
+  TieDependence tie_dependence;
   // The final model's tilt-test residuals (m/s^2, measured minus predicted), per axis, in
   // sample order, for the plots of what remains against theta and against time.
   std::array<std::vector<double>, 2> final_residuals;
