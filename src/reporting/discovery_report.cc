@@ -169,7 +169,9 @@ std::string RemainsBlock(const DiscoveryResult& result) {
 std::string AmbiguityBlock(const DiscoveryResult& result) {
   if (result.ambiguities.empty()) return "";
   std::string text =
-      "\n  cannot tell apart (effects another candidate replaces at about the same fit)\n";
+      "\n  cannot tell apart (effects another candidate replaces at about the same fit, or one "
+      "beside "
+      "them moves)\n";
   for (const Ambiguity& ambiguity : result.ambiguities) {
     const ParameterInfo& info = Info(ambiguity.effect);
     text += StringPrintf("  %-24s = %s +- %s %s  (in the final model)\n", info.name,
@@ -178,6 +180,16 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
       const std::string other_name = alternative.Name();
       const std::string other_unit = alternative.Unit();
+      if (alternative.beside) {
+        text += StringPrintf(
+            "    or with %-16s = %s +- %s %s beside it, %s = %s +- %s %s  (delta chi2 %s)\n",
+            other_name.c_str(), Figure("%+.4e", alternative.estimate).c_str(),
+            Figure("%.3e", alternative.stddev).c_str(), other_unit.c_str(), info.name,
+            Figure("%+.4e", alternative.effect_estimate_beside).c_str(),
+            Figure("%.3e", alternative.effect_stddev_beside).c_str(), info.unit,
+            Figure("%+.2f", alternative.delta_chi2).c_str());
+        continue;
+      }
       text += StringPrintf("    or %-21s = %s +- %s %s  (delta chi2 %s)\n", other_name.c_str(),
                            Figure("%+.4e", alternative.estimate).c_str(),
                            Figure("%.3e", alternative.stddev).c_str(), other_unit.c_str(),
@@ -453,12 +465,19 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
   for (const Ambiguity& ambiguity : result.ambiguities) {
     nlohmann::json alternatives = nlohmann::json::array();
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-      alternatives.push_back({{"name", alternative.Name()},
-                              {"outside_catalogue", !alternative.shape.empty()},
-                              {"unit", alternative.Unit()},
-                              {"estimate", Finite(alternative.estimate)},
-                              {"stddev", Finite(alternative.stddev)},
-                              {"delta_chi2", Finite(alternative.delta_chi2)}});
+      alternatives.push_back(
+          {{"name", alternative.Name()},
+           {"outside_catalogue", !alternative.shape.empty()},
+           {"unit", alternative.Unit()},
+           {"estimate", Finite(alternative.estimate)},
+           {"stddev", Finite(alternative.stddev)},
+           {"delta_chi2", Finite(alternative.delta_chi2)},
+           {"beside", alternative.beside},
+           {"effect_estimate_beside",
+            alternative.beside ? Finite(alternative.effect_estimate_beside) : nullptr},
+           {"effect_stddev_beside",
+            alternative.beside ? Finite(alternative.effect_stddev_beside) : nullptr},
+           {"p_value", alternative.beside ? Finite(alternative.p_value) : nullptr}});
     }
     ambiguities.push_back({{"name", Info(ambiguity.effect).name},
                            {"unit", Info(ambiguity.effect).unit},

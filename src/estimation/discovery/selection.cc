@@ -1,7 +1,9 @@
 #include "estimation/discovery/selection.h"
 
 #include <algorithm>
+#include <cmath>
 
+#include "estimation/statistics/chi_square.h"
 #include "estimation/statistics/diagnostics.h"
 
 namespace accelcal {
@@ -98,6 +100,28 @@ std::vector<LookAlike> FindLookAlikes(DiscoveryGeometry* geometry,
     }
   }
   return look_alikes;
+}
+
+std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
+                                  double alpha, double shift_sigma) {
+  const std::vector<int> model = geometry->Effects();
+  std::vector<Partner> partners;
+  for (const int candidate : candidates) {
+    if (std::find(model.begin(), model.end(), candidate) != model.end()) continue;
+    BesideFit fit;
+    if (!geometry->Beside(candidate, &fit) || fit.estimates.size() != model.size() ||
+        fit.current_stddevs.size() != model.size())
+      continue;
+    const double p_value = ChiSquareSurvival(std::max(0.0, fit.gain), 1.0);
+    if (!(p_value <= alpha)) continue;
+    for (size_t e = 0; e < model.size(); ++e) {
+      if (!(fit.current_stddevs[e] > 0.0)) continue;
+      const double shift =
+          std::abs(fit.estimates[e] - fit.current_estimates[e]) / fit.current_stddevs[e];
+      if (shift >= shift_sigma) partners.push_back({e, candidate, fit, p_value, shift});
+    }
+  }
+  return partners;
 }
 
 Verdict DecideVerdict(bool structure_remains, bool look_alikes, bool found) {

@@ -46,6 +46,16 @@ struct SwapFit {
   double stddev = 0.0;
 };
 
+// The current model grown by one candidate beside its effects, fitted but not kept.
+struct BesideFit {
+  double gain = 0.0;                      // the chi-square the candidate removes
+  std::vector<double> current_estimates;  // the model's effects, Effects() order, as fitted
+  std::vector<double> current_stddevs;
+  std::vector<double> estimates, stddevs;  // the same effects in the grown model
+  double estimate = 0.0;                   // the candidate's, in the grown model
+  double stddev = 0.0;
+};
+
 // What a sensor geometry gives the procedure. Candidates are indices into the geometry's own
 // list; the geometry holds the current model and its fit.
 class DiscoveryGeometry {
@@ -71,6 +81,13 @@ class DiscoveryGeometry {
   // candidates tried.
   virtual bool LooksAlike(size_t effect, const SwapFit& swap, double effect_delta_chi2,
                           size_t alternatives) const = 0;
+  // The current model with `candidate` added beside its effects, fitted (FindPartners); false
+  // when it cannot be fitted, or when the geometry does not offer it.
+  virtual bool Beside(int candidate, BesideFit* fit) {
+    (void)candidate;
+    (void)fit;
+    return false;
+  }
 };
 
 struct SelectionOptions {
@@ -126,6 +143,22 @@ struct LookAlike {
 std::vector<LookAlike> FindLookAlikes(DiscoveryGeometry* geometry,
                                       const std::vector<int>& candidates,
                                       const std::vector<double>& effect_delta_chi2);
+
+// Partners: candidates selection did not add that the data cannot tell from their absence where
+// it matters. Added beside an effect of the model, a partner gains p <= `alpha` (uncorrected for
+// the candidates tried: a doubt, not a finding) and moves that effect's estimate by at least
+// `shift_sigma` of the effect's sigma as fitted (without the partner): the effect's estimate
+// carries the partner's signal if the partner is there, and the data do not say whether it is. Two
+// effects correlated in the design (each 3.5-4 sigma once the other is fitted) are the case.
+struct Partner {
+  size_t effect = 0;  // index into Effects()
+  int partner = 0;
+  BesideFit fit;
+  double p_value = 1.0;      // of fit.gain, chi-square(1)
+  double shift_sigma = 0.0;  // |estimate with - without| / sigma without
+};
+std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
+                                  double alpha, double shift_sigma = 2.0);
 
 // The verdict, in its precedence: structure the checks flag remains (unexplained, whatever was
 // found), else an effect found has a look-alike (cannot tell apart), else effects or a noise

@@ -185,6 +185,27 @@ class TiltTableGeometry : public DiscoveryGeometry {
     return true;
   }
 
+  bool Beside(int candidate, BesideFit* fit) override {
+    JointOptions grown = *joint_;
+    grown.effects.push_back(candidates_[candidate]);
+    JointResult refit;
+    if (!SolveJoint(data_, grown, &refit).ok()) return false;
+    fit->gain = TotalChi2(*current_) - TotalChi2(refit);  // the same tie
+    fit->current_estimates.clear();
+    fit->current_stddevs.clear();
+    fit->estimates.clear();
+    fit->stddevs.clear();
+    for (const Parameter effect : joint_->effects) {
+      fit->current_estimates.push_back(current_->estimate.Value(effect));
+      fit->current_stddevs.push_back(current_->estimate.StandardDeviation(effect));
+      fit->estimates.push_back(refit.estimate.Value(effect));
+      fit->stddevs.push_back(refit.estimate.StandardDeviation(effect));
+    }
+    fit->estimate = refit.estimate.Value(candidates_[candidate]);
+    fit->stddev = refit.estimate.StandardDeviation(candidates_[candidate]);
+    return true;
+  }
+
   // It must explain, alone, what the effect explains (significantly), and about as well.
   bool LooksAlike(size_t, const SwapFit& swap, double effect_delta_chi2,
                   size_t alternatives) const override {
@@ -709,6 +730,9 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     std::vector<int> all(geometry.candidates().size());
     for (size_t c = 0; c < all.size(); ++c) all[c] = static_cast<int>(c);
     const std::vector<LookAlike> look_alikes = FindLookAlikes(&geometry, all, necessary);
+    // And those beside it: correlated in this design, not separable from the effect's estimate.
+    const std::vector<Partner> partners =
+        FindPartners(&geometry, all, options.partner_alpha, options.partner_shift_sigma);
     const size_t candidate_count = all.size() - joint.effects.size();
     for (size_t e = 0; e < joint.effects.size(); ++e) {
       Ambiguity ambiguity;
@@ -720,6 +744,19 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         ambiguity.alternatives.push_back({geometry.candidates()[look_alike.alternative],
                                           look_alike.fit.estimate, look_alike.fit.stddev,
                                           look_alike.fit.worse, ""});
+      }
+      for (const Partner& partner : partners) {
+        if (partner.effect != e) continue;
+        Ambiguity::Alternative beside;
+        beside.effect = geometry.candidates()[partner.partner];
+        beside.estimate = partner.fit.estimate;
+        beside.stddev = partner.fit.stddev;
+        beside.delta_chi2 = -partner.fit.gain;
+        beside.beside = true;
+        beside.effect_estimate_beside = partner.fit.estimates[e];
+        beside.effect_stddev_beside = partner.fit.stddevs[e];
+        beside.p_value = partner.p_value;
+        ambiguity.alternatives.push_back(beside);
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
       // about as well, alone explains what the effect explains, and is not merely a
@@ -797,6 +834,25 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       std::string separation;
       for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
         const bool run_effect = EffectOf(ambiguity.effect).acts_in != ActsIn::kCalibrationTest;
+        if (alternative.beside) {
+          // The partner gains too little to be named, enough to move the effect: more of the
+          // same data names it or rules it out (its chi-square grows with them).
+          const std::string line = StringPrintf(
+              "%s and %s are correlated in this design: %s alone (as fitted) or both, with %s "
+              "gaining delta chi2 %.1f (p = %.2g) and moving %s by %.1f of its sigma as fitted; "
+              "about %.3g times "
+              "more samples of this design would name %s or rule it out, or a design where "
+              "their signatures differ",
+              Info(ambiguity.effect).name, Info(alternative.effect).name,
+              Info(ambiguity.effect).name, Info(alternative.effect).name, -alternative.delta_chi2,
+              alternative.p_value, Info(ambiguity.effect).name,
+              std::abs(alternative.effect_estimate_beside - ambiguity.effect_estimate) /
+                  ambiguity.effect_stddev,
+              std::max(1.0, 13.0 / std::max(-alternative.delta_chi2, 1e-3)),
+              Info(alternative.effect).name);
+          separation += (separation.empty() ? "" : "; ") + line;
+          continue;
+        }
         if (!alternative.shape.empty()) {
           // A shape acts only in the test (it was seen there); the run separates them when
           // the effect acts in it.
@@ -933,6 +989,17 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
             (sets.empty() ? "" : "; ") + std::string(Info(ambiguity.effect).name) + " = " +
             Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
         for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+          if (alternative.beside) {
+            sets += StringPrintf(
+                " alone, or %s = %s beside %s = %s (delta chi2 %+.2g)", Info(ambiguity.effect).name,
+                Fixed(alternative.effect_estimate_beside, alternative.effect_stddev_beside,
+                      Info(ambiguity.effect).unit)
+                    .c_str(),
+                alternative.Name().c_str(),
+                Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
+                alternative.delta_chi2);
+            continue;
+          }
           sets += StringPrintf(
               " or %s = %s (delta chi2 %+.2g)", alternative.Name().c_str(),
               Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),

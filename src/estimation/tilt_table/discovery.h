@@ -62,6 +62,12 @@ struct DiscoveryOptions {
   // Two candidates whose models' chi-squares differ by less than this (a likelihood ratio
   // below exp(3) = 20) explain the data about equally well.
   double ambiguity_delta_chi2 = 6.0;
+  // A candidate beside an effect found (FindPartners, estimation/discovery/selection.h) is
+  // reported with it when it gains p <= partner_alpha and moves the effect's estimate by at
+  // least partner_shift_sigma of the effect's sigma as fitted: the data cannot rule it out, and
+  // the effect's estimate would carry its signal.
+  double partner_alpha = 0.1;
+  double partner_shift_sigma = 2.0;
 };
 
 // What the noise analysis found on one axis beyond a wrong level (which is
@@ -91,6 +97,12 @@ struct Ambiguity {
     // Not empty: the alternative is a shape outside the catalogue ("x: 3-theta harmonic"),
     // not `effect`.
     std::string shape;
+    // A partner (FindPartners): the alternative is `effect` beside this one, not in its place;
+    // this one's estimate in that model, and the partner's gain (delta_chi2 is then -gain).
+    bool beside = false;
+    double effect_estimate_beside = 0.0;
+    double effect_stddev_beside = 0.0;
+    double p_value = 1.0;  // beside: the partner's gain, chi-square(1)
     std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
     std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
   };

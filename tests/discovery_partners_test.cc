@@ -1,0 +1,98 @@
+// Discovery at its edges (issue 33, item 2): two effects of the catalogue present together, each
+// about 6 sigma alone but correlated in the design (each about 3.6 sigma once the other is
+// fitted), must not come out as one effect carrying the other's signal. The design: the course's
+// tilt test over 0 to 4.4 rad, where angle_offset (cos theta on x) and bias_drift_x (linear in
+// the sample's place, so in theta) correlate at 0.80; angle_offset = 0.0029 rad and
+// bias_drift_x = 0.103 m/s^2, each 6 sigma alone. Before FindPartners, 18 of 50 seeds named one
+// of them without the other, 3 to 6 sigma from its truth.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include "estimation/tilt_table/discovery.h"
+#include "io/scenario_json.h"
+#include "models/effects.h"
+#include "simulation/scenario.h"
+
+namespace accelcal {
+namespace {
+
+Scenario CorrelatedDesign(const std::string& hidden) {
+  Scenario scenario;
+  EXPECT_TRUE(LoadDefaultScenario(&scenario).ok());
+  EXPECT_TRUE(ApplyScenarioOverrides(hidden, &scenario).ok());
+  scenario.tilt.sample_count = 20001;
+  scenario.tilt.theta_begin_rad = 0.0;
+  scenario.tilt.theta_end_rad = 4.4;
+  return scenario;
+}
+
+DiscoveryResult DiscoverSeed(const Scenario& scenario, uint64_t seed) {
+  const SimulatedData data = SimulateScenario(scenario, seed);
+  DiscoveryOptions options;
+  options.cross_validation_folds = 0;
+  DiscoveryResult result;
+  EXPECT_TRUE(
+      Discover(data.test, data.run, data.conditions, data.landmarks, options, &result).ok());
+  return result;
+}
+
+bool HasPartner(const DiscoveryResult& result) {
+  for (const Ambiguity& ambiguity : result.ambiguities) {
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives)
+      if (alternative.beside) return true;
+  }
+  return false;
+}
+
+TEST(DiscoveryPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthersSignal) {
+  const std::map<std::string, double> truth = {{"angle_offset", 0.0029}, {"bias_drift_x", 0.103}};
+  const Scenario scenario = CorrelatedDesign("angle_offset=0.0029,bias_drift_x=0.103");
+  int single = 0, with_partner = 0;
+  for (uint64_t seed = 1; seed <= 50; ++seed) {
+    const DiscoveryResult result = DiscoverSeed(scenario, seed);
+    with_partner += HasPartner(result);
+    int named = 0;
+    for (const DiscoveredEffect& effect : result.effects)
+      named += truth.count(Info(effect.effect).name);
+    if (named != 1 || result.verdict_code == Verdict::kCannotTellApart) continue;
+    // One of the two named alone, with a confident verdict: its estimate must not carry the
+    // other's signal (3 sigma from its own truth).
+    for (const DiscoveredEffect& effect : result.effects) {
+      const auto t = truth.find(Info(effect.effect).name);
+      if (t == truth.end()) continue;
+      const double z = (effect.estimate - t->second) / effect.stddev;
+      if (std::abs(z) > 3.0) {
+        ++single;
+        std::printf("seed %d: %s alone, %.1f sigma from its truth: %s\n", static_cast<int>(seed),
+                    t->first.c_str(), z, result.verdict.c_str());
+      }
+    }
+  }
+  // Measured: 1 of 50 (that seed names bias_drift_x with nonorthogonality, which took the y
+  // part of angle_offset's signal); 18 of 50 before. A partner is named in most seeds.
+  EXPECT_LE(single, 2);
+  EXPECT_GE(with_partner, 25);
+}
+
+TEST(DiscoveryPartners, OneEffectAloneIsRarelyGivenAPartner) {
+  // angle_offset alone at 6 sigma: bias_drift_x beside it gains p <= 0.1 about 10% of the time
+  // under the null, and then moves angle_offset by a sigma or more.
+  const Scenario scenario = CorrelatedDesign("angle_offset=0.0029");
+  int with_partner = 0, found = 0;
+  for (uint64_t seed = 1; seed <= 50; ++seed) {
+    const DiscoveryResult result = DiscoverSeed(scenario, seed);
+    for (const DiscoveredEffect& effect : result.effects)
+      found += effect.effect == Parameter::kAngleOffset;
+    with_partner += HasPartner(result);
+  }
+  EXPECT_GE(found, 45);
+  EXPECT_LE(with_partner, 10);  // partner_alpha 0.1: at most 5 expected, 10 is 2.4 sd above
+}
+
+}  // namespace
+}  // namespace accelcal
