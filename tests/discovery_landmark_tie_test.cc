@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "discovery_seed.h"
 #include "estimation/tilt_table/discovery.h"
 #include "estimation/tilt_table/joint_estimator.h"
 #include "io/scenario_json.h"
@@ -52,11 +53,7 @@ TEST(DiscoveryLandmarkTie, ARunEffectIsNeverReportedWithoutThePlausibleTiesItDep
   int reported = 0, truth_listed = 0;
   for (uint64_t seed = 1; seed <= 50; ++seed) {
     const SimulatedData data = SimulateScenario(scenario, seed);
-    DiscoveryOptions options;
-    options.cross_validation_folds = 0;
-    DiscoveryResult result;
-    ASSERT_TRUE(
-        Discover(data.test, data.run, data.conditions, data.landmarks, options, &result).ok());
+    const DiscoveryResult result = DiscoverSeed(data);
     bool run_effect = false;
     for (const DiscoveredEffect& effect : result.effects)
       run_effect = run_effect || ActsOnlyInRun(effect.effect);

@@ -13,6 +13,7 @@
 #include <map>
 #include <string>
 
+#include "discovery_seed.h"
 #include "estimation/tilt_table/discovery.h"
 #include "io/scenario_json.h"
 #include "models/effects.h"
@@ -31,16 +32,6 @@ Scenario CorrelatedDesign(const std::string& hidden) {
   return scenario;
 }
 
-DiscoveryResult DiscoverSeed(const Scenario& scenario, uint64_t seed) {
-  const SimulatedData data = SimulateScenario(scenario, seed);
-  DiscoveryOptions options;
-  options.cross_validation_folds = 0;
-  DiscoveryResult result;
-  EXPECT_TRUE(
-      Discover(data.test, data.run, data.conditions, data.landmarks, options, &result).ok());
-  return result;
-}
-
 bool HasPartner(const DiscoveryResult& result) {
   for (const Ambiguity& ambiguity : result.ambiguities) {
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives)
@@ -54,7 +45,7 @@ TEST(DiscoveryPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthers
   const Scenario scenario = CorrelatedDesign("angle_offset=0.0029,bias_drift_x=0.103");
   int single = 0, with_partner = 0;
   for (uint64_t seed = 1; seed <= 50; ++seed) {
-    const DiscoveryResult result = DiscoverSeed(scenario, seed);
+    const DiscoveryResult result = DiscoverSeed(SimulateScenario(scenario, seed));
     with_partner += HasPartner(result);
     int named = 0;
     for (const DiscoveredEffect& effect : result.effects)
@@ -85,7 +76,7 @@ TEST(DiscoveryPartners, OneEffectAloneIsRarelyGivenAPartner) {
   const Scenario scenario = CorrelatedDesign("angle_offset=0.0029");
   int with_partner = 0, found = 0;
   for (uint64_t seed = 1; seed <= 50; ++seed) {
-    const DiscoveryResult result = DiscoverSeed(scenario, seed);
+    const DiscoveryResult result = DiscoverSeed(SimulateScenario(scenario, seed));
     for (const DiscoveredEffect& effect : result.effects)
       found += effect.effect == Parameter::kAngleOffset;
     with_partner += HasPartner(result);
