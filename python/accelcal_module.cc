@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/build_info.h"
 #include "common/format.h"
 #include "common/sha256.h"
 #include "common/status.h"
@@ -467,6 +468,10 @@ PYBIND11_MODULE(accelcal, m) {
   static char* writer_argv[] = {writer};
   RecordCommandLine(1, writer_argv);
   m.attr("__version__") = AccelcalVersion();
+  // What --version prints after the binary's name: version, commit and build type.
+  m.attr("__git_commit__") = AccelcalGitCommit();
+  m.attr("__build_type__") = AccelcalBuildType();
+  m.attr("build_info") = BuildInfoLine();
   static py::exception<InputError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr pointer) {
     try {

@@ -64,7 +64,16 @@ accelcal_build() {
   local jobs first_build=""
   jobs=$(nproc 2>/dev/null || echo 2)
   [ -e "$build_dir/CMakeCache.txt" ] || first_build=1
-  cmake -S "$ACCELCAL_ROOT" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null ||
+  # ccache where present, unless a launcher is already chosen (CMake's environment variable
+  # CMAKE_CXX_COMPILER_LAUNCHER, or an argument): a second checkout, or the same one after a
+  # pull, compiles only what changed. CCACHE_DISABLE=1 in the environment turns it off.
+  local launcher=()
+  if [ -z "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && command -v ccache >/dev/null 2>&1 &&
+    [[ " $* " != *" -DCMAKE_CXX_COMPILER_LAUNCHER="* ]]; then
+    launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  fi
+  cmake -S "$ACCELCAL_ROOT" -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${launcher[@]}" "$@" \
+    >/dev/null ||
     { echo "accelcal: cmake configure failed (run cmake -S . -B $build_dir to see why)" >&2; return 1; }
   local build_args=(--build "$build_dir" -j "$jobs")
   local what="everything"

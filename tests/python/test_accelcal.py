@@ -62,6 +62,10 @@ def test_the_module_has_its_api():
     assert issubclass(accelcal.Error, ValueError)
     version = run_binary("calibrate_imu", "--version").stdout
     assert accelcal.__version__ and accelcal.__version__ in version
+    # The same line as every binary's --version: version, commit and build type.
+    assert version.strip() == "calibrate_imu version " + accelcal.build_info
+    assert accelcal.__git_commit__ in accelcal.build_info
+    assert accelcal.__build_type__ in accelcal.build_info
 
 
 @needs_data
