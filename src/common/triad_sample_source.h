@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
-#include <functional>
 
 #include "common/status.h"
 #include "common/triad_log.h"
@@ -42,11 +41,10 @@ class TriadLogSamples : public TriadSampleSource {
 };
 
 // Calls visit(i, t_s, output) for the samples i = first .. last (inclusive) in order, read in
-// batches of `batch_samples`.
-inline Status ForEachSample(
-    const TriadSampleSource& source, size_t first, size_t last,
-    const std::function<void(size_t, double, const std::array<double, 3>&)>& visit,
-    size_t batch_samples = size_t{1} << 16) {
+// batches of `batch_samples` (a template, so that a pass's per-sample work is inlined).
+template <typename Visit>
+Status ForEachSample(const TriadSampleSource& source, size_t first, size_t last, Visit&& visit,
+                     size_t batch_samples = size_t{1} << 16) {
   TriadLog batch;
   for (size_t begin = first; begin <= last && begin < source.size(); begin += batch_samples) {
     const size_t count = std::min(batch_samples, last + 1 - begin);

@@ -41,8 +41,8 @@ uint64_t QuantileRank(double q, uint64_t size) {
 
 // One pass over the log: visit(j, V_j) for every window in order; OutputSteps into *step when
 // given.
-Status ForEachWindow(const TriadSampleSource& log, int window,
-                     const std::function<void(long long, const Variances&)>& visit,
+template <typename Visit>
+Status ForEachWindow(const TriadSampleSource& log, int window, Visit&& visit,
                      std::array<double, 3>* step = nullptr) {
   WindowVarianceStream stream(window);
   long long j = 0;
