@@ -17,16 +17,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <limits>
 #include <sstream>
 
 #include "common/format.h"
+#include "common/streaming_rank.h"
+#include "common/triad_sample_source.h"
 #include "estimation/statistics/allan_variance.h"
 #include "estimation/triad/noise_floor_detector.h"
+#include "estimation/triad/noise_floor_stream.h"
 #include "io/cleanup.h"
+#include "io/course_data.h"
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
+#include "io/sample_spool.h"
 #include "models/triad_units.h"
 #include "problem_support.h"
 #include "reporting/allan_report.h"
@@ -57,6 +65,11 @@ DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_string(plot, "",
               "Draw the log-log Allan plot with the fitted terms into this PNG file "
               "(tools/plot_allan.py with /usr/bin/python3 and matplotlib).");
+DEFINE_bool(stream, true,
+            "Read a text log in passes over a temporary binary copy of its samples: memory "
+            "independent of the log's length (docs/noise.md, long data). A .mat log and a pair of "
+            "files are read whole whatever this says; --stream=false reads a text log whole too "
+            "(the same results, for comparison).");
 DEFINE_string(tools_dir, accelcal::DefaultToolsDir(ACCELCAL_TOOLS_DIR),
               "Folder of the plot scripts.");
 ACCELCAL_FLAG_RANGE(bootstrap, 100, 20000);
@@ -78,8 +91,10 @@ constexpr const char* kUsage =
     "a --confidence interval from a parametric bootstrap; one reaching 0 is 'not resolved' and\n"
     "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 "
     "(U^2).\n"
-    "The log is read whole (some 90 bytes a sample: 0.9 GB at 10^7); the bootstrap's cost does\n"
-    "not grow with it beyond 2^16 samples of static data (docs/noise.md, long data).";
+    "A text log is read in passes over a temporary binary copy of its samples (32 bytes a sample\n"
+    "in $TMPDIR), in memory independent of its length but for one static segment at a time; a\n"
+    "MATLAB .mat file is read whole. The bootstrap's cost does not grow with the data beyond 2^16\n"
+    "samples of static data (docs/noise.md, long data).";
 
 Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
   std::stringstream list(FLAGS_segment);
@@ -133,55 +148,159 @@ Status ValidateFlags() {
                           RunInputs{{FLAGS_log}, {}});
 }
 
-// The samples of [first, last] as segments of the result unit, and the sample period: the
-// median step, every step within 50% of it (a gap would put unequal spacing into the clusters).
-Status TakeSegment(const TriadLog& log, int first, int last, double gain, AllanReport* report,
-                   std::array<std::vector<std::vector<double>>, 3>* data) {
-  AllanSegment segment;
-  segment.start_s = log.timestamp_s[first];
-  segment.end_s = log.timestamp_s[last];
-  segment.sample_count = last - first + 1;
-  report->segments.push_back(segment);
-  for (int k = 0; k < 3; ++k) {
-    (*data)[k].emplace_back();
-    for (int i = first; i <= last; ++i) (*data)[k].back().push_back(gain * log.output[i][k]);
-  }
+// Streaming (issue 36, item 2). A text log is spooled to a temporary binary file as it is read
+// (io/sample_spool.h) and everything below reads it back in passes, holding what does not grow
+// with the log: the exact medians (the step, |u - offset|) by StreamingRankSelector
+// (common/streaming_rank.h), the static detector in its streamed form
+// (estimation/triad/noise_floor_stream.h), one segment at a time for the step check and the
+// Allan sums (AllanVarianceAccumulator). The results are the whole-log path's to the last bit
+// (the same arithmetic in the same order). A .mat log, a log whose rows are ordered by sample
+// number, a read or time check that fails, or a log the detector refuses is read whole after
+// all (ReadImuLog), so that the message is the whole path's: a refused log's cost.
+
+// The value of rank `rank` (from 0) of the values `pass` adds, exactly, in passes (selection
+// buffers of 4.5 MB: 2^16 bins, at most 2^19 values kept).
+Status SelectRank(uint64_t rank, const std::function<Status(int, StreamingRankSelector*)>& pass,
+                  double* value) {
+  StreamingRankSelector selector(0.0, std::numeric_limits<double>::infinity(), 16, 19);
+  int number = 0;
+  do {
+    ACCELCAL_RETURN_IF_ERROR(pass(number++, &selector));
+  } while (!selector.FinishPass(rank));
+  *value = selector.value();
   return Status::Ok();
 }
 
-Status CheckSampling(const TriadLog& log, AllanReport* report) {
-  std::vector<double> steps;
-  for (size_t i = 1; i < log.size(); ++i)
-    steps.push_back(log.timestamp_s[i] - log.timestamp_s[i - 1]);
-  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-  const double tau0 = steps[steps.size() / 2];
-  report->sample_period_s = tau0;
-  for (const AllanSegment& segment : report->segments) {
-    const auto begin =
-        std::lower_bound(log.timestamp_s.begin(), log.timestamp_s.end(), segment.start_s);
-    for (auto it = begin + 1; it != log.timestamp_s.end() && *it <= segment.end_s; ++it) {
-      const double step = *it - *(it - 1);
+// What allan needs of the whole log besides its segments.
+struct SampleFacts {
+  double first_s = 0.0;
+  double last_s = 0.0;
+  double lowest = 0.0;  // of the outputs, and 0
+  double highest = 0.0;
+  // CheckLogTime's median step, the sample period: the value of rank (n - 1) / 2 of the n - 1
+  // steps.
+  double step_s = 0.0;
+};
+
+// The facts in one pass over the log (and more for the median step when its first cannot
+// hold the candidates). At least 2 samples.
+Status ScanSamples(const TriadSampleSource& log, SampleFacts* facts) {
+  return SelectRank((log.size() - 1) / 2,
+                    [&](int number, StreamingRankSelector* selector) {
+                      double previous_s = 0.0;
+                      return ForEachSample(
+                          log, 0, log.size() - 1,
+                          [&](size_t i, double t_s, const std::array<double, 3>& u) {
+                            if (i > 0) selector->Add(t_s - previous_s);
+                            previous_s = t_s;
+                            if (number > 0) return;
+                            facts->first_s = i == 0 ? t_s : facts->first_s;
+                            facts->last_s = t_s;
+                            for (double value : u) {
+                              facts->lowest = std::min(facts->lowest, value);
+                              facts->highest = std::max(facts->highest, value);
+                            }
+                          });
+                    },
+                    &facts->step_s);
+}
+
+double TimeAt(const TriadSampleSource& log, size_t i, Status* status) {
+  TriadLog sample;
+  *status = log.Read(i, 1, &sample);
+  return status->ok() ? sample.timestamp_s[0] : 0.0;
+}
+
+// A segment of samples [first, last] (0-based, inclusive).
+struct SampleRange {
+  long long first = 0;
+  long long last = 0;
+};
+
+// The samples of each --segment START:END: from the first at or after START to the last at or
+// before END (lower_bound and upper_bound on the increasing time axis), by counting.
+Status SegmentRanges(const TriadSampleSource& log,
+                     const std::vector<std::pair<double, double>>& wanted,
+                     std::vector<SampleRange>* ranges) {
+  std::vector<long long> before(wanted.size(), 0), through(wanted.size(), 0);
+  ACCELCAL_RETURN_IF_ERROR(
+      ForEachSample(log, 0, log.size() - 1, [&](size_t, double t_s, const std::array<double, 3>&) {
+        for (size_t w = 0; w < wanted.size(); ++w) {
+          before[w] += t_s < wanted[w].first ? 1 : 0;
+          through[w] += t_s <= wanted[w].second ? 1 : 0;
+        }
+      }));
+  for (size_t w = 0; w < wanted.size(); ++w) ranges->push_back({before[w], through[w] - 1});
+  return Status::Ok();
+}
+
+// The segments' Allan variances: the step check of each segment against the median step tau0
+// (every step within 50% of it: a gap would put unequal spacing into the clusters), then its
+// samples in the result unit into the three axes' sums, one segment held at a time.
+Status AccumulateSegments(const TriadSampleSource& log, const std::vector<SampleRange>& ranges,
+                          double first_s, double last_s, AllanReport* report) {
+  const double tau0 = report->sample_period_s;
+  std::vector<long long> sizes;
+  for (const SampleRange& range : ranges) sizes.push_back(range.last - range.first + 1);
+  std::array<AllanVarianceAccumulator, 3> sums;
+  std::array<Status, 3> axis;  // each axis's first failure, said in the axes' order
+  for (int k = 0; k < 3; ++k) axis[k] = sums[k].Start(tau0, report->options, sizes);
+  TriadLog segment;
+  std::vector<double> values;
+  for (size_t s = 0; s < ranges.size(); ++s) {
+    ACCELCAL_RETURN_IF_ERROR(log.Read(ranges[s].first, sizes[s], &segment));
+    for (size_t i = 1; i < segment.size(); ++i) {
+      const double step = segment.timestamp_s[i] - segment.timestamp_s[i - 1];
       if (step > 1.5 * tau0 || step < 0.5 * tau0) {
+        const AllanSegment& where = report->segments[s];
         return Status::Error(StringPrintf(
             "%s: a step of %.6g s at t = %.6g s in segment %.3f..%.3f s, against the median "
             "%.6g s; an Allan variance needs uniform sampling: choose a segment without the gap, "
             "or, if the time stamps only jitter (a host's), give --rate_hz=%.4g to time the "
             "samples by their order",
-            FLAGS_log.c_str(), step, *it, segment.start_s, segment.end_s, tau0,
-            (log.size() - 1) / (log.timestamp_s.back() - log.timestamp_s.front())));
+            FLAGS_log.c_str(), step, segment.timestamp_s[i], where.start_s, where.end_s, tau0,
+            (log.size() - 1) / (last_s - first_s)));
       }
     }
+    for (int k = 0; k < 3; ++k) {
+      if (!axis[k].ok()) continue;
+      values.resize(segment.size());
+      for (size_t i = 0; i < segment.size(); ++i) values[i] = report->gain * segment.output[i][k];
+      axis[k] = sums[k].Add(values);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (axis[k].ok()) axis[k] = sums[k].Finish(&report->curves[k]);
+    ACCELCAL_RETURN_IF_ERROR(axis[k].WithContext(FLAGS_log + std::string(", axis ") + "xyz"[k]));
   }
   return Status::Ok();
 }
 
-Status Solve(const TriadLog& log, AllanReport* report) {
+// `log` is the samples; `whole` the log in memory when it was read whole (its detector then
+// says why it refuses), else null: then *read_whole is set when the streamed detector cannot
+// decide, and nothing else is known.
+Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const TriadLog* whole,
+             AllanReport* report, bool* read_whole) {
+  *read_whole = false;
   TriadOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit));
+  const double first_s = facts.first_s, last_s = facts.last_s;
   // A log in m/s^2 said to be in counts (or the reverse) would give every term in the wrong
   // unit; the outputs' magnitude tells, as calibrate_imu checks it.
-  const double offset = unit == TriadOutputUnit::kCount ? AdcMidScale(log) : 0.0;
-  ACCELCAL_RETURN_IF_ERROR(CheckOutputsMatchUnit(log, unit, offset).WithContext(FLAGS_log));
+  const double offset =
+      unit == TriadOutputUnit::kCount ? AdcMidScale(facts.lowest, facts.highest) : 0.0;
+  double median_magnitude = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(SelectRank(
+      log.size() / 2,
+      [&](int, StreamingRankSelector* selector) {
+        return ForEachSample(log, 0, log.size() - 1,
+                             [&](size_t, double, const std::array<double, 3>& u) {
+                               selector->Add(OutputMagnitude(u, offset));
+                             });
+      },
+      &median_magnitude));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckMedianMagnitudeMatchesUnit(median_magnitude, unit, offset).WithContext(FLAGS_log));
   report->output_unit = TriadOutputUnitName(unit);
   report->log_path = FLAGS_log;
   report->gain = 1.0;
@@ -194,31 +313,36 @@ Status Solve(const TriadLog& log, AllanReport* report) {
     report->unit = "m/s^2";
   }
   // The poses, for the pose-mean variances and (without --segment) the segments.
-  NoiseFloorOptions detector;
-  detector.min_intervals = 0;
+  NoiseFloorStreamOptions detector;
+  detector.detector.min_intervals = 0;
   NoiseFloorDetection detection;
-  const Status detected = DetectStaticIntervalsFromNoiseFloor(log, detector, &detection);
-  std::array<std::vector<std::vector<double>>, 3> data;
+  Status detected;
+  if (whole != nullptr) {
+    detected = DetectStaticIntervalsFromNoiseFloor(*whole, detector.detector, &detection);
+  } else {
+    bool decided = false;
+    ACCELCAL_RETURN_IF_ERROR(
+        DetectStaticIntervalsFromNoiseFloorStreamed(log, detector, &detection, &decided));
+    if (!decided) {
+      *read_whole = true;
+      return Status::Ok();
+    }
+  }
+  std::vector<SampleRange> ranges;
   if (!FLAGS_segment.empty()) {
     std::vector<std::pair<double, double>> wanted;
     ACCELCAL_RETURN_IF_ERROR(ParseSegments(&wanted));
     report->selection = "--segment";
-    for (const auto& [start, end] : wanted) {
-      const int first =
-          static_cast<int>(std::lower_bound(log.timestamp_s.begin(), log.timestamp_s.end(), start) -
-                           log.timestamp_s.begin());
-      const int last =
-          static_cast<int>(std::upper_bound(log.timestamp_s.begin(), log.timestamp_s.end(), end) -
-                           log.timestamp_s.begin()) -
-          1;
-      if (last - first + 1 < 4) {
+    ACCELCAL_RETURN_IF_ERROR(SegmentRanges(log, wanted, &ranges));
+    for (size_t w = 0; w < wanted.size(); ++w) {
+      const long long count = ranges[w].last - ranges[w].first + 1;
+      if (count < 4) {
         return Status::Error(StringPrintf(
-            "--segment %g:%g holds %d samples of %s (t = %.3f .. %.3f s); an Allan variance "
+            "--segment %g:%g holds %lld samples of %s (t = %.3f .. %.3f s); an Allan variance "
             "needs at least 4",
-            start, end, std::max(0, last - first + 1), FLAGS_log.c_str(), log.timestamp_s.front(),
-            log.timestamp_s.back()));
+            wanted[w].first, wanted[w].second, std::max(0LL, count), FLAGS_log.c_str(), first_s,
+            last_s));
       }
-      ACCELCAL_RETURN_IF_ERROR(TakeSegment(log, first, last, report->gain, report, &data));
     }
   } else {
     ACCELCAL_RETURN_IF_ERROR(
@@ -236,19 +360,23 @@ Status Solve(const TriadLog& log, AllanReport* report) {
         return a.sample_count() < b.sample_count();
       })};
     }
-    for (const StaticInterval& interval : chosen)
-      ACCELCAL_RETURN_IF_ERROR(
-          TakeSegment(log, interval.start, interval.end, report->gain, report, &data));
+    for (const StaticInterval& interval : chosen) ranges.push_back({interval.start, interval.end});
   }
-  ACCELCAL_RETURN_IF_ERROR(CheckSampling(log, report));
+  for (const SampleRange& range : ranges) {
+    AllanSegment segment;
+    Status read;
+    segment.start_s = TimeAt(log, range.first, &read);
+    ACCELCAL_RETURN_IF_ERROR(read);
+    segment.end_s = TimeAt(log, range.last, &read);
+    ACCELCAL_RETURN_IF_ERROR(read);
+    segment.sample_count = range.last - range.first + 1;
+    report->segments.push_back(segment);
+  }
+  report->sample_period_s = facts.step_s;
   report->options.confidence = FLAGS_confidence;
+  ACCELCAL_RETURN_IF_ERROR(AccumulateSegments(log, ranges, first_s, last_s, report));
   report->bootstrap_series = FLAGS_bootstrap;
   // One bootstrap table serves the three axes: they share the segments and taus.
-  for (int k = 0; k < 3; ++k) {
-    ACCELCAL_RETURN_IF_ERROR(
-        ComputeAllanVariance(data[k], report->sample_period_s, report->options, &report->curves[k])
-            .WithContext(FLAGS_log + std::string(", axis ") + "xyz"[k]));
-  }
   AllanBootstrapOptions bootstrap;
   bootstrap.series = FLAGS_bootstrap;
   bootstrap.seed = FLAGS_seed;
@@ -326,25 +454,74 @@ Status DrawPlot(const AllanReport& report, const nlohmann::json& json, std::stri
   return status;
 }
 
+// The log read whole (a .mat log, --stream=false, or what the streamed path hands back).
+Status SolveWhole(const ImuLogReadOptions& read_options, AllanReport* report, DataSource* source) {
+  TriadLog log;
+  ImuLogSource log_source;
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadImuLog(FLAGS_log, read_options, &log, ImuLogSpacing::kAny, &log_source));
+  ACCELCAL_RETURN_IF_ERROR(
+      TakeStatedUnit(log_source, &FLAGS_unit, &log_source.notes).WithContext(FLAGS_log));
+  for (const std::string& note : log_source.notes) std::cerr << "allan: note: " << note << "\n";
+  ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", {{"log", FLAGS_log}}, source));
+  const TriadLogSamples samples(log);
+  SampleFacts facts;
+  ACCELCAL_RETURN_IF_ERROR(ScanSamples(samples, &facts));
+  bool read_whole = false;
+  return Solve(samples, facts, &log, report, &read_whole);
+}
+
+// The streamed path: *solved false (nothing printed, nothing changed) when the log must be read
+// whole after all.
+Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report, DataSource* source,
+                     bool* solved) {
+  *solved = false;
+  if (!DescribeMeasuredData("", {{"log", FLAGS_log}}, source).ok()) return Status::Ok();
+  SampleSpool spool;  // no room for it in $TMPDIR: the log is read whole instead
+  if (!spool.Open().ok()) return Status::Ok();
+  Status spooled;
+  ImuLogSource log_source;
+  const Status read = StreamImuLog(
+      FLAGS_log, read_options, 1 << 16,
+      [&](const TriadLog& batch) {
+        for (size_t i = 0; i < batch.size() && spooled.ok(); ++i)
+          spooled = spool.Append(batch.timestamp_s[i], batch.output[i]);
+      },
+      &log_source);
+  if (!read.ok() || log_source.ordered_by_sample_number || !spooled.ok() || !spool.Finish().ok())
+    return Status::Ok();
+  // ReadImuLog's time checks (CheckTimeUnit, CheckLogTime) on the median step.
+  if (spool.size() < 2) return Status::Ok();
+  SampleFacts facts;
+  ACCELCAL_RETURN_IF_ERROR(ScanSamples(spool, &facts));
+  if (facts.step_s < kMinRunStepS || facts.step_s > kMaxRunStepS) return Status::Ok();
+  const std::string unit = FLAGS_unit;
+  ACCELCAL_RETURN_IF_ERROR(
+      TakeStatedUnit(log_source, &FLAGS_unit, &log_source.notes).WithContext(FLAGS_log));
+  bool read_whole = false;
+  const Status solve = Solve(spool, facts, nullptr, report, &read_whole);
+  if (read_whole) {
+    FLAGS_unit = unit;
+    *report = AllanReport();
+    return Status::Ok();
+  }
+  *solved = true;
+  for (const std::string& note : log_source.notes) std::cerr << "allan: note: " << note << "\n";
+  return solve;
+}
+
 int Run(int argc, char** argv) {
   if (!InitProblem("allan", kUsage, "problems/allan", &argc, &argv)) return kExitBadInput;
-  TriadLog log;
   AllanReport report;
   DataSource source;
   std::string json_text, png;
   Status status = ValidateFlags();
   ImuLogReadOptions read_options;
-  ImuLogSource log_source;
   if (status.ok()) status = ACCELCAL_IMU_LOG_OPTIONS(&read_options);
-  if (status.ok())
-    status = ReadImuLog(FLAGS_log, read_options, &log, ImuLogSpacing::kAny, &log_source);
-  if (status.ok())
-    status = TakeStatedUnit(log_source, &FLAGS_unit, &log_source.notes).WithContext(FLAGS_log);
-  if (status.ok()) {
-    for (const std::string& note : log_source.notes) std::cerr << "allan: note: " << note << "\n";
-  }
-  if (status.ok()) status = DescribeMeasuredData("", {{"log", FLAGS_log}}, &source);
-  if (status.ok()) status = Solve(log, &report);
+  bool solved = false;
+  if (status.ok() && FLAGS_stream && StreamsLikeReadImuLog(FLAGS_log, read_options))
+    status = SolveStreamed(read_options, &report, &source, &solved);
+  if (status.ok() && !solved) status = SolveWhole(read_options, &report, &source);
   const nlohmann::json json =
       status.ok() ? WithProvenance(AllanJson(report), source) : nlohmann::json();
   if (status.ok() && !FLAGS_json.empty()) status = JsonText(json, &json_text);

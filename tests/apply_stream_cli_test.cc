@@ -3,7 +3,6 @@
 // needs the median's extra pass; a bad line far into the log, or a log refused on its median,
 // leaves no output and no temporary file.
 
-#include <dirent.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -58,18 +57,6 @@ std::string WithoutCommandLine(const std::string& text) {
   return text.substr(0, start) + text.substr(text.find('\n', start) + 1);
 }
 
-std::vector<std::string> FilesIn(const std::string& dir) {
-  std::vector<std::string> names;
-  DIR* listing = opendir(dir.c_str());
-  if (listing == nullptr) return names;
-  while (const dirent* entry = readdir(listing)) {
-    const std::string name = entry->d_name;
-    if (name != "." && name != "..") names.push_back(name);
-  }
-  closedir(listing);
-  return names;
-}
-
 // 300,000 samples: five of the reader's batches of 65,536 and many of the writer's blocks
 // (tests/streaming_rank_test.cc checks the median's further passes). Streamed and read whole,
 // the same bytes and the same summary.
@@ -110,7 +97,7 @@ TEST(ApplyStreamCli, ABadLineLateInALongLogLeavesNothing) {
   const testing::CommandResult applied =
       RunBinary("apply", "--calibration=" + cal + " --in=" + in + " --out=" + out);
   ExpectBadInputContract(applied, "apply", in + ": line 290000");
-  EXPECT_EQ(FilesIn(scratch.path()), std::vector<std::string>{"cal.json"});
+  EXPECT_EQ(testing::FilesIn(scratch.path()), std::vector<std::string>{"cal.json"});
 }
 
 // A log in another unit than the calibration's (counts halved): refused on its median |a|, the
@@ -132,7 +119,7 @@ TEST(ApplyStreamCli, AMedianRefusalSaysWhatTheWholeLogPathSays) {
   const testing::CommandResult whole =
       RunBinary("apply", "--stream=false --calibration=" + cal + " --in=" + in + " --out=" + out);
   EXPECT_EQ(streamed.stderr_text, whole.stderr_text);
-  EXPECT_EQ(FilesIn(scratch.path()), std::vector<std::string>{"cal.json"});
+  EXPECT_EQ(testing::FilesIn(scratch.path()), std::vector<std::string>{"cal.json"});
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -70,6 +71,27 @@ TEST(StreamingRankSelector, IsExactOutsideTheHint) {
   // A short sequence: the first pass keeps it all.
   const std::vector<double> few(values.begin(), values.begin() + 1001);
   EXPECT_EQ(Selected(few, 500, 4.9, 19.6, &passes), NthElement(few, 500));
+}
+
+// Small buffers (the streamed noise-floor detector's: 2^16 bins, 2^19 kept; here 2^8 and 2^4,
+// so that every pass narrows): no hint (0 to +inf), exact within 64 / 8 + 1 passes, ranks at the
+// ends and in the middle, with many equal values and zeros.
+TEST(StreamingRankSelector, IsExactWithSmallBuffersAndNoHint) {
+  std::mt19937_64 random(13);
+  std::chi_squared_distribution<double> chi2(100.0);
+  std::vector<double> values(200000);
+  for (size_t j = 0; j < values.size(); ++j)
+    values[j] = j % 11 == 0 ? 0.0 : j % 13 == 0 ? 7.5 : chi2(random) / 100.0;
+  for (uint64_t rank : {uint64_t{0}, uint64_t{10000}, uint64_t{100000}, uint64_t{199999}}) {
+    StreamingRankSelector selector(0.0, std::numeric_limits<double>::infinity(), 8, 4);
+    int passes = 0;
+    for (; passes < 20; ++passes) {
+      for (double value : values) selector.Add(value);
+      if (selector.FinishPass(rank)) break;
+    }
+    EXPECT_EQ(selector.value(), NthElement(values, rank)) << rank;
+    EXPECT_LE(selector.passes(), 9) << rank;
+  }
 }
 
 // AppendRoundTripDouble and AppendGeneral write printf's digits, over values of every size.

@@ -27,14 +27,21 @@ namespace accelcal {
 
 class StreamingRankSelector {
  public:
-  // The first pass's range [hint_low, hint_high) (non-negative doubles, hint_low < hint_high).
-  StreamingRankSelector(double hint_low, double hint_high)
-      : low_(Bits(hint_low)), high_(Bits(hint_high)) {
+  // The first pass's range [hint_low, hint_high) (non-negative doubles, hint_low < hint_high;
+  // +inf for no upper bound). Smaller buffers (2^bin_bits bins, at most 2^kept_bits values kept)
+  // for several selections at once cost more passes (at most 64 / bin_bits + 1).
+  StreamingRankSelector(double hint_low, double hint_high, int bin_bits = 20, int kept_bits = 21)
+      : bins_(size_t{1} << bin_bits),
+        max_kept_(size_t{1} << kept_bits),
+        low_(Bits(hint_low)),
+        high_(Bits(hint_high)) {
     StartPass();
   }
 
-  // Each value of the sequence, once per pass, in any order; the same values every pass.
+  // Each value of the sequence, once per pass, in any order; the same values every pass (none
+  // is needed once the value is known).
   void Add(double value) {
+    if (done_) return;
     const uint64_t bits = Bits(value);
     if (bits < low_) {
       ++below_;
@@ -42,7 +49,7 @@ class StreamingRankSelector {
     }
     if (bits >= high_) return;
     ++histogram_[(bits - low_) >> shift_];
-    if (kept_.size() < kMaxKept) {
+    if (kept_.size() < max_kept_) {
       kept_.push_back(bits);
     } else {
       overflow_ = true;
@@ -52,9 +59,9 @@ class StreamingRankSelector {
   // Ends a pass; true once the value of rank `rank` (from 0; the same at every pass; less than
   // the number of values) is known (then value()), else another pass is needed.
   bool FinishPass(uint64_t rank) {
+    if (done_) return true;
     rank_ = rank;
     ++passes_;
-    if (done_) return true;
     const uint64_t in_range = std::accumulate(histogram_.begin(), histogram_.end(), uint64_t{0});
     if (rank_ < below_) {  // below the range: the whole range below it next
       high_ = low_;
@@ -83,8 +90,6 @@ class StreamingRankSelector {
   int passes() const { return passes_; }
 
  private:
-  static constexpr size_t kBins = size_t{1} << 20;
-  static constexpr size_t kMaxKept = size_t{1} << 21;
   static constexpr uint64_t kEnd = uint64_t{0x7FF0000000000000};  // +inf's pattern
 
   static uint64_t Bits(double value) {
@@ -102,13 +107,15 @@ class StreamingRankSelector {
 
   void StartPass() {
     shift_ = 0;
-    while (((high_ - low_ - 1) >> shift_) >= kBins) ++shift_;
+    while (((high_ - low_ - 1) >> shift_) >= bins_) ++shift_;
     histogram_.assign(((high_ - low_ - 1) >> shift_) + 1, 0);
     kept_.clear();
     overflow_ = false;
     below_ = 0;
   }
 
+  size_t bins_;
+  size_t max_kept_;
   uint64_t rank_ = 0;
   uint64_t low_, high_;
   int shift_ = 0;

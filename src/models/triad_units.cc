@@ -55,14 +55,19 @@ std::string TriadParameterUnit(int index, TriadOutputUnit unit) {
   return TriadParameterInfos()[index].unit;
 }
 
+double OutputMagnitude(const std::array<double, 3>& u, double offset) {
+  return std::hypot(u[0] - offset, u[1] - offset, u[2] - offset);
+}
+
 Status CheckOutputsMatchUnit(const TriadLog& log, TriadOutputUnit unit, double offset) {
   if (log.output.empty()) return Status::Ok();
   std::vector<double> magnitude;
   magnitude.reserve(log.output.size());
-  for (const std::array<double, 3>& u : log.output) {
-    magnitude.push_back(std::hypot(u[0] - offset, u[1] - offset, u[2] - offset));
-  }
-  const double median = UpperMedian(std::move(magnitude));
+  for (const std::array<double, 3>& u : log.output) magnitude.push_back(OutputMagnitude(u, offset));
+  return CheckMedianMagnitudeMatchesUnit(UpperMedian(std::move(magnitude)), unit, offset);
+}
+
+Status CheckMedianMagnitudeMatchesUnit(double median, TriadOutputUnit unit, double offset) {
   const bool looks_mps2 = median >= 0.5 * kStandardGravity && median <= 2.0 * kStandardGravity;
   const bool looks_g = median >= 0.5 && median <= 2.0;
   const char* stated = TriadOutputUnitName(unit);
@@ -109,6 +114,11 @@ double AdcMidScale(const TriadLog& log) {
       highest = std::max(highest, value);
     }
   }
+  return AdcMidScale(0.0, highest);
+}
+
+double AdcMidScale(double lowest, double highest) {
+  if (lowest < 0.0) return 0.0;
   double range = 2.0;  // 2^n > highest, n >= 1
   while (range <= highest) range *= 2.0;
   return range / 2.0;

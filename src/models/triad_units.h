@@ -43,10 +43,19 @@ Status CheckGainsMatchUnit(const TriadParameters& parameters, TriadOutputUnit un
 // or the user's).
 Status CheckOutputsMatchUnit(const TriadLog& log, TriadOutputUnit unit, double offset);
 
+// |u - offset| of one sample, whose median CheckOutputsMatchUnit takes.
+double OutputMagnitude(const std::array<double, 3>& u, double offset);
+
+// CheckOutputsMatchUnit from that median, found elsewhere (a log too long to hold).
+Status CheckMedianMagnitudeMatchesUnit(double median, TriadOutputUnit unit, double offset);
+
 // The output of an ideal ADC at zero input: for outputs that are all non-negative, the
 // mid-scale 2^(n-1) of the smallest unsigned n-bit range [0, 2^n) that holds them (32768 for
 // imu_tk's 16-bit Xsens log); 0 when any output is negative (a signed ADC is centred at 0).
 double AdcMidScale(const TriadLog& log);
+
+// The same from the outputs' smallest and largest values.
+double AdcMidScale(double lowest, double highest);
 
 }  // namespace accelcal
 

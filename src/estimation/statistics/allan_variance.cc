@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "common/format.h"
 #include "estimation/statistics/chi_square.h"
@@ -108,60 +109,82 @@ double AllanEquivalentDof(AllanNoiseKind kind, long long n, long long m) {
 Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
                             double sample_period_s, const AllanOptions& options,
                             AllanCurve* curve) {
+  std::vector<long long> sizes;
+  for (const std::vector<double>& segment : segments)
+    sizes.push_back(static_cast<long long>(segment.size()));
+  AllanVarianceAccumulator accumulator;
+  ACCELCAL_RETURN_IF_ERROR(accumulator.Start(sample_period_s, options, sizes));
+  for (const std::vector<double>& segment : segments)
+    ACCELCAL_RETURN_IF_ERROR(accumulator.Add(segment));
+  return accumulator.Finish(curve);
+}
+
+Status AllanVarianceAccumulator::Start(double sample_period_s, const AllanOptions& options,
+                                       const std::vector<long long>& segment_samples) {
   if (!(sample_period_s > 0.0) || !std::isfinite(sample_period_s))
     return Status::Error(
         StringPrintf("sample period %g s is not a positive number", sample_period_s));
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
     return Status::Error(StringPrintf("confidence %g is not within (0, 1)", options.confidence));
-  *curve = AllanCurve();
-  curve->sample_period_s = sample_period_s;
-  long long longest = 0;
-  for (size_t s = 0; s < segments.size(); ++s) {
-    for (size_t i = 0; i < segments[s].size(); ++i) {
-      if (!std::isfinite(segments[s][i]))
-        return Status::Error(StringPrintf("segment %zu, sample %zu is not finite", s + 1, i + 1));
-    }
-    curve->segment_samples.push_back(static_cast<long long>(segments[s].size()));
-    longest = std::max(longest, curve->segment_samples.back());
+  *this = AllanVarianceAccumulator();
+  options_ = options;
+  curve_.sample_period_s = sample_period_s;
+  curve_.segment_samples = segment_samples;
+  for (long long n : segment_samples) longest_ = std::max(longest_, n);
+  for (long long m = 1; 4 * m <= longest_; m *= 2) {
+    AllanPoint point;
+    point.cluster_samples = m;
+    point.tau_s = static_cast<double>(m) * sample_period_s;
+    curve_.points.push_back(point);
   }
-  if (longest < 4) {
+  totals_.assign(curve_.points.size(), 0.0L);
+  return Status::Ok();
+}
+
+Status AllanVarianceAccumulator::Add(const std::vector<double>& y) {
+  const size_t s = added_++;
+  for (size_t i = 0; i < y.size(); ++i) {
+    if (!std::isfinite(y[i]))
+      return Status::Error(StringPrintf("segment %zu, sample %zu is not finite", s + 1, i + 1));
+  }
+  // Cumulative sums of the data less the segment's mean, in long double: the differences of
+  // sums then lose no digits to a large offset (raw ADC counts near 32768).
+  long double mean = 0.0L;
+  for (double v : y) mean += v;
+  if (!y.empty()) mean /= static_cast<long double>(y.size());
+  sums_.assign(y.size() + 1, 0.0L);
+  for (size_t i = 0; i < y.size(); ++i) sums_[i + 1] = sums_[i] + (y[i] - mean);
+  const long long n = static_cast<long long>(y.size());
+  for (size_t p = 0; p < curve_.points.size(); ++p) {
+    AllanPoint& point = curve_.points[p];
+    const long long m = point.cluster_samples;
+    if (!AllanSegmentUsed(n, m)) continue;
+    const std::vector<long double>& S = sums_;
+    for (long long k = 0; k + 2 * m <= n; ++k) {
+      const long double d = S[k + 2 * m] - 2.0L * S[k + m] + S[k];
+      totals_[p] += d * d;
+    }
+    point.difference_count += n - 2 * m + 1;
+    point.independent_clusters += n / m;
+  }
+  sums_ = std::vector<long double>();
+  return Status::Ok();
+}
+
+Status AllanVarianceAccumulator::Finish(AllanCurve* curve) {
+  if (longest_ < 4) {
     return Status::Error(
         "no static segment holds 4 samples, the fewest an Allan variance needs; give longer "
         "segments");
   }
-  // Cumulative sums of the data less the segment's mean, in long double: the differences of
-  // sums then lose no digits to a large offset (raw ADC counts near 32768).
-  std::vector<std::vector<long double>> sums(segments.size());
-  for (size_t s = 0; s < segments.size(); ++s) {
-    const std::vector<double>& y = segments[s];
-    long double mean = 0.0L;
-    for (double v : y) mean += v;
-    if (!y.empty()) mean /= static_cast<long double>(y.size());
-    sums[s].assign(y.size() + 1, 0.0L);
-    for (size_t i = 0; i < y.size(); ++i) sums[s][i + 1] = sums[s][i] + (y[i] - mean);
-  }
-  for (long long m = 1; 4 * m <= longest; m *= 2) {
-    AllanPoint point;
-    point.cluster_samples = m;
-    point.tau_s = static_cast<double>(m) * sample_period_s;
-    long double total = 0.0L;
-    for (size_t s = 0; s < segments.size(); ++s) {
-      const long long n = curve->segment_samples[s];
-      if (!AllanSegmentUsed(n, m)) continue;
-      const std::vector<long double>& S = sums[s];
-      for (long long k = 0; k + 2 * m <= n; ++k) {
-        const long double d = S[k + 2 * m] - 2.0L * S[k + m] + S[k];
-        total += d * d;
-      }
-      point.difference_count += n - 2 * m + 1;
-      point.independent_clusters += n / m;
-    }
+  for (size_t p = 0; p < curve_.points.size(); ++p) {
+    AllanPoint& point = curve_.points[p];
+    const long double m = static_cast<long double>(point.cluster_samples);
     point.avar = static_cast<double>(
-        total / (2.0L * static_cast<long double>(m) * static_cast<long double>(m) *
-                 static_cast<long double>(point.difference_count)));
-    SetDof(AllanNoiseKind::kWhite, *curve, options.confidence, true, &point);
-    curve->points.push_back(point);
+        totals_[p] / (2.0L * m * m * static_cast<long double>(point.difference_count)));
+    SetDof(AllanNoiseKind::kWhite, curve_, options_.confidence, true, &point);
   }
+  *curve = std::move(curve_);
   return Status::Ok();
 }
 

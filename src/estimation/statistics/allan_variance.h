@@ -113,6 +113,26 @@ struct AllanOptions {
 Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
                             double sample_period_s, const AllanOptions& options, AllanCurve* curve);
 
+// ComputeAllanVariance with the segments handed over one at a time (a long log's static poses
+// read back one by one, issue 36, item 2): the same curve to the last bit, holding one segment's
+// cumulative sums at a time instead of every segment. Start with the segments' lengths in the
+// order they will be added, then Add each, then Finish; the same failures at the same points.
+class AllanVarianceAccumulator {
+ public:
+  Status Start(double sample_period_s, const AllanOptions& options,
+               const std::vector<long long>& segment_samples);
+  Status Add(const std::vector<double>& segment);
+  Status Finish(AllanCurve* curve);
+
+ private:
+  AllanOptions options_;
+  AllanCurve curve_;
+  long long longest_ = 0;
+  size_t added_ = 0;
+  std::vector<long double> totals_;  // sum of squared differences, per point
+  std::vector<long double> sums_;    // the segment's cumulative sums
+};
+
 // One fitted term: the coefficient of sigma^2 (N^2, B^2 or K^2), its sigma, and the term in its
 // own unit with an interval at the options' confidence (from the coefficient's, normal).
 struct AllanTerm {

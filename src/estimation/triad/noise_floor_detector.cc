@@ -8,19 +8,17 @@
 #include "common/format.h"
 #include "common/statistics.h"
 #include "estimation/statistics/chi_square.h"
+#include "estimation/triad/window_variance_stream.h"
 
 namespace accelcal {
 namespace {
 
-// The assumption and checks of the header, in one place.
-constexpr double kFloorQuantile = 0.05;       // provisional floor from this quantile of V
-constexpr double kMinStillFraction = 0.10;    // the assumption: this much of the log is still
-constexpr double kShapeLowQuantile = 0.10;    // the shape check compares this quantile ...
-constexpr double kMinFloorShape = 0.5;        // ... to the median, relative to white noise's
-constexpr double kMaxWhiteFalseAlarm = 1e-6;  // per window and axis, for the factor's minimum
-// The second rule: a pose's floor may be up to this many times the quietest windows' (poses
-// whose noise differs by 4 times in standard deviation, as vibration or a hand's grip makes).
-constexpr double kPoseFloorSpread = 16.0;
+using noise_floor::kFloorQuantile;
+using noise_floor::kMaxWhiteFalseAlarm;
+using noise_floor::kMinFloorShape;
+using noise_floor::kMinStillFraction;
+using noise_floor::kPoseFloorSpread;
+using noise_floor::kShapeLowQuantile;
 // When neither rule finds the poses, the second rule's refusal is added only while the message
 // stays this short (calibrate_imu adds the file and imu_tk's fallback within a 600-byte line).
 constexpr size_t kMaxCombinedRefusalBytes = 380;
@@ -72,7 +70,9 @@ std::string DescribeDurations(const std::vector<StaticInterval>& intervals) {
   return StringPrintf(" (%.1f to %.1f s, median %.1f s)", *shortest, *longest, median);
 }
 
-Status CheckOptions(const NoiseFloorOptions& options) {
+}  // namespace
+
+Status CheckNoiseFloorOptions(const NoiseFloorOptions& options) {
   const int window = options.window_samples;
   if (window < 3 || window % 2 == 0) {
     return Status::Error(StringPrintf(
@@ -98,6 +98,8 @@ Status CheckOptions(const NoiseFloorOptions& options) {
   return Status::Ok();
 }
 
+namespace {
+
 // The run of still centres [first, last] (window indices) as an interval of samples.
 StaticInterval IntervalOfRun(const TriadLog& log, int half, int first, int last) {
   StaticInterval interval;
@@ -110,35 +112,12 @@ StaticInterval IntervalOfRun(const TriadLog& log, int half, int first, int last)
 }  // namespace
 
 std::vector<std::array<double, 3>> WindowVariances(const TriadLog& log, int window) {
-  const int n = static_cast<int>(log.size());
-  if (n < window) return {};
-  const int count = n - window + 1;
-  std::vector<std::array<double, 3>> variances(count);
-  for (int axis = 0; axis < 3; ++axis) {
-    double reference = 0.0;
-    double sum = 0.0;
-    double sum_squares = 0.0;
-    for (int j = 0; j < count; ++j) {
-      if (j % window == 0) {
-        // Deviations from a sample of the window keep sum_squares - sum^2 / w free of the
-        // cancellation a large offset (32768 counts) would cause.
-        reference = log.output[j][axis];
-        sum = 0.0;
-        sum_squares = 0.0;
-        for (int i = j; i < j + window; ++i) {
-          const double deviation = log.output[i][axis] - reference;
-          sum += deviation;
-          sum_squares += deviation * deviation;
-        }
-      } else {
-        const double leaving = log.output[j - 1][axis] - reference;
-        const double entering = log.output[j + window - 1][axis] - reference;
-        sum += entering - leaving;
-        sum_squares += entering * entering - leaving * leaving;
-      }
-      variances[j][axis] = std::max(0.0, (sum_squares - sum * sum / window) / (window - 1));
-    }
-  }
+  if (static_cast<int>(log.size()) < window) return {};
+  std::vector<std::array<double, 3>> variances;
+  variances.reserve(log.size() - window + 1);
+  WindowVarianceStream stream(window);
+  for (const std::array<double, 3>& output : log.output)
+    if (stream.Add(output)) variances.push_back(stream.variance());
   return variances;
 }
 
@@ -157,19 +136,7 @@ void SortRuns(const TriadLog& log, const NoiseFloorOptions& options, int half,
     }
     int last = j;
     while (last + 1 < static_cast<int>(still.size()) && still[last + 1]) ++last;
-    StaticInterval interval = IntervalOfRun(log, half, j, last);
-    bool moving = false;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double stddev = interval.noise_stddev[axis];
-      moving = moving || stddev * stddev > thresholds[j][axis];
-    }
-    if (moving) {
-      detection->moving_intervals.push_back(interval);
-    } else if (interval.duration_s >= options.min_interval_s) {
-      detection->intervals.push_back(interval);
-    } else {
-      detection->short_intervals.push_back(interval);
-    }
+    FileInterval(IntervalOfRun(log, half, j, last), thresholds[j], options, detection);
     j = last + 1;
   }
 }
@@ -308,15 +275,42 @@ Status CountIntervals(const TriadLog& log, const NoiseFloorOptions& options,
 
 }  // namespace
 
+void UpdateOutputSteps(const std::array<double, 3>& previous, const std::array<double, 3>& output,
+                       std::array<double, 3>* step) {
+  for (int k = 0; k < 3; ++k) {
+    const double change = std::abs(output[k] - previous[k]);
+    if (change > 0.0 && ((*step)[k] == 0.0 || change < (*step)[k])) (*step)[k] = change;
+  }
+}
+
 std::array<double, 3> OutputSteps(const TriadLog& log) {
   std::array<double, 3> step{};
-  for (size_t i = 1; i < log.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const double change = std::abs(log.output[i][k] - log.output[i - 1][k]);
-      if (change > 0.0 && (step[k] == 0.0 || change < step[k])) step[k] = change;
-    }
-  }
+  for (size_t i = 1; i < log.size(); ++i)
+    UpdateOutputSteps(log.output[i - 1], log.output[i], &step);
   return step;
+}
+
+void FileInterval(const StaticInterval& interval, const std::array<double, 3>& threshold,
+                  const NoiseFloorOptions& options, NoiseFloorDetection* detection) {
+  bool moving = false;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double stddev = interval.noise_stddev[axis];
+    moving = moving || stddev * stddev > threshold[axis];
+  }
+  if (moving) {
+    detection->moving_intervals.push_back(interval);
+  } else if (interval.duration_s >= options.min_interval_s) {
+    detection->intervals.push_back(interval);
+  } else {
+    detection->short_intervals.push_back(interval);
+  }
+}
+
+std::string MorePosesReason(size_t global_poses, size_t pose_floor_poses, double factor) {
+  return StringPrintf(
+      "one noise floor for the log found %zu poses, a floor per pose %zu: the others are louder "
+      "than %g times the quietest",
+      global_poses, pose_floor_poses, factor);
 }
 
 namespace {
@@ -431,7 +425,7 @@ Status PoseFloorRule(const TriadLog& log, const NoiseFloorOptions& options,
 Status DetectWithWindow(const TriadLog& log, const NoiseFloorOptions& options,
                         NoiseFloorDetection* detection) {
   *detection = NoiseFloorDetection();
-  ACCELCAL_RETURN_IF_ERROR(CheckOptions(options));
+  ACCELCAL_RETURN_IF_ERROR(CheckNoiseFloorOptions(options));
   const int window = options.window_samples;
   const double dof = window - 1;
   const double factor = options.threshold_factor;
@@ -464,11 +458,8 @@ Status DetectWithWindow(const TriadLog& log, const NoiseFloorOptions& options,
     return global;
   if (per_pose.ok()) {
     pose_floors.rule_reason =
-        global.ok() ? StringPrintf(
-                          "one noise floor for the log found %zu poses, a floor per pose "
-                          "%zu: the others are louder than %g times the quietest",
-                          detection->intervals.size(), pose_floors.intervals.size(),
-                          options.threshold_factor)
+        global.ok() ? MorePosesReason(detection->intervals.size(), pose_floors.intervals.size(),
+                                      options.threshold_factor)
                     : global.message();
     *detection = std::move(pose_floors);
     return per_pose;
@@ -503,13 +494,17 @@ Status DetectWithWindow(const TriadLog& log, const NoiseFloorOptions& options,
 }  // namespace
 
 int DefaultNoiseFloorWindow(const TriadLog& log) {
+  return DefaultNoiseFloorWindow(
+      log.size(), log.size() < 2 ? 0.0 : log.timestamp_s.back() - log.timestamp_s.front());
+}
+
+int DefaultNoiseFloorWindow(size_t samples, double span_s) {
   constexpr int kImuTkWindow = 101;
   constexpr double kImuTkWindowMinRateHz = 60.0;  // 101 samples span at most 1.7 s
   constexpr int kShortestWindow = 11;
-  if (log.size() < 2) return kImuTkWindow;
-  const double span_s = log.timestamp_s.back() - log.timestamp_s.front();
+  if (samples < 2) return kImuTkWindow;
   if (!(span_s > 0.0)) return kImuTkWindow;
-  const double rate_hz = (log.size() - 1) / span_s;
+  const double rate_hz = (samples - 1) / span_s;
   if (rate_hz >= kImuTkWindowMinRateHz) return kImuTkWindow;
   int window = static_cast<int>(std::lround(rate_hz));
   if (window % 2 == 0) ++window;

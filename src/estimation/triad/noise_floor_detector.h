@@ -102,6 +102,19 @@ struct NoiseFloorOptions {
   int min_intervals = 10;        // fewer is a refusal; 0 accepts any number
 };
 
+// The assumption and checks of the header, in one place (the streamed detector's too,
+// estimation/triad/noise_floor_stream.h).
+namespace noise_floor {
+inline constexpr double kFloorQuantile = 0.05;       // provisional floor from this quantile of V
+inline constexpr double kMinStillFraction = 0.10;    // the assumption: this much is still
+inline constexpr double kShapeLowQuantile = 0.10;    // the shape check compares this quantile ...
+inline constexpr double kMinFloorShape = 0.5;        // ... to the median, relative to white's
+inline constexpr double kMaxWhiteFalseAlarm = 1e-6;  // per window and axis, factor's minimum
+// The second rule: a pose's floor may be up to this many times the quietest windows' (poses
+// whose noise differs by 4 times in standard deviation, as vibration or a hand's grip makes).
+inline constexpr double kPoseFloorSpread = 16.0;
+}  // namespace noise_floor
+
 inline constexpr char kGlobalFloorRule[] = "global_floor";
 inline constexpr char kPoseFloorsRule[] = "pose_floors";
 
@@ -141,11 +154,28 @@ struct NoiseFloorDetection {
 // number, at least 11 (25 at 25 Hz, 11 at 10 Hz and below). A window longer than the holds
 // never sees a still stretch: at 25 Hz, 101 samples are 4 s.
 int DefaultNoiseFloorWindow(const TriadLog& log);
+// The same from the log's sample count and span (last minus first time stamp).
+int DefaultNoiseFloorWindow(size_t samples, double span_s);
+
+// Fails, saying what is wrong, on options (with the window resolved) the detector refuses.
+Status CheckNoiseFloorOptions(const NoiseFloorOptions& options);
+
+// A described run of still windows into detection's intervals: moving when its output, about
+// its own mean, varies more than `threshold` (its windows') allows on some axis; else used or
+// short by duration.
+void FileInterval(const StaticInterval& interval, const std::array<double, 3>& threshold,
+                  const NoiseFloorOptions& options, NoiseFloorDetection* detection);
+
+// The per-pose rule's reason when it finds more poses than the single floor (rule_reason).
+std::string MorePosesReason(size_t global_poses, size_t pose_floor_poses, double factor);
 
 // The output's step on each axis: the smallest nonzero change between consecutive samples
 // (1 for counts, 16 for a 12-bit sensor left-aligned in 16 bits; tiny for a float log). 0 for an
 // axis constant over the whole log.
 std::array<double, 3> OutputSteps(const TriadLog& log);
+// One step of OutputSteps: *step updated with the change from `previous` to `output`.
+void UpdateOutputSteps(const std::array<double, 3>& previous, const std::array<double, 3>& output,
+                       std::array<double, 3>* step);
 
 // Fails, in one line saying what to do, on the checks above, on an invalid option, or on a log
 // shorter than the window. When too few intervals are found but shorter ones are (the holds are
@@ -155,9 +185,8 @@ std::array<double, 3> OutputSteps(const TriadLog& log);
 Status DetectStaticIntervalsFromNoiseFloor(const TriadLog& log, const NoiseFloorOptions& options,
                                            NoiseFloorDetection* detection);
 
-// V_i,k for the centres i = h .. n - h - 1, at index i - h (empty when n < w). Sliding sums,
-// re-anchored at a sample of the window every w steps so that rounding neither accumulates nor
-// cancels; an output constant over a window gives exactly 0.
+// V_i,k for the centres i = h .. n - h - 1, at index i - h (empty when n < w): the values of
+// WindowVarianceStream (estimation/triad/window_variance_stream.h) over the log.
 std::vector<std::array<double, 3>> WindowVariances(const TriadLog& log, int window);
 
 }  // namespace accelcal

@@ -8,11 +8,13 @@
 
 namespace accelcal {
 
-std::array<double, 3> IntervalMean(const TriadLog& log, int start, int end) {
+namespace {
+
+std::array<double, 3> SourceMean(const TriadSampleSource& log, int start, int end, Status* status) {
   std::array<double, 3> sum{};
-  for (int i = start; i <= end; ++i) {
-    for (int k = 0; k < 3; ++k) sum[k] += log.output[i][k];
-  }
+  *status = ForEachSample(log, start, end, [&](size_t, double, const std::array<double, 3>& u) {
+    for (int k = 0; k < 3; ++k) sum[k] += u[k];
+  });
   const double count = end - start + 1;
   for (int k = 0; k < 3; ++k) sum[k] /= count;
   return sum;
@@ -21,22 +23,31 @@ std::array<double, 3> IntervalMean(const TriadLog& log, int start, int end) {
 // Two passes (the mean, then the squared deviations from it), as imu_tk computes it, so that
 // a sample's variance norm and hence its side of the threshold are the same to the last bit
 // as far as the order of the sums allows.
-static std::array<double, 3> VarianceAbout(const TriadLog& log, int start, int end,
-                                           const std::array<double, 3>& mean) {
+std::array<double, 3> VarianceAbout(const TriadSampleSource& log, int start, int end,
+                                    const std::array<double, 3>& mean, Status* status) {
   std::array<double, 3> variance{};
-  for (int i = start; i <= end; ++i) {
+  *status = ForEachSample(log, start, end, [&](size_t, double, const std::array<double, 3>& u) {
     for (int k = 0; k < 3; ++k) {
-      const double deviation = log.output[i][k] - mean[k];
+      const double deviation = u[k] - mean[k];
       variance[k] += deviation * deviation;
     }
-  }
+  });
   const double dof = end - start;
   for (int k = 0; k < 3; ++k) variance[k] /= dof;
   return variance;
 }
 
+}  // namespace
+
+std::array<double, 3> IntervalMean(const TriadLog& log, int start, int end) {
+  Status status;  // a log in memory reads without fail
+  return SourceMean(TriadLogSamples(log), start, end, &status);
+}
+
 std::array<double, 3> IntervalVariance(const TriadLog& log, int start, int end) {
-  return VarianceAbout(log, start, end, IntervalMean(log, start, end));
+  const TriadLogSamples samples(log);
+  Status status;
+  return VarianceAbout(samples, start, end, SourceMean(samples, start, end, &status), &status);
 }
 
 int InitialRestEnd(const TriadLog& log, double duration_s) {
@@ -138,15 +149,26 @@ std::vector<double> SlidingVarianceNorm(const TriadLog& log, int window) {
 }
 
 void DescribeInterval(const TriadLog& log, StaticInterval* interval) {
-  interval->start_s = log.timestamp_s[interval->start];
-  interval->end_s = log.timestamp_s[interval->end];
+  (void)DescribeInterval(TriadLogSamples(log), interval);  // a log in memory reads without fail
+}
+
+Status DescribeInterval(const TriadSampleSource& log, StaticInterval* interval) {
+  TriadLog ends;
+  ACCELCAL_RETURN_IF_ERROR(log.Read(interval->start, 1, &ends));
+  interval->start_s = ends.timestamp_s[0];
+  ACCELCAL_RETURN_IF_ERROR(log.Read(interval->end, 1, &ends));
+  interval->end_s = ends.timestamp_s[0];
   interval->duration_s = interval->end_s - interval->start_s;
-  interval->mean = IntervalMean(log, interval->start, interval->end);
+  Status status;
+  interval->mean = SourceMean(log, interval->start, interval->end, &status);
+  ACCELCAL_RETURN_IF_ERROR(status);
   if (interval->end > interval->start) {
     const std::array<double, 3> variance =
-        VarianceAbout(log, interval->start, interval->end, interval->mean);
+        VarianceAbout(log, interval->start, interval->end, interval->mean, &status);
+    ACCELCAL_RETURN_IF_ERROR(status);
     for (int k = 0; k < 3; ++k) interval->noise_stddev[k] = std::sqrt(variance[k]);
   }
+  return Status::Ok();
 }
 
 std::vector<StaticInterval> DetectStaticIntervals(const TriadLog& log,

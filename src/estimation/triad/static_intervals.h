@@ -21,6 +21,7 @@
 
 #include "common/status.h"
 #include "common/triad_log.h"
+#include "common/triad_sample_source.h"
 
 namespace accelcal {
 
@@ -54,6 +55,10 @@ std::vector<StaticInterval> DetectStaticIntervals(const TriadLog& log,
 
 // Fills the statistics of an interval whose start and end are set.
 void DescribeInterval(const TriadLog& log, StaticInterval* interval);
+
+// The same from samples read back (two passes over the interval's range, the mean's and the
+// deviations'), whatever the interval's length; the numbers are DescribeInterval's to the bit.
+Status DescribeInterval(const TriadSampleSource& log, StaticInterval* interval);
 
 }  // namespace accelcal
 
