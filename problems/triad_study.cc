@@ -36,7 +36,7 @@ DEFINE_bool(scale_nonlinearity, false, "Estimate the second-order scale terms sc
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 DEFINE_double(discovery_alpha, 0.0, "Instead of the sigma study: the discovery null/power study at this alpha (family-wise error rate, in (0, 0.5)): --trials whole sessions of --poses holds, simulated sample by sample with the noise of --noise and --flicker_b, calibrated as calibrate_imu --mode=ml does on their true holds; counts the verdicts and what discovery named beyond the noise (0: the sigma study).");
 DEFINE_string(flicker_b, "0", "Discovery study: flicker (bias instability) noise added to every sample, as its Allan term B in counts, one value or three (x,y,z); the Allan deviation's floor is 0.664 B (allan --static=all fits B 0.57, 0.59, 0.81 on imu_tk's Xsens log). Simulated per axis as one continuous series over the session, a bank of Gauss-Markov processes at correlation times spaced by 4 over --flicker_band. 0: none.");
-DEFINE_string(flicker_band, "0.5,512", "Discovery study: the flicker bank's shortest and longest correlation time, s (min,max, 0 < min <= max <= 1e5).");
+DEFINE_string(flicker_band, "0.02,1400", "Discovery study: the flicker bank's correlation times, s: min,max (0 < min <= max <= 1e5); the bank runs from min by factors of 4 up to max (default: 0.02 to 1311 s, a flat Allan deviation from 0.1 s to beyond the session, as the Xsens log's within-pose Allan fit gives: B and no random walk).");
 DEFINE_string(offset_drift, "0", "Discovery study: a hidden linear offset drift in counts/s, one value or three (x,y,z) (power: how often discovery names offset_drift_x/y/z).");
 DEFINE_double(hold_s, 8.0, "Discovery study: each hold's duration, s (hold_s times rate_hz at least 2 samples).");
 DEFINE_double(turn_s, 5.5, "Discovery study: each turn between holds, s, in (0, 1000].");
@@ -284,6 +284,7 @@ nlohmann::json DiscoveryStudyJson(const TriadDiscoveryStudyOptions& options,
   json["level_held"] = result.level_held;
   json["offset_drift_found"] = result.drift_found;
   json["mean_final_chi2_per_dof"] = result.mean_chi2_per_dof;
+  json["mean_fitted_allan_b_counts"] = result.mean_fitted_b;
   json["seconds"] = result.seconds;
   json["threads"] = result.threads;
   return json;

@@ -54,6 +54,9 @@ struct Session {
   bool remaining = false;
   std::array<bool, 3> drift{};
   double chi2_per_dof = 0.0;
+  std::array<double, 3> n{};
+  std::array<double, 3> b{};
+  std::array<double, 3> k{};
 };
 
 }  // namespace
@@ -134,6 +137,11 @@ Status RunTriadDiscoveryStudy(const TriadDiscoveryStudyOptions& options,
       for (int k = 0; k < 3; ++k)
         if (effect.name == std::string("offset_drift_") + "xyz"[k]) session.drift[k] = true;
     session.chi2_per_dof = discovery.final_fit.chi2_per_dof;
+    for (int k = 0; k < 3; ++k) {
+      session.n[k] = calibration.pose_noise.terms[k].white_density;
+      session.b[k] = calibration.pose_noise.terms[k].bias_instability;
+      session.k[k] = calibration.pose_noise.terms[k].random_walk;
+    }
   };
   ProgressCounter progress(options.progress, options.sessions);
   MonteCarloOptions monte_carlo;
@@ -160,10 +168,20 @@ Status RunTriadDiscoveryStudy(const TriadDiscoveryStudyOptions& options,
                             session.verdict == Verdict::kUnexplained;
     for (int k = 0; k < 3; ++k) result->drift_found[k] += session.drift[k];
     result->mean_chi2_per_dof += session.chi2_per_dof;
+    for (int k = 0; k < 3; ++k) {
+      result->mean_fitted_n[k] += session.n[k];
+      result->mean_fitted_b[k] += session.b[k];
+      result->mean_fitted_k[k] += session.k[k];
+    }
   }
   if (result->sessions_ok > 0) {
     const double n = result->sessions_ok;
     result->mean_chi2_per_dof /= n;
+    for (int k = 0; k < 3; ++k) {
+      result->mean_fitted_n[k] /= n;
+      result->mean_fitted_b[k] /= n;
+      result->mean_fitted_k[k] /= n;
+    }
     result->beyond_noise_rate = result->beyond_noise / n;
     result->level_band = options.alpha + 2.0 * std::sqrt(options.alpha * (1.0 - options.alpha) / n);
     result->level_held = result->beyond_noise_rate <= result->level_band;
@@ -205,6 +223,12 @@ std::string TriadDiscoveryStudyText(const TriadDiscoveryStudyOptions& options,
       "coloured noise model chosen: %d; an effect named: %d; something "
       "remained: %d; final chi2/dof mean %.3f\n",
       result.coloured_noise, result.effect_named, result.unexplained, result.mean_chi2_per_dof);
+  text += StringPrintf(
+      "Allan terms of the poses, mean: N (%.3g, %.3g, %.3g) count/sqrt(Hz), B (%.3g, %.3g, %.3g) "
+      "counts, K (%.3g, %.3g, %.3g) count sqrt(Hz)\n",
+      result.mean_fitted_n[0], result.mean_fitted_n[1], result.mean_fitted_n[2],
+      result.mean_fitted_b[0], result.mean_fitted_b[1], result.mean_fitted_b[2],
+      result.mean_fitted_k[0], result.mean_fitted_k[1], result.mean_fitted_k[2]);
   text += StringPrintf("offset_drift found: x %d, y %d, z %d\n", result.drift_found[0],
                        result.drift_found[1], result.drift_found[2]);
   const double n = std::max(result.sessions_ok, 1);

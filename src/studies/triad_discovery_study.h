@@ -41,8 +41,8 @@ struct TriadDiscoveryStudyOptions {
   double rate_hz = 100.0;
   std::array<double, 3> noise_stddev{{3.3, 3.2, 3.25}};  // white, per sample, counts
   std::array<double, 3> flicker_b{};                     // bias instability B, counts; 0: none
-  double flicker_min_s = 0.5;
-  double flicker_max_s = 512.0;
+  double flicker_min_s = 0.02;
+  double flicker_max_s = 1400.0;
   std::array<double, 3> offset_drift{};  // counts/s, simulated (hidden unless discovery names it)
   double alpha = 0.01;
   double gravity_mps2 = 9.81744;
@@ -65,6 +65,10 @@ struct TriadDiscoveryStudyResult {
   int beyond_noise = 0;              // effect named, unexplained or cannot_tell_apart
   std::array<int, 3> drift_found{};  // offset_drift_x/y/z found (power when simulated)
   double mean_chi2_per_dof = 0.0;    // the final model's, over the sessions
+  // The Allan terms the sessions' poses gave (triad_pose_noise.h), mean over the sessions.
+  std::array<double, 3> mean_fitted_n{};
+  std::array<double, 3> mean_fitted_b{};
+  std::array<double, 3> mean_fitted_k{};
   double beyond_noise_rate = 0.0;
   double level_band = 0.0;  // alpha + 2 sqrt(alpha (1 - alpha) / sessions)
   bool level_held = false;  // beyond_noise_rate <= level_band (meaningful with nothing hidden)
