@@ -20,6 +20,7 @@
 #include "io/json_file.h"
 #include "problem_support.h"
 #include "reporting/triad_study_report.h"
+#include "studies/triad_discovery_study.h"
 #include "studies/triad_monte_carlo.h"
 
 // clang-format off
@@ -33,6 +34,13 @@ DEFINE_string(truth, "", "The simulated triad: name=value,... over the default, 
 DEFINE_double(g, 9.81744, "Local gravity, m/s^2, in (0, 100).");
 DEFINE_bool(scale_nonlinearity, false, "Estimate the second-order scale terms scale_nonlinearity_x,y,z (1/(m/s^2)) too: the 12-parameter fit.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
+DEFINE_double(discovery_alpha, 0.0, "Instead of the sigma study: the discovery null/power study at this alpha (family-wise error rate, in (0, 0.5)): --trials whole sessions of --poses holds, simulated sample by sample with the noise of --noise and --flicker_b, calibrated as calibrate_imu --mode=ml does on their true holds; counts the verdicts and what discovery named beyond the noise (0: the sigma study).");
+DEFINE_string(flicker_b, "0", "Discovery study: flicker (bias instability) noise added to every sample, as its Allan term B in counts, one value or three (x,y,z); the Allan deviation's floor is 0.664 B (allan --static=all fits B 0.57, 0.59, 0.81 on imu_tk's Xsens log). Simulated per axis as one continuous series over the session, a bank of Gauss-Markov processes at correlation times spaced by 4 over --flicker_band. 0: none.");
+DEFINE_string(flicker_band, "0.02,1400", "Discovery study: the flicker bank's correlation times, s: min,max (0 < min <= max <= 1e5); the bank runs from min by factors of 4 up to max (default: 0.02 to 1311 s, a flat Allan deviation from 0.1 s to beyond the session, as the Xsens log's within-pose Allan fit gives: B and no random walk).");
+DEFINE_string(offset_drift, "0", "Discovery study: a hidden linear offset drift in counts/s, one value or three (x,y,z) (power: how often discovery names offset_drift_x/y/z).");
+DEFINE_double(hold_s, 8.0, "Discovery study: each hold's duration, s (hold_s times rate_hz at least 2 samples).");
+DEFINE_double(turn_s, 5.5, "Discovery study: each turn between holds, s, in (0, 1000].");
+DEFINE_double(rate_hz, 100.0, "Discovery study: sample rate, Hz, in (0, 1e5].");
 ACCELCAL_DEFINE_THREADS_FLAG(0);
 ACCELCAL_DEFINE_PROGRESS_FLAG();
 // clang-format on
@@ -54,20 +62,32 @@ constexpr char kUsage[] =
     "  triad_study [--trials=1000] [--pose_set=random|planar|six|few] [--poses=30]\n"
     "              [--samples_per_pose=100] [--noise=3 | --noise=3,2.5,3.5] "
     "[--truth=gain_x=0.0025,...]\n"
-    "              [--scale_nonlinearity] [--g=9.81744] [--seed=1] [--json=FILE] [--threads=0]";
+    "              [--scale_nonlinearity] [--g=9.81744] [--seed=1] [--json=FILE] [--threads=0]\n\n"
+    "With --discovery_alpha, the null/power study of the triad's discovery instead (issue 33):\n"
+    "whole sessions with white noise (--noise, counts per sample), flicker noise (--flicker_b,\n"
+    "the Allan term B in counts) and a hidden offset drift (--offset_drift, counts/s), e.g. the\n"
+    "Xsens log's own noise:\n"
+    "  triad_study --discovery_alpha=0.01 --trials=400 --poses=38 --noise=3.3,3.2,3.25 \\\n"
+    "              --flicker_b=0.57,0.59,0.81 --seed=1";
 
-Status ParseNoise(const std::string& text, std::array<double, 3>* noise) {
+// One value (all axes) or three (x,y,z), each accepted by `ok`.
+Status ParseAxes(const char* flag, const std::string& text, bool (*ok)(double), const char* what,
+                 std::array<double, 3>* axes) {
   std::vector<double> values;
-  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(
-      "--noise", text, [](double x) { return x > 0.0 && x <= 1e6; },
-      "a noise sd in (0, 1e6] counts", &values));
+  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(flag, text, ok, what, &values));
   if (values.size() == 1) values.assign(3, values[0]);
   if (values.size() != 3) {
-    return Status::Error("--noise takes one value (all axes) or three (x,y,z), not " +
+    return Status::Error(std::string(flag) + " takes one value (all axes) or three (x,y,z), not " +
                          std::to_string(values.size()));
   }
-  *noise = {values[0], values[1], values[2]};
+  *axes = {values[0], values[1], values[2]};
   return Status::Ok();
+}
+
+Status ParseNoise(const std::string& text, std::array<double, 3>* noise) {
+  return ParseAxes(
+      "--noise", text, [](double x) { return x > 0.0 && x <= 1e6; },
+      "a noise sd in (0, 1e6] counts", noise);
 }
 
 constexpr double kMaxTruthAngleRad = 0.1;
@@ -129,6 +149,13 @@ Status ParseTruth(const std::string& text, TriadParameters* truth, TriadScaleNon
 }
 
 Status OptionsFromFlags(TriadMonteCarloOptions* options, DataSource* source) {
+  for (const char* flag :
+       {"flicker_b", "flicker_band", "offset_drift", "hold_s", "turn_s", "rate_hz"}) {
+    if (!gflags::GetCommandLineFlagInfoOrDie(flag).is_default) {
+      return Status::Error(std::string("--") + flag +
+                           " applies only to the discovery study (--discovery_alpha)");
+    }
+  }
   ACCELCAL_RETURN_IF_ERROR(
       ParseTriadPoseSet(FLAGS_pose_set, &options->pose_set).WithContext("--pose_set"));
   const bool fixed_count =
@@ -167,9 +194,127 @@ Status OptionsFromFlags(TriadMonteCarloOptions* options, DataSource* source) {
   return Status::Ok();
 }
 
+// --discovery_alpha: the discovery null/power study.
+Status DiscoveryOptionsFromFlags(TriadDiscoveryStudyOptions* options, DataSource* source) {
+  ACCELCAL_RETURN_IF_ERROR(ParseNoise(FLAGS_noise, &options->noise_stddev));
+  ACCELCAL_RETURN_IF_ERROR(ParseAxes(
+      "--flicker_b", FLAGS_flicker_b, [](double x) { return x >= 0.0 && x <= 1e6; },
+      "a flicker B in [0, 1e6] counts", &options->flicker_b));
+  ACCELCAL_RETURN_IF_ERROR(ParseAxes(
+      "--offset_drift", FLAGS_offset_drift, [](double x) { return std::abs(x) <= 1e6; },
+      "an offset drift in [-1e6, 1e6] counts/s", &options->offset_drift));
+  std::vector<double> band;
+  ACCELCAL_RETURN_IF_ERROR(ParseNumberList(
+      "--flicker_band", FLAGS_flicker_band, [](double x) { return x > 0.0 && x <= 1e5; },
+      "a correlation time in (0, 1e5] s", &band));
+  if (band.size() != 2 || band[0] > band[1])
+    return Status::Error("--flicker_band takes two times, min,max, with min <= max (s)");
+  options->flicker_min_s = band[0];
+  options->flicker_max_s = band[1];
+  if (!(FLAGS_discovery_alpha > 0.0 && FLAGS_discovery_alpha < 0.5))
+    return Status::Error("--discovery_alpha must be in (0, 0.5)");
+  if (!(FLAGS_rate_hz > 0.0 && FLAGS_rate_hz <= 1e5))
+    return Status::Error("--rate_hz must be in (0, 1e5]");
+  if (!(FLAGS_turn_s > 0.0 && FLAGS_turn_s <= 1000.0))
+    return Status::Error("--turn_s must be in (0, 1000]");
+  if (!(FLAGS_hold_s * FLAGS_rate_hz >= 2.0 && FLAGS_hold_s <= 1e4))
+    return Status::Error("--hold_s must give at least 2 samples and be at most 1e4 s");
+  if (FLAGS_poses < 10) return Status::Error("the discovery study needs --poses of at least 10");
+  bool k2_given = false;
+  TriadScaleNonlinearity k2{};
+  options->truth = XsensLikeTriad();
+  ACCELCAL_RETURN_IF_ERROR(ParseTruth(FLAGS_truth, &options->truth, &k2, &k2_given));
+  if (k2_given || FLAGS_scale_nonlinearity || FLAGS_pose_set != "random")
+    return Status::Error(
+        "the discovery study simulates random holds and no scale_nonlinearity "
+        "(--pose_set, --scale_nonlinearity and --truth=scale_nonlinearity_* are the sigma "
+        "study's)");
+  options->alpha = FLAGS_discovery_alpha;
+  options->sessions = FLAGS_trials;
+  options->seed = FLAGS_seed;
+  options->poses = FLAGS_poses;
+  options->hold_s = FLAGS_hold_s;
+  options->turn_s = FLAGS_turn_s;
+  options->rate_hz = FLAGS_rate_hz;
+  options->gravity_mps2 = FLAGS_g;
+  options->threads = FLAGS_threads;
+  source->simulated = true;
+  source->seed = FLAGS_seed;
+  source->scenario =
+      StringPrintf("triad sessions (%s truth, %d random holds of %g s)",
+                   FLAGS_truth.empty() ? "Xsens-like" : "given", FLAGS_poses, FLAGS_hold_s);
+  for (int k = 0; k < 3; ++k) {
+    if (options->offset_drift[k] != 0.0)
+      source->hidden.emplace_back(std::string("offset_drift_") + "xyz"[k],
+                                  options -> offset_drift[k]);
+  }
+  return Status::Ok();
+}
+
+nlohmann::json DiscoveryStudyJson(const TriadDiscoveryStudyOptions& options,
+                                  const TriadDiscoveryStudyResult& result) {
+  nlohmann::json json;
+  json["problem"] = "triad_study";
+  json["study"] = "discovery";
+  json["options"] = {{"sessions", options.sessions},
+                     {"seed", options.seed},
+                     {"poses", options.poses},
+                     {"hold_s", options.hold_s},
+                     {"turn_s", options.turn_s},
+                     {"rate_hz", options.rate_hz},
+                     {"noise_stddev_counts", options.noise_stddev},
+                     {"flicker_b_counts", options.flicker_b},
+                     {"flicker_band_s", {options.flicker_min_s, options.flicker_max_s}},
+                     {"offset_drift_counts_per_s", options.offset_drift},
+                     {"alpha", options.alpha},
+                     {"g_mps2", options.gravity_mps2}};
+  json["sessions_ok"] = result.sessions_ok;
+  json["sessions_failed"] = result.sessions_failed;
+  json["first_failure"] = result.first_failure;
+  json["verdicts"] = {{"explained", result.verdicts[0]},
+                      {"missing", result.verdicts[1]},
+                      {"unexplained", result.verdicts[2]},
+                      {"cannot_tell_apart", result.verdicts[3]}};
+  json["coloured_noise"] = result.coloured_noise;
+  json["effect_named"] = result.effect_named;
+  json["unexplained"] = result.unexplained;
+  json["beyond_noise"] = result.beyond_noise;
+  json["beyond_noise_rate"] = result.beyond_noise_rate;
+  json["level_band"] = result.level_band;
+  json["level_held"] = result.level_held;
+  json["offset_drift_found"] = result.drift_found;
+  json["mean_final_chi2_per_dof"] = result.mean_chi2_per_dof;
+  json["mean_fitted_allan_b_counts"] = result.mean_fitted_b;
+  json["seconds"] = result.seconds;
+  json["threads"] = result.threads;
+  return json;
+}
+
+int RunDiscoveryStudy() {
+  TriadDiscoveryStudyOptions options;
+  TriadDiscoveryStudyResult result;
+  DataSource source;
+  ProgressStyle progress_style;
+  Status status = DiscoveryOptionsFromFlags(&options, &source);
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
+  if (status.ok()) status = CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs());
+  ProgressPrinter progress("triad_study", "sessions", progress_style, &std::cerr);
+  options.progress = progress.Callback();
+  if (status.ok()) status = RunTriadDiscoveryStudy(options, &result);
+  std::string json_text;
+  if (status.ok() && !FLAGS_json.empty())
+    status = JsonText(WithProvenance(DiscoveryStudyJson(options, result), source), &json_text);
+  if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
+  if (!status.ok()) return ExitWithError("triad_study", status);
+  std::cout << WithDataLine(source, TriadDiscoveryStudyText(options, result)) << std::flush;
+  return 0;
+}
+
 int Run(int argc, char** argv) {
   if (!InitProblem("triad_study", kUsage, "problems/triad_study", &argc, &argv))
     return kExitBadInput;
+  if (!gflags::GetCommandLineFlagInfoOrDie("discovery_alpha").is_default)
+    return RunDiscoveryStudy();
   TriadStudyReport report;
   DataSource source;
   ProgressStyle progress_style;

@@ -186,6 +186,8 @@ def main():
     runs += [
         ("triad_study", ["triad_study", "--trials=20", "--threads=2"], "json"),
         ("triad_study", ["triad_study", "--trials=20", "--pose_set=planar"], "json"),
+        ("triad_study_discovery", ["triad_study", "--discovery_alpha=0.05", "--trials=10",
+                                   "--poses=20", "--flicker_b=0.6", "--threads=2"], "json"),
         ("gyroscope_study", ["gyroscope_study", "--trials=10", "--discovery=0.01"], "json"),
         ("gyroscope_study", ["gyroscope_study", "--trials=10", "--turn_set=planar"], "json"),
     ]

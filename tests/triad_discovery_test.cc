@@ -19,6 +19,7 @@
 #include "estimation/triad/triad_pose_noise.h"
 #include "simulation/noise_process.h"
 #include "simulation/triad_simulator.h"
+#include "studies/triad_discovery_study.h"
 #include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
@@ -82,6 +83,67 @@ TEST(TriadDiscovery, NullSessionsAreExplainedAtTheStatedRate) {
   std::printf("  null sessions noted as noise overstated: %d of %d (%.4f, alpha/4 %.4f)\n",
               noise_overstated, kSessions, note_rate, note_alpha);
   EXPECT_LE(note_rate, note_alpha + 3.0 * std::sqrt(note_alpha * (1 - note_alpha) / kSessions));
+}
+
+// Issue 33, item 4: flicker noise at the Xsens log's own level (B = 0.57, 0.59, 0.81 counts, a
+// flat Allan deviation from 0.1 s to beyond the session; the poses' Allan fit finds B = 0.56,
+// 0.58, 0.80 and K = 0.12-0.17, the log's B and K = 0), one wander shared by the 38 poses of whole
+// 8-minute sessions
+// (studies/triad_discovery_study.h). Judged under the pose means' covariance across poses
+// (triad_pose_noise.h), discovery names nothing beyond the noise at about its alpha (60 sessions
+// at 0.05: at most 0.05 + 3 binomial sd, 8). With each mean judged on its own (the diagonal
+// model before the covariance) 45 of these 60 went beyond the noise (unexplained in 37).
+TEST(TriadDiscovery, FlickerSessionsHoldTheLevelUnderThePoseMeansCovariance) {
+  TriadDiscoveryStudyOptions options;
+  options.sessions = 60;
+  options.seed = 33;
+  options.alpha = 0.05;
+  options.flicker_b = {0.57, 0.59, 0.81};
+  options.threads = 2;
+  TriadDiscoveryStudyResult result;
+  ASSERT_TRUE(RunTriadDiscoveryStudy(options, &result).ok());
+  std::printf("%s", TriadDiscoveryStudyText(options, result).c_str());
+  EXPECT_EQ(result.sessions_ok, 60) << result.first_failure;
+  EXPECT_GE(result.coloured_noise, 57);
+  EXPECT_LE(result.beyond_noise, 8);
+  EXPECT_LE(result.unexplained, 4);
+}
+
+// The chi-square under the covariance across poses reduces to the fit's own when the shared
+// part vanishes: each pose's residual reduced to the component its direction cannot absorb,
+// whitened by its independent variance, with the Gauss-Newton step from the fit's minimum (no
+// step), gives the fit's chi-square (30 poses, white noise; and with one effect estimated).
+TEST(TriadDiscovery, CorrelatedChiSquareIsTheFitsOwnWithoutTheSharedPart) {
+  const std::vector<TriadPoseMean> poses = Simulate(Session(), 30, 61, 0);
+  TriadPoseCorrelation correlation;
+  correlation.correlation_s = {2.0, 8.0, 32.0};
+  correlation.process_variance = {1e-14, 1e-14, 1e-14};
+  correlation.sample_variance = PooledWithinPoseVariance(poses);
+  for (const std::vector<int>& effects :
+       {std::vector<int>{}, std::vector<int>{TriadEffectCoefficientIndex("offset_drift_x")}}) {
+    TriadMlOptions fit_options = Discovery(0.01).fit;
+    fit_options.effects = effects;
+    TriadMlResult fit;
+    ASSERT_TRUE(CalibrateTriadMl(poses, fit_options, &fit).ok());
+    double chi2 = 0.0;
+    std::vector<double> innovations;
+    ASSERT_TRUE(
+        TriadCorrelatedChi2(poses, fit, correlation, {0.0, 0.0, 0.0}, kGravity, &chi2, &innovations)
+            .ok());
+    std::printf("  %zu effects: fit chi2 %.6f, under the covariance %.6f\n", effects.size(),
+                fit.chi2, chi2);
+    EXPECT_NEAR(chi2, fit.chi2, 1e-4 * fit.chi2);
+    ASSERT_EQ(innovations.size(), poses.size());
+  }
+  // A shared wander the model knows of lowers the chi-square of the same poses: its slow part is
+  // expected, not scatter.
+  TriadMlResult fit;
+  ASSERT_TRUE(CalibrateTriadMl(poses, Discovery(0.01).fit, &fit).ok());
+  correlation.process_variance = {0.1, 0.1, 0.1};
+  double chi2 = 0.0;
+  ASSERT_TRUE(
+      TriadCorrelatedChi2(poses, fit, correlation, {0.0, 0.0, 0.0}, kGravity, &chi2, nullptr).ok());
+  EXPECT_LT(chi2, fit.chi2);
 }
 
 // Pose means whose stated variance is 8 times their real one (as when the within-pose

@@ -6,11 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "reporting/triad_study_report.h"
+#include "simulation/noise_process.h"
+#include "studies/triad_discovery_study.h"
 #include "studies/triad_monte_carlo.h"
 #include "test_support.h"
 
@@ -149,6 +152,11 @@ TEST(TriadStudyCli, RefusesBadFlagsInOneLine) {
       {"--truth=gain_x=-0.002", "gain_x must be positive"},
       {"--trials=5", "--trials='5' is not a valid int32 in [10, 10000000]"},
       {"--g=0", "--g='0' is not a valid double in (0, 100)"},
+      {"--flicker_b=0.5", "--flicker_b applies only to the discovery study (--discovery_alpha)"},
+      {"--discovery_alpha=0.6", "--discovery_alpha must be in (0, 0.5)"},
+      {"--discovery_alpha=0.01 --flicker_band=8,2", "--flicker_band takes two times, min,max"},
+      {"--discovery_alpha=0.01 --flicker_b=-1", "is not a flicker B in [0, 1e6] counts"},
+      {"--discovery_alpha=0.01 --scale_nonlinearity", "the discovery study simulates random holds"},
   };
   for (const auto& c : cases) {
     const testing::CommandResult result =
@@ -156,6 +164,75 @@ TEST(TriadStudyCli, RefusesBadFlagsInOneLine) {
     testing::ExpectBadInputContract(result, "triad_study", c.fragment);
     EXPECT_FALSE(testing::PathExists(json_path)) << c.arguments;
   }
+}
+
+// The flicker bank of the discovery study (studies/triad_discovery_study.h): its Allan variance is
+// 0.441 B^2 at the band's geometric mean (16 s for 0.5 to 512 s), and within 7 % of its floor in
+// deviation from 2 s to 128 s (the band's ends roll off: 0.86 of the floor at 1 s).
+TEST(TriadDiscoveryStudy, FlickerBankHasTheAllanFloorOfItsB) {
+  constexpr double kB = 0.6;
+  constexpr double kPeriod = 0.01;
+  NoiseProcessParameters bank;
+  bank.sample_period_s = kPeriod;
+  const double q = FlickerBankStddev(kB, 0.5, 512.0, kPeriod);
+  for (double t = 0.5; t <= 512.0 * 1.0001; t *= 4.0) bank.markov.push_back({q, t});
+  ASSERT_EQ(bank.markov.size(), 6u);
+  EXPECT_NEAR(NoiseProcessAllanVariance(bank, 1600), 0.441 * kB * kB, 1e-9);
+  for (double tau = 2.0; tau <= 128.0; tau *= 2.0) {
+    const double deviation =
+        std::sqrt(NoiseProcessAllanVariance(bank, std::llround(tau / kPeriod)));
+    std::printf("  tau %6.1f s: Allan deviation %.4f (floor %.4f)\n", tau, deviation, 0.664 * kB);
+    EXPECT_NEAR(deviation / (0.664 * kB), 1.0, 0.07) << tau;
+  }
+  EXPECT_EQ(FlickerBankStddev(0.0, 0.5, 512.0, kPeriod), 0.0);
+}
+
+// Whole sessions with white noise only: discovery names nothing beyond the noise at about its
+// alpha (60 sessions at 0.05: at most 0.05 + 3 binomial sd, 8 sessions) and keeps white noise;
+// a hidden offset drift of 0.03 counts/s on x (15 counts over the 8-minute session) is named.
+TEST(TriadDiscoveryStudy, WhiteSessionsHoldTheLevelAndALargeDriftIsNamed) {
+  TriadDiscoveryStudyOptions options;
+  options.sessions = 60;
+  options.seed = 7;
+  options.alpha = 0.05;
+  options.threads = 2;
+  TriadDiscoveryStudyResult result;
+  ASSERT_TRUE(RunTriadDiscoveryStudy(options, &result).ok());
+  std::printf("%s", TriadDiscoveryStudyText(options, result).c_str());
+  EXPECT_EQ(result.sessions_ok, 60) << result.first_failure;
+  EXPECT_LE(result.beyond_noise, 8);
+  EXPECT_LE(result.coloured_noise, 8);
+  EXPECT_GE(result.verdicts[0], 50);
+
+  options.sessions = 30;
+  options.offset_drift = {0.03, 0.0, 0.0};
+  ASSERT_TRUE(RunTriadDiscoveryStudy(options, &result).ok());
+  std::printf("%s", TriadDiscoveryStudyText(options, result).c_str());
+  EXPECT_GE(result.drift_found[0], 28);
+  EXPECT_LE(result.drift_found[1] + result.drift_found[2], 3);
+}
+
+TEST(TriadStudyCli, RunsTheDiscoveryStudyWithFlickerNoise) {
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("discovery.json");
+  const testing::CommandResult result = testing::RunBinary(
+      "triad_study",
+      "--discovery_alpha=0.05 --trials=10 --poses=20 --flicker_b=0.6 --threads=1 --json=" +
+          json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_NE(result.stdout_text.find("Discovery on 10 simulated sessions (seed 1): 20 poses of 8 s"),
+            std::string::npos)
+      << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("flicker noise B = (0.6, 0.6, 0.6) counts"), std::string::npos)
+      << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("beyond the noise (an effect named"), std::string::npos);
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_EQ(json["study"], "discovery");
+  EXPECT_EQ(json["sessions_ok"], 10);
+  EXPECT_EQ(json["options"]["flicker_b_counts"][2], 0.6);
+  EXPECT_EQ(json["source"]["kind"], "simulated");
+  // The Allan model is chosen on flicker sessions (white noise rejected against it).
+  EXPECT_GE(json["coloured_noise"].get<int>(), 9);
 }
 
 }  // namespace

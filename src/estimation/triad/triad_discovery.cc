@@ -12,6 +12,7 @@
 #include "estimation/discovery/selection.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/statistics/diagnostics.h"
+#include "estimation/triad/triad_pose_noise.h"
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
@@ -25,7 +26,18 @@ Status Fit(const std::vector<TriadPoseMean>& poses, const TriadDiscoveryOptions&
   fit.effects = effects;
   fit.pose_mean_variance = pose_mean_variance;
   fit.suggest_poses = false;
-  return CalibrateTriadMl(poses, fit, result);
+  ACCELCAL_RETURN_IF_ERROR(CalibrateTriadMl(poses, fit, result));
+  // Under the coloured model with a correlation across poses, the scatter every check and F test
+  // judges is the chi-square under the pose means' full covariance (triad_pose_noise.h).
+  if (pose_mean_variance.empty() || options.coloured_noise.correlation.empty()) return Status::Ok();
+  double chi2 = 0.0;
+  ACCELCAL_RETURN_IF_ERROR(TriadCorrelatedChi2(poses, *result, options.coloured_noise.correlation,
+                                               options.fit.quantisation_variance,
+                                               options.fit.gravity_mps2, &chi2, nullptr));
+  result->chi2 = chi2;
+  result->chi2_per_dof = chi2 / result->degrees_of_freedom;
+  result->p_value = ChiSquareSurvival(chi2, result->degrees_of_freedom);
+  return Status::Ok();
 }
 
 // The p-value of the chi-square `smaller` removes from `larger` with one parameter more, as an
@@ -166,8 +178,11 @@ std::array<double, 3> PoseWander(const TriadMlResult& fit) {
 }
 
 // Step 3: the checks of what the final model leaves, Holm at `alpha`.
+// `innovations`: the whitened residuals in time order under the correlated model (one per pose;
+// empty: the fit's own whitened residuals, three per pose, are independent under its model).
 void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
-                      double alpha, TriadDiscoveryResult* result) {
+                      const std::vector<double>& innovations, double alpha,
+                      TriadDiscoveryResult* result) {
   ResidualCheck chi2;
   chi2.name = "chi2";
   chi2.statistic = fit.chi2_per_dof;
@@ -184,16 +199,24 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
   double products = 0.0;
   double squares = 0.0;
   double norm = 0.0;
-  for (size_t i = 0; i + 1 < order.size(); ++i) {
-    for (int k = 0; k < 3; ++k) {
-      const double a = fit.whitened_residuals[order[i]][k];
-      const double b = fit.whitened_residuals[order[i + 1]][k];
-      products += a * b;
-      squares += a * a * b * b;
+  if (innovations.empty()) {
+    for (size_t i = 0; i + 1 < order.size(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const double a = fit.whitened_residuals[order[i]][k];
+        const double b = fit.whitened_residuals[order[i + 1]][k];
+        products += a * b;
+        squares += a * a * b * b;
+      }
     }
+    for (const auto& r : fit.whitened_residuals)
+      for (int k = 0; k < 3; ++k) norm += r[k] * r[k];
+  } else {
+    for (size_t i = 0; i + 1 < innovations.size(); ++i) {
+      products += innovations[i] * innovations[i + 1];
+      squares += innovations[i] * innovations[i] * innovations[i + 1] * innovations[i + 1];
+    }
+    for (const double r : innovations) norm += r * r;
   }
-  for (const auto& r : fit.whitened_residuals)
-    for (int k = 0; k < 3; ++k) norm += r[k] * r[k];
   ResidualCheck lag;
   lag.name = "pose_lag1_correlation";
   lag.statistic = norm > 0.0 ? products / norm : 0.0;
@@ -223,20 +246,27 @@ void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResu
 }
 
 // Step 3's other tail, beside the verdict: a chi-square too small for its degrees of freedom.
+// It is about the weights of the fit and its sigmas, so it is the fit's own chi-square (its
+// whitened residuals' squares), also when the scatter is judged under the correlation across
+// poses.
 ResidualCheck CheckNoiseOverstated(const TriadMlResult& fit, double alpha) {
+  double own = 0.0;
+  for (const auto& r : fit.whitened_residuals)
+    for (int k = 0; k < 3; ++k) own += r[k] * r[k];
+  const double chi2_per_dof = own / fit.degrees_of_freedom;
   ResidualCheck check;
   check.name = "chi2_lower_tail";
-  check.statistic = fit.chi2_per_dof;
+  check.statistic = chi2_per_dof;
   check.dof = fit.degrees_of_freedom;
-  check.p_value = ChiSquareCdf(fit.chi2, fit.degrees_of_freedom);
+  check.p_value = ChiSquareCdf(own, fit.degrees_of_freedom);
   check.flagged = check.p_value < alpha;
   check.description = StringPrintf(
       "the pose means scatter less than the noise model says: chi2/dof = %.3g on %d dof (p = "
       "%.3g in the lower tail); the noise model overstates a pose mean's variance (noise "
       "anti-correlated within a pose, or variance that averages out over a pose), so the sigmas "
       "are conservative, by a factor of about %.2g",
-      fit.chi2_per_dof, fit.degrees_of_freedom, check.p_value,
-      1.0 / std::sqrt(std::max(fit.chi2_per_dof, 1e-12)));
+      chi2_per_dof, fit.degrees_of_freedom, check.p_value,
+      1.0 / std::sqrt(std::max(chi2_per_dof, 1e-12)));
   return check;
 }
 
@@ -496,7 +526,14 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   }
 
   // 3. What remains.
-  CheckWhatRemains(poses, current, options.alpha / 4.0, result);
+  std::vector<double> innovations;
+  if (result->coloured_noise && !coloured.correlation.empty()) {
+    double chi2 = 0.0;
+    ACCELCAL_RETURN_IF_ERROR(TriadCorrelatedChi2(poses, current, coloured.correlation,
+                                                 options.fit.quantisation_variance,
+                                                 options.fit.gravity_mps2, &chi2, &innovations));
+  }
+  CheckWhatRemains(poses, current, innovations, options.alpha / 4.0, result);
   result->noise_overstated = CheckNoiseOverstated(current, options.alpha / 4.0);
 
   // 5. The gain out of sample.

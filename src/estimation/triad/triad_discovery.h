@@ -50,11 +50,30 @@
 
 namespace accelcal {
 
+// The pose means' errors correlated across poses (issue 33, item 4; built from the Allan terms by
+// estimation/triad/triad_pose_noise.h, which states the model): per axis k, a pose mean's error
+// is an independent part plus the mean over the pose of a bank of Gauss-Markov processes of
+// variance process_variance[k] each at the correlation times correlation_s (the bias
+// instability B_k as flicker noise, shared by every pose of the session and correlated by the
+// time between them). Empty: none.
+struct TriadPoseCorrelation {
+  std::vector<double> correlation_s;
+  std::array<double, 3> process_variance{};  // unit^2, each process of the bank
+  std::array<double, 3> white_density{};     // N_k, unit/sqrt(Hz)
+  std::array<double, 3> random_walk{};       // K_k, unit sqrt(Hz)
+  std::array<double, 3> sample_variance{};   // s_k^2, the pooled within-pose variance, unit^2
+  bool empty() const { return correlation_s.empty(); }
+};
+
 // A coloured noise model of the pose means, offered to step 1.
 struct TriadNoiseCandidate {
   std::vector<std::array<double, 3>> pose_mean_variance;  // per pose and axis, unit^2
   double white_p_value = 1.0;  // of white noise against it, from the within-pose data
   std::string description;     // what it is, for the report
+  // When set, the pose means' scatter is judged under it (the chi-square, its lower tail, the
+  // lag-1 check and the effects' F tests), whenever the coloured model is chosen; the fits
+  // themselves keep pose_mean_variance as their weights.
+  TriadPoseCorrelation correlation;
 };
 
 struct TriadDiscoveryOptions {

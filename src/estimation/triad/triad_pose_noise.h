@@ -68,6 +68,40 @@ double UnroundedNoiseVariance(double rounded_variance, double step);
 Status TriadPoseNoiseFromLog(const TriadLog& log, const std::vector<StaticInterval>& intervals,
                              const std::vector<TriadPoseMean>& poses, TriadPoseNoise* noise);
 
+// The pose means' covariance across poses (issue 33, item 4; TriadPoseCorrelation in
+// triad_discovery.h), from the Allan terms of each axis. The bias instability B is flicker noise:
+// its Allan deviation stays at 0.664 B over every tau, so poses minutes apart share one slowly
+// wandering offset, and their means are not independent. It is modelled as a bank of
+// Gauss-Markov processes of equal variance q^2 at correlation times T_i from a quarter of the
+// median pose to the first at least the session's span (first to last pose mid-time), spaced by
+// 4; q^2 such that the bank's Allan variance at the geometric mean of its ends is 0.441 B^2 (one
+// process's: q^2 (T/tau)^2 (2 tau/T - 3 + 4 e^(-tau/T) - e^(-2 tau/T))). Per process, the means
+// of poses p and q (durations T_p, T_q, centres dt apart, not overlapping) have covariance
+// q^2 b_p b_q e^(-dt/T) with b = sinh(x/2) / (x/2), x = T_p / T, and a pose's own mean variance
+// q^2 a(x), a(x) = 2 (x - 1 + e^(-x)) / x^2. The white and random-walk terms stay independent
+// per pose, as in sigma^2(T): max(N^2/T_p + K^2 T_p/3, s^2/N_p) (a random walk fitted within
+// poses of seconds, extrapolated as one walk over minutes, overstated the scatter of simulated
+// flicker sessions tenfold). Empty when B is 0 on every axis.
+TriadPoseCorrelation TriadPoseCorrelationFromTerms(const std::array<AllanNoiseTerms, 3>& terms,
+                                                   const std::vector<TriadPoseMean>& poses,
+                                                   const std::array<double, 3>& sample_variance);
+
+// The chi-square of `fit` (CalibrateTriadMl's, at its parameters, effects and directions) with
+// the pose means judged under `correlation`, plus `added_variance` per axis and pose (the
+// quantisation term): each pose's residual is reduced to the one component its own direction
+// cannot absorb (q_p, normal to the direction's two columns of the pose's Jacobian: the
+// directions are eliminated exactly, as in generalised least squares with per-pose nuisance
+// unknowns), these are whitened in time order by a Kalman filter over the bank's 3 x processes
+// states (linear in the poses), and one Gauss-Newton step of the estimated parameters under the
+// whitened model is taken from the fit (the fit weights the means by their own variances only;
+// the step reaches the generalised least-squares minimum to second order). chi2 is that minimum,
+// on the fit's degrees of freedom; `innovations` (may be null) the whitened residuals after the
+// step, in the poses' time order, independent N(0, 1) under the model.
+Status TriadCorrelatedChi2(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
+                           const TriadPoseCorrelation& correlation,
+                           const std::array<double, 3>& added_variance, double gravity_mps2,
+                           double* chi2, std::vector<double>* innovations);
+
 // Which noise model weights the pose means of a calibration (calibrate_imu --noise).
 enum class TriadNoiseChoice { kAuto, kWhite, kAllan };
 Status ParseTriadNoiseChoice(const std::string& text, TriadNoiseChoice* choice);
