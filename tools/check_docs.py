@@ -187,6 +187,7 @@ def make_workdir(args):
 def check(documents, args, quiet=False):
     """Runs every block of the documents; returns (outputs checked, failures, folders used)."""
     failures, count = 0, 0
+    updates = {}  # path -> (marker line, pasted lines, printed lines), with --update
     env = dict(os.environ)
     env["PYTHONPATH"] = os.path.join(os.path.abspath(args.build_dir), "python")
     workdirs = []
@@ -239,11 +240,26 @@ def check(documents, args, quiet=False):
                     sys.stdout.writelines(difflib.unified_diff(
                         [l + "\n" for l in want], [l + "\n" for l in got],
                         "pasted", "printed now", n=2))
+                    # A whole block of one command's output, without gaps, can be pasted again.
+                    if (args.update and not block.excerpt and command is not None and
+                            len(split_commands(block)) == 1 and not any(map(is_gap, expected))):
+                        printed = [l.replace(workdir, "~/accelcal").rstrip()
+                                   for l in actual.rstrip("\n").split("\n")]
+                        updates.setdefault(path, []).append((block.line, expected, printed))
+    for path, changes in updates.items():  # --update: paste the printed output into the files
+        lines = open(path, encoding="utf-8").read().split("\n")
+        for line, expected, printed in sorted(changes, reverse=True):
+            start = line + 1  # the block's first line (0-based: the marker is line - 1)
+            offset = 1 if lines[start].startswith("$ ") else 0
+            lines[start + offset:start + offset + len(expected)] = printed
+        open(path, "w", encoding="utf-8").write("\n".join(lines))
+        print(f"check_docs: pasted {len(changes)} block(s) again in {path}")
     return count, failures, workdirs
 
 
 def self_test(args):
     """The checker against documents whose answer is known: one true, three false."""
+    args.update = False
     course = "../shared/data/tp2-2018"
     printed = subprocess.run(["build/bin/linear_ls", f"--data_dir={course}"], cwd=make_workdir(args),
                              capture_output=True, text=True, check=True).stdout
@@ -283,6 +299,9 @@ def main():
     parser.add_argument("--self_test", action="store_true",
                         help="check that the checker fails on a changed digit, a missing line and a "
                              "wrong exit status, and passes on the truth")
+    parser.add_argument("--update", action="store_true",
+                        help="paste the printed output again into whole blocks (one command, no "
+                             "gaps) that differ; excerpts are left to be edited by hand")
     parser.add_argument("files", nargs="*")
     args = parser.parse_args()
     if not os.path.isdir(os.path.join(args.shared, "data")):
