@@ -34,6 +34,7 @@ import difflib
 import os
 import re
 import shlex
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -261,8 +262,10 @@ def self_test(args):
     """The checker against documents whose answer is known: one true, three false."""
     args.update = False
     course = "../shared/data/tp2-2018"
-    printed = subprocess.run(["build/bin/linear_ls", f"--data_dir={course}"], cwd=make_workdir(args),
+    first = make_workdir(args)
+    printed = subprocess.run(["build/bin/linear_ls", f"--data_dir={course}"], cwd=first,
                              capture_output=True, text=True, check=True).stdout
+    used = [first]
     lines = printed.rstrip("\n").split("\n")
     changed = [re.sub(r"(scale_x +[-+]\d\.\d{3})(\d)", lambda m: m.group(1) + str((int(m.group(2)) + 1) % 10), l)
                for l in lines]
@@ -282,11 +285,14 @@ def self_test(args):
         path = os.path.join(folder, name.replace(" ", "_") + ".md")
         with open(path, "w", encoding="utf-8") as f:
             f.write("\n".join(document) + "\n")
-        _, failures, _ = check([(path, read_blocks(path))], args)
+        _, failures, workdirs = check([(path, read_blocks(path))], args)
+        used += workdirs
         if (failures == 0) != should_pass:
             wrong += 1
             print(f"SELF-TEST WRONG: {name}: the checker said {'fail' if failures else 'pass'}")
     print(f"check_docs --self_test: {len(cases) - wrong} of {len(cases)} known answers given")
+    for workdir in [os.path.join(folder, "x")] + used:
+        shutil.rmtree(os.path.dirname(workdir), ignore_errors=True)
     return 1 if wrong else 0
 
 
@@ -322,8 +328,14 @@ def main():
         return 2
 
     count, failures, workdirs = check(documents, args)
+    if failures:  # the folders stay, to look at what was printed
+        where = f"run in {', '.join(workdirs)}"
+    else:
+        for workdir in workdirs:
+            shutil.rmtree(os.path.dirname(workdir), ignore_errors=True)
+        where = "their folders removed"
     print(f"check_docs: {count - failures} of {count} pasted outputs match"
-          f" ({len(documents)} files; run in {', '.join(workdirs)})")
+          f" ({len(documents)} files; {where})")
     return 1 if failures else 0
 
 
