@@ -251,45 +251,6 @@ Status DiscoveryOptionsFromFlags(TriadDiscoveryStudyOptions* options, DataSource
   return Status::Ok();
 }
 
-nlohmann::json DiscoveryStudyJson(const TriadDiscoveryStudyOptions& options,
-                                  const TriadDiscoveryStudyResult& result) {
-  nlohmann::json json;
-  json["problem"] = "triad_study";
-  json["study"] = "discovery";
-  json["options"] = {{"sessions", options.sessions},
-                     {"seed", options.seed},
-                     {"poses", options.poses},
-                     {"hold_s", options.hold_s},
-                     {"turn_s", options.turn_s},
-                     {"rate_hz", options.rate_hz},
-                     {"noise_stddev_counts", options.noise_stddev},
-                     {"flicker_b_counts", options.flicker_b},
-                     {"flicker_band_s", {options.flicker_min_s, options.flicker_max_s}},
-                     {"offset_drift_counts_per_s", options.offset_drift},
-                     {"alpha", options.alpha},
-                     {"g_mps2", options.gravity_mps2}};
-  json["sessions_ok"] = result.sessions_ok;
-  json["sessions_failed"] = result.sessions_failed;
-  json["first_failure"] = result.first_failure;
-  json["verdicts"] = {{"explained", result.verdicts[0]},
-                      {"missing", result.verdicts[1]},
-                      {"unexplained", result.verdicts[2]},
-                      {"cannot_tell_apart", result.verdicts[3]}};
-  json["coloured_noise"] = result.coloured_noise;
-  json["effect_named"] = result.effect_named;
-  json["unexplained"] = result.unexplained;
-  json["beyond_noise"] = result.beyond_noise;
-  json["beyond_noise_rate"] = result.beyond_noise_rate;
-  json["level_band"] = result.level_band;
-  json["level_held"] = result.level_held;
-  json["offset_drift_found"] = result.drift_found;
-  json["mean_final_chi2_per_dof"] = result.mean_chi2_per_dof;
-  json["mean_fitted_allan_b_counts"] = result.mean_fitted_b;
-  json["seconds"] = result.seconds;
-  json["threads"] = result.threads;
-  return json;
-}
-
 int RunDiscoveryStudy() {
   TriadDiscoveryStudyOptions options;
   TriadDiscoveryStudyResult result;
@@ -303,7 +264,7 @@ int RunDiscoveryStudy() {
   if (status.ok()) status = RunTriadDiscoveryStudy(options, &result);
   std::string json_text;
   if (status.ok() && !FLAGS_json.empty())
-    status = JsonText(WithProvenance(DiscoveryStudyJson(options, result), source), &json_text);
+    status = JsonText(WithProvenance(TriadDiscoveryStudyJson(options, result), source), &json_text);
   if (status.ok()) status = WriteOutputFiles({{FLAGS_json, json_text}});
   if (!status.ok()) return ExitWithError("triad_study", status);
   std::cout << WithDataLine(source, TriadDiscoveryStudyText(options, result)) << std::flush;

@@ -17,6 +17,7 @@
 
 #include "estimation/triad/triad_determination.h"
 #include "estimation/triad/triad_pose_noise.h"
+#include "reporting/triad_study_report.h"
 #include "simulation/noise_process.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_discovery_study.h"

@@ -1,8 +1,11 @@
 #include "reporting/triad_study_report.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "common/format.h"
+#include "estimation/discovery/verdict.h"
 
 namespace accelcal {
 namespace {
@@ -177,6 +180,99 @@ nlohmann::json TriadStudyJson(const TriadStudyReport& report) {
       {"claim_possible", r.claim_possible}, {"passed", r.passed}, {"failures", r.failures}};
   json["seconds"] = r.seconds;
   json["threads"] = r.threads;
+  return json;
+}
+
+std::string TriadDiscoveryStudyText(const TriadDiscoveryStudyOptions& options,
+                                    const TriadDiscoveryStudyResult& result) {
+  std::string text = StringPrintf(
+      "Discovery on %d simulated sessions (seed %llu): %d poses of %.3g s, turns of %.3g s, "
+      "%.4g Hz, outputs rounded to counts\n"
+      "  white noise per sample (%.3g, %.3g, %.3g) counts\n",
+      options.sessions, static_cast<unsigned long long>(options.seed), options.poses,
+      options.hold_s, options.turn_s, options.rate_hz, options.noise_stddev[0],
+      options.noise_stddev[1], options.noise_stddev[2]);
+  if (options.flicker_b != std::array<double, 3>{}) {
+    text += StringPrintf(
+        "  flicker noise B = (%.3g, %.3g, %.3g) counts (Allan deviation floor 0.664 B), a bank "
+        "of Gauss-Markov processes at correlation times %.3g to %.3g s\n",
+        options.flicker_b[0], options.flicker_b[1], options.flicker_b[2], options.flicker_min_s,
+        options.flicker_max_s);
+  } else {
+    text += "  no flicker noise\n";
+  }
+  if (options.offset_drift != std::array<double, 3>{}) {
+    text += StringPrintf("  offset drift (%.3g, %.3g, %.3g) counts/s (hidden)\n",
+                         options.offset_drift[0], options.offset_drift[1], options.offset_drift[2]);
+  }
+  text += StringPrintf("  alpha %.3g\n\n", options.alpha);
+  text += StringPrintf(
+      "sessions calibrated: %d (failed %d%s%s)\n", result.sessions_ok, result.sessions_failed,
+      result.first_failure.empty() ? "" : "; first: ", result.first_failure.c_str());
+  text +=
+      StringPrintf("verdicts: explained %d, missing %d, unexplained %d, cannot_tell_apart %d\n",
+                   result.verdicts[0], result.verdicts[1], result.verdicts[2], result.verdicts[3]);
+  text += StringPrintf(
+      "coloured noise model chosen: %d; an effect named: %d; something "
+      "remained: %d; final chi2/dof mean %.3f\n",
+      result.coloured_noise, result.effect_named, result.unexplained, result.mean_chi2_per_dof);
+  text += StringPrintf(
+      "Allan terms of the poses, mean: N (%.3g, %.3g, %.3g) count/sqrt(Hz), B (%.3g, %.3g, %.3g) "
+      "counts, K (%.3g, %.3g, %.3g) count sqrt(Hz)\n",
+      result.mean_fitted_n[0], result.mean_fitted_n[1], result.mean_fitted_n[2],
+      result.mean_fitted_b[0], result.mean_fitted_b[1], result.mean_fitted_b[2],
+      result.mean_fitted_k[0], result.mean_fitted_k[1], result.mean_fitted_k[2]);
+  text += StringPrintf("offset_drift found: x %d, y %d, z %d\n", result.drift_found[0],
+                       result.drift_found[1], result.drift_found[2]);
+  const double n = std::max(result.sessions_ok, 1);
+  const bool hidden = options.offset_drift != std::array<double, 3>{};
+  text += StringPrintf(
+      "beyond the noise (an effect named, unexplained or cannot_tell_apart): %d of %d = %.4f; %s",
+      result.beyond_noise, result.sessions_ok, result.beyond_noise / n,
+      hidden ? "an effect is hidden, so this is power, not the level\n"
+             : StringPrintf("with nothing hidden it should be <= alpha + 2 sd = %.4f: %s\n",
+                            result.level_band, result.level_held ? "level held" : "LEVEL NOT HELD")
+                   .c_str());
+  text += StringPrintf("%.1f s on %d threads\n", result.seconds, result.threads);
+  return text;
+}
+
+nlohmann::json TriadDiscoveryStudyJson(const TriadDiscoveryStudyOptions& options,
+                                       const TriadDiscoveryStudyResult& result) {
+  nlohmann::json json;
+  json["problem"] = "triad_study";
+  json["study"] = "discovery";
+  json["options"] = {{"sessions", options.sessions},
+                     {"seed", options.seed},
+                     {"poses", options.poses},
+                     {"hold_s", options.hold_s},
+                     {"turn_s", options.turn_s},
+                     {"rate_hz", options.rate_hz},
+                     {"noise_stddev_counts", options.noise_stddev},
+                     {"flicker_b_counts", options.flicker_b},
+                     {"flicker_band_s", {options.flicker_min_s, options.flicker_max_s}},
+                     {"offset_drift_counts_per_s", options.offset_drift},
+                     {"alpha", options.alpha},
+                     {"g_mps2", options.gravity_mps2}};
+  json["sessions_ok"] = result.sessions_ok;
+  json["sessions_failed"] = result.sessions_failed;
+  json["first_failure"] = result.first_failure;
+  json["verdicts"] = nlohmann::json::object();
+  for (const Verdict verdict :
+       {Verdict::kExplained, Verdict::kMissing, Verdict::kUnexplained, Verdict::kCannotTellApart})
+    json["verdicts"][VerdictCode(verdict)] = result.verdicts[static_cast<int>(verdict)];
+  json["coloured_noise"] = result.coloured_noise;
+  json["effect_named"] = result.effect_named;
+  json["unexplained"] = result.unexplained;
+  json["beyond_noise"] = result.beyond_noise;
+  json["beyond_noise_rate"] = result.beyond_noise_rate;
+  json["level_band"] = result.level_band;
+  json["level_held"] = result.level_held;
+  json["offset_drift_found"] = result.drift_found;
+  json["mean_final_chi2_per_dof"] = result.mean_chi2_per_dof;
+  json["mean_fitted_allan_b_counts"] = result.mean_fitted_b;
+  json["seconds"] = result.seconds;
+  json["threads"] = result.threads;
   return json;
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "studies/triad_discovery_study.h"
 #include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
@@ -25,6 +26,14 @@ std::string TriadStudyText(const TriadStudyReport& report);
 // "suggested_directions", "parameters" (one object each), "fit_statistic", "verdict",
 // "seconds", "threads"}.
 nlohmann::json TriadStudyJson(const TriadStudyReport& report);
+
+// triad_study --discovery_alpha: what was simulated, the verdicts, the level (or, with an effect
+// hidden, the power) and the Allan terms the sessions' poses gave; the same numbers as JSON
+// ({"problem": "triad_study", "study": "discovery", "options", "verdicts", ...}).
+std::string TriadDiscoveryStudyText(const TriadDiscoveryStudyOptions& options,
+                                    const TriadDiscoveryStudyResult& result);
+nlohmann::json TriadDiscoveryStudyJson(const TriadDiscoveryStudyOptions& options,
+                                       const TriadDiscoveryStudyResult& result);
 
 }  // namespace accelcal
 

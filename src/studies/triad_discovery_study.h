@@ -79,9 +79,6 @@ struct TriadDiscoveryStudyResult {
 Status RunTriadDiscoveryStudy(const TriadDiscoveryStudyOptions& options,
                               TriadDiscoveryStudyResult* result);
 
-std::string TriadDiscoveryStudyText(const TriadDiscoveryStudyOptions& options,
-                                    const TriadDiscoveryStudyResult& result);
-
 }  // namespace accelcal
 
 #endif  // ACCELCAL_STUDIES_TRIAD_DISCOVERY_STUDY_H_
