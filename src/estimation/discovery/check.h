@@ -12,6 +12,16 @@
 
 namespace accelcal {
 
+// What a check's shape is a function of (issue 33, item 1), so that "unexplained" says what
+// remains by the shape it has and what a user can do about it: the sensor's orientation (which
+// axis, which power), time over the session (a trend, up then down, a step at one time), the
+// direction the table turns (up-sweeps against down-sweeps), the order of the poses (one pose,
+// offsets that jump between poses), full scale (outputs near one end of an axis's range that
+// fall short), or none of these (the noise: a scatter or a correlation with no shape).
+enum class ShapeClass { kNoise, kOrientation, kTime, kTurnDirection, kPoseOrder, kFullScale };
+// "noise", "orientation", "time", "turn_direction", "pose_order", "full_scale"
+const char* ShapeClassName(ShapeClass shape_class);
+
 struct ResidualCheck {
   std::string name;  // "x: 3 theta harmonic", "y: step", "endpoint", "chi2", ...
   int axis = -1;     // the axis the check looks at (0: x, 1: y, ...), -1: none or every one
@@ -23,7 +33,14 @@ struct ResidualCheck {
   // The shape (one raw per-sample column per coefficient, m/s^2 per unit, on this axis);
   // empty for checks that describe no shape.
   std::vector<std::vector<double>> shape;
+  ShapeClass shape_class = ShapeClass::kNoise;
+  // What a user can do about it, in words ("log temperature and the orientation of x"); empty
+  // when there is nothing more to say than the description.
+  std::string advice;
 };
+
+// The check's sentence for the verdict: its description, then its advice.
+std::string WhatRemains(const ResidualCheck& check);
 
 // Holm's step-down at `alpha` over the checks' p-values: sets every check's `flagged`.
 // Returns the number flagged.

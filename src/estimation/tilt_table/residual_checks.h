@@ -29,6 +29,7 @@
 
 #include "common/measurements.h"
 #include "estimation/discovery/check.h"
+#include "estimation/statistics/extra_chi_square.h"
 #include "models/noise_model.h"
 
 namespace accelcal {
@@ -41,11 +42,6 @@ struct ResidualChecksOptions {
 // The whitened rows of a shape column on axis `axis` (the full linearised problem's rows).
 Eigen::VectorXd WhitenedShapeColumn(const std::vector<double>& shape, int axis,
                                     const AxisNoise& noise, int rows);
-
-// The chi-square the columns `extra` (full rows) remove when added to the span of
-// `model` (full rows) from the residual `r`, and the rank they add.
-double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,
-                      const Eigen::VectorXd& r, int* rank = nullptr);
 
 // Runs every check; `jacobian` and `residual` from LinearizeJoint at the solution;
 // `endpoint_rows` is 2 when the run is tied to a landmark, else 0.

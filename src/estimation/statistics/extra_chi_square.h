@@ -1,0 +1,26 @@
+#ifndef ACCELCAL_ESTIMATION_STATISTICS_EXTRA_CHI_SQUARE_H_
+#define ACCELCAL_ESTIMATION_STATISTICS_EXTRA_CHI_SQUARE_H_
+
+// What columns outside a linearised model can still explain of its whitened residual: the
+// chi-square they remove (a score test: the model is not refitted, the columns are projected
+// off its span), the rank they add, and their coefficients. Every sensor geometry's checks of
+// what remains are these on their own columns (estimation/tilt_table/residual_checks.h: the
+// samples' rows; estimation/triad/triad_shape_checks.h: one contrast per pose).
+
+#include <Eigen/Core>
+
+namespace accelcal {
+
+// The chi-square the columns `extra` remove when added to the span of `model` (same rows,
+// whitened) from the residual `r`, and the rank they add (columns with almost nothing left
+// outside the model's span add nothing).
+double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,
+                      const Eigen::VectorXd& r, int* rank = nullptr);
+
+// The least-squares coefficients of `r` on the columns of `extra` fitted beside `model`.
+Eigen::VectorXd ProjectedCoefficients(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,
+                                      const Eigen::VectorXd& r);
+
+}  // namespace accelcal
+
+#endif  // ACCELCAL_ESTIMATION_STATISTICS_EXTRA_CHI_SQUARE_H_
