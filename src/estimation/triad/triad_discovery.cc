@@ -3,6 +3,7 @@
 #include <ceres/ceres.h>
 #include <ceres/sphere_manifold.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -10,9 +11,12 @@
 
 #include "common/format.h"
 #include "estimation/discovery/selection.h"
+#include "estimation/statistics/extra_chi_square.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/statistics/diagnostics.h"
+#include "estimation/triad/triad_contrasts.h"
 #include "estimation/triad/triad_pose_noise.h"
+#include "estimation/triad/triad_shape_checks.h"
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
@@ -177,72 +181,230 @@ std::array<double, 3> PoseWander(const TriadMlResult& fit) {
   return wander;
 }
 
-// Step 3: the checks of what the final model leaves, Holm at `alpha`.
-// `innovations`: the whitened residuals in time order under the correlated model (one per pose;
-// empty: the fit's own whitened residuals, three per pose, are independent under its model).
-void CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
-                      const std::vector<double>& innovations, double alpha,
-                      TriadDiscoveryResult* result) {
+// The lag-1 statistic of residuals in time order, self-normalised: N(0, 1) when they are
+// independent. `per_pose` residuals per pose, consecutive in time order.
+struct Lag1 {
+  double r = 0.0;  // the correlation
+  double z = 0.0;
+};
+Lag1 LagOneCorrelation(const std::vector<std::vector<double>>& in_time_order) {
+  double products = 0.0, squares = 0.0, norm = 0.0;
+  for (size_t i = 0; i + 1 < in_time_order.size(); ++i) {
+    for (size_t k = 0; k < in_time_order[i].size(); ++k) {
+      const double a = in_time_order[i][k];
+      const double b = in_time_order[i + 1][k];
+      products += a * b;
+      squares += a * a * b * b;
+    }
+  }
+  for (const auto& residuals : in_time_order)
+    for (const double r : residuals) norm += r * r;
+  Lag1 lag;
+  lag.r = norm > 0.0 ? products / norm : 0.0;
+  lag.z = squares > 0.0 ? products / std::sqrt(squares) : 0.0;
+  return lag;
+}
+
+// Step 3: the checks of what the final model leaves, Holm at `alpha`: the chi-square and the
+// lag-1 correlation (no shape: the scatter and the wander), and the shapes of
+// triad_shape_checks.h. Then what remains in words, strongest shape first, each kept only if it
+// stands once the shapes before it are allowed for; the scatter is named ("offsets that jump
+// from pose to pose") when it stands beyond the shapes kept, first when they take less than half
+// of the excess; the wander when it stands on what the shapes leave.
+Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
+                        const TriadPoseCorrelation& correlation,
+                        const TriadDiscoveryOptions& options, double alpha,
+                        TriadDiscoveryResult* result) {
+  // The contrasts, whitened under the noise model, and their residual at its minimum.
+  TriadContrasts contrasts;
+  ACCELCAL_RETURN_IF_ERROR(TriadPoseContrasts(poses, fit, options.fit.gravity_mps2, &contrasts));
+  const TriadContrastWhitener whitener(poses, fit, contrasts, correlation,
+                                       options.fit.quantisation_variance);
+  Eigen::MatrixXd whitened;
+  ACCELCAL_RETURN_IF_ERROR(whitener.Whiten(contrasts.rows, &whitened));
+  const Eigen::MatrixXd model = whitened.rightCols(whitened.cols() - 1);
+  const Eigen::VectorXd z = whitened.col(0);
+  const Eigen::VectorXd residual =
+      z - model * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(model).solve(z);
+
   ResidualCheck chi2;
   chi2.name = "chi2";
   chi2.statistic = fit.chi2_per_dof;
   chi2.dof = fit.degrees_of_freedom;
   chi2.p_value = ChiSquareSurvival(fit.chi2, fit.degrees_of_freedom);
+  chi2.shape_class = ShapeClass::kPoseOrder;
   chi2.description = StringPrintf(
       "the pose means scatter more than the noise model says: chi2/dof = %.3g on %d dof "
       "(expected 1 +- %.2g, p = %.3g)",
       fit.chi2_per_dof, fit.degrees_of_freedom, fit.chi2_per_dof_spread, chi2.p_value);
 
-  // Consecutive poses in time: a self-normalised sum of products of neighbours' residuals,
-  // N(0, 1) when they are independent.
-  const std::vector<int> order = PosesInTimeOrder(poses);
-  double products = 0.0;
-  double squares = 0.0;
-  double norm = 0.0;
-  if (innovations.empty()) {
-    for (size_t i = 0; i + 1 < order.size(); ++i) {
-      for (int k = 0; k < 3; ++k) {
-        const double a = fit.whitened_residuals[order[i]][k];
-        const double b = fit.whitened_residuals[order[i + 1]][k];
-        products += a * b;
-        squares += a * a * b * b;
-      }
-    }
-    for (const auto& r : fit.whitened_residuals)
-      for (int k = 0; k < 3; ++k) norm += r[k] * r[k];
+  // Consecutive poses in time: under the correlated model its whitened residuals (one per pose,
+  // time order); else the fit's own three per pose, independent under its model.
+  std::vector<std::vector<double>> in_time_order;
+  if (!correlation.empty()) {
+    for (int j = 0; j < residual.size(); ++j) in_time_order.push_back({residual[j]});
   } else {
-    for (size_t i = 0; i + 1 < innovations.size(); ++i) {
-      products += innovations[i] * innovations[i + 1];
-      squares += innovations[i] * innovations[i] * innovations[i + 1] * innovations[i + 1];
+    for (const int p : PosesInTimeOrder(poses)) {
+      const auto& r = fit.whitened_residuals[p];
+      in_time_order.push_back({r[0], r[1], r[2]});
     }
-    for (const double r : innovations) norm += r * r;
   }
+  const Lag1 lag1 = LagOneCorrelation(in_time_order);
   ResidualCheck lag;
   lag.name = "pose_lag1_correlation";
-  lag.statistic = norm > 0.0 ? products / norm : 0.0;
-  const double z = squares > 0.0 ? products / std::sqrt(squares) : 0.0;
-  lag.p_value = std::erfc(std::abs(z) / std::sqrt(2.0));
+  lag.statistic = lag1.r;
+  lag.p_value = std::erfc(std::abs(lag1.z) / std::sqrt(2.0));
   // What the correlation found, by its sign: alike neighbours are a slow wander; alternating
   // ones are not (something that flips between consecutive poses: the order the orientations
   // were held in, a hysteresis, an effect of the pose's direction the model lacks).
-  lag.description =
-      lag.statistic >= 0.0
-          ? StringPrintf(
-                "consecutive poses' residuals are alike: lag-1 correlation r = %+.2f (z = %.2f, "
-                "p = %.3g), the offsets wander slowly from pose to pose",
-                lag.statistic, z, lag.p_value)
-          : StringPrintf(
-                "consecutive poses' residuals alternate in sign: lag-1 correlation r = %+.2f "
-                "(z = %.2f, p = %.3g), not a slow wander but something that flips from one pose "
-                "to the next (the order the orientations were held in, hysteresis, or an effect "
-                "of the pose's direction the model lacks)",
-                lag.statistic, z, lag.p_value);
+  if (lag.statistic >= 0.0) {
+    lag.shape_class = ShapeClass::kTime;
+    lag.description = StringPrintf(
+        "consecutive poses' residuals are alike: lag-1 correlation r = %+.2f (z = %.2f, p = "
+        "%.3g), the offsets wander slowly from pose to pose",
+        lag.statistic, lag1.z, lag.p_value);
+    lag.advice =
+        "a bias that wanders over minutes (flicker noise slower than the poses, or temperature): "
+        "hold shorter poses closer together, or log temperature";
+  } else {
+    lag.shape_class = ShapeClass::kPoseOrder;
+    lag.description = StringPrintf(
+        "consecutive poses' residuals alternate in sign: lag-1 correlation r = %+.2f (z = %.2f, "
+        "p = %.3g), not a slow wander but something that flips from one pose to the next",
+        lag.statistic, lag1.z, lag.p_value);
+    lag.advice =
+        "the order the orientations were held in, hysteresis, or an effect of the pose's "
+        "direction the model lacks: hold the orientations in another order and compare";
+  }
 
+  TriadShapeContext context;
+  context.unit = options.unit;
+  context.gain_mps2_per_unit = options.gain_mps2_per_unit;
+  std::vector<TriadShapeCheck> shapes;
+  ACCELCAL_RETURN_IF_ERROR(TriadShapeChecks(poses, fit, contrasts, whitener, model, residual,
+                                            context, &shapes));
   result->checks = {chi2, lag};
+  for (const TriadShapeCheck& shape : shapes) result->checks.push_back(shape.check);
   FlagByHolm(alpha, &result->checks);
-  for (const ResidualCheck& check : result->checks)
-    if (check.flagged) result->remaining.push_back(check.description);
   if (result->checks[0].flagged) result->pose_wander = PoseWander(fit);
+
+  // In words. What fits best comes first, by BIC on the whitened contrasts: a shape alone (the
+  // chi-square it leaves, log n per column, and 2 log of its candidates for the maxima) against
+  // offsets that jump from pose to pose (one variance more, fitted: dof (1 + log(chi2 / dof)) +
+  // log n). After a shape, each further one is named when it stands beyond those named (its
+  // chi-square tail at alpha over the checks), and the scatter when what they leave still
+  // scatters; after the jumps, a shape only when it stands against that scatter (an F test).
+  const double each = alpha / static_cast<double>(result->checks.size());
+  const double total = residual.squaredNorm();
+  const int dof = std::max(1, fit.degrees_of_freedom);
+  const double log_n = std::log(static_cast<double>(poses.size()));
+  std::vector<int> flagged_shapes;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    if (result->checks[2 + i].flagged) flagged_shapes.push_back(static_cast<int>(i));
+  auto shape_bic = [&](int i) {
+    return total - shapes[i].check.statistic + shapes[i].check.dof * log_n +
+           2.0 * std::log(static_cast<double>(shapes[i].candidates));
+  };
+  std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(), [&](int a, int b) {
+    return shapes[a].check.p_value < shapes[b].check.p_value;
+  });
+  if (!flagged_shapes.empty()) {
+    const auto best = std::min_element(flagged_shapes.begin(), flagged_shapes.end(),
+                                       [&](int a, int b) { return shape_bic(a) < shape_bic(b); });
+    std::rotate(flagged_shapes.begin(), best, best + 1);
+  }
+  const bool scatter = result->checks[0].flagged && total > dof;
+  const double jumps_bic = dof * (1.0 + std::log(total / dof)) + log_n;
+  const bool jumps_first =
+      scatter && (flagged_shapes.empty() || jumps_bic < shape_bic(flagged_shapes.front()));
+  if (jumps_first) {
+    std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(), [&](int a, int b) {
+      return shapes[a].check.p_value < shapes[b].check.p_value;
+    });
+  }
+
+  Eigen::MatrixXd kept(model.rows(), 0);
+  int kept_rank = 0;
+  double removed = 0.0;    // the chi-square the kept shapes remove
+  std::vector<int> named;  // indices into result->checks
+  std::string parts;
+  if (jumps_first) named.push_back(0);
+  for (const int i : flagged_shapes) {
+    bool stands = kept.cols() == 0 && !jumps_first;
+    if (!stands) {
+      Eigen::MatrixXd both(model.rows(), model.cols() + kept.cols());
+      both << model, kept;
+      int rank = 0;
+      const double delta = ExtraChiSquare(both, shapes[i].columns, residual, &rank);
+      if (jumps_first) {
+        const int left = dof - kept_rank - rank;
+        const double rest = total - removed - delta;
+        stands = rank > 0 && left > 0 && rest > 0.0 &&
+                 std::min(1.0, shapes[i].candidates *
+                                   FSurvival((delta / rank) / (rest / left), rank, left)) <= each;
+      } else {
+        stands = rank > 0 && std::min(1.0, shapes[i].candidates *
+                                               ChiSquareSurvival(delta, rank)) <= each;
+      }
+    }
+    if (!stands) {
+      parts += (parts.empty() ? "" : ", ") + shapes[i].check.name;
+      continue;
+    }
+    named.push_back(2 + i);
+    Eigen::MatrixXd grown(model.rows(), kept.cols() + shapes[i].columns.cols());
+    grown << kept, shapes[i].columns;
+    kept = grown;
+    removed = ExtraChiSquare(model, kept, residual, &kept_rank);
+  }
+  // What the kept shapes leave of the residual.
+  Eigen::VectorXd left = residual;
+  if (kept.cols() > 0) {
+    Eigen::MatrixXd both(model.rows(), model.cols() + kept.cols());
+    both << model, kept;
+    left = residual - both * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(both).solve(
+                                 residual);
+  }
+  if (result->checks[0].flagged) {
+    const int left_dof = std::max(1, dof - kept_rank);
+    const bool stands =
+        jumps_first || ChiSquareSurvival(std::max(total - removed, 0.0), left_dof) <= each;
+    if (stands) {
+      ResidualCheck& check = result->checks[0];
+      const auto& w = result->pose_wander;
+      const auto& g = options.gain_mps2_per_unit;
+      check.description += StringPrintf(
+          ", %s: offsets that jump from pose to pose by about (%.3g, %.3g, %.3g) %s = (%.2g, "
+          "%.2g, %.2g) m/s^2 would account for it",
+          jumps_first ? "not as one shape in orientation, time or order"
+                      : "also beyond the shapes named",
+          w[0], w[1], w[2], options.unit.c_str(), w[0] * g[0], w[1] * g[1], w[2] * g[2]);
+      check.advice =
+          "was the sensor disturbed between poses, or is the noise model short (a bias that "
+          "wanders more slowly than the poses)? Hold each pose longer and the sensor firmly";
+      if (!jumps_first) named.push_back(0);
+    } else {
+      parts += (parts.empty() ? "" : ", ") + std::string("chi2");
+    }
+  }
+  if (result->checks[1].flagged) {
+    bool stands = true;
+    if (kept.cols() > 0) {
+      std::vector<std::vector<double>> rest;
+      for (int j = 0; j < left.size(); ++j) rest.push_back({left[j]});
+      stands = std::erfc(std::abs(LagOneCorrelation(rest).z) / std::sqrt(2.0)) <= each;
+    }
+    if (stands) {
+      named.push_back(1);
+    } else {
+      parts += (parts.empty() ? "" : ", ") + std::string("pose_lag1_correlation");
+    }
+  }
+  result->named_checks = named;
+  for (const int i : named) result->remaining.push_back(WhatRemains(result->checks[i]));
+  if (!parts.empty())
+    result->remaining.push_back("also flagged, but parts of the shapes above: " + parts);
+  return Status::Ok();
 }
 
 // Step 3's other tail, beside the verdict: a chi-square too small for its degrees of freedom.
@@ -526,14 +688,12 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   }
 
   // 3. What remains.
-  std::vector<double> innovations;
-  if (result->coloured_noise && !coloured.correlation.empty()) {
-    double chi2 = 0.0;
-    ACCELCAL_RETURN_IF_ERROR(TriadCorrelatedChi2(poses, current, coloured.correlation,
-                                                 options.fit.quantisation_variance,
-                                                 options.fit.gravity_mps2, &chi2, &innovations));
-  }
-  CheckWhatRemains(poses, current, innovations, options.alpha / 4.0, result);
+  static const TriadPoseCorrelation kIndependent;
+  ACCELCAL_RETURN_IF_ERROR(CheckWhatRemains(
+      poses, current,
+      result->coloured_noise && !coloured.correlation.empty() ? coloured.correlation
+                                                               : kIndependent,
+      options, options.alpha / 4.0, result));
   result->noise_overstated = CheckNoiseOverstated(current, options.alpha / 4.0);
 
   // 5. The gain out of sample.
@@ -563,17 +723,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   result->verdict_code =
       DecideVerdict(!result->remaining.empty(), !result->ambiguities.empty(), !found.empty());
   if (result->verdict_code == Verdict::kUnexplained) {
-    result->verdict = "unexplained structure remains: " + result->remaining.front();
-    if (result->pose_wander != std::array<double, 3>{}) {
-      const auto& w = result->pose_wander;
-      const auto& g = options.gain_mps2_per_unit;
-      result->verdict += StringPrintf(
-          "; a per-pose offset wander of (%.3g, %.3g, %.3g) %s = (%.2g, %.2g, %.2g) m/s^2 "
-          "would account for it",
-          w[0], w[1], w[2], options.unit.c_str(), w[0] * g[0], w[1] * g[1], w[2] * g[2]);
-    }
-    for (size_t i = 1; i < result->remaining.size(); ++i)
-      result->verdict += "; " + result->remaining[i];
+    result->verdict = "unexplained structure remains: " + JoinStrings(result->remaining, "; ");
     result->verdict += found.empty() ? " (no effect the model knows explains it)"
                                      : " (found and kept: " + found + ")";
   } else if (result->verdict_code == Verdict::kCannotTellApart) {

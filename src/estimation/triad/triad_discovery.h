@@ -145,8 +145,12 @@ struct TriadDiscoveryResult {
   std::vector<TriadFoundEffect> effects;
   std::vector<TriadUntestable> untestable;
   TriadMlResult final_fit;
-  std::vector<ResidualCheck> checks;  // "chi2", "pose_lag1_correlation"
+  // "chi2", "pose_lag1_correlation", then the shapes (triad_shape_checks.h).
+  std::vector<ResidualCheck> checks;
+  // What remains in words, strongest first (WhatRemains of each named check, then a line for the
+  // flagged checks that are parts of shapes already named), and which checks those are.
   std::vector<std::string> remaining;
+  std::vector<int> named_checks;  // indices into checks
   // The chi-square's other tail ("chi2_lower_tail"), at alpha/4 and outside the verdict: pose
   // means that scatter less than the noise model says. Nothing is missing from the model then,
   // but the noise model overstates a pose mean's variance (noise anti-correlated within a pose,

@@ -12,6 +12,7 @@
 #include "common/statistics.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/triad/noise_floor_detector.h"
+#include "estimation/triad/triad_contrasts.h"
 #include "estimation/triad/triad_ml_calibration.h"
 #include "residuals/triad_pose_residual.h"
 
@@ -107,27 +108,6 @@ double MarkovAllanVariance(double tau_s, double correlation_s) {
   return (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x)) / (x * x);
 }
 
-// The variance of a window's mean of a unit process with x = window / correlation time, and
-// the factor b of its covariance with another window's (header).
-double WindowVariance(double x) {
-  if (x < 1e-4) return 1.0 - x / 3.0;
-  return 2.0 * (x - 1.0 + std::exp(-x)) / (x * x);
-}
-double WindowFactor(double x) {
-  if (x < 1e-4) return 1.0 + x * x / 24.0;
-  return std::sinh(0.5 * x) / (0.5 * x);
-}
-
-// The independent part of pose p's mean variance on axis k (header): the white and random-walk
-// terms; never below s^2 / N_p.
-double IndependentVariance(const TriadPoseCorrelation& model, const TriadPoseMean& pose, int k) {
-  const double t = std::max(pose.duration_s, 1e-9);
-  const double n = model.white_density[k];
-  const double r = model.random_walk[k];
-  return std::max(n * n / t + r * r * t / 3.0,
-                  model.sample_variance[k] / std::max(pose.sample_count, 1));
-}
-
 }  // namespace
 
 TriadPoseCorrelation TriadPoseCorrelationFromTerms(const std::array<AllanNoiseTerms, 3>& terms,
@@ -168,108 +148,15 @@ Status TriadCorrelatedChi2(const std::vector<TriadPoseMean>& poses, const TriadM
                            const TriadPoseCorrelation& correlation,
                            const std::array<double, 3>& added_variance, double gravity_mps2,
                            double* chi2, std::vector<double>* innovations) {
-  const int pose_count = static_cast<int>(poses.size());
   if (correlation.empty()) return Status::Error("no correlation model of the pose means");
-  if (static_cast<int>(fit.directions.size()) != pose_count)
-    return Status::Error("the fit is not of these poses");
-  const std::vector<int>& estimated = fit.effects_estimated;
-  const int columns = 1 + kTriadParameterCount + static_cast<int>(estimated.size());
-  // Per pose: the contrast z_p = q_p . r_p and its derivative in the estimated parameters.
-  Eigen::MatrixXd rows(pose_count, columns);
-  std::vector<Eigen::Vector3d> normals(pose_count);
-  for (int p = 0; p < pose_count; ++p) {
-    TriadPoseContext context;
-    context.time_s = poses[p].time_s - fit.time_origin_s;
-    std::unique_ptr<ceres::CostFunction> cost(TriadPoseResidual::CreateWithEffects(
-        poses[p].mean, {1.0, 1.0, 1.0}, gravity_mps2, context));
-    const double* blocks[3] = {fit.parameters.data(), fit.effects.data(), fit.directions[p].data()};
-    double residual[3];
-    double parameters_jacobian[3 * kTriadParameterCount];
-    double effects_jacobian[3 * kTriadEffectCoefficientCount];
-    double direction_jacobian[9];
-    double* jacobians[3] = {parameters_jacobian, effects_jacobian, direction_jacobian};
-    if (!cost->Evaluate(blocks, residual, jacobians))
-      return Status::Error(StringPrintf("pose %d's residual cannot be evaluated", p));
-    const Eigen::Vector3d n(fit.directions[p][0], fit.directions[p][1], fit.directions[p][2]);
-    Eigen::Vector3d t1 = n.unitOrthogonal();
-    Eigen::Vector3d t2 = n.cross(t1);
-    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> jn(direction_jacobian);
-    Eigen::Vector3d q = (jn * t1).cross(jn * t2);
-    if (!(q.norm() > 0.0)) return Status::Error(StringPrintf("pose %d's direction is singular", p));
-    q.normalize();
-    normals[p] = q;
-    rows(p, 0) = q.dot(Eigen::Vector3d(residual[0], residual[1], residual[2]));
-    for (int j = 0; j < kTriadParameterCount; ++j) {
-      rows(p, 1 + j) = q[0] * parameters_jacobian[j] +
-                       q[1] * parameters_jacobian[kTriadParameterCount + j] +
-                       q[2] * parameters_jacobian[2 * kTriadParameterCount + j];
-    }
-    for (size_t e = 0; e < estimated.size(); ++e) {
-      const int c = estimated[e];
-      rows(p, 1 + kTriadParameterCount + e) =
-          q[0] * effects_jacobian[c] + q[1] * effects_jacobian[kTriadEffectCoefficientCount + c] +
-          q[2] * effects_jacobian[2 * kTriadEffectCoefficientCount + c];
-    }
-  }
-  // The Kalman filter over the poses in time order: state (axis k, process i), each a
-  // stationary Gauss-Markov process of variance process_variance[k].
-  std::vector<int> order(pose_count);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return poses[a].time_s < poses[b].time_s; });
-  const int processes = static_cast<int>(correlation.correlation_s.size());
-  const int states = 3 * processes;
-  Eigen::MatrixXd estimate = Eigen::MatrixXd::Zero(states, columns);
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(states, states);
-  for (int k = 0; k < 3; ++k)
-    for (int i = 0; i < processes; ++i)
-      covariance(k * processes + i, k * processes + i) = correlation.process_variance[k];
-  Eigen::MatrixXd whitened(pose_count, columns);
-  double previous_s = 0.0;
-  for (int j = 0; j < pose_count; ++j) {
-    const int p = order[j];
-    const TriadPoseMean& pose = poses[p];
-    if (j > 0) {
-      const double dt = std::max(pose.time_s - previous_s, 0.0);
-      for (int i = 0; i < processes; ++i) {
-        const double phi = std::exp(-dt / correlation.correlation_s[i]);
-        for (int k = 0; k < 3; ++k) {
-          const int s = k * processes + i;
-          estimate.row(s) *= phi;
-          covariance.row(s) *= phi;
-          covariance.col(s) *= phi;
-          covariance(s, s) += correlation.process_variance[k] * (1.0 - phi * phi);
-        }
-      }
-    }
-    previous_s = pose.time_s;
-    Eigen::RowVectorXd h(states);
-    double noise = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      const double qk = normals[p][k];
-      double own = IndependentVariance(correlation, pose, k) + added_variance[k];
-      for (int i = 0; i < processes; ++i) {
-        const double x = std::max(pose.duration_s, 0.0) / correlation.correlation_s[i];
-        const double b = WindowFactor(x);
-        h(k * processes + i) = qk * b;
-        own += correlation.process_variance[k] * (WindowVariance(x) - b * b);
-      }
-      noise += qk * qk * own;
-    }
-    const Eigen::VectorXd ph = covariance * h.transpose();
-    const double variance = h.dot(ph) + noise;
-    if (!(variance > 0.0) || !std::isfinite(variance))
-      return Status::Error("the pose means' covariance is not positive definite");
-    const Eigen::RowVectorXd innovation = rows.row(p) - h * estimate;
-    whitened.row(j) = innovation / std::sqrt(variance);
-    const Eigen::VectorXd gain = ph / variance;
-    estimate += gain * innovation;
-    covariance -= gain * ph.transpose();
-    covariance = 0.5 * (covariance + covariance.transpose()).eval();
-  }
+  TriadContrasts contrasts;
+  ACCELCAL_RETURN_IF_ERROR(TriadPoseContrasts(poses, fit, gravity_mps2, &contrasts));
+  const TriadContrastWhitener whitener(poses, fit, contrasts, correlation, added_variance);
+  Eigen::MatrixXd whitened;
+  ACCELCAL_RETURN_IF_ERROR(whitener.Whiten(contrasts.rows, &whitened));
   // One Gauss-Newton step of the estimated parameters: the whitened contrasts' least squares.
   const Eigen::VectorXd z = whitened.col(0);
-  const Eigen::MatrixXd x = whitened.rightCols(columns - 1);
+  const Eigen::MatrixXd x = whitened.rightCols(whitened.cols() - 1);
   const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> solver(x);
   const Eigen::VectorXd step = solver.solve(-z);
   const Eigen::VectorXd left = z + x * step;
