@@ -205,6 +205,123 @@ Lag1 LagOneCorrelation(const std::vector<std::vector<double>>& in_time_order) {
   return lag;
 }
 
+// The chi-square `shape` removes from `fit` by backfitting: three rounds of its coefficients at
+// the current fit's contrasts, those offsets taken out of the pose means, and the model refitted;
+// the gain is the fit's chi-square less the last refit's.
+Status RefittedGain(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
+                    const std::vector<std::array<double, 3>>& pose_mean_variance,
+                    const std::vector<int>& effects, const TriadPoseCorrelation& correlation,
+                    const TriadDiscoveryOptions& options, const TriadShapeCheck& shape,
+                    double* gain) {
+  std::vector<TriadPoseMean> shifted = poses;
+  TriadMlResult current = fit;
+  for (int round = 0; round < 3; ++round) {
+    TriadContrasts contrasts;
+    ACCELCAL_RETURN_IF_ERROR(
+        TriadPoseContrasts(shifted, current, options.fit.gravity_mps2, &contrasts));
+    const TriadContrastWhitener whitener(shifted, current, contrasts, correlation,
+                                         options.fit.quantisation_variance);
+    Eigen::MatrixXd whitened, columns;
+    ACCELCAL_RETURN_IF_ERROR(whitener.Whiten(contrasts.rows, &whitened));
+    ACCELCAL_RETURN_IF_ERROR(
+        whitener.Whiten(TriadOffsetColumns(shape.offsets, contrasts.normals), &columns));
+    const Eigen::MatrixXd model = whitened.rightCols(whitened.cols() - 1);
+    const Eigen::VectorXd beta = ProjectedCoefficients(model, columns, whitened.col(0));
+    for (size_t c = 0; c < shape.offsets.size(); ++c)
+      for (size_t p = 0; p < shifted.size(); ++p)
+        for (int k = 0; k < 3; ++k) shifted[p].mean[k] -= beta[c] * shape.offsets[c](p, k);
+    ACCELCAL_RETURN_IF_ERROR(Fit(shifted, options, pose_mean_variance, effects, &current));
+  }
+  *gain = fit.chi2 - current.chi2;
+  return Status::Ok();
+}
+
+// A full-scale shape too large for the linearisation at the fit (a clipped axis moves the fit's
+// scale and directions, and which poses the hinge should hold is then misjudged): the top j poses
+// along +-n_k (j = 2 to 12, as the check's hinges) left out and the model refitted to the others,
+// each left-out pose's calibrated magnitude under the refit short of g. The best by BIC (the
+// refit's chi-square, j free poses) with `effects` or with none; `gain` the fit's chi-square less
+// the refit's, `rank` j, and the sentence.
+struct Deletion {
+  double gain = 0.0;
+  int rank = 0;
+  int candidates = 0;
+  bool without_effects = false;
+  std::string description;
+};
+Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
+                           const std::vector<std::array<double, 3>>& pose_mean_variance,
+                           const std::vector<int>& effects, const TriadDiscoveryOptions& options,
+                           int axis, Deletion* best) {
+  const double log_n = std::log(static_cast<double>(poses.size()));
+  double best_bic = HUGE_VAL;
+  std::vector<std::pair<int, int>> candidates;  // (sign, j)
+  std::vector<std::vector<int>> sorted(2);
+  for (int s = 0; s < 2; ++s) {
+    const int sign = s == 0 ? 1 : -1;
+    for (size_t p = 0; p < poses.size(); ++p)
+      if (sign * fit.directions[p][axis] > 0.5) sorted[s].push_back(static_cast<int>(p));
+    std::sort(sorted[s].begin(), sorted[s].end(), [&](int a, int b) {
+      return sign * fit.directions[a][axis] > sign * fit.directions[b][axis];
+    });
+    for (int j = 2; j <= std::min<int>(12, static_cast<int>(sorted[s].size())); ++j)
+      candidates.push_back({s, j});
+  }
+  best->candidates = static_cast<int>(candidates.size());
+  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+  for (const auto& [s, j] : candidates) {
+    std::vector<char> out(poses.size(), 0);
+    for (int i = 0; i < j; ++i) out[sorted[s][i]] = 1;
+    std::vector<TriadPoseMean> kept;
+    std::vector<std::array<double, 3>> kept_variance;
+    for (size_t p = 0; p < poses.size(); ++p) {
+      if (out[p]) continue;
+      kept.push_back(poses[p]);
+      if (!pose_mean_variance.empty()) kept_variance.push_back(pose_mean_variance[p]);
+    }
+    for (const bool with : {true, false}) {
+      if (!with && effects.empty()) continue;
+      TriadMlResult refit;
+      if (!Fit(kept, options, kept_variance, with ? effects : std::vector<int>{}, &refit).ok())
+        continue;
+      // Every left-out pose short of g under the refit, and by how much at most.
+      bool short_of_g = true;
+      double largest = 0.0;
+      for (int i = 0; i < j && short_of_g; ++i) {
+        const TriadPoseMean& pose = poses[sorted[s][i]];
+        double force[3];
+        if (!TriadSpecificForce(refit.parameters.data(), &refit.effects[first_k2],
+                                pose.mean.data(), force)) {
+          short_of_g = false;
+          break;
+        }
+        const double shortfall = options.fit.gravity_mps2 -
+                                 std::sqrt(force[0] * force[0] + force[1] * force[1] +
+                                           force[2] * force[2]);
+        short_of_g = shortfall > 0.0;
+        largest = std::max(largest, shortfall);
+      }
+      if (!short_of_g) continue;
+      const double penalty = (with ? 0.0 : effects.size()) * log_n;
+      const double bic = refit.chi2 + j * log_n - penalty;
+      if (bic < best_bic) {
+        best_bic = bic;
+        best->gain = fit.chi2 - refit.chi2 + penalty;
+        best->rank = j;
+        best->without_effects = !with;
+        const char a = "xyz"[axis];
+        const double lowest = std::abs(fit.directions[sorted[s][j - 1]][axis]);
+        best->description = StringPrintf(
+            "the %d poses nearest %c1 g on %c (|n_%c| >= %.3f) fall short of the model fitted to "
+            "the other poses, by up to %.3g m/s^2 in magnitude (the fit's chi2 falls by %.4g when "
+            "they are left out)",
+            j, s == 0 ? '+' : '-', a, a, lowest, largest, fit.chi2 - refit.chi2);
+      }
+    }
+  }
+  return Status::Ok();
+}
+
 // Step 3: the checks of what the final model leaves, Holm at `alpha`: the chi-square and the
 // lag-1 correlation (no shape: the scatter and the wander), and the shapes of
 // triad_shape_checks.h. Then what remains in words, strongest shape first, each kept only if it
@@ -212,7 +329,8 @@ Lag1 LagOneCorrelation(const std::vector<std::vector<double>>& in_time_order) {
 // from pose to pose") when it stands beyond the shapes kept, first when they take less than half
 // of the excess; the wander when it stands on what the shapes leave.
 Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
-                        const TriadPoseCorrelation& correlation,
+                        const std::vector<std::array<double, 3>>& pose_mean_variance,
+                        const std::vector<int>& effects, const TriadPoseCorrelation& correlation,
                         const TriadDiscoveryOptions& options, double alpha,
                         TriadDiscoveryResult* result) {
   // The contrasts, whitened under the noise model, and their residual at its minimum.
@@ -288,6 +406,53 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   FlagByHolm(alpha, &result->checks);
   if (result->checks[0].flagged) result->pose_wander = PoseWander(fit);
 
+  // A shape's gain for the naming: the chi-square it removes when its offsets are taken out of
+  // the pose means and the model refitted (RefittedGain), where the pose means scatter beyond the
+  // noise model (a shape that large is beyond the linearisation at the fit: a clipped axis moves
+  // the fit's scale and directions); else the check's own.
+  std::vector<double> gain(shapes.size());
+  // And with none of the effects forward selection found (a catalogue effect can pay for part of
+  // a shape it does not have: a scale nonlinearity for a clipped axis): the shape's BIC is the
+  // better of the two, the effects' columns counted; `without[i]` when it is without them.
+  std::vector<char> without(shapes.size(), 0);
+  const double log_poses = std::log(static_cast<double>(poses.size()));
+  std::vector<int> bic_rank(shapes.size());
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    gain[i] = shapes[i].check.statistic;
+    bic_rank[i] = static_cast<int>(shapes[i].check.dof);
+    if (!result->checks[0].flagged || !result->checks[2 + i].flagged) continue;
+    if (shapes[i].check.shape_class == ShapeClass::kFullScale) {
+      Deletion deletion;
+      if (FullScaleByDeletion(poses, fit, pose_mean_variance, effects, options,
+                              shapes[i].check.axis, &deletion)
+              .ok() &&
+          deletion.rank > 0 &&
+          deletion.gain - deletion.rank * log_poses >
+              gain[i] - bic_rank[i] * log_poses) {
+        gain[i] = deletion.gain;
+        bic_rank[i] = deletion.rank;
+        without[i] = deletion.without_effects;
+        ResidualCheck& check = result->checks[2 + i];
+        check.description = deletion.description + " (" + check.description + ")";
+      }
+      continue;
+    }
+    if (shapes[i].offsets.empty()) continue;
+    double refitted = 0.0;
+    if (RefittedGain(poses, fit, pose_mean_variance, effects, correlation, options, shapes[i],
+                     &refitted)
+            .ok())
+      gain[i] = std::max(gain[i], refitted);
+    if (effects.empty()) continue;
+    if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i],
+                     &refitted)
+            .ok() &&
+        refitted - effects.size() * log_poses > gain[i]) {
+      without[i] = 1;
+      gain[i] = refitted - effects.size() * log_poses;
+    }
+  }
+
   // In words. What fits best comes first, by BIC on the whitened contrasts: a shape alone (the
   // chi-square it leaves, log n per column, and 2 log of its candidates for the maxima) against
   // offsets that jump from pose to pose (one variance more, fitted: dof (1 + log(chi2 / dof)) +
@@ -302,7 +467,7 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   for (size_t i = 0; i < shapes.size(); ++i)
     if (result->checks[2 + i].flagged) flagged_shapes.push_back(static_cast<int>(i));
   auto shape_bic = [&](int i) {
-    return total - shapes[i].check.statistic + shapes[i].check.dof * log_n +
+    return total - gain[i] + bic_rank[i] * log_n +
            2.0 * std::log(static_cast<double>(shapes[i].candidates));
   };
   std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(), [&](int a, int b) {
@@ -401,6 +566,10 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
     }
   }
   result->named_checks = named;
+  if (!named.empty() && named.front() >= 2 && without[named.front() - 2]) {
+    for (const int c : effects)
+      result->explained_by_shape.push_back(TriadEffectCoefficientList()[c].name);
+  }
   for (const int i : named) result->remaining.push_back(WhatRemains(result->checks[i]));
   if (!parts.empty())
     result->remaining.push_back("also flagged, but parts of the shapes above: " + parts);
@@ -690,7 +859,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   // 3. What remains.
   static const TriadPoseCorrelation kIndependent;
   ACCELCAL_RETURN_IF_ERROR(CheckWhatRemains(
-      poses, current,
+      poses, current, noise, model,
       result->coloured_noise && !coloured.correlation.empty() ? coloured.correlation
                                                                : kIndependent,
       options, options.alpha / 4.0, result));
@@ -724,8 +893,14 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
       DecideVerdict(!result->remaining.empty(), !result->ambiguities.empty(), !found.empty());
   if (result->verdict_code == Verdict::kUnexplained) {
     result->verdict = "unexplained structure remains: " + JoinStrings(result->remaining, "; ");
-    result->verdict += found.empty() ? " (no effect the model knows explains it)"
-                                     : " (found and kept: " + found + ")";
+    if (!result->explained_by_shape.empty()) {
+      result->verdict += " (forward selection found " + JoinStrings(result->explained_by_shape) +
+                         ", but the shape named first explains the poses better without: not "
+                         "kept)";
+    } else {
+      result->verdict += found.empty() ? " (no effect the model knows explains it)"
+                                       : " (found and kept: " + found + ")";
+    }
   } else if (result->verdict_code == Verdict::kCannotTellApart) {
     const TriadAmbiguity& a = result->ambiguities.front();
     result->verdict = StringPrintf(

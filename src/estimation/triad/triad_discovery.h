@@ -151,6 +151,9 @@ struct TriadDiscoveryResult {
   // flagged checks that are parts of shapes already named), and which checks those are.
   std::vector<std::string> remaining;
   std::vector<int> named_checks;  // indices into checks
+  // The effects forward selection found that the shape named first explains as well (the shape
+  // alone fits better, by BIC, than the shape with them): found, but not kept in the verdict.
+  std::vector<std::string> explained_by_shape;
   // The chi-square's other tail ("chi2_lower_tail"), at alpha/4 and outside the verdict: pose
   // means that scatter less than the noise model says. Nothing is missing from the model then,
   // but the noise model overstates a pose mean's variance (noise anti-correlated within a pose,

@@ -84,11 +84,14 @@ class Shapes {
     return value * context_.gain_mps2_per_unit[axis];
   }
 
-  // A raw column of pose offsets on one axis, f(p) on axis k: q_pk f(p).
-  Eigen::VectorXd OnAxis(int axis, const std::function<double(int)>& f) const {
-    Eigen::VectorXd column(poses());
-    for (int p = 0; p < poses(); ++p) column[p] = normal(p)[axis] * f(p);
-    return column;
+  // Offsets on one axis, f(p) on axis k.
+  Eigen::MatrixXd OnAxis(int axis, const std::function<double(int)>& f) const {
+    Eigen::MatrixXd offsets = Eigen::MatrixXd::Zero(poses(), 3);
+    for (int p = 0; p < poses(); ++p) offsets(p, axis) = f(p);
+    return offsets;
+  }
+  Eigen::MatrixXd Raw(const std::vector<Eigen::MatrixXd>& offsets) const {
+    return TriadOffsetColumns(offsets, contrasts_.normals);
   }
   Status Whiten(const Eigen::MatrixXd& raw, Eigen::MatrixXd* whitened) const {
     return whitener_.Whiten(raw, whitened);
@@ -152,13 +155,13 @@ Status FixedFamily(const Shapes& shapes, const std::string& name, int axis, Shap
 Status OrientationCheck(const Shapes& shapes, int degree, TriadShapeCheck* out) {
   const std::vector<Monomial> monomials = Monomials(degree);
   const int per_axis = static_cast<int>(monomials.size());
-  Eigen::MatrixXd raw(shapes.poses(), 3 * per_axis);
   for (int k = 0; k < 3; ++k)
     for (int m = 0; m < per_axis; ++m)
-      raw.col(k * per_axis + m) =
-          shapes.OnAxis(k, [&](int p) { return Evaluate(monomials[m], shapes.direction(p)); });
+      out->offsets.push_back(
+          shapes.OnAxis(k, [&](int p) { return Evaluate(monomials[m], shapes.direction(p)); }));
   ACCELCAL_RETURN_IF_ERROR(FixedFamily(shapes, StringPrintf("orientation_power_%d", degree), -1,
-                                       ShapeClass::kOrientation, raw, out, nullptr));
+                                       ShapeClass::kOrientation, shapes.Raw(out->offsets), out,
+                                       nullptr));
   ResidualCheck& check = out->check;
   if (check.dof == 0) return Status::Ok();
   // Its best single term: which axis, which power.
@@ -210,14 +213,13 @@ Status OrientationCheck(const Shapes& shapes, int degree, TriadShapeCheck* out) 
 
 // Time: u, u^2, u^3 on every axis.
 Status TimeCheck(const Shapes& shapes, TriadShapeCheck* out) {
-  Eigen::MatrixXd raw(shapes.poses(), 9);
   for (int k = 0; k < 3; ++k)
     for (int power = 1; power <= 3; ++power)
-      raw.col(3 * k + power - 1) =
-          shapes.OnAxis(k, [&](int p) { return std::pow(shapes.scaled_time(p), power); });
+      out->offsets.push_back(
+          shapes.OnAxis(k, [&](int p) { return std::pow(shapes.scaled_time(p), power); }));
   Eigen::VectorXd beta;
-  ACCELCAL_RETURN_IF_ERROR(
-      FixedFamily(shapes, "time", -1, ShapeClass::kTime, raw, out, &beta));
+  ACCELCAL_RETURN_IF_ERROR(FixedFamily(shapes, "time", -1, ShapeClass::kTime,
+                                       shapes.Raw(out->offsets), out, &beta));
   ResidualCheck& check = out->check;
   if (check.dof == 0) return Status::Ok();
   // Each axis's fitted curve over the session; the axis that moves most (in m/s^2) leads.
@@ -359,6 +361,11 @@ Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool ca
   FromBest(best, changes, out);
   const int before = order[side - 1 + best.candidate];
   const int after = order[side + best.candidate];
+  if (!calibration) {
+    for (int k = 0; k < 3; ++k)
+      out->offsets.push_back(shapes.OnAxis(
+          k, [&](int p) { return place[p] >= side + best.candidate ? 1.0 : 0.0; }));
+  }
   const std::string test =
       StringPrintf("chi2 %.1f on %d dof, p = %.2g, the smallest of %d change points times "
                    "their number",
@@ -397,6 +404,9 @@ Status OnePoseCheck(const Shapes& shapes, TriadShapeCheck* out) {
   if (best.candidate < 0) return Status::Ok();
   FromBest(best, shapes.poses(), out);
   const int p = best.candidate;
+  Eigen::MatrixXd along = Eigen::MatrixXd::Zero(shapes.poses(), 3);
+  along.row(p) = shapes.normal(p).transpose();
+  out->offsets.push_back(along);
   const double size = ProjectedCoefficients(shapes.model(), best.columns, shapes.residual())[0];
   const std::array<double, 3>& n = shapes.direction(p);
   int axis = 0;
@@ -416,8 +426,10 @@ Status OnePoseCheck(const Shapes& shapes, TriadShapeCheck* out) {
 }
 
 // Poses near one end of an axis's range that fall short of the model (their outputs nearer the
-// middle of the range than the model's): a hinge in the direction's component, one-sided, over
-// two or more poses (one pose alone is the one-pose check's).
+// middle of the range than the model's): the top j poses along +-n_k (j >= 2: one pose alone is
+// the one-pose check's) get an offset toward the middle that is linear in their n_k (a hinge
+// whose knot is free: 2 columns), and it must grow toward the end of the range. The chi-square
+// tail at 2 dof stays valid with that restriction (it only removes rejections).
 Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& poses, int axis,
                       TriadShapeCheck* out, int* hinges) {
   ResidualCheck& check = out->check;
@@ -435,7 +447,7 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
   constexpr int kMostPerSign = 12;
   struct Hinge {
     int sign = 1;
-    double threshold = 0.0;
+    double lowest = 0.0;  // s n_k of the j-th pose
     int poses = 0;
   };
   std::vector<Hinge> candidates;
@@ -448,12 +460,8 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
     std::sort(levels.rbegin(), levels.rend());
     const int count = std::min<int>(kMostPerSign, static_cast<int>(levels.size()));
     for (int j = 2; j <= count; ++j) {
-      Hinge hinge;
-      hinge.sign = sign;
-      hinge.poses = j;
-      hinge.threshold = j < static_cast<int>(levels.size()) ? levels[j] : 0.5;
-      if (hinge.threshold >= levels[j - 1]) continue;  // ties: not j poses above it
-      candidates.push_back(hinge);
+      if (j < static_cast<int>(levels.size()) && levels[j] >= levels[j - 1]) continue;  // ties
+      candidates.push_back({sign, levels[j - 1], j});
     }
   }
   *hinges = static_cast<int>(candidates.size());
@@ -461,37 +469,60 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
   auto fill = [&](int c, Eigen::MatrixXd* block) {
     const Hinge& h = candidates[c];
     for (int p = 0; p < shapes.poses(); ++p) {
-      const double excess = h.sign * shapes.direction(p)[axis] - h.threshold;
+      const double a = h.sign * shapes.direction(p)[axis];
+      if (a < h.lowest) continue;
       // Toward the middle of the range: against the way the output grows at this end.
-      if (excess > 0.0) (*block)(p, 0) = shapes.normal(p)[axis] * (-h.sign * grows) * excess;
+      const double toward = shapes.normal(p)[axis] * (-h.sign * grows);
+      (*block)(p, 0) = toward;
+      (*block)(p, 1) = toward * (a - h.lowest);
     }
   };
-  // One-sided: half the chi-square's p-value when the outputs fall short, else nothing.
+  // The shortfall at the j-th pose and at the end of the range (s n_k = 1).
+  auto shortfalls = [&](const Eigen::MatrixXd& columns, const Hinge& h) {
+    const Eigen::VectorXd beta =
+        ProjectedCoefficients(shapes.model(), columns, shapes.residual());
+    return std::make_pair(beta[0], beta[0] + beta[1] * (1.0 - h.lowest));
+  };
+  int current = 0;
   auto score = [&](const Eigen::MatrixXd& columns) {
     Shapes::Score score = shapes.Test(columns);
     if (score.rank == 0) return score;
-    const double size = ProjectedCoefficients(shapes.model(), columns, shapes.residual())[0];
-    score.p_value = size > 0.0 ? 0.5 * score.p_value : 1.0;
+    const auto [inner, end] = shortfalls(columns, candidates[current]);
+    if (!(inner >= 0.0 && end > inner)) score.p_value = 1.0;
     return score;
   };
   Best best;
-  ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(shapes, *hinges, 1, fill, score, &best));
-  if (best.candidate < 0 || best.score.p_value >= 1.0) return Status::Ok();
+  // Candidates one at a time through the chunked search, so that `score` knows its hinge.
+  for (current = 0; current < *hinges; ++current) {
+    Best one;
+    ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(
+        shapes, 1, 2,
+        [&](int, Eigen::MatrixXd* block) { fill(current, block); }, score, &one));
+    if (one.candidate >= 0 && one.score.p_value < 1.0 &&
+        (best.candidate < 0 || one.score.p_value < best.score.p_value)) {
+      best = one;
+      best.candidate = current;
+    }
+  }
+  if (best.candidate < 0) return Status::Ok();
   FromBest(best, *hinges, out);
   const Hinge& h = candidates[best.candidate];
-  const double size = ProjectedCoefficients(shapes.model(), best.columns, shapes.residual())[0];
-  double deepest = 0.0;
-  for (int p = 0; p < shapes.poses(); ++p)
-    deepest = std::max(deepest, h.sign * shapes.direction(p)[axis] - h.threshold);
+  for (int c = 0; c < 2; ++c) {
+    out->offsets.push_back(shapes.OnAxis(axis, [&](int p) {
+      const double a = h.sign * shapes.direction(p)[axis];
+      if (a < h.lowest) return 0.0;
+      return -h.sign * grows * (c == 0 ? 1.0 : a - h.lowest);
+    }));
+  }
+  const double at_end = shortfalls(best.columns, h).second;
   const char a = kAxis[axis];
-  const double shortfall = size * deepest;
   check.description = StringPrintf(
-      "the %d poses nearest %c1 g on %c (%c%s > %.3f) fall short of the model, by up to %.3g %s "
-      "(%.2g m/s^2) (chi2 %.1f, one-sided p = %.2g, the smallest of %d thresholds times their "
-      "number)",
-      h.poses, h.sign > 0 ? '+' : '-', a, h.sign > 0 ? ' ' : '-', (std::string("n_") + a).c_str(),
-      h.threshold, shortfall, shapes.context().unit.c_str(), shapes.mps2(axis, shortfall),
-      check.statistic, check.p_value, *hinges);
+      "the %d poses nearest %c1 g on %c (%sn_%c >= %.3f) fall short of the model, by up to %.3g "
+      "%s (%.2g m/s^2) toward the end of its range (chi2 %.1f on 2 dof, p = %.2g, the smallest of "
+      "%d thresholds times their number)",
+      h.poses, h.sign > 0 ? '+' : '-', a, h.sign > 0 ? "" : "-", a, h.lowest, at_end,
+      shapes.context().unit.c_str(), shapes.mps2(axis, at_end), check.statistic, check.p_value,
+      *hinges);
   check.advice = StringPrintf(
       "is %c clipping? Its range may end near 1 g: check its full-scale setting, or leave those "
       "poses out",
@@ -500,6 +531,15 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
 }
 
 }  // namespace
+
+Eigen::MatrixXd TriadOffsetColumns(const std::vector<Eigen::MatrixXd>& offsets,
+                                   const std::vector<Eigen::Vector3d>& normals) {
+  Eigen::MatrixXd raw(static_cast<Eigen::Index>(normals.size()),
+                      static_cast<Eigen::Index>(offsets.size()));
+  for (size_t c = 0; c < offsets.size(); ++c)
+    for (size_t p = 0; p < normals.size(); ++p) raw(p, c) = offsets[c].row(p).dot(normals[p]);
+  return raw;
+}
 
 Status TriadShapeChecks(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
                         const TriadContrasts& contrasts, const TriadContrastWhitener& whitener,

@@ -48,7 +48,15 @@ struct TriadShapeCheck {
   ResidualCheck check;      // statistic: the chi-square removed; dof: its rank
   Eigen::MatrixXd columns;  // the family's whitened columns (time order), to allow for it
   int candidates = 1;       // the maxima's candidates (change points, poses, thresholds)
+  // Per column, the offsets one unit of it adds to the pose means (poses x 3, the log's unit),
+  // so that it can be taken out of the means and the model refitted; empty when the family is
+  // not one of offsets (the calibration step).
+  std::vector<Eigen::MatrixXd> offsets;
 };
+
+// The raw contrast columns of offsets (TriadShapeCheck::offsets) under contrasts' normals.
+Eigen::MatrixXd TriadOffsetColumns(const std::vector<Eigen::MatrixXd>& offsets,
+                                   const std::vector<Eigen::Vector3d>& normals);
 
 struct TriadShapeContext {
   std::string unit = "count";
