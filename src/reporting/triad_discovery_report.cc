@@ -82,20 +82,26 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                       result.final_fit.chi2_per_dof, result.final_fit.degrees_of_freedom,
                       result.final_fit.chi2_per_dof_spread, result.final_fit.p_value);
   for (const ResidualCheck& check : result.checks) {
-    out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", check.name.c_str(),
-                        check.statistic, check.p_value, check.flagged ? "FLAGGED" : "");
+    out << StringPrintf("  check %-22s %-14s statistic %8.3g  p = %-10.3g %s\n",
+                        check.name.c_str(), ShapeClassName(check.shape_class), check.statistic,
+                        check.p_value, check.flagged ? "FLAGGED" : "");
   }
   const ResidualCheck& low = result.noise_overstated;
-  out << StringPrintf("  check %-22s statistic %8.3g  p = %-10.3g %s\n", low.name.c_str(),
-                      low.statistic, low.p_value,
+  out << StringPrintf("  check %-22s %-14s statistic %8.3g  p = %-10.3g %s\n", low.name.c_str(),
+                      ShapeClassName(low.shape_class), low.statistic, low.p_value,
                       low.flagged ? "NOTED (sigmas conservative; not part of the verdict)" : "");
   if (result.pose_wander != std::array<double, 3>{}) {
     out << "  size of what remains: a per-pose offset wander of "
         << FormatTriple(result.pose_wander, "%.3g") << " " << options.unit << " per axis\n";
   }
   for (const TriadAmbiguity& a : result.ambiguities) {
-    out << StringPrintf("  cannot tell apart: %s and %s (delta chi2 %.3g)\n", a.effect.c_str(),
-                        a.alternative.c_str(), a.delta_chi2);
+    if (a.beside) {
+      out << StringPrintf("  cannot tell apart: %s alone, or %s\n", a.effect.c_str(),
+                          a.alternative.c_str());
+    } else {
+      out << StringPrintf("  cannot tell apart: %s and %s (delta chi2 %.3g)\n", a.effect.c_str(),
+                          a.alternative.c_str(), a.delta_chi2);
+    }
   }
   const TriadCrossValidation& cv = result.cross_validation;
   if (cv.folds > 0) {
@@ -155,14 +161,34 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
                    {"chi2_per_dof_expected_spread", result.final_fit.chi2_per_dof_spread},
                    {"p_value", result.final_fit.p_value}};
   nlohmann::json checks = nlohmann::json::array();
+  auto axis_of = [](const ResidualCheck& check) {
+    return check.axis >= 0 && check.axis < 3 ? nlohmann::json(std::string(1, "xyz"[check.axis]))
+                                              : nlohmann::json(nullptr);
+  };
   for (const ResidualCheck& check : result.checks) {
     checks.push_back({{"name", check.name},
+                      {"axis", axis_of(check)},
+                      {"shape_class", ShapeClassName(check.shape_class)},
                       {"statistic", check.statistic},
+                      {"dof", check.dof},
                       {"p_value", check.p_value},
                       {"flagged", check.flagged},
-                      {"description", check.description}});
+                      {"description", check.description},
+                      {"advice", check.advice}});
   }
   json["checks"] = checks;
+  // What remains by its shape, strongest first: the verdict's order.
+  nlohmann::json shapes = nlohmann::json::array();
+  for (const int i : result.named_checks) {
+    const ResidualCheck& check = result.checks[i];
+    shapes.push_back({{"check", check.name},
+                      {"axis", axis_of(check)},
+                      {"shape_class", ShapeClassName(check.shape_class)},
+                      {"description", check.description},
+                      {"advice", check.advice}});
+  }
+  json["remaining_shapes"] = shapes;
+  json["explained_by_shape"] = result.explained_by_shape;
   const ResidualCheck& low = result.noise_overstated;
   json["noise_overstated"] = {{"name", low.name},
                               {"statistic", low.statistic},
@@ -175,7 +201,10 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   nlohmann::json ambiguities = nlohmann::json::array();
   for (const TriadAmbiguity& a : result.ambiguities) {
     ambiguities.push_back(
-        {{"effect", a.effect}, {"alternative", a.alternative}, {"delta_chi2", a.delta_chi2}});
+        {{"effect", a.effect},
+         {"alternative", a.alternative},
+         {"beside", a.beside},
+         {"delta_chi2", a.delta_chi2}});
   }
   json["ambiguities"] = ambiguities;
   const TriadCrossValidation& cv = result.cross_validation;

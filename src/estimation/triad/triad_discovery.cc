@@ -720,6 +720,28 @@ class TriadGeometry : public DiscoveryGeometry {
     return swap.worse < options_.ambiguity_delta_chi2 * scatter;
   }
 
+  // The model with `candidate` beside its effects; its gain in units of the grown model's
+  // residual scatter (when above 1), as the F tests judge it.
+  bool Beside(int candidate, BesideFit* beside) override {
+    if (current_.degrees_of_freedom - 1 < 1) return false;
+    std::vector<int> grown = Coefficients();
+    grown.push_back(testable_[candidate]);
+    TriadMlResult fit;
+    if (!Fit(poses_, options_, noise_, grown, &fit).ok()) return false;
+    const double scatter = std::max(1.0, fit.chi2 / fit.degrees_of_freedom);
+    beside->gain = std::max(0.0, current_.chi2 - fit.chi2) / scatter;
+    for (const int e : model_) {
+      const int c = testable_[e];
+      beside->current_estimates.push_back(current_.effects[c]);
+      beside->current_stddevs.push_back(current_.effects_stddev[c]);
+      beside->estimates.push_back(fit.effects[c]);
+      beside->stddevs.push_back(fit.effects_stddev[c]);
+    }
+    beside->estimate = fit.effects[testable_[candidate]];
+    beside->stddev = fit.effects_stddev[testable_[candidate]];
+    return true;
+  }
+
  private:
   std::vector<int> Without(size_t effect) const {
     std::vector<int> without;
@@ -839,6 +861,27 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
                                    coefficients[geometry.Coefficient(look_alike.alternative)].name,
                                    look_alike.fit.worse});
   }
+  // And a candidate beside an effect found that the data cannot tell from its absence where it
+  // matters (issue 33, item 2): it moves the effect by 2 sigma or more and gains p <= 0.1.
+  for (const Partner& partner : FindPartners(&geometry, candidates, options.partner_alpha,
+                                             options.partner_shift_sigma)) {
+    const int c = model[partner.effect];
+    const std::string unit = TriadEffectUnit(c, options.unit);
+    TriadAmbiguity ambiguity;
+    ambiguity.effect = coefficients[c].name;
+    const int other = geometry.Coefficient(partner.partner);
+    ambiguity.alternative = StringPrintf(
+        "%s = %.3g +- %.2g %s beside it, with %s = %.3g +- %.2g %s (alone: %.3g +- %.2g; moved by "
+        "%.1f sigma, gain p = %.2g)",
+        coefficients[other].name.c_str(), partner.fit.estimate, partner.fit.stddev,
+        TriadEffectUnit(other, options.unit).c_str(), coefficients[c].name.c_str(),
+        partner.fit.estimates[partner.effect], partner.fit.stddevs[partner.effect], unit.c_str(),
+        partner.fit.current_estimates[partner.effect], partner.fit.current_stddevs[partner.effect],
+        partner.shift_sigma, partner.p_value);
+    ambiguity.delta_chi2 = -partner.fit.gain;
+    ambiguity.beside = true;
+    result->ambiguities.push_back(ambiguity);
+  }
   for (size_t e = 0; e < model.size(); ++e) {
     const int c = model[e];
     TriadFoundEffect effect;
@@ -903,10 +946,16 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     }
   } else if (result->verdict_code == Verdict::kCannotTellApart) {
     const TriadAmbiguity& a = result->ambiguities.front();
-    result->verdict = StringPrintf(
-        "cannot tell apart: %s and %s fit these poses about equally well (delta chi2 = %.2g); "
-        "poses held at other times or directions would separate them",
-        a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
+    result->verdict =
+        a.beside
+            ? StringPrintf(
+                  "cannot tell apart: %s alone (%s), or %s; poses held at other times or "
+                  "directions would separate them",
+                  a.effect.c_str(), found.c_str(), a.alternative.c_str())
+            : StringPrintf(
+                  "cannot tell apart: %s and %s fit these poses about equally well (delta chi2 = "
+                  "%.2g); poses held at other times or directions would separate them",
+                  a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
   } else if (result->verdict_code == Verdict::kMissing) {
     result->verdict = "missing from the 9-parameter model, found: " + found +
                       StringPrintf("; the extended model explains the poses (chi2/dof = %.3g)",

@@ -24,13 +24,16 @@
 //    them, and they are reported as untestable with that name. A candidate whose fit would
 //    leave no degree of freedom (a session of 10 poses or fewer), or whose fit fails, is not
 //    tested either, and is listed as not testable with why.
-// 3. What the final model leaves, alpha/4, Holm: the chi-square of the fit against its
-//    degrees of freedom (the pose means scatter more than the noise model says), and the
-//    correlation of consecutive poses' residuals, either sign (positive: a slow wander;
-//    negative: residuals that alternate from pose to pose). When flagged, the size of what
-//    remains: the per-pose offset wander omega_k that would account for the scatter (the
-//    log's unit and m/s^2). The chi-square's lower tail is tested too, at alpha/4 of its own,
-//    and reported as a note beside the verdict (the sigmas are conservative), not a verdict.
+// 3. What the final model leaves, alpha/4, Holm, named by its shape: the chi-square of the fit
+//    against its degrees of freedom, the correlation of consecutive poses' residuals (either sign:
+//    a slow wander, or residuals that alternate), and the shapes of triad_shape_checks.h
+//    (orientation by power, time, a step, one pose, full scale), each with its class and advice.
+//    The flagged ones are named strongest first: by BIC, a shape alone against offsets that jump
+//    from pose to pose (the chi-square's excess with no shape), the rest when they stand beyond
+//    those named (docs/triad-discovery.md, section 3). When the scatter is flagged, its size: the
+//    per-pose offset wander omega_k that would account for it (the log's unit and m/s^2). The
+//    chi-square's lower tail is tested too, at alpha/4 of its own, and reported as a note beside
+//    the verdict (the sigmas are conservative), not a verdict.
 // 4. Ambiguity: each found effect swapped for every other candidate; one that fits within
 //    ambiguity_delta_chi2 (in units of the residual scatter) cannot be told apart from it.
 // 5. The gain: leave-poses-out cross-validation (poses dealt to folds in time order, so that
@@ -83,6 +86,10 @@ struct TriadDiscoveryOptions {
   int cross_validation_folds = 5;      // 0: skip
   int max_effects = 6;
   double ambiguity_delta_chi2 = 6.0;
+  // A candidate beside an effect found that gains p <= partner_alpha and moves the effect by
+  // partner_shift_sigma or more is a partner: cannot tell apart (estimation/discovery/selection.h).
+  double partner_alpha = 0.1;
+  double partner_shift_sigma = 1.5;
   std::string unit = "count";  // the log's unit, for the effects' units
   std::array<double, 3> gain_mps2_per_unit{{1.0, 1.0, 1.0}};  // to state omega in m/s^2
 };
@@ -125,6 +132,7 @@ struct TriadAmbiguity {
   std::string effect;
   std::string alternative;
   double delta_chi2 = 0.0;  // the alternative model's chi-square minus the final model's
+  bool beside = false;      // the alternative is the effect with a partner beside it
 };
 
 struct TriadCrossValidation {
