@@ -944,6 +944,13 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
       result->verdict += found.empty() ? " (no effect the model knows explains it)"
                                        : " (found and kept: " + found + ")";
     }
+    // What the effects found cannot be told apart from, also when structure remains.
+    for (const TriadAmbiguity& a : result->ambiguities) {
+      result->verdict +=
+          a.beside ? "; cannot tell apart: " + a.effect + " alone, or " + a.alternative
+                   : StringPrintf("; cannot tell apart: %s and %s (delta chi2 = %.2g)",
+                                  a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
+    }
   } else if (result->verdict_code == Verdict::kCannotTellApart) {
     const TriadAmbiguity& a = result->ambiguities.front();
     result->verdict =
