@@ -250,24 +250,23 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
 
   // 3. What remains.
   const int turn_components = 2 * static_cast<int>(current.turns.size());
-  result->checks.push_back(
-      ChiSquareCheck("turns_chi2", current.chi2_turns, turn_components, "the turns' residuals"));
+  ResidualCheck turns =
+      ChiSquareCheck("turns_chi2", current.chi2_turns, turn_components, "the turns' residuals");
+  turns.advice =
+      "the calibrated rates miss the turns by more than the noise allows (a time offset between "
+      "the sensors, a rate beyond the gyroscope's range, or an effect the model does not know)";
+  result->checks.push_back(turns);
   if (!result->final_bias_wander) {
-    result->checks.push_back(ChiSquareCheck(
+    ResidualCheck rest = ChiSquareCheck(
         "rest_chi2", current.chi2_rest,
-        std::max(1, 3 * static_cast<int>(current.rest_means.size()) - 3), "the poses' offsets"));
+        std::max(1, 3 * static_cast<int>(current.rest_means.size()) - 3), "the poses' offsets");
+    rest.shape_class = ShapeClass::kPoseOrder;
+    rest.advice = "the poses' offsets scatter beyond the noise model";
+    result->checks.push_back(rest);
   }
   FlagByHolm(options.alpha / 4.0, &result->checks);
-  for (const ResidualCheck& check : result->checks) {
-    if (!check.flagged) continue;
-    result->remaining.push_back(
-        check.name == "turns_chi2"
-            ? check.description +
-                  ": the calibrated rates miss the turns by more than the noise allows (a "
-                  "time offset between the sensors, a rate beyond the gyroscope's range, or an "
-                  "effect the model does not know)"
-            : check.description + ": the poses' offsets scatter beyond the noise model");
-  }
+  for (const ResidualCheck& check : result->checks)
+    if (check.flagged) result->remaining.push_back(WhatRemains(check));
 
   // The verdict.
   std::string found;

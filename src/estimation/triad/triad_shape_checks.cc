@@ -279,8 +279,9 @@ Status TimeCheck(const Shapes& shapes, TriadShapeCheck* out) {
         a, end[lead] - start[lead], unit.c_str(), shapes.mps2(lead, end[lead] - start[lead]),
         range[0], range[1], range[2], unit.c_str(), test.c_str());
     check.advice =
-        "a warm-up: let the sensor reach its working temperature before logging, or log "
-        "temperature beside it";
+        "a warm-up (let the sensor reach its working temperature before logging, or log "
+        "temperature beside it), or a bias that wanders more slowly than a pose can show: a "
+        "second session tells a repeatable warm-up from a wander";
   }
   return Status::Ok();
 }
@@ -295,7 +296,7 @@ struct Best {
 };
 Status MinimumOverCandidates(const Shapes& shapes, int candidates, int width,
                              const std::function<void(int, Eigen::MatrixXd*)>& fill,
-                             const std::function<Shapes::Score(const Eigen::MatrixXd&)>& score,
+                             const std::function<Shapes::Score(int, const Eigen::MatrixXd&)>& score,
                              Best* best) {
   const int kChunk = std::max(1, 240 / width);
   for (int begin = 0; begin < candidates; begin += kChunk) {
@@ -310,7 +311,7 @@ Status MinimumOverCandidates(const Shapes& shapes, int candidates, int width,
     ACCELCAL_RETURN_IF_ERROR(shapes.Whiten(raw, &whitened));
     for (int c = begin; c < end; ++c) {
       const Eigen::MatrixXd columns = whitened.middleCols((c - begin) * width, width);
-      const Shapes::Score candidate = score(columns);
+      const Shapes::Score candidate = score(c, columns);
       if (candidate.rank > 0 && (best->candidate < 0 || candidate.p_value < best->score.p_value)) {
         best->candidate = c;
         best->score = candidate;
@@ -352,8 +353,8 @@ Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool ca
   };
   Best best;
   ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(
-      shapes, changes, width, fill, [&](const Eigen::MatrixXd& c) { return shapes.Test(c); },
-      &best));
+      shapes, changes, width, fill,
+      [&](int, const Eigen::MatrixXd& c) { return shapes.Test(c); }, &best));
   ResidualCheck& check = out->check;
   check.name = calibration ? "calibration_step" : "offset_step";
   check.shape_class = ShapeClass::kTime;
@@ -397,7 +398,7 @@ Status OnePoseCheck(const Shapes& shapes, TriadShapeCheck* out) {
   Best best;
   ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(
       shapes, shapes.poses(), 1, [&](int c, Eigen::MatrixXd* block) { (*block)(c, 0) = 1.0; },
-      [&](const Eigen::MatrixXd& c) { return shapes.Test(c); }, &best));
+      [&](int, const Eigen::MatrixXd& c) { return shapes.Test(c); }, &best));
   ResidualCheck& check = out->check;
   check.name = "one_pose";
   check.shape_class = ShapeClass::kPoseOrder;
@@ -483,28 +484,16 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
         ProjectedCoefficients(shapes.model(), columns, shapes.residual());
     return std::make_pair(beta[0], beta[0] + beta[1] * (1.0 - h.lowest));
   };
-  int current = 0;
-  auto score = [&](const Eigen::MatrixXd& columns) {
+  auto score = [&](int c, const Eigen::MatrixXd& columns) {
     Shapes::Score score = shapes.Test(columns);
     if (score.rank == 0) return score;
-    const auto [inner, end] = shortfalls(columns, candidates[current]);
+    const auto [inner, end] = shortfalls(columns, candidates[c]);
     if (!(inner >= 0.0 && end > inner)) score.p_value = 1.0;
     return score;
   };
   Best best;
-  // Candidates one at a time through the chunked search, so that `score` knows its hinge.
-  for (current = 0; current < *hinges; ++current) {
-    Best one;
-    ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(
-        shapes, 1, 2,
-        [&](int, Eigen::MatrixXd* block) { fill(current, block); }, score, &one));
-    if (one.candidate >= 0 && one.score.p_value < 1.0 &&
-        (best.candidate < 0 || one.score.p_value < best.score.p_value)) {
-      best = one;
-      best.candidate = current;
-    }
-  }
-  if (best.candidate < 0) return Status::Ok();
+  ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(shapes, *hinges, 2, fill, score, &best));
+  if (best.candidate < 0 || best.score.p_value >= 1.0) return Status::Ok();
   FromBest(best, *hinges, out);
   const Hinge& h = candidates[best.candidate];
   for (int c = 0; c < 2; ++c) {
