@@ -322,6 +322,70 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
   return Status::Ok();
 }
 
+// Each shape's size for the naming (CheckWhatRemains): the chi-square it removes and the columns
+// it costs. Where the pose means scatter beyond the noise model, a flagged shape may be too large
+// for the linearisation at the fit (a clipped axis moves the fit's scale and directions): its
+// gain is then what it removes when its offsets are taken out of the pose means and the model
+// refitted (RefittedGain), and a full-scale shape's what leaving its poses out does
+// (FullScaleByDeletion, which also rewrites its sentence). Either is also tried with none of the
+// effects forward selection found (a catalogue effect can pay for part of a shape it does not
+// have: a scale nonlinearity for a clipped axis), the effects' columns counted against it;
+// `without_effects` when that is the better (the gain then counts the effects' columns saved).
+struct ShapeGains {
+  std::vector<double> gain;
+  std::vector<int> rank;
+  std::vector<char> without_effects;
+};
+ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
+                          const std::vector<std::array<double, 3>>& pose_mean_variance,
+                          const std::vector<int>& effects, const TriadPoseCorrelation& correlation,
+                          const TriadDiscoveryOptions& options,
+                          const std::vector<TriadShapeCheck>& shapes,
+                          TriadDiscoveryResult* result) {
+  ShapeGains gains;
+  gains.gain.assign(shapes.size(), 0.0);
+  gains.rank.assign(shapes.size(), 0);
+  gains.without_effects.assign(shapes.size(), 0);
+  const double log_n = std::log(static_cast<double>(poses.size()));
+  const double effects_cost = effects.size() * log_n;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    gains.gain[i] = shapes[i].check.statistic;
+    gains.rank[i] = static_cast<int>(shapes[i].check.dof);
+    if (!result->checks[0].flagged || !result->checks[2 + i].flagged) continue;
+    if (shapes[i].check.shape_class == ShapeClass::kFullScale) {
+      Deletion deletion;
+      if (FullScaleByDeletion(poses, fit, pose_mean_variance, effects, options,
+                              shapes[i].check.axis, &deletion)
+              .ok() &&
+          deletion.rank > 0 &&
+          deletion.gain - deletion.rank * log_n > gains.gain[i] - gains.rank[i] * log_n) {
+        gains.gain[i] = deletion.gain;
+        gains.rank[i] = deletion.rank;
+        gains.without_effects[i] = deletion.without_effects;
+        ResidualCheck& check = result->checks[2 + i];
+        check.description = deletion.description + " (" + check.description + ")";
+      }
+      continue;
+    }
+    if (shapes[i].offsets.empty()) continue;
+    double refitted = 0.0;
+    if (RefittedGain(poses, fit, pose_mean_variance, effects, correlation, options, shapes[i],
+                     &refitted)
+            .ok())
+      gains.gain[i] = std::max(gains.gain[i], refitted);
+    if (effects.empty()) continue;
+    if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i],
+                     &refitted)
+            .ok() &&
+        refitted + effects_cost > gains.gain[i]) {
+      // Without the effects the model has their columns fewer: BIC counts them as gain.
+      gains.without_effects[i] = 1;
+      gains.gain[i] = refitted + effects_cost;
+    }
+  }
+  return gains;
+}
+
 // Step 3: the checks of what the final model leaves, Holm at `alpha`: the chi-square and the
 // lag-1 correlation (no shape: the scatter and the wander), and the shapes of
 // triad_shape_checks.h. Then what remains in words, strongest shape first, each kept only if it
@@ -406,52 +470,11 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   FlagByHolm(alpha, &result->checks);
   if (result->checks[0].flagged) result->pose_wander = PoseWander(fit);
 
-  // A shape's gain for the naming: the chi-square it removes when its offsets are taken out of
-  // the pose means and the model refitted (RefittedGain), where the pose means scatter beyond the
-  // noise model (a shape that large is beyond the linearisation at the fit: a clipped axis moves
-  // the fit's scale and directions); else the check's own.
-  std::vector<double> gain(shapes.size());
-  // And with none of the effects forward selection found (a catalogue effect can pay for part of
-  // a shape it does not have: a scale nonlinearity for a clipped axis): the shape's BIC is the
-  // better of the two, the effects' columns counted; `without[i]` when it is without them.
-  std::vector<char> without(shapes.size(), 0);
-  const double log_poses = std::log(static_cast<double>(poses.size()));
-  std::vector<int> bic_rank(shapes.size());
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    gain[i] = shapes[i].check.statistic;
-    bic_rank[i] = static_cast<int>(shapes[i].check.dof);
-    if (!result->checks[0].flagged || !result->checks[2 + i].flagged) continue;
-    if (shapes[i].check.shape_class == ShapeClass::kFullScale) {
-      Deletion deletion;
-      if (FullScaleByDeletion(poses, fit, pose_mean_variance, effects, options,
-                              shapes[i].check.axis, &deletion)
-              .ok() &&
-          deletion.rank > 0 &&
-          deletion.gain - deletion.rank * log_poses >
-              gain[i] - bic_rank[i] * log_poses) {
-        gain[i] = deletion.gain;
-        bic_rank[i] = deletion.rank;
-        without[i] = deletion.without_effects;
-        ResidualCheck& check = result->checks[2 + i];
-        check.description = deletion.description + " (" + check.description + ")";
-      }
-      continue;
-    }
-    if (shapes[i].offsets.empty()) continue;
-    double refitted = 0.0;
-    if (RefittedGain(poses, fit, pose_mean_variance, effects, correlation, options, shapes[i],
-                     &refitted)
-            .ok())
-      gain[i] = std::max(gain[i], refitted);
-    if (effects.empty()) continue;
-    if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i],
-                     &refitted)
-            .ok() &&
-        refitted - effects.size() * log_poses > gain[i]) {
-      without[i] = 1;
-      gain[i] = refitted - effects.size() * log_poses;
-    }
-  }
+  const ShapeGains gains = GainsForNaming(poses, fit, pose_mean_variance, effects, correlation,
+                                          options, shapes, result);
+  const std::vector<double>& gain = gains.gain;
+  const std::vector<int>& bic_rank = gains.rank;
+  const std::vector<char>& without = gains.without_effects;
 
   // In words. What fits best comes first, by BIC on the whitened contrasts: a shape alone (the
   // chi-square it leaves, log n per column, and 2 log of its candidates for the maxima) against
@@ -460,7 +483,7 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   // chi-square tail at alpha over the checks), and the scatter when what they leave still
   // scatters; after the jumps, a shape only when it stands against that scatter (an F test).
   const double each = alpha / static_cast<double>(result->checks.size());
-  const double total = residual.squaredNorm();
+  const double total = fit.chi2;
   const int dof = std::max(1, fit.degrees_of_freedom);
   const double log_n = std::log(static_cast<double>(poses.size()));
   std::vector<int> flagged_shapes;
@@ -503,7 +526,7 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
       const double delta = ExtraChiSquare(both, shapes[i].columns, residual, &rank);
       if (jumps_first) {
         const int left = dof - kept_rank - rank;
-        const double rest = total - removed - delta;
+        const double rest = residual.squaredNorm() - removed - delta;
         stands = rank > 0 && left > 0 && rest > 0.0 &&
                  std::min(1.0, shapes[i].candidates *
                                    FSurvival((delta / rank) / (rest / left), rank, left)) <= each;
@@ -533,7 +556,8 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   if (result->checks[0].flagged) {
     const int left_dof = std::max(1, dof - kept_rank);
     const bool stands =
-        jumps_first || ChiSquareSurvival(std::max(total - removed, 0.0), left_dof) <= each;
+        jumps_first ||
+        ChiSquareSurvival(std::max(residual.squaredNorm() - removed, 0.0), left_dof) <= each;
     if (stands) {
       ResidualCheck& check = result->checks[0];
       const auto& w = result->pose_wander;
