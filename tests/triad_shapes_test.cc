@@ -235,7 +235,10 @@ const ShapeCase kCases[] = {
          }
        }
      },
-     [](const TriadDiscoveryResult& r) { return FirstIs(r, ShapeClass::kFullScale, 0); },
+     [](const TriadDiscoveryResult& r) {
+       return FirstIs(r, ShapeClass::kFullScale, 0) &&
+              First(r)->advice.find("clipping") != std::string::npos;
+     },
      {Design::kRandom40, Design::kFacesTilted36}},
 };
 

@@ -244,6 +244,8 @@ Status RefittedGain(const std::vector<TriadPoseMean>& poses, const TriadMlResult
 // the refit's, `rank` j, and the sentence.
 struct Deletion {
   double gain = 0.0;
+  double shortfall_mps2 = 0.0;  // the largest left-out pose's, in magnitude
+  double left = 0.0;  // the refit's chi-square
   int rank = 0;
   int candidates = 0;
   bool without_effects = false;
@@ -307,6 +309,8 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
       if (bic < best_bic) {
         best_bic = bic;
         best->gain = fit.chi2 - refit.chi2 + penalty;
+        best->left = refit.chi2;
+        best->shortfall_mps2 = largest;
         best->rank = j;
         best->without_effects = !with;
         const char a = "xyz"[axis];
@@ -333,6 +337,7 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
 // `without_effects` when that is the better (the gain then counts the effects' columns saved).
 struct ShapeGains {
   std::vector<double> gain;
+  std::vector<double> left;  // the chi-square left with the shape, as fitted
   std::vector<int> rank;
   std::vector<char> without_effects;
 };
@@ -344,12 +349,14 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
                           TriadDiscoveryResult* result) {
   ShapeGains gains;
   gains.gain.assign(shapes.size(), 0.0);
+  gains.left.assign(shapes.size(), 0.0);
   gains.rank.assign(shapes.size(), 0);
   gains.without_effects.assign(shapes.size(), 0);
   const double log_n = std::log(static_cast<double>(poses.size()));
   const double effects_cost = effects.size() * log_n;
   for (size_t i = 0; i < shapes.size(); ++i) {
     gains.gain[i] = shapes[i].check.statistic;
+    gains.left[i] = std::max(0.0, fit.chi2 - shapes[i].check.statistic);
     gains.rank[i] = static_cast<int>(shapes[i].check.dof);
     if (!result->checks[0].flagged || !result->checks[2 + i].flagged) continue;
     if (shapes[i].check.shape_class == ShapeClass::kFullScale) {
@@ -360,10 +367,12 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
           deletion.rank > 0 &&
           deletion.gain - deletion.rank * log_n > gains.gain[i] - gains.rank[i] * log_n) {
         gains.gain[i] = deletion.gain;
+        gains.left[i] = deletion.left;
         gains.rank[i] = deletion.rank;
         gains.without_effects[i] = deletion.without_effects;
         ResidualCheck& check = result->checks[2 + i];
         check.description = deletion.description + " (" + check.description + ")";
+        check.advice = TriadFullScaleAdvice(check.axis, deletion.shortfall_mps2);
       }
       continue;
     }
@@ -371,8 +380,11 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
     double refitted = 0.0;
     if (RefittedGain(poses, fit, pose_mean_variance, effects, correlation, options, shapes[i],
                      &refitted)
-            .ok())
-      gains.gain[i] = std::max(gains.gain[i], refitted);
+            .ok() &&
+        refitted > gains.gain[i]) {
+      gains.gain[i] = refitted;
+      gains.left[i] = std::max(0.0, fit.chi2 - refitted);
+    }
     if (effects.empty()) continue;
     if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i],
                      &refitted)
@@ -381,6 +393,7 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
       // Without the effects the model has their columns fewer: BIC counts them as gain.
       gains.without_effects[i] = 1;
       gains.gain[i] = refitted + effects_cost;
+      gains.left[i] = std::max(0.0, fit.chi2 - refitted);
     }
   }
   return gains;
@@ -503,8 +516,19 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   }
   const bool scatter = result->checks[0].flagged && total > dof;
   const double jumps_bic = dof * (1.0 + std::log(total / dof)) + log_n;
+  // A shape comes before the jumps only if it also stands against what it leaves (an F test at
+  // 0.05): on a few degrees of freedom, a family of almost as many columns takes most of any
+  // scatter.
+  auto stands_against_scatter = [&](int i) {
+    const int left_dof = dof - gains.rank[i];
+    if (left_dof < 1) return false;
+    const double f = (total - gains.left[i]) / gains.rank[i] /
+                     (std::max(gains.left[i], 1e-12 * total) / left_dof);
+    return FSurvival(f, gains.rank[i], left_dof) <= 0.05;
+  };
   const bool jumps_first =
-      scatter && (flagged_shapes.empty() || jumps_bic < shape_bic(flagged_shapes.front()));
+      scatter && (flagged_shapes.empty() || jumps_bic < shape_bic(flagged_shapes.front()) ||
+                  !stands_against_scatter(flagged_shapes.front()));
   if (jumps_first) {
     std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(), [&](int a, int b) {
       return shapes[a].check.p_value < shapes[b].check.p_value;
@@ -596,7 +620,7 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   }
   for (const int i : named) result->remaining.push_back(WhatRemains(result->checks[i]));
   if (!parts.empty())
-    result->remaining.push_back("also flagged, but parts of the shapes above: " + parts);
+    result->remaining.push_back("also flagged, but not beyond what is named above: " + parts);
   return Status::Ok();
 }
 

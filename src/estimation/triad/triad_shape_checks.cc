@@ -512,14 +512,28 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
       h.poses, h.sign > 0 ? '+' : '-', a, h.sign > 0 ? "" : "-", a, h.lowest, at_end,
       shapes.context().unit.c_str(), shapes.mps2(axis, at_end), check.statistic, check.p_value,
       *hinges);
-  check.advice = StringPrintf(
-      "is %c clipping? Its range may end near 1 g: check its full-scale setting, or leave those "
-      "poses out",
-      a);
+  check.advice = TriadFullScaleAdvice(axis, shapes.mps2(axis, at_end));
   return Status::Ok();
 }
 
 }  // namespace
+
+std::string TriadFullScaleAdvice(int axis, double shortfall_mps2) {
+  const char a = kAxis[axis];
+  // Clipping at a range that ends near 1 g takes whole percents of g off the poses beyond it;
+  // less is the output compressing toward the end of the range it was driven to.
+  if (std::abs(shortfall_mps2) >= 0.02 * 9.81) {
+    return StringPrintf(
+        "is %c clipping? Its range may end near 1 g: check its full-scale setting, or leave those "
+        "poses out",
+        a);
+  }
+  return StringPrintf(
+      "%c's output compresses toward the end of the range these poses reach (a nonlinearity the "
+      "model's terms do not follow, or an output near its full scale): check %c's full-scale "
+      "setting, and whether a wider range is more linear",
+      a, a);
+}
 
 Eigen::MatrixXd TriadOffsetColumns(const std::vector<Eigen::MatrixXd>& offsets,
                                    const std::vector<Eigen::Vector3d>& normals) {

@@ -54,6 +54,10 @@ struct TriadShapeCheck {
   std::vector<Eigen::MatrixXd> offsets;
 };
 
+// The full-scale check's advice for a shortfall of `shortfall_mps2` at the end of axis `axis`'s
+// range: clipping when it is whole percents of g, else an output that compresses there.
+std::string TriadFullScaleAdvice(int axis, double shortfall_mps2);
+
 // The raw contrast columns of offsets (TriadShapeCheck::offsets) under contrasts' normals.
 Eigen::MatrixXd TriadOffsetColumns(const std::vector<Eigen::MatrixXd>& offsets,
                                    const std::vector<Eigen::Vector3d>& normals);
