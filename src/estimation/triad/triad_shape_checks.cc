@@ -520,9 +520,9 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
 
 std::string TriadFullScaleAdvice(int axis, double shortfall_mps2) {
   const char a = kAxis[axis];
-  // Clipping at a range that ends near 1 g takes whole percents of g off the poses beyond it;
-  // less is the output compressing toward the end of the range it was driven to.
-  if (std::abs(shortfall_mps2) >= 0.02 * 9.81) {
+  // Clipping at a range that ends near 1 g takes half a percent of g or more off the poses beyond
+  // it; less is the output compressing toward the end of the range it was driven to.
+  if (std::abs(shortfall_mps2) >= 0.005 * 9.81) {
     return StringPrintf(
         "is %c clipping? Its range may end near 1 g: check its full-scale setting, or leave those "
         "poses out",

@@ -55,7 +55,7 @@ struct TriadShapeCheck {
 };
 
 // The full-scale check's advice for a shortfall of `shortfall_mps2` at the end of axis `axis`'s
-// range: clipping when it is whole percents of g, else an output that compresses there.
+// range: clipping when it is half a percent of g or more, else an output that compresses there.
 std::string TriadFullScaleAdvice(int axis, double shortfall_mps2);
 
 // The raw contrast columns of offsets (TriadShapeCheck::offsets) under contrasts' normals.
