@@ -45,7 +45,8 @@ TriadDiscoveryOptions Discovery() {
 std::vector<std::array<double, 3>> OrderedByXSquared(RandomSource* random) {
   std::vector<std::array<double, 3>> directions = RandomPoseDirections(40, random);
   std::vector<std::pair<double, std::array<double, 3>>> keyed;
-  for (const auto& n : directions) keyed.push_back({n[0] * n[0] + 0.3 * random->StandardNormal(), n});
+  for (const auto& n : directions)
+    keyed.push_back({n[0] * n[0] + 0.3 * random->StandardNormal(), n});
   std::sort(keyed.begin(), keyed.end(),
             [](const auto& a, const auto& b) { return a.first < b.first; });
   for (size_t i = 0; i < keyed.size(); ++i) directions[i] = keyed[i].second;
@@ -81,9 +82,10 @@ TEST(TriadPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthersSign
     together[1] = result.effects_stddev[k2];
   }
   const double truth[2] = {6.0 * alone[0], 6.0 * alone[1]};
-  std::printf("offset_drift_x = %.3g (sigma %.3g alone, %.3g beside), scale_nonlinearity_x = %.3g "
-              "(sigma %.3g alone, %.3g beside)\n",
-              truth[0], alone[0], together[0], truth[1], alone[1], together[1]);
+  std::printf(
+      "offset_drift_x = %.3g (sigma %.3g alone, %.3g beside), scale_nonlinearity_x = %.3g "
+      "(sigma %.3g alone, %.3g beside)\n",
+      truth[0], alone[0], together[0], truth[1], alone[1], together[1]);
   // The design does make them look alike: each under 4.5 sigma once the other is fitted.
   EXPECT_LT(truth[0] / together[0], 4.5);
   EXPECT_LT(truth[1] / together[1], 4.5);
@@ -114,14 +116,14 @@ TEST(TriadPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthersSign
       if (i < 0) continue;
       if (std::abs(effect.estimate - truth[i]) > 3.0 * effect.stddev) {
         ++single;
-        if (example.empty())
-          example = "seed " + std::to_string(seed) + ": " + result.verdict;
+        if (example.empty()) example = "seed " + std::to_string(seed) + ": " + result.verdict;
       }
     }
   }
-  std::printf("of 50 seeds: both named %d, cannot tell apart %d, one named alone carrying the "
-              "other's signal %d\n",
-              both, doubted, single);
+  std::printf(
+      "of 50 seeds: both named %d, cannot tell apart %d, one named alone carrying the "
+      "other's signal %d\n",
+      both, doubted, single);
   EXPECT_EQ(single, 0) << example;
 }
 
@@ -150,9 +152,10 @@ TEST(TriadPartners, OneEffectOfTheDesignAloneIsStillNamed) {
                std::abs(effect.estimate - hidden[hidden_one]) > 3.0 * effect.stddev;
       }
     }
-    std::printf("%s alone: named in %d of 50, cannot tell apart in %d, named alone 3 sigma off "
-                "%d\n",
-                TriadEffectCoefficientList()[hidden_one].name.c_str(), named, doubted, off);
+    std::printf(
+        "%s alone: named in %d of 50, cannot tell apart in %d, named alone 3 sigma off "
+        "%d\n",
+        TriadEffectCoefficientList()[hidden_one].name.c_str(), named, doubted, off);
     EXPECT_GE(named, 45);
     EXPECT_LE(off, 2);
   }

@@ -103,7 +103,8 @@ std::vector<std::array<double, 3>> Directions(Design design, RandomSource* rando
       for (int x = -1; x <= 1; ++x)
         for (int y = -1; y <= 1; ++y)
           for (int z = -1; z <= 1; ++z)
-            if (x != 0 || y != 0 || z != 0) directions.push_back(Normalised({1.0 * x, 1.0 * y, 1.0 * z}));
+            if (x != 0 || y != 0 || z != 0)
+              directions.push_back(Normalised({1.0 * x, 1.0 * y, 1.0 * z}));
       for (size_t i = directions.size() - 1; i > 0; --i) {
         const size_t j = static_cast<size_t>(random->Uniform() * (i + 1)) % (i + 1);
         std::swap(directions[i], directions[j]);
@@ -155,7 +156,8 @@ bool FirstIs(const TriadDiscoveryResult& result, ShapeClass shape_class, int axi
 const ShapeCase kCases[] = {
     {"CubicScaleOfX", "a cubic scale term of x",
      [](Design, const auto& n, RandomSource*, std::vector<TriadPoseMean>* poses) {
-       for (size_t p = 0; p < poses->size(); ++p) (*poses)[p].mean[0] += 10.0 * std::pow(n[p][0], 3);
+       for (size_t p = 0; p < poses->size(); ++p)
+         (*poses)[p].mean[0] += 10.0 * std::pow(n[p][0], 3);
      },
      [](const TriadDiscoveryResult& r) { return FirstIs(r, ShapeClass::kOrientation, 0); }},
     {"OrientationOffset", "an offset of y that follows n_x n_z",
@@ -212,7 +214,8 @@ const ShapeCase kCases[] = {
     // Clipped at 0.9 g among random directions, at 0.97 g among faces tilted by 5-20 degrees: two
     // poses clipped on average. (The cube's 26 directions hold one pose near each end of an axis:
     // one clipped pose is the one-pose check's.)
-    {"ClippedNearOneG", "x clipped near 1 g",
+    {"ClippedNearOneG",
+     "x clipped near 1 g",
      [](Design design, const auto& n, RandomSource*, std::vector<TriadPoseMean>* poses) {
        // The output at n_x = 0.9 from the poses themselves (least squares in n).
        double sxx = 0, sx = 0, sy = 0, sxy = 0;
@@ -328,8 +331,8 @@ TEST(TriadShapes, NullSessionsOfMixedDesignsHoldTheLevel) {
   for (size_t a = 0; a < alphas.size(); ++a) {
     const double alpha = alphas[a];
     const double limit = alpha + 2.0 * std::sqrt(alpha * (1.0 - alpha) / kSessions);
-    std::printf("alpha = %g: %d of %d null sessions not explained (limit %.4f)\n", alpha,
-                beyond[a], kSessions, limit);
+    std::printf("alpha = %g: %d of %d null sessions not explained (limit %.4f)\n", alpha, beyond[a],
+                kSessions, limit);
     EXPECT_LE(beyond[a], limit * kSessions) << "first: " << example[a];
   }
 }

@@ -82,9 +82,9 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
                       result.final_fit.chi2_per_dof, result.final_fit.degrees_of_freedom,
                       result.final_fit.chi2_per_dof_spread, result.final_fit.p_value);
   for (const ResidualCheck& check : result.checks) {
-    out << StringPrintf("  check %-22s %-14s statistic %8.3g  p = %-10.3g %s\n",
-                        check.name.c_str(), ShapeClassName(check.shape_class), check.statistic,
-                        check.p_value, check.flagged ? "FLAGGED" : "");
+    out << StringPrintf("  check %-22s %-14s statistic %8.3g  p = %-10.3g %s\n", check.name.c_str(),
+                        ShapeClassName(check.shape_class), check.statistic, check.p_value,
+                        check.flagged ? "FLAGGED" : "");
   }
   const ResidualCheck& low = result.noise_overstated;
   out << StringPrintf("  check %-22s %-14s statistic %8.3g  p = %-10.3g %s\n", low.name.c_str(),
@@ -163,7 +163,7 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   nlohmann::json checks = nlohmann::json::array();
   auto axis_of = [](const ResidualCheck& check) {
     return check.axis >= 0 && check.axis < 3 ? nlohmann::json(std::string(1, "xyz"[check.axis]))
-                                              : nlohmann::json(nullptr);
+                                             : nlohmann::json(nullptr);
   };
   for (const ResidualCheck& check : result.checks) {
     checks.push_back({{"name", check.name},
@@ -200,11 +200,10 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   json["pose_wander_unit"] = options.unit;
   nlohmann::json ambiguities = nlohmann::json::array();
   for (const TriadAmbiguity& a : result.ambiguities) {
-    ambiguities.push_back(
-        {{"effect", a.effect},
-         {"alternative", a.alternative},
-         {"beside", a.beside},
-         {"delta_chi2", a.delta_chi2}});
+    ambiguities.push_back({{"effect", a.effect},
+                           {"alternative", a.alternative},
+                           {"beside", a.beside},
+                           {"delta_chi2", a.delta_chi2}});
   }
   json["ambiguities"] = ambiguities;
   const TriadCrossValidation& cv = result.cross_validation;

@@ -11,9 +11,9 @@
 
 #include "common/format.h"
 #include "estimation/discovery/selection.h"
-#include "estimation/statistics/extra_chi_square.h"
 #include "estimation/statistics/chi_square.h"
 #include "estimation/statistics/diagnostics.h"
+#include "estimation/statistics/extra_chi_square.h"
 #include "estimation/triad/triad_contrasts.h"
 #include "estimation/triad/triad_pose_noise.h"
 #include "estimation/triad/triad_shape_checks.h"
@@ -245,7 +245,7 @@ Status RefittedGain(const std::vector<TriadPoseMean>& poses, const TriadMlResult
 struct Deletion {
   double gain = 0.0;
   double shortfall_mps2 = 0.0;  // the largest left-out pose's, in magnitude
-  double left = 0.0;  // the refit's chi-square
+  double left = 0.0;            // the refit's chi-square
   int rank = 0;
   int candidates = 0;
   bool without_effects = false;
@@ -292,14 +292,14 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
       for (int i = 0; i < j && short_of_g; ++i) {
         const TriadPoseMean& pose = poses[sorted[s][i]];
         double force[3];
-        if (!TriadSpecificForce(refit.parameters.data(), &refit.effects[first_k2],
-                                pose.mean.data(), force)) {
+        if (!TriadSpecificForce(refit.parameters.data(), &refit.effects[first_k2], pose.mean.data(),
+                                force)) {
           short_of_g = false;
           break;
         }
-        const double shortfall = options.fit.gravity_mps2 -
-                                 std::sqrt(force[0] * force[0] + force[1] * force[1] +
-                                           force[2] * force[2]);
+        const double shortfall =
+            options.fit.gravity_mps2 -
+            std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]);
         short_of_g = shortfall > 0.0;
         largest = std::max(largest, shortfall);
       }
@@ -386,8 +386,7 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
       gains.left[i] = std::max(0.0, fit.chi2 - refitted);
     }
     if (effects.empty()) continue;
-    if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i],
-                     &refitted)
+    if (RefittedGain(poses, fit, pose_mean_variance, {}, correlation, options, shapes[i], &refitted)
             .ok() &&
         refitted + effects_cost > gains.gain[i]) {
       // Without the effects the model has their columns fewer: BIC counts them as gain.
@@ -476,15 +475,15 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   context.unit = options.unit;
   context.gain_mps2_per_unit = options.gain_mps2_per_unit;
   std::vector<TriadShapeCheck> shapes;
-  ACCELCAL_RETURN_IF_ERROR(TriadShapeChecks(poses, fit, contrasts, whitener, model, residual,
-                                            context, &shapes));
+  ACCELCAL_RETURN_IF_ERROR(
+      TriadShapeChecks(poses, fit, contrasts, whitener, model, residual, context, &shapes));
   result->checks = {chi2, lag};
   for (const TriadShapeCheck& shape : shapes) result->checks.push_back(shape.check);
   FlagByHolm(alpha, &result->checks);
   if (result->checks[0].flagged) result->pose_wander = PoseWander(fit);
 
-  const ShapeGains gains = GainsForNaming(poses, fit, pose_mean_variance, effects, correlation,
-                                          options, shapes, result);
+  const ShapeGains gains =
+      GainsForNaming(poses, fit, pose_mean_variance, effects, correlation, options, shapes, result);
   const std::vector<double>& gain = gains.gain;
   const std::vector<int>& bic_rank = gains.rank;
   const std::vector<char>& without = gains.without_effects;
@@ -506,9 +505,8 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
     return total - gain[i] + bic_rank[i] * log_n +
            2.0 * std::log(static_cast<double>(shapes[i].candidates));
   };
-  std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(), [&](int a, int b) {
-    return shapes[a].check.p_value < shapes[b].check.p_value;
-  });
+  std::stable_sort(flagged_shapes.begin(), flagged_shapes.end(),
+                   [&](int a, int b) { return shapes[a].check.p_value < shapes[b].check.p_value; });
   if (!flagged_shapes.empty()) {
     const auto best = std::min_element(flagged_shapes.begin(), flagged_shapes.end(),
                                        [&](int a, int b) { return shape_bic(a) < shape_bic(b); });
@@ -555,8 +553,8 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
                  std::min(1.0, shapes[i].candidates *
                                    FSurvival((delta / rank) / (rest / left), rank, left)) <= each;
       } else {
-        stands = rank > 0 && std::min(1.0, shapes[i].candidates *
-                                               ChiSquareSurvival(delta, rank)) <= each;
+        stands = rank > 0 &&
+                 std::min(1.0, shapes[i].candidates * ChiSquareSurvival(delta, rank)) <= each;
       }
     }
     if (!stands) {
@@ -574,8 +572,8 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
   if (kept.cols() > 0) {
     Eigen::MatrixXd both(model.rows(), model.cols() + kept.cols());
     both << model, kept;
-    left = residual - both * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(both).solve(
-                                 residual);
+    left = residual -
+           both * Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(both).solve(residual);
   }
   if (result->checks[0].flagged) {
     const int left_dof = std::max(1, dof - kept_rank);
@@ -911,8 +909,8 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   }
   // And a candidate beside an effect found that the data cannot tell from its absence where it
   // matters (issue 33, item 2): it moves the effect by 2 sigma or more and gains p <= 0.1.
-  for (const Partner& partner : FindPartners(&geometry, candidates, options.partner_alpha,
-                                             options.partner_shift_sigma)) {
+  for (const Partner& partner :
+       FindPartners(&geometry, candidates, options.partner_alpha, options.partner_shift_sigma)) {
     const int c = model[partner.effect];
     const std::string unit = TriadEffectUnit(c, options.unit);
     TriadAmbiguity ambiguity;
@@ -951,8 +949,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   static const TriadPoseCorrelation kIndependent;
   ACCELCAL_RETURN_IF_ERROR(CheckWhatRemains(
       poses, current, noise, model,
-      result->coloured_noise && !coloured.correlation.empty() ? coloured.correlation
-                                                               : kIndependent,
+      result->coloured_noise && !coloured.correlation.empty() ? coloured.correlation : kIndependent,
       options, options.alpha / 4.0, result));
   result->noise_overstated = CheckNoiseOverstated(current, options.alpha / 4.0);
 
@@ -994,10 +991,10 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     }
     // What the effects found cannot be told apart from, also when structure remains.
     for (const TriadAmbiguity& a : result->ambiguities) {
-      result->verdict +=
-          a.beside ? "; cannot tell apart: " + a.effect + " alone, or " + a.alternative
-                   : StringPrintf("; cannot tell apart: %s and %s (delta chi2 = %.2g)",
-                                  a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
+      result->verdict += a.beside
+                             ? "; cannot tell apart: " + a.effect + " alone, or " + a.alternative
+                             : StringPrintf("; cannot tell apart: %s and %s (delta chi2 = %.2g)",
+                                            a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
     }
   } else if (result->verdict_code == Verdict::kCannotTellApart) {
     const TriadAmbiguity& a = result->ambiguities.front();

@@ -80,9 +80,7 @@ class Shapes {
   const Eigen::MatrixXd& model() const { return model_; }
   const Eigen::VectorXd& residual() const { return residual_; }
   const TriadShapeContext& context() const { return context_; }
-  double mps2(int axis, double value) const {
-    return value * context_.gain_mps2_per_unit[axis];
-  }
+  double mps2(int axis, double value) const { return value * context_.gain_mps2_per_unit[axis]; }
 
   // Offsets on one axis, f(p) on axis k.
   Eigen::MatrixXd OnAxis(int axis, const std::function<double(int)>& f) const {
@@ -147,7 +145,8 @@ Status FixedFamily(const Shapes& shapes, const std::string& name, int axis, Shap
   check.statistic = score.delta;
   check.dof = score.rank;
   check.p_value = score.p_value;
-  if (beta != nullptr) *beta = ProjectedCoefficients(shapes.model(), out->columns, shapes.residual());
+  if (beta != nullptr)
+    *beta = ProjectedCoefficients(shapes.model(), out->columns, shapes.residual());
   return Status::Ok();
 }
 
@@ -218,8 +217,8 @@ Status TimeCheck(const Shapes& shapes, TriadShapeCheck* out) {
       out->offsets.push_back(
           shapes.OnAxis(k, [&](int p) { return std::pow(shapes.scaled_time(p), power); }));
   Eigen::VectorXd beta;
-  ACCELCAL_RETURN_IF_ERROR(FixedFamily(shapes, "time", -1, ShapeClass::kTime,
-                                       shapes.Raw(out->offsets), out, &beta));
+  ACCELCAL_RETURN_IF_ERROR(
+      FixedFamily(shapes, "time", -1, ShapeClass::kTime, shapes.Raw(out->offsets), out, &beta));
   ResidualCheck& check = out->check;
   if (check.dof == 0) return Status::Ok();
   // Each axis's fitted curve over the session; the axis that moves most (in m/s^2) leads.
@@ -336,7 +335,7 @@ void FromBest(const Best& best, int candidates, TriadShapeCheck* out) {
 Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool calibration,
                  TriadShapeCheck* out) {
   const std::vector<int>& order = shapes.time_order();
-  const int side = calibration ? 4 : 2;  // poses at least on each side
+  const int side = calibration ? 4 : 2;                            // poses at least on each side
   const int changes = std::max(0, shapes.poses() - 2 * side + 1);  // after order[side - 1 + c]
   const int width = calibration ? static_cast<int>(raw_model.cols()) : 3;
   std::vector<int> place(shapes.poses());
@@ -353,8 +352,8 @@ Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool ca
   };
   Best best;
   ACCELCAL_RETURN_IF_ERROR(MinimumOverCandidates(
-      shapes, changes, width, fill,
-      [&](int, const Eigen::MatrixXd& c) { return shapes.Test(c); }, &best));
+      shapes, changes, width, fill, [&](int, const Eigen::MatrixXd& c) { return shapes.Test(c); },
+      &best));
   ResidualCheck& check = out->check;
   check.name = calibration ? "calibration_step" : "offset_step";
   check.shape_class = ShapeClass::kTime;
@@ -364,13 +363,13 @@ Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool ca
   const int after = order[side + best.candidate];
   if (!calibration) {
     for (int k = 0; k < 3; ++k)
-      out->offsets.push_back(shapes.OnAxis(
-          k, [&](int p) { return place[p] >= side + best.candidate ? 1.0 : 0.0; }));
+      out->offsets.push_back(
+          shapes.OnAxis(k, [&](int p) { return place[p] >= side + best.candidate ? 1.0 : 0.0; }));
   }
-  const std::string test =
-      StringPrintf("chi2 %.1f on %d dof, p = %.2g, the smallest of %d change points times "
-                   "their number",
-                   check.statistic, static_cast<int>(check.dof), check.p_value, changes);
+  const std::string test = StringPrintf(
+      "chi2 %.1f on %d dof, p = %.2g, the smallest of %d change points times "
+      "their number",
+      check.statistic, static_cast<int>(check.dof), check.p_value, changes);
   if (calibration) {
     check.description = StringPrintf(
         "the calibration changes between pose %d (t = %.4g s) and pose %d (t = %.4g s): every "
@@ -480,8 +479,7 @@ Status FullScaleCheck(const Shapes& shapes, const std::vector<TriadPoseMean>& po
   };
   // The shortfall at the j-th pose and at the end of the range (s n_k = 1).
   auto shortfalls = [&](const Eigen::MatrixXd& columns, const Hinge& h) {
-    const Eigen::VectorXd beta =
-        ProjectedCoefficients(shapes.model(), columns, shapes.residual());
+    const Eigen::VectorXd beta = ProjectedCoefficients(shapes.model(), columns, shapes.residual());
     return std::make_pair(beta[0], beta[0] + beta[1] * (1.0 - h.lowest));
   };
   auto score = [&](int c, const Eigen::MatrixXd& columns) {
