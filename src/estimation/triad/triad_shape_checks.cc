@@ -58,7 +58,6 @@ class Shapes {
         model_(model),
         residual_(residual),
         context_(context) {
-    total_ = residual.squaredNorm();
     dof_ = static_cast<int>(model.rows()) -
            static_cast<int>(Eigen::ColPivHouseholderQR<Eigen::MatrixXd>(model).rank());
     first_s_ = last_s_ = poses.empty() ? 0.0 : poses.front().time_s;
@@ -109,7 +108,6 @@ class Shapes {
     score.p_value = ChiSquareSurvival(score.delta, score.rank);
     return score;
   }
-  int dof() const { return dof_; }
 
  private:
   const std::vector<TriadPoseMean>& poses_;
@@ -119,7 +117,6 @@ class Shapes {
   const Eigen::MatrixXd& model_;
   const Eigen::VectorXd& residual_;
   const TriadShapeContext& context_;
-  double total_ = 0.0;  // the residual's chi-square
   int dof_ = 0;         // the contrasts' degrees of freedom beside the model
   double first_s_ = 0.0;
   double last_s_ = 0.0;
