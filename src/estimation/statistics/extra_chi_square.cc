@@ -6,16 +6,21 @@
 
 namespace accelcal {
 
-double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,
-                      const Eigen::VectorXd& r, int* rank) {
-  Eigen::MatrixXd projected = extra;
-  if (model.cols() > 0) {
-    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(model);
-    const Eigen::MatrixXd q =
-        qr.householderQ() * Eigen::MatrixXd::Identity(model.rows(), model.cols());
-    // Twice, for the columns nearly inside the model's span.
-    for (int pass = 0; pass < 2; ++pass) projected -= q * (q.transpose() * projected);
+ModelSpan::ModelSpan(const Eigen::MatrixXd& model) {
+  if (model.cols() == 0) {
+    basis_.resize(model.rows(), 0);
+    return;
   }
+  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(model);
+  basis_ = qr.householderQ() * Eigen::MatrixXd::Identity(model.rows(), model.cols());
+}
+
+double ModelSpan::ExtraChiSquare(const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
+                                 int* rank) const {
+  Eigen::MatrixXd projected = extra;
+  // Twice, for the columns nearly inside the model's span.
+  if (basis_.cols() > 0)
+    for (int pass = 0; pass < 2; ++pass) projected -= basis_ * (basis_.transpose() * projected);
   // Columns with (almost) nothing left outside the model's span add nothing.
   std::vector<int> kept;
   for (int c = 0; c < extra.cols(); ++c) {
@@ -38,6 +43,11 @@ double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra
   const Eigen::MatrixXd q = qr.householderQ() * Eigen::MatrixXd::Identity(columns.rows(), added);
   // r minus its part in the model's span (zero at an optimum, not exactly after rounding).
   return (q.transpose() * r).squaredNorm();
+}
+
+double ExtraChiSquare(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,
+                      const Eigen::VectorXd& r, int* rank) {
+  return ModelSpan(model).ExtraChiSquare(extra, r, rank);
 }
 
 Eigen::VectorXd ProjectedCoefficients(const Eigen::MatrixXd& model, const Eigen::MatrixXd& extra,

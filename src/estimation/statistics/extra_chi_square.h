@@ -11,6 +11,19 @@
 
 namespace accelcal {
 
+// A model's span, factored once, for many families of columns tested beside it (a maximum over
+// change points or poses).
+class ModelSpan {
+ public:
+  explicit ModelSpan(const Eigen::MatrixXd& model);
+  // As ExtraChiSquare below, with this model.
+  double ExtraChiSquare(const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
+                        int* rank = nullptr) const;
+
+ private:
+  Eigen::MatrixXd basis_;  // orthonormal, the model's columns' span
+};
+
 // The chi-square the columns `extra` remove when added to the span of `model` (same rows,
 // whitened) from the residual `r`, and the rank they add (columns with almost nothing left
 // outside the model's span add nothing).

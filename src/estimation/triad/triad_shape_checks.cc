@@ -56,6 +56,7 @@ class Shapes {
         contrasts_(contrasts),
         whitener_(whitener),
         model_(model),
+        span_(model),
         residual_(residual),
         context_(context) {
     dof_ = static_cast<int>(model.rows()) -
@@ -103,7 +104,7 @@ class Shapes {
   };
   Score Test(const Eigen::MatrixXd& columns) const {
     Score score;
-    score.delta = ExtraChiSquare(model_, columns, residual_, &score.rank);
+    score.delta = span_.ExtraChiSquare(columns, residual_, &score.rank);
     if (score.rank == 0 || dof_ - score.rank < 1) return Score();
     score.p_value = ChiSquareSurvival(score.delta, score.rank);
     return score;
@@ -115,9 +116,10 @@ class Shapes {
   const TriadContrasts& contrasts_;
   const TriadContrastWhitener& whitener_;
   const Eigen::MatrixXd& model_;
+  const ModelSpan span_;
   const Eigen::VectorXd& residual_;
   const TriadShapeContext& context_;
-  int dof_ = 0;         // the contrasts' degrees of freedom beside the model
+  int dof_ = 0;  // the contrasts' degrees of freedom beside the model
   double first_s_ = 0.0;
   double last_s_ = 0.0;
 };
@@ -167,7 +169,7 @@ Status OrientationCheck(const Shapes& shapes, int degree, TriadShapeCheck* out) 
   for (int k = 0; k < 3; ++k) {
     for (int m = 0; m < per_axis; ++m) {
       const Eigen::MatrixXd one = out->columns.col(k * per_axis + m);
-      const double gain = ExtraChiSquare(shapes.model(), one, shapes.residual());
+      const double gain = shapes.Test(one).delta;
       if (gain > best) {
         best = gain;
         best_axis = k;
@@ -332,14 +334,24 @@ void FromBest(const Best& best, int candidates, TriadShapeCheck* out) {
 Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool calibration,
                  TriadShapeCheck* out) {
   const std::vector<int>& order = shapes.time_order();
-  const int side = calibration ? 4 : 2;                            // poses at least on each side
-  const int changes = std::max(0, shapes.poses() - 2 * side + 1);  // after order[side - 1 + c]
+  const int side = calibration ? 4 : 2;  // poses at least on each side
+  // The change points: after order[side - 1 + c]; at most kMostChanges of them, evenly spaced
+  // (a log of thousands of poses: the maximum's cost stays linear, its factor bounded).
+  constexpr int kMostChanges = 200;
+  const int all_changes = std::max(0, shapes.poses() - 2 * side + 1);
+  const int changes = std::min(all_changes, kMostChanges);
+  auto change = [&](int i) {
+    return changes <= 1 || changes == all_changes
+               ? i
+               : static_cast<int>(
+                     std::lround(static_cast<double>(i) * (all_changes - 1) / (changes - 1)));
+  };
   const int width = calibration ? static_cast<int>(raw_model.cols()) : 3;
   std::vector<int> place(shapes.poses());
   for (int j = 0; j < shapes.poses(); ++j) place[order[j]] = j;
   auto fill = [&](int c, Eigen::MatrixXd* block) {
     for (int p = 0; p < shapes.poses(); ++p) {
-      if (place[p] < side + c) continue;
+      if (place[p] < side + change(c)) continue;
       if (calibration) {
         block->row(p) = raw_model.row(p);
       } else {
@@ -356,12 +368,13 @@ Status StepCheck(const Shapes& shapes, const Eigen::MatrixXd& raw_model, bool ca
   check.shape_class = ShapeClass::kTime;
   if (best.candidate < 0) return Status::Ok();
   FromBest(best, changes, out);
-  const int before = order[side - 1 + best.candidate];
-  const int after = order[side + best.candidate];
+  const int at = change(best.candidate);
+  const int before = order[side - 1 + at];
+  const int after = order[side + at];
   if (!calibration) {
     for (int k = 0; k < 3; ++k)
       out->offsets.push_back(
-          shapes.OnAxis(k, [&](int p) { return place[p] >= side + best.candidate ? 1.0 : 0.0; }));
+          shapes.OnAxis(k, [&](int p) { return place[p] >= side + at ? 1.0 : 0.0; }));
   }
   const std::string test = StringPrintf(
       "chi2 %.1f on %d dof, p = %.2g, the smallest of %d change points times "
