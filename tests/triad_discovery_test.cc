@@ -22,30 +22,16 @@
 #include "simulation/triad_simulator.h"
 #include "studies/triad_discovery_study.h"
 #include "studies/triad_monte_carlo.h"
+#include "triad_test_session.h"
 
 namespace accelcal {
 namespace {
 
-constexpr double kGravity = 9.81744;
+TriadSimulationOptions Session() { return TriadTestSession(); }
 
-TriadSimulationOptions Session() {
-  TriadSimulationOptions options;
-  options.truth = XsensLikeTriad();
-  options.gravity_mps2 = kGravity;
-  options.samples_per_pose = 100;
-  options.noise_stddev = {3.0, 2.5, 3.5};
-  options.pose_spacing_s = 10.0;
-  return options;
-}
+TriadDiscoveryOptions Discovery(double alpha) { return TriadTestDiscovery(alpha); }
 
-TriadDiscoveryOptions Discovery(double alpha) {
-  TriadDiscoveryOptions options;
-  options.alpha = alpha;
-  options.fit.gravity_mps2 = kGravity;
-  options.fit.initial = TriadStudyInitialGuess(XsensLikeTriad());
-  options.cross_validation_folds = 0;
-  return options;
-}
+constexpr double kGravity = kTriadTestGravity;
 
 std::vector<TriadPoseMean> Simulate(const TriadSimulationOptions& options, int poses, uint64_t seed,
                                     uint64_t stream) {

@@ -29,30 +29,14 @@
 #include "simulation/random.h"
 #include "simulation/triad_simulator.h"
 #include "studies/triad_monte_carlo.h"
+#include "triad_test_session.h"
 
 namespace accelcal {
 namespace {
 
-constexpr double kGravity = 9.81744;
+TriadSimulationOptions Session() { return TriadTestSession(); }
 
-TriadSimulationOptions Session() {
-  TriadSimulationOptions options;
-  options.truth = XsensLikeTriad();
-  options.gravity_mps2 = kGravity;
-  options.samples_per_pose = 100;
-  options.noise_stddev = {3.0, 2.5, 3.5};
-  options.pose_spacing_s = 10.0;
-  return options;
-}
-
-TriadDiscoveryOptions Discovery() {
-  TriadDiscoveryOptions options;
-  options.alpha = 0.01;
-  options.fit.gravity_mps2 = kGravity;
-  options.fit.initial = TriadStudyInitialGuess(XsensLikeTriad());
-  options.cross_validation_folds = 0;
-  return options;
-}
+TriadDiscoveryOptions Discovery() { return TriadTestDiscovery(0.01); }
 
 // Pose designs, each the directions in the order they are held.
 enum class Design { kRandom40, kFacesTilted36, kCube26 };
