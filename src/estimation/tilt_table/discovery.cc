@@ -518,13 +518,16 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   ResidualChecksOptions check_options;
   check_options.max_harmonic = options.max_harmonic;
   check_options.ljung_box_lags = options.ljung_box_lags;
+  check_options.gravity_mps2 = options.gravity_mps2;
   const AxisNoise final_noise[2] = {joint.Noise(0), joint.Noise(1)};
   Eigen::MatrixXd jacobian;
   Eigen::VectorXd linear_residual;
   auto run_checks = [&]() -> Status {
     ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &linear_residual));
-    result->checks = CheckResiduals(test, jacobian, linear_residual,
-                                    current.landmark.empty() ? 0 : 2, final_noise, check_options);
+    result->checks = CheckResiduals(
+        test, jacobian, linear_residual,
+        EvaluateFit(test, current.estimate.values, options.gravity_mps2),
+        current.landmark.empty() ? 0 : 2, final_noise, check_options);
     FlagByHolm(checks_alpha, &result->checks);
     return Status::Ok();
   };
@@ -543,9 +546,12 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         LinearizeJoint(data, base, result->baseline_joint, &base_jacobian, &base_residual));
     const double effects_gain = TotalChi2(result->baseline_joint) - TotalChi2(current);
     const double effects_bic = effects_gain - joint.effects.size() * log_n;
-    for (const ResidualCheck& check : CheckResiduals(
-             test, base_jacobian, base_residual, result->baseline_joint.landmark.empty() ? 0 : 2,
-             final_noise, check_options)) {
+    for (const ResidualCheck& check :
+         CheckResiduals(test, base_jacobian, base_residual,
+                        EvaluateFit(test, result->baseline_joint.estimate.values,
+                                    options.gravity_mps2),
+                        result->baseline_joint.landmark.empty() ? 0 : 2, final_noise,
+                        check_options)) {
       if (check.name.find("step") == std::string::npos) continue;
       if (check.statistic - 2.0 * log_n >= effects_bic && check.p_value <= checks_alpha)
         simpler_steps.push_back({check.axis, check.shape[0]});
@@ -592,20 +598,23 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   }
   // What remains, in words: the flagged shapes strongest first, each kept only if it still
   // stands once the shapes before it are allowed for (a 2-theta harmonic also shows as a
-  // curved trend and a step; those are parts of the same shape, not more of them).
+  // curved trend and a step; those are parts of the same shape, not more of them). Each line
+  // is the check's description and its advice (WhatRemains).
   {
-    std::vector<const ResidualCheck*> flagged;
-    for (const ResidualCheck& check : result->checks) {
-      if (check.flagged) flagged.push_back(&check);
+    std::vector<int> flagged;
+    for (size_t c = 0; c < result->checks.size(); ++c) {
+      if (result->checks[c].flagged) flagged.push_back(static_cast<int>(c));
     }
-    std::sort(flagged.begin(), flagged.end(), [](const ResidualCheck* a, const ResidualCheck* b) {
-      return a->p_value < b->p_value;
+    std::stable_sort(flagged.begin(), flagged.end(), [&](int a, int b) {
+      return result->checks[a].p_value < result->checks[b].p_value;
     });
     std::vector<Eigen::VectorXd> kept;
     std::string parts;
-    for (const ResidualCheck* check : flagged) {
+    for (const int index : flagged) {
+      const ResidualCheck* check = &result->checks[index];
       if (check->shape.empty()) {
-        result->remaining.push_back(check->description);
+        result->remaining.push_back(WhatRemains(*check));
+        result->remaining_checks.push_back(index);
         continue;
       }
       Eigen::MatrixXd extra(jacobian.rows(), check->shape.size());
@@ -625,7 +634,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         parts += (parts.empty() ? "" : ", ") + check->name;
         continue;
       }
-      result->remaining.push_back(check->description);
+      result->remaining.push_back(WhatRemains(*check));
+      result->remaining_checks.push_back(index);
       for (int c = 0; c < extra.cols(); ++c) kept.push_back(extra.col(c));
     }
     if (!parts.empty()) {
