@@ -28,7 +28,16 @@ constexpr int kSeeds = 30;
 constexpr int kSamples = 2000;
 constexpr double kSignature = 100.0;  // (10 sigma)^2
 
-enum class Design { kSweep, kStatic, kForthAndBack, kStaticForthAndBack, kTwoTurns, kStaticTwice };
+enum class Design {
+  kSweep,
+  kStatic,
+  kForthAndBack,
+  kForthAndBackTwice,
+  kStaticForthAndBack,
+  kStaticForthAndBackTwice,
+  kTwoTurns,
+  kStaticTwice
+};
 
 const char* DesignName(Design design) {
   switch (design) {
@@ -38,8 +47,12 @@ const char* DesignName(Design design) {
       return "24 positions held, 15 degrees apart";
     case Design::kForthAndBack:
       return "a sweep from 0 to 2 pi and back";
+    case Design::kForthAndBackTwice:
+      return "a sweep from 0 to 2 pi and back, twice";
     case Design::kStaticForthAndBack:
       return "12 positions held going up, 12 coming down";
+    case Design::kStaticForthAndBackTwice:
+      return "6 positions held going up, 6 coming down, twice";
     case Design::kTwoTurns:
       return "a sweep of two turns";
     case Design::kStaticTwice:
@@ -59,10 +72,21 @@ TiltSchedule Schedule(Design design, int samples) {
       for (int p = 0; p < 24; ++p) schedule.positions_rad.push_back(p * M_PI / 12.0);
       break;
     case Design::kForthAndBack:
+    case Design::kForthAndBackTwice: {
+      const int cycles = design == Design::kForthAndBack ? 1 : 2;
       schedule.kind = TiltSchedule::Kind::kList;
       for (int i = 0; i < samples; ++i) {
-        const double fraction = static_cast<double>(i) / (samples - 1);
-        schedule.angles_rad.push_back(2.0 * M_PI * (1.0 - std::abs(2.0 * fraction - 1.0)));
+        const double phase = std::fmod(cycles * static_cast<double>(i) / samples, 1.0);
+        schedule.angles_rad.push_back(2.0 * M_PI * (1.0 - std::abs(2.0 * phase - 1.0)));
+      }
+      break;
+    }
+    case Design::kStaticForthAndBackTwice:
+      // Up through 0, 60, ..., 300 degrees, down through 330, 270, ..., 30; twice.
+      schedule.kind = TiltSchedule::Kind::kStaticPositions;
+      for (int cycle = 0; cycle < 2; ++cycle) {
+        for (int p = 0; p < 6; ++p) schedule.positions_rad.push_back(p * M_PI / 3.0);
+        for (int p = 5; p >= 0; --p) schedule.positions_rad.push_back((p + 0.5) * M_PI / 3.0);
       }
       break;
     case Design::kStaticForthAndBack:
@@ -127,11 +151,18 @@ std::vector<double> ThetaHarmonic(const CalibrationTest& test, const SimulationT
   for (int i = 0; i < test.size(); ++i) shape[i] = size * std::sin(2.0 * test.theta_rad[i]);
   return shape;
 }
+// Zero mean over the test, as the catalogue's drift is: the bias is the test's mean bias, the
+// one the run has (a warm-up the run does not share would also move the run's endpoint).
 std::vector<double> WarmUpThenCoolDown(const CalibrationTest& test, const SimulationTruth&,
                                        double size) {
-  std::vector<double> shape(test.size());
-  for (int i = 0; i < test.size(); ++i)
-    shape[i] = size * std::sin(M_PI * (DriftCoordinate(i, test.size()) + 0.5));
+  const int n = test.size();
+  std::vector<double> shape(n);
+  double mean = 0.0;
+  for (int i = 0; i < n; ++i) {
+    shape[i] = size * std::sin(M_PI * (DriftCoordinate(i, n) + 0.5));
+    mean += shape[i] / n;
+  }
+  for (double& value : shape) value -= mean;
   return shape;
 }
 std::vector<double> StepAtFortyPercent(const CalibrationTest& test, const SimulationTruth&,
@@ -191,10 +222,15 @@ const ShapeCase kCases[] = {
      ShapeClass::kTime, "a step"},
     {"StepOnPositions", "a step at 40% of the test", StepAtFortyPercent, 5.0, Design::kStatic,
      ShapeClass::kTime, "a step"},
+    // Up then down once, the direction is a step at the middle of the test, 0.87 correlated
+    // with bias_drift_x: in some seeds the drift takes most of it. Twice up and down, the two
+    // are nearly orthogonal.
     {"TurnDirectionForthAndBack", "hysteresis", Hysteresis, 5.0, Design::kForthAndBack,
-     ShapeClass::kTurnDirection, ""},
-    {"TurnDirectionOnPositions", "hysteresis", Hysteresis, 5.0, Design::kStaticForthAndBack,
-     ShapeClass::kTurnDirection, ""},
+     ShapeClass::kTurnDirection, "turns up"},
+    {"TurnDirectionForthAndBackTwice", "hysteresis", Hysteresis, 5.0, Design::kForthAndBackTwice,
+     ShapeClass::kTurnDirection, "turns up"},
+    {"TurnDirectionOnPositionsTwice", "hysteresis", Hysteresis, 5.0,
+     Design::kStaticForthAndBackTwice, ShapeClass::kTurnDirection, "turns up"},
     {"FullScaleOnASweep", "x clipped near +1 g", ClippedNearPlusOneG, 5.0, Design::kSweep,
      ShapeClass::kFullScale, "+1 g"},
     {"FullScaleForthAndBack", "x clipped near +1 g", ClippedNearPlusOneG, 5.0,
@@ -234,7 +270,7 @@ TEST_P(HiddenShapeTest, IsNamedFirstInAtLeastEightyPercentOfSeeds) {
   const Scenario scenario = ScenarioFor(c.design, kSamples);
   const SimulatedData first = SimulateScenario(scenario, 1);
   const double size = SizeAtTenSigma(c.shape, first.test, scenario.truth, c.upper);
-  int honest = 0;
+  int honest = 0, misses = 0;
   std::string example;
   for (int seed = 1; seed <= kSeeds; ++seed) {
     SimulatedData data = SimulateScenario(scenario, seed);
@@ -243,13 +279,14 @@ TEST_P(HiddenShapeTest, IsNamedFirstInAtLeastEightyPercentOfSeeds) {
     const DiscoveryResult result = DiscoverIn(data);
     if (NamesTheShape(result, c)) {
       ++honest;
-    } else if (example.empty()) {
-      example = "seed " + std::to_string(seed) + ": " + result.verdict;
+    } else if (misses < 3) {
+      ++misses;
+      example += "\nseed " + std::to_string(seed) + ": " + result.verdict.substr(0, 400);
     }
   }
   std::printf("%s on %s (size %.3g): named first in %d of %d seeds\n", c.name,
               DesignName(c.design), size, honest, kSeeds);
-  EXPECT_GE(honest, 0.8 * kSeeds) << c.name << "; first miss, " << example;
+  EXPECT_GE(honest, 0.8 * kSeeds) << c.name << "; the first misses:" << example;
 }
 
 INSTANTIATE_TEST_SUITE_P(TwoAxisShapes, HiddenShapeTest, testing::ValuesIn(kCases),
@@ -257,17 +294,24 @@ INSTANTIATE_TEST_SUITE_P(TwoAxisShapes, HiddenShapeTest, testing::ValuesIn(kCase
                            return std::string(info.param.id);
                          });
 
-// The whole procedure on null data of the four designs (small tests, to keep it fast): any
+// The whole procedure on null data of the eight designs (small tests, to keep it fast): any
 // verdict but "explained" at most alpha + 2 sd of the time over 1000 datasets.
 TEST(TwoAxisShapes, NullRateOverMixedDesignsIsAtMostAlpha) {
   constexpr int kDatasets = 1000;
-  const Design designs[] = {Design::kSweep, Design::kStatic, Design::kForthAndBack,
-                            Design::kStaticForthAndBack};
+  const Design designs[] = {Design::kSweep,
+                            Design::kStatic,
+                            Design::kForthAndBack,
+                            Design::kForthAndBackTwice,
+                            Design::kStaticForthAndBack,
+                            Design::kStaticForthAndBackTwice,
+                            Design::kTwoTurns,
+                            Design::kStaticTwice};
+  constexpr int kDesigns = sizeof(designs) / sizeof(designs[0]);
   const auto start = std::chrono::steady_clock::now();
   int not_explained = 0;
   std::string example;
   for (int d = 0; d < kDatasets; ++d) {
-    const Design design = designs[d % 4];
+    const Design design = designs[d % kDesigns];
     const Scenario scenario = ScenarioFor(design, 400);
     const DiscoveryResult result = DiscoverIn(SimulateScenario(scenario, 5000 + d));
     if (result.verdict_code != Verdict::kExplained) {

@@ -321,6 +321,51 @@ Eigen::VectorXd WhitenedShapeColumn(const std::vector<double>& shape, int axis,
   return column;
 }
 
+std::vector<double> AxisWhiteResiduals(const Eigen::VectorXd& residual, int axis, int samples,
+                                       int endpoint_rows, const AxisNoise& noise) {
+  const int rows = static_cast<int>(residual.size());
+  std::vector<double> white;
+  for (int i = 0; i < samples && 2 * i + axis < rows - endpoint_rows; ++i) {
+    if (!noise.IsOutlier(i)) white.push_back(residual[2 * i + axis]);
+  }
+  return white;
+}
+
+std::vector<ResidualCheck> CorrelationChecks(const std::vector<double>& white, int axis,
+                                             int ljung_box_lags) {
+  const int m = static_cast<int>(white.size());
+  double mean = 0.0;
+  for (double value : white) mean += value;
+  mean /= m;
+  double variance = 0.0;
+  for (double value : white) variance += (value - mean) * (value - mean);
+  variance /= m;
+  double lag1 = 0.0;
+  for (int j = 1; j < m; ++j) lag1 += (white[j] - mean) * (white[j - 1] - mean);
+  lag1 = variance > 0.0 ? lag1 / (m * variance) : 0.0;
+  ResidualCheck check;
+  check.name = StringPrintf("%s: lag-1 correlation", kAxisName[axis]);
+  check.axis = axis;
+  check.statistic = lag1;
+  check.dof = 1;
+  check.p_value = TwoSidedNormalTail(std::sqrt(static_cast<double>(m)) * lag1);
+  check.description = StringPrintf("%s: residuals correlated, lag-1 %.2f (p = %.2g)",
+                                   kAxisName[axis], lag1, check.p_value);
+  check.advice = CorrelationAdvice();
+  const WhitenessTest whiteness = LjungBox(white, ljung_box_lags);
+  ResidualCheck portmanteau;
+  portmanteau.name = StringPrintf("%s: portmanteau", kAxisName[axis]);
+  portmanteau.axis = axis;
+  portmanteau.statistic = whiteness.q;
+  portmanteau.dof = whiteness.lags;
+  portmanteau.p_value = whiteness.p_value;
+  portmanteau.description =
+      StringPrintf("%s: residuals not white (Ljung-Box Q = %.1f over %d lags, p = %.2g)",
+                   kAxisName[axis], whiteness.q, whiteness.lags, whiteness.p_value);
+  portmanteau.advice = CorrelationAdvice();
+  return {check, portmanteau};
+}
+
 std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
                                           const Eigen::MatrixXd& jacobian,
                                           const Eigen::VectorXd& residual,
@@ -429,22 +474,8 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
       if (OnePositionCheck(test, positions, axis, noise[axis], q, residual, &check))
         checks.push_back(std::move(check));
     }
-    // The whitened residuals of this axis, in sample order, outliers left out.
-    std::vector<double> white;
-    std::vector<int> sample_of;
-    for (int i = 0; i < n && 2 * i + axis < rows - endpoint_rows; ++i) {
-      if (noise[axis].IsOutlier(i)) continue;
-      white.push_back(residual[2 * i + axis]);
-      sample_of.push_back(i);
-    }
-    const int m = static_cast<int>(white.size());
-    if (m < 16) continue;
-    double mean = 0.0;
-    for (double value : white) mean += value;
-    mean /= m;
-    double variance = 0.0;
-    for (double value : white) variance += (value - mean) * (value - mean);
-    variance /= m;
+    const std::vector<double> white = AxisWhiteResiduals(residual, axis, n, endpoint_rows, noise[axis]);
+    if (white.size() < 16) continue;
     // A step: the largest chi-square a step column removes over the change points c in
     // [trim, n - trim], each projected off the model. With g_i = a_i - b_i (the whitening of
     // sample i), the whitened step at c is g_i for i > c and a_c at c, so every c's
@@ -500,34 +531,8 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
           sample);
       checks.push_back(std::move(check));
     }
-    // Correlation left.
-    {
-      double lag1 = 0.0;
-      for (int j = 1; j < m; ++j) lag1 += (white[j] - mean) * (white[j - 1] - mean);
-      lag1 = variance > 0.0 ? lag1 / (m * variance) : 0.0;
-      ResidualCheck check;
-      check.name = StringPrintf("%s: lag-1 correlation", kAxisName[axis]);
-      check.axis = axis;
-      check.statistic = lag1;
-      check.dof = 1;
-      check.p_value = TwoSidedNormalTail(std::sqrt(static_cast<double>(m)) * lag1);
-      check.description = StringPrintf("%s: residuals correlated, lag-1 %.2f (p = %.2g)",
-                                       kAxisName[axis], lag1, check.p_value);
-      check.advice = CorrelationAdvice();
+    for (ResidualCheck& check : CorrelationChecks(white, axis, options.ljung_box_lags))
       checks.push_back(std::move(check));
-      const WhitenessTest whiteness = LjungBox(white, options.ljung_box_lags);
-      ResidualCheck portmanteau;
-      portmanteau.name = StringPrintf("%s: portmanteau", kAxisName[axis]);
-      portmanteau.axis = axis;
-      portmanteau.statistic = whiteness.q;
-      portmanteau.dof = whiteness.lags;
-      portmanteau.p_value = whiteness.p_value;
-      portmanteau.description =
-          StringPrintf("%s: residuals not white (Ljung-Box Q = %.1f over %d lags, p = %.2g)",
-                       kAxisName[axis], whiteness.q, whiteness.lags, whiteness.p_value);
-      portmanteau.advice = CorrelationAdvice();
-      checks.push_back(std::move(portmanteau));
-    }
   }
   if (endpoint_rows == 2) {
     ResidualCheck check;

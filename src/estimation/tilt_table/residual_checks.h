@@ -87,6 +87,14 @@ std::vector<StaticPosition> StaticPositions(const std::vector<double>& theta_rad
 Eigen::VectorXd WhitenedShapeColumn(const std::vector<double>& shape, int axis,
                                     const AxisNoise& noise, int rows);
 
+// The whitened residuals of axis `axis`'s tilt-test rows, in sample order, outliers left out.
+std::vector<double> AxisWhiteResiduals(const Eigen::VectorXd& residual, int axis, int samples,
+                                       int endpoint_rows, const AxisNoise& noise);
+
+// The lag-1 correlation and portmanteau checks of one axis's whitened residuals (at least 16).
+std::vector<ResidualCheck> CorrelationChecks(const std::vector<double>& white, int axis,
+                                             int ljung_box_lags);
+
 // Runs every check; `jacobian` and `residual` from LinearizeJoint at the solution, `fitted`
 // from EvaluateFit at it; `endpoint_rows` is 2 when the run is tied to a landmark, else 0.
 std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
