@@ -249,17 +249,14 @@ std::string CorrelationAdvice() {
 // What the user can do about a k-theta harmonic the model cannot make.
 std::string HarmonicAdvice(const char* axis, int k) {
   const std::string cause =
-      k == 1 ? "a 1-theta shape the model's scale and angle terms cannot make (they act over the "
-               "whole test; this one does not)"
-             : StringPrintf(
-                   "a term of power %d in the force (the model's scale is linear%s), or an error "
-                   "in the reported angle that repeats %s per turn (an off-centre encoder gives "
-                   "2 theta)",
-                   k, k == 2 ? ", with at most the quadratic term of the catalogue" : "",
-                   k == 2 ? "twice" : StringPrintf("%d times", k).c_str());
+      k == 1 ? std::string("a 1-theta shape the model's scale and angle terms cannot make")
+             : StringPrintf("a term of power %d in the forces, or an error in the reported angle "
+                            "that repeats %d times a turn (an off-centre encoder gives 2 theta)",
+                            k, k);
   return StringPrintf(
       "the %s output depends on the table angle beyond the model: %s; check the table's angle "
-      "against a reference and the sensor's mount (flat, not loose), and log at more angles",
+      "against a reference and that the sensor sits flat and tight in its mount, and log at more "
+      "angles",
       axis, cause.c_str());
 }
 
