@@ -115,8 +115,8 @@ Scenario ScenarioFor(Design design, int samples) {
 }
 
 // The hidden shape: m/s^2 per sample on x, given the test's angles and the truth.
-using Shape = std::function<std::vector<double>(const CalibrationTest&, const SimulationTruth&,
-                                                double size)>;
+using Shape =
+    std::function<std::vector<double>(const CalibrationTest&, const SimulationTruth&, double size)>;
 
 // The chi-square a shape on x removes beyond the baseline's span on x (1, cos, sin theta).
 double Signature(const std::vector<double>& shape, const CalibrationTest& test, double sigma) {
@@ -244,12 +244,13 @@ const ShapeCase kCases[] = {
      Design::kStaticForthAndBack, ShapeClass::kPoseOrder, "position held"},
 };
 
-void PrintTo(const ShapeCase& c, std::ostream* os) { *os << c.name << " on " << DesignName(c.design); }
+void PrintTo(const ShapeCase& c, std::ostream* os) {
+  *os << c.name << " on " << DesignName(c.design);
+}
 
 // The first remaining shape is of the hidden class, and says what it must.
 bool NamesTheShape(const DiscoveryResult& result, const ShapeCase& c) {
-  if (result.verdict_code != Verdict::kUnexplained || result.remaining_checks.empty())
-    return false;
+  if (result.verdict_code != Verdict::kUnexplained || result.remaining_checks.empty()) return false;
   const ResidualCheck& first = result.checks[result.remaining_checks[0]];
   return first.shape_class == c.shape_class && first.axis == 0 && !first.advice.empty() &&
          first.description.find(c.in_description) != std::string::npos;

@@ -149,8 +149,8 @@ std::string RemainsBlock(const DiscoveryResult& result) {
     for (size_t i = 0; i < result.remaining.size(); ++i) {
       const std::string shape_class =
           i < result.remaining_checks.size()
-              ? StringPrintf("[%s] ", ShapeClassName(
-                                          result.checks[result.remaining_checks[i]].shape_class))
+              ? StringPrintf("[%s] ",
+                             ShapeClassName(result.checks[result.remaining_checks[i]].shape_class))
               : "";
       text += "  - " + shape_class + result.remaining[i] + "\n";
     }
@@ -166,11 +166,11 @@ std::string RemainsBlock(const DiscoveryResult& result) {
         sorted.size());
     for (size_t i = 0; i < shown; ++i) {
       const ResidualCheck& check = *sorted[i];
-      text += StringPrintf("  %-24s %-15s %12s %7s %12s  %s\n", check.name.c_str(),
-                           ShapeClassName(check.shape_class),
-                           Figure("%.2f", check.statistic).c_str(),
-                           Figure("%.0f", check.dof).c_str(), Figure("%.3g", check.p_value).c_str(),
-                           check.flagged ? "yes" : "");
+      text +=
+          StringPrintf("  %-24s %-15s %12s %7s %12s  %s\n", check.name.c_str(),
+                       ShapeClassName(check.shape_class), Figure("%.2f", check.statistic).c_str(),
+                       Figure("%.0f", check.dof).c_str(), Figure("%.3g", check.p_value).c_str(),
+                       check.flagged ? "yes" : "");
     }
   }
   return text;

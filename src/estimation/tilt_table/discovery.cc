@@ -524,10 +524,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   Eigen::VectorXd linear_residual;
   auto run_checks = [&]() -> Status {
     ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &linear_residual));
-    result->checks = CheckResiduals(
-        test, jacobian, linear_residual,
-        EvaluateFit(test, current.estimate.values, options.gravity_mps2),
-        current.landmark.empty() ? 0 : 2, final_noise, check_options);
+    result->checks =
+        CheckResiduals(test, jacobian, linear_residual,
+                       EvaluateFit(test, current.estimate.values, options.gravity_mps2),
+                       current.landmark.empty() ? 0 : 2, final_noise, check_options);
     FlagByHolm(checks_alpha, &result->checks);
     return Status::Ok();
   };
@@ -546,12 +546,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         LinearizeJoint(data, base, result->baseline_joint, &base_jacobian, &base_residual));
     const double effects_gain = TotalChi2(result->baseline_joint) - TotalChi2(current);
     const double effects_bic = effects_gain - joint.effects.size() * log_n;
-    for (const ResidualCheck& check :
-         CheckResiduals(test, base_jacobian, base_residual,
-                        EvaluateFit(test, result->baseline_joint.estimate.values,
-                                    options.gravity_mps2),
-                        result->baseline_joint.landmark.empty() ? 0 : 2, final_noise,
-                        check_options)) {
+    for (const ResidualCheck& check : CheckResiduals(
+             test, base_jacobian, base_residual,
+             EvaluateFit(test, result->baseline_joint.estimate.values, options.gravity_mps2),
+             result->baseline_joint.landmark.empty() ? 0 : 2, final_noise, check_options)) {
       if (check.name.find("step") == std::string::npos) continue;
       if (check.statistic - 2.0 * log_n >= effects_bic && check.p_value <= checks_alpha)
         simpler_steps.push_back({check.axis, check.shape[0]});

@@ -74,17 +74,17 @@ std::string DescribeTrend(const std::vector<double>& residual, const AxisNoise& 
   const char* name = kAxisName[axis];
   const auto percent = [](double u) { return 100.0 * (u + 0.5); };
   if (turns.empty()) {
-    return StringPrintf("%s: a monotonic curved trend over the test, %s by %.2g m/s^2 from start "
-                        "to end %s",
-                        name, end > start ? "rising" : "falling", std::abs(end - start),
-                        figures.c_str());
+    return StringPrintf(
+        "%s: a monotonic curved trend over the test, %s by %.2g m/s^2 from start "
+        "to end %s",
+        name, end > start ? "rising" : "falling", std::abs(end - start), figures.c_str());
   }
   if (turns.size() == 1) {
     const double top = curve(turns[0]);
     const bool peak = top > start;
     return StringPrintf(
         "%s: a trend over the test that %s then %s, %s at %.0f%% of the test (sample %d): %s by "
-        "%.2g m/s^2, then %s by %.2g %s",
+        "%.2g m/s^2, then %s by %.2g m/s^2 %s",
         name, peak ? "rises" : "falls", peak ? "falls" : "rises", peak ? "highest" : "lowest",
         percent(turns[0]), static_cast<int>(std::lround((turns[0] + 0.5) * (n - 1))),
         peak ? "rising" : "falling", std::abs(top - start), peak ? "falling" : "rising",
@@ -250,9 +250,10 @@ std::string CorrelationAdvice() {
 std::string HarmonicAdvice(const char* axis, int k) {
   const std::string cause =
       k == 1 ? std::string("a 1-theta shape the model's scale and angle terms cannot make")
-             : StringPrintf("a term of power %d in the forces, or an error in the reported angle "
-                            "that repeats %d times a turn (an off-centre encoder gives 2 theta)",
-                            k, k);
+             : StringPrintf(
+                   "a term of power %d in the forces, or an error in the reported angle "
+                   "that repeats %d times a turn (an off-centre encoder gives 2 theta)",
+                   k, k);
   return StringPrintf(
       "the %s output depends on the table angle beyond the model: %s; check the table's angle "
       "against a reference and that the sensor sits flat and tight in its mount, and log at more "
@@ -291,8 +292,8 @@ std::vector<double> TurnDirection(const std::vector<double>& theta_rad) {
     }
     direction[i] = current;
   }
-  if (first_move > 0) std::fill(direction.begin(), direction.begin() + first_move,
-                                direction[first_move]);
+  if (first_move > 0)
+    std::fill(direction.begin(), direction.begin() + first_move, direction[first_move]);
   return direction;
 }
 
@@ -471,7 +472,8 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
       if (OnePositionCheck(test, positions, axis, noise[axis], q, residual, &check))
         checks.push_back(std::move(check));
     }
-    const std::vector<double> white = AxisWhiteResiduals(residual, axis, n, endpoint_rows, noise[axis]);
+    const std::vector<double> white =
+        AxisWhiteResiduals(residual, axis, n, endpoint_rows, noise[axis]);
     if (white.size() < 16) continue;
     // A step: the largest chi-square a step column removes over the change points c in
     // [trim, n - trim], each projected off the model. With g_i = a_i - b_i (the whitening of
