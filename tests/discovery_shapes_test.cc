@@ -13,7 +13,9 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <string>
+#include <utility>
 
 #include "discovery_seed.h"
 #include "estimation/tilt_table/discovery.h"
@@ -288,7 +290,10 @@ INSTANTIATE_TEST_SUITE_P(TwoAxisShapes, HiddenShapeTest, testing::ValuesIn(kCase
                          });
 
 // The whole procedure on null data of the eight designs (small tests, to keep it fast): any
-// verdict but "explained" at most alpha + 2 sd of the time over 1000 datasets.
+// verdict but "explained" at most alpha + 2 sd of the time over 1000 datasets. And each new
+// check on its own keeps its level: p <= 0.05 at most 5% + 3 sd of the time it runs. The
+// procedure's level alone would hardly see a check that forgot its Bonferroni factor (Holm
+// spreads alpha/4 over some 30 checks); this does.
 TEST(TwoAxisShapes, NullRateOverMixedDesignsIsAtMostAlpha) {
   constexpr int kDatasets = 1000;
   const Design designs[] = {Design::kSweep,
@@ -303,6 +308,10 @@ TEST(TwoAxisShapes, NullRateOverMixedDesignsIsAtMostAlpha) {
   const auto start = std::chrono::steady_clock::now();
   int not_explained = 0;
   std::string example;
+  // Per new class: how often its checks ran, and how often at p <= 0.05.
+  const ShapeClass new_classes[] = {ShapeClass::kTurnDirection, ShapeClass::kFullScale,
+                                    ShapeClass::kPoseOrder};
+  std::map<ShapeClass, std::pair<int, int>> level;
   for (int d = 0; d < kDatasets; ++d) {
     const Design design = designs[d % kDesigns];
     const Scenario scenario = ScenarioFor(design, 400);
@@ -310,6 +319,10 @@ TEST(TwoAxisShapes, NullRateOverMixedDesignsIsAtMostAlpha) {
     if (result.verdict_code != Verdict::kExplained) {
       ++not_explained;
       if (example.empty()) example = std::string(DesignName(design)) + ": " + result.verdict;
+    }
+    for (const ResidualCheck& check : result.checks) {
+      ++level[check.shape_class].first;
+      level[check.shape_class].second += check.p_value <= 0.05;
     }
   }
   const double seconds =
@@ -319,6 +332,14 @@ TEST(TwoAxisShapes, NullRateOverMixedDesignsIsAtMostAlpha) {
   std::printf("null: %d of %d not explained (alpha %.2g, bound %.1f), %.1f s\n", not_explained,
               kDatasets, alpha, (alpha + 2.0 * sd) * kDatasets, seconds);
   EXPECT_LE(not_explained, (alpha + 2.0 * sd) * kDatasets) << "e.g. " << example;
+  for (const ShapeClass shape_class : new_classes) {
+    const auto [runs, at_five_percent] = level[shape_class];
+    std::printf("%s checks: p <= 0.05 in %d of %d\n", ShapeClassName(shape_class), at_five_percent,
+                runs);
+    EXPECT_GT(runs, 0) << ShapeClassName(shape_class);
+    EXPECT_LE(at_five_percent, 0.05 * runs + 3.0 * std::sqrt(0.05 * 0.95 * runs))
+        << ShapeClassName(shape_class);
+  }
 }
 
 }  // namespace
