@@ -107,14 +107,17 @@ Status RequireKeys(const json& object, const std::vector<const char*>& keys,
 
 // The "disturbances" object of a scenario: the keys noise_ar1 [x, y], noise_student_t_dof,
 // outlier_fraction, outlier_sigma, theta_harmonic {"order", "amplitude": [x, y], "phase"},
-// bias_step {"at", "size": [x, y]} and scale_cubic [x, y], each into its --set names
-// (simulation/disturbances.h). An unknown key is an error; ranges are ValidateDisturbances's.
+// bias_step {"at", "size": [x, y]}, scale_cubic [x, y], bias_warmup [x, y], bias_hysteresis
+// [x, y], position_offset {"at", "size": [x, y]} and full_scale [x, y], each into its --set
+// names (simulation/disturbances.h). An unknown key is an error; ranges are
+// ValidateDisturbances's.
 Status ParseDisturbances(const json& object, Disturbances* disturbances) {
   const std::string where = "disturbances";
   ACCELCAL_RETURN_IF_ERROR(
       CheckKeys(object,
                 {"noise_ar1", "noise_student_t_dof", "outlier_fraction", "outlier_sigma",
-                 "theta_harmonic", "bias_step", "scale_cubic"},
+                 "theta_harmonic", "bias_step", "scale_cubic", "bias_warmup", "bias_hysteresis",
+                 "position_offset", "full_scale"},
                 where));
   Disturbances parsed = *disturbances;
   ACCELCAL_RETURN_IF_ERROR(
@@ -147,6 +150,21 @@ Status ParseDisturbances(const json& object, Disturbances* disturbances) {
   }
   ACCELCAL_RETURN_IF_ERROR(
       ReadInto(object, "scale_cubic", where, {"scale_cubic_x", "scale_cubic_y"}, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInto(object, "bias_warmup", where, {"bias_warmup_x", "bias_warmup_y"}, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(ReadInto(object, "bias_hysteresis", where,
+                                    {"bias_hysteresis_x", "bias_hysteresis_y"}, &parsed));
+  if (object.contains("position_offset")) {
+    const json& offset = object.at("position_offset");
+    const std::string offset_where = where + ".position_offset";
+    ACCELCAL_RETURN_IF_ERROR(CheckKeys(offset, {"at", "size"}, offset_where));
+    ACCELCAL_RETURN_IF_ERROR(RequireKeys(offset, {"at", "size"}, offset_where));
+    ACCELCAL_RETURN_IF_ERROR(ReadInto(offset, "at", offset_where, {"position_offset_at"}, &parsed));
+    ACCELCAL_RETURN_IF_ERROR(ReadInto(offset, "size", offset_where,
+                                      {"position_offset_x", "position_offset_y"}, &parsed));
+  }
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInto(object, "full_scale", where, {"full_scale_x", "full_scale_y"}, &parsed));
   *disturbances = parsed;
   return Status::Ok();
 }

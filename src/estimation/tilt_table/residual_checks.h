@@ -43,6 +43,7 @@
 #include <vector>
 
 #include "common/measurements.h"
+#include "common/tilt_motion.h"
 #include "estimation/discovery/check.h"
 #include "estimation/statistics/extra_chi_square.h"
 #include "models/effects.h"
@@ -65,23 +66,6 @@ struct FittedOutputs {
 };
 FittedOutputs EvaluateFit(const CalibrationTest& test, const ModelParameters<double>& values,
                           double gravity_mps2);
-
-// The direction the table turns at each sample: +1 while theta increases, -1 while it
-// decreases. A sample where the table holds still keeps the direction of the last move, and
-// the samples before the first move take that move's; a move is a change of at least
-// kTurnTolerance from where the direction was last decided, so that jitter in a held angle
-// does not flip it. All zero when the table never moves.
-inline constexpr double kTurnTolerance = 1e-3;  // rad
-std::vector<double> TurnDirection(const std::vector<double>& theta_rad);
-
-// The static positions of a test: runs of at least kMinPositionSamples consecutive samples
-// with the same reported theta, as [begin, end) sample ranges. Empty for a sweep.
-inline constexpr int kMinPositionSamples = 5;
-struct StaticPosition {
-  int begin = 0;
-  int end = 0;
-};
-std::vector<StaticPosition> StaticPositions(const std::vector<double>& theta_rad);
 
 // The whitened rows of a shape column on axis `axis` (the full linearised problem's rows).
 Eigen::VectorXd WhitenedShapeColumn(const std::vector<double>& shape, int axis,
