@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "common/tilt_motion.h"
 #include "estimation/tilt_table/linear_ls.h"
 #include "io/course_data.h"
 #include "io/mat_file.h"
@@ -713,6 +714,53 @@ TEST(Disturbances, HarmonicStepAndCubicScaleAddExactlyTheirTerms) {
     EXPECT_NEAR(run_x[j], 1e-4 * ax[j] * ax[j] * ax[j], tolerance) << j;
     EXPECT_NEAR(run_y[j], -2e-4 * ay[j] * ay[j] * ay[j], tolerance) << j;
   }
+}
+
+// The shapes of issue 33, item 1: a warm-up and cool-down, a bias that depends on the turn,
+// one held position offset, clipping at full scale; each adds exactly its term.
+TEST(Disturbances, WarmUpHysteresisPositionOffsetAndFullScaleAddExactlyTheirTerms) {
+  Scenario scenario;
+  ASSERT_TRUE(CourseScenarioWith(R"({"bias_warmup": [0.2, 0],
+                                      "bias_hysteresis": [0, -0.1],
+                                      "position_offset": {"at": 0.3, "size": [0.05, 0.07]},
+                                      "full_scale": [9.0, 0]})",
+                                 &scenario)
+                  .ok());
+  ASSERT_TRUE(ApplyScenarioOverrides("noise_variance_x_stated=1e-12,noise_variance_y_stated=1e-12",
+                                     &scenario)
+                  .ok());
+  // Ten positions going up, then the same ten coming down, 20 samples each.
+  scenario.tilt.kind = TiltSchedule::Kind::kStaticPositions;
+  scenario.tilt.sample_count = 400;
+  for (int p = 0; p < 20; ++p) scenario.tilt.positions_rad.push_back((p < 10 ? p : 19 - p) * 0.6);
+  const SimulationTruth& truth = scenario.truth;
+  const SimulatedData data = SimulateScenario(scenario, 17);
+  std::vector<double> residual_x;
+  std::vector<double> residual_y;
+  TiltTestResiduals(data.test, truth, &residual_x, &residual_y);
+  const int n = data.test.size();
+  double warmup_mean = 0.0;
+  for (int i = 0; i < n; ++i) warmup_mean += std::sin(M_PI * i / (n - 1)) / n;
+  const std::vector<double> direction = TurnDirection(data.test.theta_rad);
+  const double tolerance = 1e-5;  // 10 sigma
+  for (int i = 0; i < n; ++i) {
+    // Sample floor(0.3 N) = 120 is in the seventh position, samples 120 to 139.
+    const bool offset = i >= 120 && i < 140;
+    double force_x = 0.0;
+    double force_y = 0.0;
+    CalibrationForcesAlongAxes(data.test.theta_rad[i], truth.gravity_mps2, truth.parameters,
+                               &force_x, &force_y);
+    const double clipped =
+        std::abs(force_x) > 9.0 ? std::copysign(std::abs(force_x) - 9.0, force_x) : 0.0;
+    EXPECT_NEAR(
+        residual_x[i],
+        0.2 * (std::sin(M_PI * i / (n - 1)) - warmup_mean) + (offset ? 0.05 : 0.0) - clipped,
+        tolerance)
+        << i;
+    EXPECT_NEAR(residual_y[i], -0.05 * direction[i] + (offset ? 0.07 : 0.0), tolerance) << i;
+  }
+  EXPECT_EQ(direction.front(), 1.0);
+  EXPECT_EQ(direction.back(), -1.0);
 }
 
 TEST(Disturbances, OverridesSetEachDisturbanceByName) {

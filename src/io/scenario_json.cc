@@ -105,16 +105,33 @@ Status RequireKeys(const json& object, const std::vector<const char*>& keys,
   return Status::Ok();
 }
 
+// object[key], when there, as {"at", "size": [x, y]} into the settings key_at, key_x, key_y
+// (bias_step, position_offset: a place in the test and a size per axis).
+Status ReadAtAndSize(const json& object, const std::string& key, const std::string& where,
+                     Disturbances* disturbances) {
+  if (!object.contains(key)) return Status::Ok();
+  const json& value = object.at(key);
+  const std::string value_where = where + "." + key;
+  const std::string at = key + "_at", x = key + "_x", y = key + "_y";
+  ACCELCAL_RETURN_IF_ERROR(CheckKeys(value, {"at", "size"}, value_where));
+  ACCELCAL_RETURN_IF_ERROR(RequireKeys(value, {"at", "size"}, value_where));
+  ACCELCAL_RETURN_IF_ERROR(ReadInto(value, "at", value_where, {at.c_str()}, disturbances));
+  return ReadInto(value, "size", value_where, {x.c_str(), y.c_str()}, disturbances);
+}
+
 // The "disturbances" object of a scenario: the keys noise_ar1 [x, y], noise_student_t_dof,
 // outlier_fraction, outlier_sigma, theta_harmonic {"order", "amplitude": [x, y], "phase"},
-// bias_step {"at", "size": [x, y]} and scale_cubic [x, y], each into its --set names
-// (simulation/disturbances.h). An unknown key is an error; ranges are ValidateDisturbances's.
+// bias_step {"at", "size": [x, y]}, scale_cubic [x, y], bias_warmup [x, y], bias_hysteresis
+// [x, y], position_offset {"at", "size": [x, y]} and full_scale [x, y], each into its --set
+// names (simulation/disturbances.h). An unknown key is an error; ranges are
+// ValidateDisturbances's.
 Status ParseDisturbances(const json& object, Disturbances* disturbances) {
   const std::string where = "disturbances";
   ACCELCAL_RETURN_IF_ERROR(
       CheckKeys(object,
                 {"noise_ar1", "noise_student_t_dof", "outlier_fraction", "outlier_sigma",
-                 "theta_harmonic", "bias_step", "scale_cubic"},
+                 "theta_harmonic", "bias_step", "scale_cubic", "bias_warmup", "bias_hysteresis",
+                 "position_offset", "full_scale"},
                 where));
   Disturbances parsed = *disturbances;
   ACCELCAL_RETURN_IF_ERROR(
@@ -136,17 +153,16 @@ Status ParseDisturbances(const json& object, Disturbances* disturbances) {
     ACCELCAL_RETURN_IF_ERROR(
         ReadInto(harmonic, "phase", harmonic_where, {"theta_harmonic_phase"}, &parsed));
   }
-  if (object.contains("bias_step")) {
-    const json& step = object.at("bias_step");
-    const std::string step_where = where + ".bias_step";
-    ACCELCAL_RETURN_IF_ERROR(CheckKeys(step, {"at", "size"}, step_where));
-    ACCELCAL_RETURN_IF_ERROR(RequireKeys(step, {"at", "size"}, step_where));
-    ACCELCAL_RETURN_IF_ERROR(ReadInto(step, "at", step_where, {"bias_step_at"}, &parsed));
-    ACCELCAL_RETURN_IF_ERROR(
-        ReadInto(step, "size", step_where, {"bias_step_x", "bias_step_y"}, &parsed));
-  }
+  ACCELCAL_RETURN_IF_ERROR(ReadAtAndSize(object, "bias_step", where, &parsed));
   ACCELCAL_RETURN_IF_ERROR(
       ReadInto(object, "scale_cubic", where, {"scale_cubic_x", "scale_cubic_y"}, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInto(object, "bias_warmup", where, {"bias_warmup_x", "bias_warmup_y"}, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(ReadInto(object, "bias_hysteresis", where,
+                                    {"bias_hysteresis_x", "bias_hysteresis_y"}, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(ReadAtAndSize(object, "position_offset", where, &parsed));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadInto(object, "full_scale", where, {"full_scale_x", "full_scale_y"}, &parsed));
   *disturbances = parsed;
   return Status::Ok();
 }

@@ -51,7 +51,9 @@ Status LoadScenario(const std::string& path, Scenario* scenario);
 // run_duration, run_dt, or a disturbance (simulation/disturbances.h): noise_ar1_x,
 // noise_ar1_y, noise_student_t_dof, outlier_fraction, outlier_sigma, theta_harmonic_order,
 // theta_harmonic_x, theta_harmonic_y, theta_harmonic_phase, bias_step_at, bias_step_x,
-// bias_step_y, scale_cubic_x, scale_cubic_y.
+// bias_step_y, scale_cubic_x, scale_cubic_y, bias_warmup_x, bias_warmup_y, bias_hysteresis_x,
+// bias_hysteresis_y, position_offset_at, position_offset_x, position_offset_y, full_scale_x,
+// full_scale_y.
 Status ApplyScenarioOverrides(const std::string& assignments, Scenario* scenario);
 
 // data/scenarios/tp2-2018.json, compiled into the library (simulation/embedded_scenarios.h),

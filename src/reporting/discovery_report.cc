@@ -145,21 +145,32 @@ std::string RemainsBlock(const DiscoveryResult& result) {
   if (result.remaining.empty()) {
     text += "  nothing the checks can see\n";
   } else {
-    for (const std::string& line : result.remaining) text += "  - " + line + "\n";
+    // Each line with the class of its shape: what it is a function of.
+    for (size_t i = 0; i < result.remaining.size(); ++i) {
+      const std::string shape_class =
+          i < result.remaining_checks.size()
+              ? StringPrintf("[%s] ",
+                             ShapeClassName(result.checks[result.remaining_checks[i]].shape_class))
+              : "";
+      text += "  - " + shape_class + result.remaining[i] + "\n";
+    }
   }
   const std::vector<const ResidualCheck*> sorted = StrongestChecks(result.checks);
   size_t shown = 0;
   for (const ResidualCheck* check : sorted) shown += check->flagged;
   shown = std::min(sorted.size(), std::max<size_t>(shown, 5));
   if (shown > 0) {
-    text += StringPrintf("  strongest of %zu checks     statistic     dof      p-value  flagged\n",
-                         sorted.size());
+    text += StringPrintf(
+        "  strongest of %zu checks     class              statistic     dof      p-value  "
+        "flagged\n",
+        sorted.size());
     for (size_t i = 0; i < shown; ++i) {
       const ResidualCheck& check = *sorted[i];
       text +=
-          StringPrintf("  %-24s %12s %7s %12s  %s\n", check.name.c_str(),
-                       Figure("%.2f", check.statistic).c_str(), Figure("%.0f", check.dof).c_str(),
-                       Figure("%.3g", check.p_value).c_str(), check.flagged ? "yes" : "");
+          StringPrintf("  %-24s %-15s %12s %7s %12s  %s\n", check.name.c_str(),
+                       ShapeClassName(check.shape_class), Figure("%.2f", check.statistic).c_str(),
+                       Figure("%.0f", check.dof).c_str(), Figure("%.3g", check.p_value).c_str(),
+                       check.flagged ? "yes" : "");
     }
   }
   return text;
@@ -459,7 +470,18 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
          {"dof", Finite(check.dof)},
          {"p_value", Finite(check.p_value)},
          {"flagged", check.flagged},
-         {"description", check.description}});
+         {"description", check.description},
+         {"shape_class", ShapeClassName(check.shape_class)},
+         {"advice", check.advice}});
+  }
+  // The verdict's shapes, strongest first.
+  nlohmann::json remaining_shapes = nlohmann::json::array();
+  for (const int index : result.remaining_checks) {
+    const ResidualCheck& check = result.checks[index];
+    remaining_shapes.push_back({{"check", check.name},
+                                {"shape_class", ShapeClassName(check.shape_class)},
+                                {"description", check.description},
+                                {"advice", check.advice}});
   }
   nlohmann::json ambiguities = nlohmann::json::array();
   for (const Ambiguity& ambiguity : result.ambiguities) {
@@ -523,6 +545,7 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
           {"robust_fit", result.robust_fit},
           {"checks", checks},
           {"remaining", result.remaining},
+          {"remaining_shapes", remaining_shapes},
           {"ambiguities", ambiguities},
           {"tie_dependence", TieDependenceJson(result.tie_dependence)},
           {"reached", ReachedJson(result.extended_decision)},

@@ -62,6 +62,24 @@ const Setting kSettings[] = {
      "the x cubic scale term"},
     {"scale_cubic_y", &Disturbances::scale_cubic_y, '[', -1e-2, 1e-2, ']', "1/(m/s^2)^2",
      "the y cubic scale term"},
+    {"bias_warmup_x", &Disturbances::bias_warmup_x, '[', -100.0, 100.0, ']', "m/s^2",
+     "the x warm-up and cool-down's height"},
+    {"bias_warmup_y", &Disturbances::bias_warmup_y, '[', -100.0, 100.0, ']', "m/s^2",
+     "the y warm-up and cool-down's height"},
+    {"bias_hysteresis_x", &Disturbances::bias_hysteresis_x, '[', -100.0, 100.0, ']', "m/s^2",
+     "the x bias turning up minus turning down"},
+    {"bias_hysteresis_y", &Disturbances::bias_hysteresis_y, '[', -100.0, 100.0, ']', "m/s^2",
+     "the y bias turning up minus turning down"},
+    {"position_offset_at", &Disturbances::position_offset_at, '(', 0.0, 1.0, ')', "",
+     "the sample in the held position that is offset, as a fraction of the test's samples"},
+    {"position_offset_x", &Disturbances::position_offset_x, '[', -100.0, 100.0, ']', "m/s^2",
+     "the x offset of one held position"},
+    {"position_offset_y", &Disturbances::position_offset_y, '[', -100.0, 100.0, ']', "m/s^2",
+     "the y offset of one held position"},
+    {"full_scale_x", &Disturbances::full_scale_x, '(', 0.0, 1000.0, ']', "m/s^2",
+     "the force along x beyond which x clips", "no clipping"},
+    {"full_scale_y", &Disturbances::full_scale_y, '(', 0.0, 1000.0, ']', "m/s^2",
+     "the force along y beyond which y clips", "no clipping"},
 };
 
 const Setting* FindSetting(const std::string& name) {
@@ -100,7 +118,10 @@ double StandardGamma(double shape, RandomSource* random) {
 bool Disturbances::any() const {
   return noise_ar1_x != 0.0 || noise_ar1_y != 0.0 || noise_student_t_dof != 0.0 ||
          outlier_fraction != 0.0 || theta_harmonic_x != 0.0 || theta_harmonic_y != 0.0 ||
-         bias_step_x != 0.0 || bias_step_y != 0.0 || scale_cubic_x != 0.0 || scale_cubic_y != 0.0;
+         bias_step_x != 0.0 || bias_step_y != 0.0 || scale_cubic_x != 0.0 || scale_cubic_y != 0.0 ||
+         bias_warmup_x != 0.0 || bias_warmup_y != 0.0 || bias_hysteresis_x != 0.0 ||
+         bias_hysteresis_y != 0.0 || position_offset_x != 0.0 || position_offset_y != 0.0 ||
+         full_scale_x != 0.0 || full_scale_y != 0.0;
 }
 
 const std::vector<std::string>& DisturbanceNames() {
@@ -161,7 +182,8 @@ json DisturbancesJson(const Disturbances& disturbances) {
 }
 
 SampleDisturber::SampleDisturber(const Disturbances& disturbances, Phase phase, int sample_count,
-                                 double sigma_x, double sigma_y, uint64_t seed, uint64_t stream)
+                                 double sigma_x, double sigma_y, uint64_t seed, uint64_t stream,
+                                 const std::vector<double>& theta_rad)
     : in_tilt_test_(phase == Phase::kCalibrationTest),
       student_t_dof_(disturbances.noise_student_t_dof),
       outlier_fraction_(in_tilt_test_ ? disturbances.outlier_fraction : 0.0),
@@ -169,24 +191,47 @@ SampleDisturber::SampleDisturber(const Disturbances& disturbances, Phase phase, 
       harmonic_order_(disturbances.theta_harmonic_order),
       harmonic_phase_rad_(disturbances.theta_harmonic_phase_rad),
       step_sample_(static_cast<int>(std::floor(disturbances.bias_step_at * sample_count))),
-      has_scale_cubic_(disturbances.scale_cubic_x != 0.0 || disturbances.scale_cubic_y != 0.0),
+      needs_forces_(disturbances.scale_cubic_x != 0.0 || disturbances.scale_cubic_y != 0.0 ||
+                    disturbances.full_scale_x != 0.0 || disturbances.full_scale_y != 0.0),
+      sample_count_(sample_count),
       student_t_random_(seed ^ kStudentTSeedMix, stream),
       outlier_random_(seed ^ kOutlierSeedMix, stream) {
-  const auto make_axis = [&](double sigma, double rho, double harmonic, double step, double cubic) {
+  const auto make_axis = [&](double sigma, double rho, double harmonic, double step, double cubic,
+                             double warmup, double hysteresis, double offset, double full_scale) {
     Axis axis;
     axis.sigma = sigma;
     axis.rho = rho;
     axis.innovation_sigma = std::sqrt(1.0 - rho * rho) * sigma;
-    // The harmonic and the step belong to the table's test, not to the run.
+    // The harmonic, the step, the warm-up, the hysteresis and the position's offset belong to
+    // the table's test, not to the run.
     axis.harmonic_amplitude = in_tilt_test_ ? harmonic : 0.0;
     axis.step_size = in_tilt_test_ ? step : 0.0;
     axis.scale_cubic = cubic;
+    axis.warmup = in_tilt_test_ ? warmup : 0.0;
+    axis.hysteresis = in_tilt_test_ ? hysteresis : 0.0;
+    axis.position_offset = in_tilt_test_ ? offset : 0.0;
+    axis.full_scale = full_scale;
     return axis;
   };
-  x_ = make_axis(sigma_x, disturbances.noise_ar1_x, disturbances.theta_harmonic_x,
-                 disturbances.bias_step_x, disturbances.scale_cubic_x);
-  y_ = make_axis(sigma_y, disturbances.noise_ar1_y, disturbances.theta_harmonic_y,
-                 disturbances.bias_step_y, disturbances.scale_cubic_y);
+  const Disturbances& d = disturbances;
+  x_ = make_axis(sigma_x, d.noise_ar1_x, d.theta_harmonic_x, d.bias_step_x, d.scale_cubic_x,
+                 d.bias_warmup_x, d.bias_hysteresis_x, d.position_offset_x, d.full_scale_x);
+  y_ = make_axis(sigma_y, d.noise_ar1_y, d.theta_harmonic_y, d.bias_step_y, d.scale_cubic_y,
+                 d.bias_warmup_y, d.bias_hysteresis_y, d.position_offset_y, d.full_scale_y);
+  if (x_.warmup != 0.0 || y_.warmup != 0.0) {
+    for (int i = 0; i < sample_count; ++i) warmup_mean_ += WarmUp(i) / sample_count;
+  }
+  if (x_.hysteresis != 0.0 || y_.hysteresis != 0.0) turn_direction_ = TurnDirection(theta_rad);
+  if (x_.position_offset != 0.0 || y_.position_offset != 0.0) {
+    const int sample = static_cast<int>(std::floor(d.position_offset_at * sample_count));
+    for (const StaticPosition& held : StaticPositions(theta_rad)) {
+      if (sample >= held.begin && sample < held.end) offset_position_ = held;
+    }
+  }
+}
+
+double SampleDisturber::WarmUp(int sample_index) const {
+  return sample_count_ > 1 ? std::sin(M_PI * sample_index / (sample_count_ - 1)) : 0.0;
 }
 
 double SampleDisturber::UnitInnovation(double normal) {
@@ -227,6 +272,15 @@ void SampleDisturber::ApplyToAxis(int sample_index, double theta_reported_rad,
   if (axis->step_size != 0.0 && sample_index >= step_sample_) *output += axis->step_size;
   if (axis->scale_cubic != 0.0) {
     *output += axis->scale_cubic * force_along_axis * force_along_axis * force_along_axis;
+  }
+  if (axis->warmup != 0.0) *output += axis->warmup * (WarmUp(sample_index) - warmup_mean_);
+  if (axis->hysteresis != 0.0) *output += 0.5 * axis->hysteresis * turn_direction_[sample_index];
+  if (axis->position_offset != 0.0 && sample_index >= offset_position_.begin &&
+      sample_index < offset_position_.end) {
+    *output += axis->position_offset;
+  }
+  if (axis->full_scale != 0.0 && std::abs(force_along_axis) > axis->full_scale) {
+    *output -= std::copysign(std::abs(force_along_axis) - axis->full_scale, force_along_axis);
   }
 }
 

@@ -6,7 +6,9 @@
 // else" rather than name an effect it knows. Each axis k in {x, y} of a sample i outputs
 //
 //   m_k,i = (catalogue model)_k,i + n_k,i + o_k,i + a_k sin(n theta_i + phase)
-//           + s_k [i >= floor(at N)] + c_k f_k,i^3                            [m/s^2]
+//           + s_k [i >= floor(at N)] + c_k f_k,i^3 + w_k (sin(pi i/(N-1)) - mean)
+//           + h_k d_i / 2 + p_k [i in the held position at floor(at_p N)]
+//           - sign(f_k,i) max(0, |f_k,i| - L_k)                               [m/s^2]
 //
 //   n_k,i   noise_ar1, noise_student_t_dof: n_0 = sigma_k w_0,
 //           n_i = rho_k n_{i-1} + sqrt(1 - rho_k^2) sigma_k w_i, in sample order, with
@@ -21,6 +23,16 @@
 //   c_k     scale_cubic [1/(m/s^2)^2]: f_k the true force along the axis, the one the
 //           model's scale acts on (models/sensor_model.h); in the run, the true
 //           acceleration projected on the axis. Tilt test and vehicle run.
+//   w_k     bias_warmup: a warm-up, then a cool-down, over the test: a half sine, less its
+//           mean over the test (the bias is the test's mean bias, as with the catalogue's
+//           drift, so the run is not moved). Tilt test only.
+//   h_k     bias_hysteresis: up-sweeps minus down-sweeps, d_i the table's turn direction
+//           (common/tilt_motion.h: +1 turning up, -1 down). Tilt test only.
+//   p_k     position_offset: an offset on the held position (common/tilt_motion.h) that
+//           contains sample floor(at_p N), at_p = position_offset_at; none when that sample
+//           is in no held position. Tilt test only.
+//   L_k     full_scale: the axis clips at +-L_k in the force along it (0: it does not).
+//           Tilt test and vehicle run.
 //
 // With every disturbance neutral the simulator's output is bit for bit what it was
 // without them: the AR(1) filter runs on the simulator's own normal draws (rho = 0 passes
@@ -33,6 +45,7 @@
 #include <vector>
 
 #include "common/status.h"
+#include "common/tilt_motion.h"
 #include "models/effect.h"
 #include "simulation/random.h"
 
@@ -49,18 +62,27 @@ struct Disturbances {
   double theta_harmonic_x = 0.0;     // a_x [m/s^2]
   double theta_harmonic_y = 0.0;     // a_y
   double theta_harmonic_phase_rad = 0.0;
-  double bias_step_at = 0.5;   // a fraction of the test's samples, in (0, 1)
-  double bias_step_x = 0.0;    // s_x [m/s^2]
-  double bias_step_y = 0.0;    // s_y
-  double scale_cubic_x = 0.0;  // c_x [1/(m/s^2)^2]
-  double scale_cubic_y = 0.0;  // c_y
+  double bias_step_at = 0.5;        // a fraction of the test's samples, in (0, 1)
+  double bias_step_x = 0.0;         // s_x [m/s^2]
+  double bias_step_y = 0.0;         // s_y
+  double scale_cubic_x = 0.0;       // c_x [1/(m/s^2)^2]
+  double scale_cubic_y = 0.0;       // c_y
+  double bias_warmup_x = 0.0;       // w_x [m/s^2]
+  double bias_warmup_y = 0.0;       // w_y
+  double bias_hysteresis_x = 0.0;   // h_x [m/s^2]
+  double bias_hysteresis_y = 0.0;   // h_y
+  double position_offset_at = 0.5;  // at_p, a fraction of the test's samples, in (0, 1)
+  double position_offset_x = 0.0;   // p_x [m/s^2]
+  double position_offset_y = 0.0;   // p_y
+  double full_scale_x = 0.0;        // L_x [m/s^2], 0: no clipping
+  double full_scale_y = 0.0;        // L_y
 
   // Whether any disturbance changes the data (an order, phase, step position or outlier
   // size alone does not).
   bool any() const;
 };
 
-// The --set names, in the order of the struct: noise_ar1_x, ..., scale_cubic_y.
+// The --set names, in the order of the struct: noise_ar1_x, ..., full_scale_y.
 const std::vector<std::string>& DisturbanceNames();
 bool IsDisturbanceName(const std::string& name);
 
@@ -79,12 +101,13 @@ nlohmann::json DisturbancesJson(const Disturbances& disturbances);
 class SampleDisturber {
  public:
   // `seed` and `stream` are the simulator's for this phase; the disturber's own streams
-  // are derived from them.
+  // are derived from them. `theta_rad` is the tilt test's reported angles (empty in the run).
   SampleDisturber(const Disturbances& disturbances, Phase phase, int sample_count, double sigma_x,
-                  double sigma_y, uint64_t seed, uint64_t stream);
+                  double sigma_y, uint64_t seed, uint64_t stream,
+                  const std::vector<double>& theta_rad = {});
 
-  // Whether Apply reads the forces along the axes (only the cubic scale term needs them).
-  bool needs_forces() const { return has_scale_cubic_; }
+  // Whether Apply reads the forces along the axes (the cubic scale term and clipping).
+  bool needs_forces() const { return needs_forces_; }
 
   // Turns sample i's noiseless outputs (*output_x, *output_y, from the catalogue's model)
   // into its measured outputs. normal_x and normal_y are the simulator's two standard normal
@@ -108,6 +131,10 @@ class SampleDisturber {
     double harmonic_amplitude = 0.0;
     double step_size = 0.0;
     double scale_cubic = 0.0;
+    double warmup = 0.0;
+    double hysteresis = 0.0;
+    double position_offset = 0.0;
+    double full_scale = 0.0;
     bool started = false;  // n_0 = sigma w_0 has no predecessor
     std::vector<int> outlier_indices;
   };
@@ -115,6 +142,8 @@ class SampleDisturber {
   // A unit-variance innovation from the simulator's normal draw: the draw itself, or a
   // Student-t of nu degrees of freedom scaled to unit variance.
   double UnitInnovation(double normal);
+  // sin(pi i/(N-1)): the warm-up and cool-down's shape at sample i, before its mean is taken.
+  double WarmUp(int sample_index) const;
   void ApplyToAxis(int sample_index, double theta_reported_rad, double force_along_axis,
                    double normal, Axis* axis, double* output);
 
@@ -125,7 +154,11 @@ class SampleDisturber {
   const int harmonic_order_;
   const double harmonic_phase_rad_;
   const int step_sample_;
-  const bool has_scale_cubic_;
+  const bool needs_forces_;
+  double warmup_mean_ = 0.0;  // of sin(pi i/(N-1)) over the test
+  int sample_count_ = 0;
+  std::vector<double> turn_direction_;  // tilt test, with a hysteresis
+  StaticPosition offset_position_;      // tilt test, with a position offset; empty: none
   RandomSource student_t_random_;
   RandomSource outlier_random_;
   Axis x_;

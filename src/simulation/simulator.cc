@@ -66,7 +66,7 @@ CalibrationTest SimulateTiltTest(const TiltSchedule& schedule, const SimulationT
   test.measured_x.resize(n);
   test.measured_y.resize(n);
   SampleDisturber disturber(truth.disturbances, Phase::kCalibrationTest, n, sigma_x, sigma_y, seed,
-                            2 * stream);
+                            2 * stream, test.theta_rad);
   for (int i = 0; i < n; ++i) {
     PredictCalibrationOutputs(test.theta_rad[i], DriftCoordinate(i, n), truth.gravity_mps2, p,
                               &test.measured_x[i], &test.measured_y[i]);

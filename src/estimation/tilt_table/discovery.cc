@@ -518,13 +518,16 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   ResidualChecksOptions check_options;
   check_options.max_harmonic = options.max_harmonic;
   check_options.ljung_box_lags = options.ljung_box_lags;
+  check_options.gravity_mps2 = options.gravity_mps2;
   const AxisNoise final_noise[2] = {joint.Noise(0), joint.Noise(1)};
   Eigen::MatrixXd jacobian;
   Eigen::VectorXd linear_residual;
   auto run_checks = [&]() -> Status {
     ACCELCAL_RETURN_IF_ERROR(LinearizeJoint(data, joint, current, &jacobian, &linear_residual));
-    result->checks = CheckResiduals(test, jacobian, linear_residual,
-                                    current.landmark.empty() ? 0 : 2, final_noise, check_options);
+    result->checks =
+        CheckResiduals(test, jacobian, linear_residual,
+                       EvaluateFit(test, current.estimate.values, options.gravity_mps2),
+                       current.landmark.empty() ? 0 : 2, final_noise, check_options);
     FlagByHolm(checks_alpha, &result->checks);
     return Status::Ok();
   };
@@ -544,8 +547,9 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     const double effects_gain = TotalChi2(result->baseline_joint) - TotalChi2(current);
     const double effects_bic = effects_gain - joint.effects.size() * log_n;
     for (const ResidualCheck& check : CheckResiduals(
-             test, base_jacobian, base_residual, result->baseline_joint.landmark.empty() ? 0 : 2,
-             final_noise, check_options)) {
+             test, base_jacobian, base_residual,
+             EvaluateFit(test, result->baseline_joint.estimate.values, options.gravity_mps2),
+             result->baseline_joint.landmark.empty() ? 0 : 2, final_noise, check_options)) {
       if (check.name.find("step") == std::string::npos) continue;
       if (check.statistic - 2.0 * log_n >= effects_bic && check.p_value <= checks_alpha)
         simpler_steps.push_back({check.axis, check.shape[0]});
@@ -592,41 +596,72 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
   }
   // What remains, in words: the flagged shapes strongest first, each kept only if it still
   // stands once the shapes before it are allowed for (a 2-theta harmonic also shows as a
-  // curved trend and a step; those are parts of the same shape, not more of them).
+  // curved trend and a step; those are parts of the same shape, not more of them). Then the
+  // flagged checks with no shape: a slow shape also makes the residuals correlated, so the
+  // correlation checks are run again on what the model and the shapes kept leave, and stand
+  // only if they still see it (the endpoint's check stands as it is). Each line is the check's
+  // description and its advice (WhatRemains).
   {
-    std::vector<const ResidualCheck*> flagged;
-    for (const ResidualCheck& check : result->checks) {
-      if (check.flagged) flagged.push_back(&check);
+    std::vector<int> flagged;
+    for (size_t c = 0; c < result->checks.size(); ++c) {
+      if (result->checks[c].flagged) flagged.push_back(static_cast<int>(c));
     }
-    std::sort(flagged.begin(), flagged.end(), [](const ResidualCheck* a, const ResidualCheck* b) {
-      return a->p_value < b->p_value;
+    std::stable_sort(flagged.begin(), flagged.end(), [&](int a, int b) {
+      return result->checks[a].p_value < result->checks[b].p_value;
     });
+    const double stand_alpha = checks_alpha / std::max<size_t>(1, result->checks.size());
+    const int rows = static_cast<int>(jacobian.rows());
     std::vector<Eigen::VectorXd> kept;
     std::string parts;
-    for (const ResidualCheck* check : flagged) {
-      if (check->shape.empty()) {
-        result->remaining.push_back(check->description);
-        continue;
-      }
-      Eigen::MatrixXd extra(jacobian.rows(), check->shape.size());
-      for (size_t c = 0; c < check->shape.size(); ++c)
-        extra.col(c) = WhitenedShapeColumn(check->shape[c], check->axis, final_noise[check->axis],
-                                           static_cast<int>(jacobian.rows()));
-      Eigen::MatrixXd model(jacobian.rows(), jacobian.cols() + static_cast<int>(kept.size()));
+    const auto keep = [&](int index) {
+      result->remaining.push_back(WhatRemains(result->checks[index]));
+      result->remaining_checks.push_back(index);
+    };
+    for (const int index : flagged) {
+      const ResidualCheck& check = result->checks[index];
+      if (check.shape.empty()) continue;
+      Eigen::MatrixXd extra(rows, check.shape.size());
+      for (size_t c = 0; c < check.shape.size(); ++c)
+        extra.col(c) =
+            WhitenedShapeColumn(check.shape[c], check.axis, final_noise[check.axis], rows);
+      Eigen::MatrixXd model(rows, jacobian.cols() + static_cast<int>(kept.size()));
       model.leftCols(jacobian.cols()) = jacobian;
       for (size_t c = 0; c < kept.size(); ++c) model.col(jacobian.cols() + c) = kept[c];
       int rank = 0;
       const double delta = ExtraChiSquare(model, extra, linear_residual, &rank);
-      const bool stands =
-          kept.empty() ||
-          (rank > 0 && ChiSquareSurvival(delta, rank) <=
-                           checks_alpha / std::max<size_t>(1, result->checks.size()));
-      if (!stands) {
-        parts += (parts.empty() ? "" : ", ") + check->name;
+      if (!kept.empty() && !(rank > 0 && ChiSquareSurvival(delta, rank) <= stand_alpha)) {
+        parts += (parts.empty() ? "" : ", ") + check.name;
         continue;
       }
-      result->remaining.push_back(check->description);
+      keep(index);
       for (int c = 0; c < extra.cols(); ++c) kept.push_back(extra.col(c));
+    }
+    // What the model and the shapes kept leave.
+    Eigen::VectorXd left = linear_residual;
+    if (!kept.empty()) {
+      Eigen::MatrixXd model(rows, jacobian.cols() + static_cast<int>(kept.size()));
+      model.leftCols(jacobian.cols()) = jacobian;
+      for (size_t c = 0; c < kept.size(); ++c) model.col(jacobian.cols() + c) = kept[c];
+      left -= model * model.completeOrthogonalDecomposition().solve(linear_residual);
+    }
+    const int endpoint_rows = current.landmark.empty() ? 0 : 2;
+    for (const int index : flagged) {
+      const ResidualCheck& check = result->checks[index];
+      if (!check.shape.empty()) continue;
+      bool stands = kept.empty() || check.axis < 0;
+      if (!stands) {
+        const std::vector<double> white = AxisWhiteResiduals(
+            left, check.axis, test.size(), endpoint_rows, final_noise[check.axis]);
+        for (const ResidualCheck& again :
+             CorrelationChecks(white, check.axis, check_options.ljung_box_lags)) {
+          stands |= again.name == check.name && again.p_value <= stand_alpha;
+        }
+      }
+      if (stands) {
+        keep(index);
+      } else {
+        parts += (parts.empty() ? "" : ", ") + check.name;
+      }
     }
     if (!parts.empty()) {
       result->remaining.push_back("also flagged, but parts of the shapes above: " + parts);

@@ -17,8 +17,8 @@
 //    landmark tie), then backward elimination against the grown model, alternating until
 //    neither changes the model.
 // 3. Checks of what the final model leaves, alpha/4 (estimation/tilt_table/residual_checks.h):
-// theta
-//    harmonics, a curved trend, a step, lag-1 correlation, a portmanteau, the endpoint.
+//    theta harmonics, a curved trend, a step, the turn direction, clipping near full scale,
+//    one held position, lag-1 correlation, a portmanteau, the endpoint.
 //    Flagged shapes (and a baseline step that explains by BIC as much as every named
 //    effect) are nuisance columns: an effect they explain is dropped. What remains is
 //    described strongest first, each shape only if it stands once those before it are
@@ -226,10 +226,14 @@ struct DiscoveryResult {
   DeadReckoningResult extended_trajectory;
   LandmarkDecision extended_decision;
   CrossValidation cross_validation;
-  // The checks of what the final model leaves (Holm within their share of alpha), and the
-  // flagged ones' descriptions.
+  // The checks of what the final model leaves (Holm within their share of alpha), and what
+  // remains in words: the flagged checks that stand beyond the stronger shapes, strongest
+  // first, each as WhatRemains (its description, then its advice); then, when some flagged
+  // checks are parts of those shapes, one line naming them. remaining_checks[i] is the index
+  // in `checks` of remaining[i] (the last line, naming the parts, has none).
   std::vector<ResidualCheck> checks;
   std::vector<std::string> remaining;
+  std::vector<int> remaining_checks;
   std::vector<Ambiguity> ambiguities;
   TieDependence tie_dependence;
   // The final model's tilt-test residuals (m/s^2, measured minus predicted), per axis, in
