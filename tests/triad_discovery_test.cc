@@ -27,11 +27,11 @@
 namespace accelcal {
 namespace {
 
-TriadSimulationOptions Session() { return TriadTestSession(); }
+TriadSimulationOptions Session() { return testing::TriadTestSimulationOptions(); }
 
-TriadDiscoveryOptions Discovery(double alpha) { return TriadTestDiscovery(alpha); }
+TriadDiscoveryOptions Discovery(double alpha) { return testing::TriadTestDiscovery(alpha); }
 
-constexpr double kGravity = kTriadTestGravity;
+constexpr double kGravity = testing::kTriadTestGravity;
 
 std::vector<TriadPoseMean> Simulate(const TriadSimulationOptions& options, int poses, uint64_t seed,
                                     uint64_t stream) {

@@ -21,9 +21,9 @@
 namespace accelcal {
 namespace {
 
-TriadSimulationOptions Session() { return TriadTestSession(); }
+TriadSimulationOptions Session() { return testing::TriadTestSimulationOptions(); }
 
-TriadDiscoveryOptions Discovery() { return TriadTestDiscovery(0.01); }
+TriadDiscoveryOptions Discovery() { return testing::TriadTestDiscovery(0.01); }
 
 // 40 random directions held in the order of n_x^2 plus a little noise.
 std::vector<std::array<double, 3>> OrderedByXSquared(RandomSource* random) {

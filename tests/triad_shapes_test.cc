@@ -34,9 +34,9 @@
 namespace accelcal {
 namespace {
 
-TriadSimulationOptions Session() { return TriadTestSession(); }
+TriadSimulationOptions Session() { return testing::TriadTestSimulationOptions(); }
 
-TriadDiscoveryOptions Discovery() { return TriadTestDiscovery(0.01); }
+TriadDiscoveryOptions Discovery() { return testing::TriadTestDiscovery(0.01); }
 
 // Pose designs, each the directions in the order they are held.
 enum class Design { kRandom40, kFacesTilted36, kCube26 };
@@ -125,8 +125,9 @@ struct ShapeCase {
 };
 
 const ResidualCheck* First(const TriadDiscoveryResult& result) {
-  if (result.verdict_code != Verdict::kUnexplained || result.named_checks.empty()) return nullptr;
-  return &result.checks[result.named_checks.front()];
+  if (result.verdict_code != Verdict::kUnexplained || result.remaining_checks.empty())
+    return nullptr;
+  return &result.checks[result.remaining_checks.front()];
 }
 
 bool FirstIs(const TriadDiscoveryResult& result, ShapeClass shape_class, int axis = -2,
@@ -231,7 +232,7 @@ const ShapeCase kCases[] = {
 
 void PrintTo(const ShapeCase& c, std::ostream* os) { *os << c.name; }
 
-class TriadShapeTest : public testing::TestWithParam<ShapeCase> {};
+class TriadShapeTest : public ::testing::TestWithParam<ShapeCase> {};
 
 constexpr int kSeedsPerDesign = 20;
 
@@ -266,8 +267,8 @@ TEST_P(TriadShapeTest, IsNamedFirstInAtLeastEightyPercentOfSessions) {
   EXPECT_GE(named, 0.8 * sessions) << c.name << "; misses:" << misses;
 }
 
-INSTANTIATE_TEST_SUITE_P(OutsideTheModel, TriadShapeTest, testing::ValuesIn(kCases),
-                         [](const testing::TestParamInfo<ShapeCase>& info) {
+INSTANTIATE_TEST_SUITE_P(OutsideTheModel, TriadShapeTest, ::testing::ValuesIn(kCases),
+                         [](const ::testing::TestParamInfo<ShapeCase>& info) {
                            return std::string(info.param.id);
                          });
 

@@ -179,7 +179,7 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   json["checks"] = checks;
   // What remains by its shape, strongest first: the verdict's order.
   nlohmann::json shapes = nlohmann::json::array();
-  for (const int i : result.named_checks) {
+  for (const int i : result.remaining_checks) {
     const ResidualCheck& check = result.checks[i];
     shapes.push_back({{"check", check.name},
                       {"axis", axis_of(check)},

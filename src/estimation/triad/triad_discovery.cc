@@ -611,7 +611,7 @@ Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlRe
       parts += (parts.empty() ? "" : ", ") + std::string("pose_lag1_correlation");
     }
   }
-  result->named_checks = named;
+  result->remaining_checks = named;
   if (!named.empty() && named.front() >= 2 && without[named.front() - 2]) {
     for (const int c : effects)
       result->explained_by_shape.push_back(TriadEffectCoefficientList()[c].name);

@@ -158,7 +158,7 @@ struct TriadDiscoveryResult {
   // What remains in words, strongest first (WhatRemains of each named check, then a line for the
   // flagged checks that are parts of shapes already named), and which checks those are.
   std::vector<std::string> remaining;
-  std::vector<int> named_checks;  // indices into checks
+  std::vector<int> remaining_checks;  // indices into checks
   // The effects forward selection found that the shape named first explains as well (the shape
   // alone fits better, by BIC, than the shape with them): found, but not kept in the verdict.
   std::vector<std::string> explained_by_shape;
