@@ -15,12 +15,17 @@ ModelSpan::ModelSpan(const Eigen::MatrixXd& model) {
   basis_ = qr.householderQ() * Eigen::MatrixXd::Identity(model.rows(), model.cols());
 }
 
-double ModelSpan::ExtraChiSquare(const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
-                                 int* rank) const {
+Eigen::MatrixXd ModelSpan::Beside(const Eigen::MatrixXd& extra) const {
   Eigen::MatrixXd projected = extra;
   // Twice, for the columns nearly inside the model's span.
   if (basis_.cols() > 0)
     for (int pass = 0; pass < 2; ++pass) projected -= basis_ * (basis_.transpose() * projected);
+  return projected;
+}
+
+double ModelSpan::ExtraChiSquare(const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
+                                 int* rank) const {
+  const Eigen::MatrixXd projected = Beside(extra);
   // Columns with (almost) nothing left outside the model's span add nothing.
   std::vector<int> kept;
   for (int c = 0; c < extra.cols(); ++c) {

@@ -19,6 +19,8 @@ class ModelSpan {
   // As ExtraChiSquare below, with this model.
   double ExtraChiSquare(const Eigen::MatrixXd& extra, const Eigen::VectorXd& r,
                         int* rank = nullptr) const;
+  // `extra` less its part in the model's span.
+  Eigen::MatrixXd Beside(const Eigen::MatrixXd& extra) const;
 
  private:
   Eigen::MatrixXd basis_;  // orthonormal, the model's columns' span

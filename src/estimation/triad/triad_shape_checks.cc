@@ -102,6 +102,15 @@ class Shapes {
     int rank = 0;
     double p_value = 1.0;
   };
+  // Whitened columns less their part in the model's span.
+  Eigen::MatrixXd Beside(const Eigen::MatrixXd& columns) const { return span_.Beside(columns); }
+  // What the model and a family of `rank` columns removing `delta` leave per degree of freedom,
+  // at least 1.
+  double ScatterBeside(double delta, int rank) const {
+    const int left = dof_ - rank;
+    return left > 0 ? std::max(1.0, (residual_.squaredNorm() - delta) / left) : 1.0;
+  }
+
   Score Test(const Eigen::MatrixXd& columns) const {
     Score score;
     score.delta = span_.ExtraChiSquare(columns, residual_, &score.rank);
@@ -257,25 +266,48 @@ Status TimeCheck(const Shapes& shapes, TriadShapeCheck* out) {
   const std::string& unit = shapes.context().unit;
   const std::string test = StringPrintf("chi2 %.1f on %d dof, p = %.2g", check.statistic,
                                         static_cast<int>(check.dof), check.p_value);
+  // The size stated with its sigma: a linear function w . beta of the coefficients (the turn's
+  // height over the ends' mean, or the change from the first pose to the last), whose variance is
+  // w' (X' X)^+ w for the family's whitened columns beside the model, times what the model and
+  // the family leave per degree of freedom when that exceeds 1. Near the model's span (few
+  // degrees of freedom, poses held in an order that follows their direction) it is large.
+  const Eigen::MatrixXd beside = shapes.Beside(out->columns);
+  const Eigen::MatrixXd information = beside.transpose() * beside;
+  const Eigen::MatrixXd covariance =
+      Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>(information).pseudoInverse();
+  const double scatter = shapes.ScatterBeside(check.statistic, static_cast<int>(check.dof));
+  auto sigma = [&](const Eigen::VectorXd& w) {
+    return std::sqrt(std::max(0.0, scatter * w.dot(covariance * w)));
+  };
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(9);
   const char a = kAxis[lead];
   if (turn[lead] != 0) {
-    const double at_s = first_s + 0.5 * (turn_u[lead] + 1.0) * (last_s - first_s);
+    const double u = turn_u[lead];
+    w[3 * lead] = u;
+    w[3 * lead + 1] = u * u - 1.0;
+    w[3 * lead + 2] = u * u * u;
+    const double height = w.dot(beta);
+    const double at_s = first_s + 0.5 * (u + 1.0) * (last_s - first_s);
     check.description = StringPrintf(
-        "the %c offset %s then %s over the session, by %.3g %s (%.2g m/s^2), turning at t = %.4g "
-        "s (the offsets' ranges over the session (%.3g, %.3g, %.3g) %s; %s)",
-        a, turn[lead] > 0 ? "rises" : "falls", turn[lead] > 0 ? "falls" : "rises", range[lead],
-        unit.c_str(), shapes.mps2(lead, range[lead]), at_s, range[0], range[1], range[2],
-        unit.c_str(), test.c_str());
+        "the %c offset %s then %s over the session, by %.3g +- %.2g %s (%.2g m/s^2) at its turn "
+        "(t = %.4g s) against the ends' mean (the offsets' ranges over the session (%.3g, %.3g, "
+        "%.3g) %s; %s)",
+        a, turn[lead] > 0 ? "rises" : "falls", turn[lead] > 0 ? "falls" : "rises", std::abs(height),
+        sigma(w), unit.c_str(), shapes.mps2(lead, std::abs(height)), at_s, range[0], range[1],
+        range[2], unit.c_str(), test.c_str());
     check.advice =
         "a warm-up and a cool-down (or a room whose temperature turned): log temperature, and "
         "hold the sensor at one temperature while it is calibrated";
   } else {
+    w[3 * lead] = 2.0;
+    w[3 * lead + 2] = 2.0;
     check.description = StringPrintf(
-        "the %c offset changes over the session beyond the model, by %+.3g %s (%.2g m/s^2) from "
-        "the first pose to the last, not at a constant rate (the offsets' ranges over the "
-        "session (%.3g, %.3g, %.3g) %s; %s)",
-        a, end[lead] - start[lead], unit.c_str(), shapes.mps2(lead, end[lead] - start[lead]),
-        range[0], range[1], range[2], unit.c_str(), test.c_str());
+        "the %c offset changes over the session beyond the model, by %+.3g +- %.2g %s (%.2g "
+        "m/s^2) from the first pose to the last, not at a constant rate (the offsets' ranges over "
+        "the session (%.3g, %.3g, %.3g) %s; %s)",
+        a, end[lead] - start[lead], sigma(w), unit.c_str(),
+        shapes.mps2(lead, end[lead] - start[lead]), range[0], range[1], range[2], unit.c_str(),
+        test.c_str());
     check.advice =
         "a warm-up (let the sensor reach its working temperature before logging, or log "
         "temperature beside it), or a bias that wanders more slowly than a pose can show: a "
