@@ -21,6 +21,8 @@ class ModelSpan {
                         int* rank = nullptr) const;
   // `extra` less its part in the model's span.
   Eigen::MatrixXd Beside(const Eigen::MatrixXd& extra) const;
+  // An orthonormal basis of the span (rows x the model's columns).
+  const Eigen::MatrixXd& basis() const { return basis_; }
 
  private:
   Eigen::MatrixXd basis_;  // orthonormal, the model's columns' span

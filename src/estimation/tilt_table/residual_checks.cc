@@ -106,11 +106,10 @@ struct ProjectedColumn {
   double coefficient = 0.0;
 };
 ProjectedColumn Project(const std::vector<double>& shape, int axis, const AxisNoise& noise,
-                        const Eigen::MatrixXd& q, const Eigen::VectorXd& residual) {
+                        const ModelSpan& span, const Eigen::VectorXd& residual) {
   const Eigen::VectorXd column =
       WhitenedShapeColumn(shape, axis, noise, static_cast<int>(residual.size()));
-  Eigen::VectorXd left = column;
-  for (int pass = 0; pass < 2; ++pass) left -= q * (q.transpose() * left);
+  const Eigen::VectorXd left = span.Beside(column);
   ProjectedColumn projected;
   const double norm2 = left.squaredNorm();
   projected.usable = norm2 > 1e-10 * std::max(1e-300, column.squaredNorm());
@@ -140,7 +139,7 @@ std::vector<double> FullScaleThresholds(std::vector<double> signed_force) {
 // Clipping near full scale on one axis and one side (sign +1: near the largest positive
 // force), or nothing when no threshold's hinge leaves the model's span.
 bool FullScaleCheck(const CalibrationTest& test, const std::vector<double>& force_along, int axis,
-                    int sign, const AxisNoise& noise, const Eigen::MatrixXd& q,
+                    int sign, const AxisNoise& noise, const ModelSpan& span,
                     const Eigen::VectorXd& residual, const ResidualChecksOptions& options,
                     ResidualCheck* check) {
   const int n = test.size();
@@ -153,7 +152,7 @@ bool FullScaleCheck(const CalibrationTest& test, const std::vector<double>& forc
   for (const double threshold : FullScaleThresholds(signed_force)) {
     std::vector<double> hinge(n);
     for (int i = 0; i < n; ++i) hinge[i] = -sign * std::max(0.0, signed_force[i] - threshold);
-    const ProjectedColumn projected = Project(hinge, axis, noise, q, residual);
+    const ProjectedColumn projected = Project(hinge, axis, noise, span, residual);
     if (!projected.usable) continue;
     ++usable;
     if (projected.z > best_z) {
@@ -196,7 +195,7 @@ bool FullScaleCheck(const CalibrationTest& test, const std::vector<double>& forc
 // One held position off the model on its own: the largest chi-square(1) of a position's
 // offset column over the positions, Bonferroni over them.
 bool OnePositionCheck(const CalibrationTest& test, const std::vector<StaticPosition>& positions,
-                      int axis, const AxisNoise& noise, const Eigen::MatrixXd& q,
+                      int axis, const AxisNoise& noise, const ModelSpan& span,
                       const Eigen::VectorXd& residual, ResidualCheck* check) {
   const int n = test.size();
   int usable = 0;
@@ -205,7 +204,7 @@ bool OnePositionCheck(const CalibrationTest& test, const std::vector<StaticPosit
   for (size_t p = 0; p < positions.size(); ++p) {
     std::vector<double> offset(n, 0.0);
     std::fill(offset.begin() + positions[p].begin, offset.begin() + positions[p].end, 1.0);
-    const ProjectedColumn projected = Project(offset, axis, noise, q, residual);
+    const ProjectedColumn projected = Project(offset, axis, noise, span, residual);
     if (!projected.usable) continue;
     ++usable;
     if (projected.z * projected.z > best) {
@@ -341,12 +340,9 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
   std::vector<ResidualCheck> checks;
   const int n = test.size();
   const int rows = static_cast<int>(jacobian.rows());
-  // An orthonormal basis of what the model can make.
-  const Eigen::MatrixXd q =
-      jacobian.cols() > 0
-          ? Eigen::MatrixXd(Eigen::HouseholderQR<Eigen::MatrixXd>(jacobian).householderQ() *
-                            Eigen::MatrixXd::Identity(rows, jacobian.cols()))
-          : Eigen::MatrixXd(rows, 0);
+  // What the model can make, factored once for every check; `q` an orthonormal basis of it.
+  const ModelSpan span(jacobian);
+  const Eigen::MatrixXd& q = span.basis();
   auto shape_check = [&](const std::string& name, int axis,
                          const std::vector<std::vector<double>>& shapes) {
     Eigen::MatrixXd extra(rows, shapes.size());
@@ -356,7 +352,7 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
     ResidualCheck check;
     check.name = StringPrintf("%s: %s", kAxisName[axis], name.c_str());
     check.axis = axis;
-    check.statistic = ExtraChiSquare(jacobian, extra, residual, &rank);
+    check.statistic = span.ExtraChiSquare(extra, residual, &rank);
     check.dof = rank;
     check.p_value = rank > 0 ? ChiSquareSurvival(check.statistic, rank) : 1.0;
     check.shape = shapes;
@@ -430,14 +426,14 @@ std::vector<ResidualCheck> CheckResiduals(const CalibrationTest& test,
     // Clipping near either end of the axis's range.
     for (const int sign : {1, -1}) {
       ResidualCheck check;
-      if (FullScaleCheck(test, fitted.force_along[axis], axis, sign, noise[axis], q, residual,
+      if (FullScaleCheck(test, fitted.force_along[axis], axis, sign, noise[axis], span, residual,
                          options, &check))
         checks.push_back(std::move(check));
     }
     // One held position off the model.
     if (!positions.empty()) {
       ResidualCheck check;
-      if (OnePositionCheck(test, positions, axis, noise[axis], q, residual, &check))
+      if (OnePositionCheck(test, positions, axis, noise[axis], span, residual, &check))
         checks.push_back(std::move(check));
     }
     const std::vector<double> white =

@@ -80,16 +80,23 @@ std::vector<int> PosesInTimeOrder(const std::vector<TriadPoseMean>& poses) {
   return order;
 }
 
+// The specific force `fit`'s parameters and quadratic scale terms make of an output (the
+// log's unit in, m/s^2 out); false when the output is outside what they can invert.
+bool CalibratedForce(const TriadMlResult& fit, const std::array<double, 3>& output,
+                     double force[3]) {
+  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
+  return TriadSpecificForce(fit.parameters.data(), &fit.effects[first_k2], output.data(), force);
+}
+
 // The direction of a held-out pose fitted with the parameters and effects of `fit` held;
 // returns its whitened chi-square (3 residuals, 2 unknowns).
 double HeldOutChi2(const TriadPoseMean& pose, const std::array<double, 3>& mean_stddev,
                    const TriadMlResult& fit, double gravity_mps2) {
   TriadParameters parameters = fit.parameters;
   TriadEffectCoefficients effects = fit.effects;
-  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
   double force[3] = {0.0, 0.0, 0.0};
   std::array<double, 3> direction = {0.0, 0.0, 1.0};
-  if (TriadSpecificForce(parameters.data(), &effects[first_k2], pose.mean.data(), force)) {
+  if (CalibratedForce(fit, pose.mean, force)) {
     const double norm = std::sqrt(force[0] * force[0] + force[1] * force[1] + force[2] * force[2]);
     if (norm > 0.0 && std::isfinite(norm))
       for (int k = 0; k < 3; ++k) direction[k] = force[k] / norm;
@@ -182,7 +189,7 @@ std::array<double, 3> PoseWander(const TriadMlResult& fit) {
 }
 
 // The lag-1 statistic of residuals in time order, self-normalised: N(0, 1) when they are
-// independent. `per_pose` residuals per pose, consecutive in time order.
+// independent. `in_time_order`: each pose's residuals, the poses in time order.
 struct Lag1 {
   double r = 0.0;  // the correlation
   double z = 0.0;
@@ -247,7 +254,6 @@ struct Deletion {
   double shortfall_mps2 = 0.0;  // the largest left-out pose's, in magnitude
   double left = 0.0;            // the refit's chi-square
   int rank = 0;
-  int candidates = 0;
   bool without_effects = false;
   std::string description;
 };
@@ -269,8 +275,6 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
     for (int j = 2; j <= std::min<int>(12, static_cast<int>(sorted[s].size())); ++j)
       candidates.push_back({s, j});
   }
-  best->candidates = static_cast<int>(candidates.size());
-  const int first_k2 = TriadEffectCoefficientIndex("scale_nonlinearity_x");
   for (const auto& [s, j] : candidates) {
     std::vector<char> out(poses.size(), 0);
     for (int i = 0; i < j; ++i) out[sorted[s][i]] = 1;
@@ -292,8 +296,7 @@ Status FullScaleByDeletion(const std::vector<TriadPoseMean>& poses, const TriadM
       for (int i = 0; i < j && short_of_g; ++i) {
         const TriadPoseMean& pose = poses[sorted[s][i]];
         double force[3];
-        if (!TriadSpecificForce(refit.parameters.data(), &refit.effects[first_k2], pose.mean.data(),
-                                force)) {
+        if (!CalibratedForce(refit, pose.mean, force)) {
           short_of_g = false;
           break;
         }
@@ -400,10 +403,9 @@ ShapeGains GainsForNaming(const std::vector<TriadPoseMean>& poses, const TriadMl
 
 // Step 3: the checks of what the final model leaves, Holm at `alpha`: the chi-square and the
 // lag-1 correlation (no shape: the scatter and the wander), and the shapes of
-// triad_shape_checks.h. Then what remains in words, strongest shape first, each kept only if it
-// stands once the shapes before it are allowed for; the scatter is named ("offsets that jump
-// from pose to pose") when it stands beyond the shapes kept, first when they take less than half
-// of the excess; the wander when it stands on what the shapes leave.
+// triad_shape_checks.h. Then what remains in words (below, "In words"): what fits best first,
+// a shape or the scatter ("offsets that jump from pose to pose"), the others when they stand
+// beyond what is named; the wander when it stands on what the shapes leave.
 Status CheckWhatRemains(const std::vector<TriadPoseMean>& poses, const TriadMlResult& fit,
                         const std::vector<std::array<double, 3>>& pose_mean_variance,
                         const std::vector<int>& effects, const TriadPoseCorrelation& correlation,
@@ -908,7 +910,8 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
                                    look_alike.fit.worse});
   }
   // And a candidate beside an effect found that the data cannot tell from its absence where it
-  // matters (issue 33, item 2): it moves the effect by 2 sigma or more and gains p <= 0.1.
+  // matters (issue 33, item 2): it moves the effect by partner_shift_sigma or more and gains
+  // p <= partner_alpha.
   for (const Partner& partner :
        FindPartners(&geometry, candidates, options.partner_alpha, options.partner_shift_sigma)) {
     const int c = model[partner.effect];
