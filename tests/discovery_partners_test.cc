@@ -40,6 +40,15 @@ bool HasPartner(const DiscoveryResult& result) {
   return false;
 }
 
+// A partner in another effect's place (a look-alike of the design that moves an effect kept).
+bool HasPartnerInstead(const DiscoveryResult& result) {
+  for (const Ambiguity& ambiguity : result.ambiguities) {
+    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives)
+      if (alternative.replaces) return true;
+  }
+  return false;
+}
+
 TEST(DiscoveryPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthersSignal) {
   const std::map<std::string, double> truth = {{"angle_offset", 0.0029}, {"bias_drift_x", 0.103}};
   const Scenario scenario = CorrelatedDesign("angle_offset=0.0029,bias_drift_x=0.103");
@@ -64,10 +73,35 @@ TEST(DiscoveryPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthers
       }
     }
   }
-  // Measured: 1 of 50 (that seed names bias_drift_x with nonorthogonality, which took the y
-  // part of angle_offset's signal); 18 of 50 before. A partner is named in most seeds.
-  EXPECT_LE(single, 2);
+  // Measured: 0 of 50; 18 of 50 before partners beside an effect, 1 of 50 before partners in
+  // another's place (seed 6 named bias_drift_x = 0.172 +- 0.017 with nonorthogonality, which
+  // took the y part of angle_offset's signal; angle_offset in its place fits within delta chi2
+  // 3.1 and gives bias_drift_x = 0.105). A partner is named in most seeds.
+  EXPECT_EQ(single, 0);
   EXPECT_GE(with_partner, 25);
+}
+
+TEST(DiscoveryPartners, TwoEffectsTheDesignSeparatesAreNotDoubtedByAPartnerInAnothersPlace) {
+  // scale_nonlinearity_x and bias_drift_y, each about 8 sigma, on different axes: no effect of
+  // the catalogue in one's place moves the other. Measured: both named (missing) in 25 of 30,
+  // the other 5 doubted by look-alikes of bias_drift_y (nonorthogonality, a y harmonic) or
+  // unexplained, the same with and without partners in another's place; a partner in another's
+  // place in 0 of 30. (With nonorthogonality and bias_drift_x instead, 12 of 30 have one:
+  // nonorthogonality and angle_offset look alike in this design, and every one of those 12 was
+  // already doubted by that look-alike.)
+  const Scenario scenario = CorrelatedDesign("scale_nonlinearity_x=0.0008,bias_drift_y=0.3");
+  int both = 0, instead = 0;
+  for (uint64_t seed = 1; seed <= 30; ++seed) {
+    const DiscoveryResult result = DiscoverSeed(SimulateScenario(scenario, seed));
+    int named = 0;
+    for (const DiscoveredEffect& effect : result.effects)
+      named += effect.effect == Parameter::kScaleNonlinearityX ||
+               effect.effect == Parameter::kBiasDriftY;
+    both += named == 2 && result.verdict_code == Verdict::kMissing;
+    instead += HasPartnerInstead(result);
+  }
+  EXPECT_GE(both, 22);
+  EXPECT_LE(instead, 2);
 }
 
 TEST(DiscoveryPartners, OneEffectAloneIsRarelyGivenAPartner) {

@@ -471,26 +471,7 @@ ReportDocument Document(const AnalyzeReport& r, const std::map<std::string, std:
     discovery.paragraphs.push_back(remains + ".");
   }
   for (const Ambiguity& ambiguity : d.ambiguities) {
-    std::string text =
-        StringPrintf("Cannot tell apart: %s = %s +- %s %s", Info(ambiguity.effect).name,
-                     Finite(ambiguity.effect_estimate, "%.4g").c_str(),
-                     Finite(ambiguity.effect_stddev, "%.2g").c_str(), Info(ambiguity.effect).unit);
-    for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-      if (alternative.beside) {
-        text += StringPrintf(
-            " alone, or %s = %s +- %s %s beside %s = %s +- %s %s (delta chi2 %s)",
-            Info(ambiguity.effect).name, Finite(alternative.effect_estimate_beside, "%.4g").c_str(),
-            Finite(alternative.effect_stddev_beside, "%.2g").c_str(), Info(ambiguity.effect).unit,
-            alternative.Name().c_str(), Finite(alternative.estimate, "%.4g").c_str(),
-            Finite(alternative.stddev, "%.2g").c_str(), alternative.Unit().c_str(),
-            Finite(alternative.delta_chi2, "%+.2f").c_str());
-        continue;
-      }
-      text += StringPrintf(" or %s = %s +- %s %s (delta chi2 %s)", alternative.Name().c_str(),
-                           Finite(alternative.estimate, "%.4g").c_str(),
-                           Finite(alternative.stddev, "%.2g").c_str(), alternative.Unit().c_str(),
-                           Finite(alternative.delta_chi2, "%+.2f").c_str());
-    }
+    std::string text = "Cannot tell apart: " + ambiguity.text;
     if (!ambiguity.separation.empty())
       text += ". What would separate them: " + ambiguity.separation;
     discovery.paragraphs.push_back(text + ".");

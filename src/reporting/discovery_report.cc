@@ -191,13 +191,16 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
     for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
       const std::string other_name = alternative.Name();
       const std::string other_unit = alternative.Unit();
-      if (alternative.beside) {
+      if (alternative.Partner()) {
+        const std::string where =
+            alternative.beside ? std::string("beside it")
+                               : std::string("in ") + Info(*alternative.replaces).name + "'s place";
         text += StringPrintf(
-            "    or with %-16s = %s +- %s %s beside it, %s = %s +- %s %s  (delta chi2 %s)\n",
+            "    or with %-16s = %s +- %s %s %s, %s = %s +- %s %s  (delta chi2 %s)\n",
             other_name.c_str(), Figure("%+.4e", alternative.estimate).c_str(),
-            Figure("%.3e", alternative.stddev).c_str(), other_unit.c_str(), info.name,
-            Figure("%+.4e", alternative.effect_estimate_beside).c_str(),
-            Figure("%.3e", alternative.effect_stddev_beside).c_str(), info.unit,
+            Figure("%.3e", alternative.stddev).c_str(), other_unit.c_str(), where.c_str(),
+            info.name, Figure("%+.4e", alternative.effect_estimate_with).c_str(),
+            Figure("%.3e", alternative.effect_stddev_with).c_str(), info.unit,
             Figure("%+.2f", alternative.delta_chi2).c_str());
         continue;
       }
@@ -495,11 +498,13 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
            {"stddev", Finite(alternative.stddev)},
            {"delta_chi2", Finite(alternative.delta_chi2)},
            {"beside", alternative.beside},
-           {"effect_estimate_beside",
-            alternative.beside ? Finite(alternative.effect_estimate_beside) : nullptr},
-           {"effect_stddev_beside",
-            alternative.beside ? Finite(alternative.effect_stddev_beside) : nullptr},
-           {"p_value", alternative.beside ? Finite(alternative.p_value) : nullptr}});
+           {"replaces", alternative.replaces ? nlohmann::json(Info(*alternative.replaces).name)
+                                             : nlohmann::json(nullptr)},
+           {"effect_estimate_with",
+            alternative.Partner() ? Finite(alternative.effect_estimate_with) : nullptr},
+           {"effect_stddev_with",
+            alternative.Partner() ? Finite(alternative.effect_stddev_with) : nullptr},
+           {"p_value", alternative.Partner() ? Finite(alternative.p_value) : nullptr}});
     }
     ambiguities.push_back({{"name", Info(ambiguity.effect).name},
                            {"unit", Info(ambiguity.effect).unit},

@@ -94,15 +94,8 @@ std::string TriadDiscoveryTable(const TriadDiscoveryResult& result,
     out << "  size of what remains: a per-pose offset wander of "
         << FormatTriple(result.pose_wander, "%.3g") << " " << options.unit << " per axis\n";
   }
-  for (const TriadAmbiguity& a : result.ambiguities) {
-    if (a.beside) {
-      out << StringPrintf("  cannot tell apart: %s alone, or %s\n", a.effect.c_str(),
-                          a.alternative.c_str());
-    } else {
-      out << StringPrintf("  cannot tell apart: %s and %s (delta chi2 %.3g)\n", a.effect.c_str(),
-                          a.alternative.c_str(), a.delta_chi2);
-    }
-  }
+  for (const TriadAmbiguity& a : result.ambiguities)
+    out << "  cannot tell apart: " << a.text << "\n";
   const TriadCrossValidation& cv = result.cross_validation;
   if (cv.folds > 0) {
     out << StringPrintf(
@@ -200,10 +193,13 @@ nlohmann::json TriadDiscoveryJson(const TriadDiscoveryResult& result,
   json["pose_wander_unit"] = options.unit;
   nlohmann::json ambiguities = nlohmann::json::array();
   for (const TriadAmbiguity& a : result.ambiguities) {
-    ambiguities.push_back({{"effect", a.effect},
-                           {"alternative", a.alternative},
-                           {"beside", a.beside},
-                           {"delta_chi2", a.delta_chi2}});
+    ambiguities.push_back(
+        {{"effect", a.effect},
+         {"alternative", a.alternative},
+         {"beside", a.beside},
+         {"replaces", a.replaces.empty() ? nlohmann::json(nullptr) : nlohmann::json(a.replaces)},
+         {"delta_chi2", a.delta_chi2},
+         {"text", a.text}});
   }
   json["ambiguities"] = ambiguities;
   const TriadCrossValidation& cv = result.cross_validation;

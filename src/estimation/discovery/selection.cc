@@ -81,45 +81,86 @@ Status SelectEffects(DiscoveryGeometry* geometry, std::vector<int> candidates,
   return Status::Ok();
 }
 
-std::vector<LookAlike> FindLookAlikes(DiscoveryGeometry* geometry,
-                                      const std::vector<int>& candidates,
-                                      const std::vector<double>& effect_delta_chi2) {
-  const std::vector<int> model = geometry->Effects();
+namespace {
+
+std::vector<int> NotInModel(const DiscoveryGeometry& geometry, const std::vector<int>& candidates) {
+  const std::vector<int>& model = geometry.Effects();
   std::vector<int> others;
   for (const int candidate : candidates) {
     if (std::find(model.begin(), model.end(), candidate) == model.end())
       others.push_back(candidate);
   }
-  std::vector<LookAlike> look_alikes;
-  for (size_t e = 0; e < model.size(); ++e) {
+  return others;
+}
+
+}  // namespace
+
+std::vector<SwappedModel> FitSwaps(DiscoveryGeometry* geometry,
+                                   const std::vector<int>& candidates) {
+  const std::vector<int> others = NotInModel(*geometry, candidates);
+  std::vector<SwappedModel> swaps;
+  for (size_t e = 0; e < geometry->Effects().size(); ++e) {
     for (const int candidate : others) {
-      SwapFit fit;
-      if (!geometry->Swap(e, candidate, &fit)) continue;
-      if (geometry->LooksAlike(e, fit, effect_delta_chi2[e], others.size()))
-        look_alikes.push_back({e, candidate, fit});
+      SwappedModel swap{e, candidate, {}};
+      if (geometry->Swap(e, candidate, &swap.fit)) swaps.push_back(std::move(swap));
     }
+  }
+  return swaps;
+}
+
+std::vector<LookAlike> FindLookAlikes(const DiscoveryGeometry& geometry,
+                                      const std::vector<int>& candidates,
+                                      const std::vector<SwappedModel>& swaps,
+                                      const std::vector<double>& effect_delta_chi2) {
+  const size_t alternatives = NotInModel(geometry, candidates).size();
+  std::vector<LookAlike> look_alikes;
+  for (const SwappedModel& swap : swaps) {
+    if (geometry.LooksAlike(swap.effect, swap.fit, effect_delta_chi2[swap.effect], alternatives))
+      look_alikes.push_back(swap);
   }
   return look_alikes;
 }
 
 std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
-                                  double alpha, double shift_sigma) {
-  const std::vector<int> model = geometry->Effects();
+                                  const std::vector<SwappedModel>& swaps,
+                                  const std::vector<double>& effect_delta_chi2, double alpha,
+                                  double shift_sigma) {
+  const size_t model_size = geometry->Effects().size();
   std::vector<Partner> partners;
-  for (const int candidate : candidates) {
-    if (std::find(model.begin(), model.end(), candidate) != model.end()) continue;
-    BesideFit fit;
-    if (!geometry->Beside(candidate, &fit) || fit.estimates.size() != model.size() ||
-        fit.current_stddevs.size() != model.size())
-      continue;
-    const double p_value = ChiSquareSurvival(std::max(0.0, fit.gain), 1.0);
-    if (!(p_value <= alpha)) continue;
-    for (size_t e = 0; e < model.size(); ++e) {
-      if (!(fit.current_stddevs[e] > 0.0)) continue;
+  // Each effect's shift in a model fitted with the partner (the slot it replaces is not judged).
+  const auto shifted = [&](int candidate, int replaces, const BesideFit& fit, double p_value) {
+    for (size_t e = 0; e < model_size; ++e) {
+      if (static_cast<int>(e) == replaces || !(fit.current_stddevs[e] > 0.0)) continue;
       const double shift =
           std::abs(fit.estimates[e] - fit.current_estimates[e]) / fit.current_stddevs[e];
-      if (shift >= shift_sigma) partners.push_back({e, candidate, fit, p_value, shift});
+      if (shift >= shift_sigma) partners.push_back({e, candidate, replaces, fit, p_value, shift});
     }
+  };
+  for (const int candidate : NotInModel(*geometry, candidates)) {
+    BesideFit fit;
+    if (!geometry->Beside(candidate, &fit) || fit.estimates.size() != model_size ||
+        fit.current_stddevs.size() != model_size)
+      continue;
+    const double p_value = ChiSquareSurvival(std::max(0.0, fit.gain), 1.0);
+    if (p_value <= alpha) shifted(candidate, -1, fit, p_value);
+  }
+  for (const SwappedModel& swap : swaps) {
+    const SwapFit& fit = swap.fit;
+    if (fit.estimates.size() != model_size || fit.current_stddevs.size() != model_size ||
+        !geometry->FitsAboutAsWell(fit))
+      continue;
+    const double explained = std::max(0.0, effect_delta_chi2[swap.effect] - fit.worse);
+    const double p_value = ChiSquareSurvival(explained, 1.0);
+    if (!(p_value <= alpha)) continue;
+    BesideFit with;
+    with.gain = -fit.worse;
+    with.current_estimates = fit.current_estimates;
+    with.current_stddevs = fit.current_stddevs;
+    with.estimates = fit.estimates;
+    with.stddevs = fit.stddevs;
+    with.estimate = fit.estimate;
+    with.stddev = fit.stddev;
+    shifted(swap.alternative, static_cast<int>(swap.effect), with, p_value);
   }
   return partners;
 }

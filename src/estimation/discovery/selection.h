@@ -44,6 +44,11 @@ struct SwapFit {
   double worse = 0.0;     // its chi-square minus the current model's
   double estimate = 0.0;  // the alternative's estimate in it
   double stddev = 0.0;
+  // The model's effects, Effects() order, as fitted and in the swapped model (the replaced
+  // effect's slot holds its value as fitted in both). Empty when the geometry does not give
+  // them (then no partner stands in an effect's place, FindPartners).
+  std::vector<double> current_estimates, current_stddevs;
+  std::vector<double> estimates, stddevs;
 };
 
 // The current model grown by one candidate beside its effects, fitted but not kept.
@@ -76,6 +81,9 @@ class DiscoveryGeometry {
   // The current model with its effect `effect` replaced by `candidate`, fitted; false when it
   // cannot be fitted.
   virtual bool Swap(size_t effect, int candidate, SwapFit* fit) = 0;
+  // Whether the swapped model fits about as well as the current one (its chi-square within the
+  // geometry's ambiguity allowance).
+  virtual bool FitsAboutAsWell(const SwapFit& swap) const = 0;
   // Whether an alternative whose model fits `swap.worse` worse than the current one stands in
   // for `effect` (which the model would lose `effect_delta_chi2` without), among `alternatives`
   // candidates tried.
@@ -132,33 +140,51 @@ Status SelectEffects(DiscoveryGeometry* geometry, std::vector<int> candidates,
 // does not find needed, or -1 when every one is.
 int WeakestNotNeeded(const std::vector<double>& p_values, double alpha);
 
-// For each effect of the geometry's model, the candidates (of `candidates`, those not in the
-// model) that could stand in for it: its model with the candidate instead, fitted, as
-// LooksAlike judges. `effect_delta_chi2[e]`: what the model loses without effect e.
-struct LookAlike {
+// The geometry's model with each of its effects replaced by each of `candidates` not in it,
+// fitted once (FindLookAlikes and FindPartners judge the same fits); a swap that cannot be
+// fitted is left out.
+struct SwappedModel {
   size_t effect = 0;  // index into Effects()
   int alternative = 0;
   SwapFit fit;
 };
-std::vector<LookAlike> FindLookAlikes(DiscoveryGeometry* geometry,
+std::vector<SwappedModel> FitSwaps(DiscoveryGeometry* geometry, const std::vector<int>& candidates);
+
+// For each effect of the geometry's model, the candidates (of `candidates`, those not in the
+// model) that could stand in for it: of `swaps`, those LooksAlike judges so.
+// `effect_delta_chi2[e]`: what the model loses without effect e.
+using LookAlike = SwappedModel;
+std::vector<LookAlike> FindLookAlikes(const DiscoveryGeometry& geometry,
                                       const std::vector<int>& candidates,
+                                      const std::vector<SwappedModel>& swaps,
                                       const std::vector<double>& effect_delta_chi2);
 
 // Partners: candidates selection did not add that the data cannot tell from their absence where
-// it matters. Added beside an effect of the model, a partner gains p <= `alpha` (uncorrected for
-// the candidates tried: a doubt, not a finding) and moves that effect's estimate by at least
-// `shift_sigma` of the effect's sigma as fitted (without the partner): the effect's estimate
-// carries the partner's signal if the partner is there, and the data do not say whether it is. Two
-// effects correlated in the design (each 3.5-4 sigma once the other is fitted) are the case.
+// it matters. Two effects correlated in the design (each 3.5-4 sigma once the other is fitted)
+// are the case; a partner is reported with the effect whose estimate it moves:
+// - beside: added beside the model's effects, it gains p <= `alpha` (uncorrected for the
+//   candidates tried: a doubt, not a finding) and moves an effect's estimate by at least
+//   `shift_sigma` of the effect's sigma as fitted: that estimate carries the partner's signal if
+//   the partner is there, and the data do not say whether it is;
+// - in another effect's place (`replaces`): of `swaps`, a model that fits about as well
+//   (FitsAboutAsWell), where the partner explains what the effect it replaces explained at
+//   p <= `alpha`, and an effect kept moves by `shift_sigma` or more: the data cannot say which of
+//   the two look-alikes is there, and the kept effect's estimate depends on it (the tilt table's
+//   nonorthogonality standing in for angle_offset's y part beside bias_drift_x).
 struct Partner {
-  size_t effect = 0;  // index into Effects()
+  size_t effect = 0;  // index into Effects(): the effect it moves
   int partner = 0;
+  int replaces = -1;  // index into Effects(): the effect it stands in for; -1: beside them
+  // The model with it: gain = the current model's chi-square minus that model's (negative when
+  // it replaces an effect and fits worse); estimates of the model's effects, Effects() order.
   BesideFit fit;
-  double p_value = 1.0;      // of fit.gain, chi-square(1)
+  double p_value = 1.0;      // beside: of fit.gain; replacing: of what it explains; chi-square(1)
   double shift_sigma = 0.0;  // |estimate with - without| / sigma without
 };
 std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
-                                  double alpha, double shift_sigma = 2.0);
+                                  const std::vector<SwappedModel>& swaps,
+                                  const std::vector<double>& effect_delta_chi2, double alpha,
+                                  double shift_sigma = 2.0);
 
 // The verdict, in its precedence: structure the checks flag remains (unexplained, whatever was
 // found), else an effect found has a look-alike (cannot tell apart), else effects or a noise

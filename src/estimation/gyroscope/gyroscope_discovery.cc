@@ -114,9 +114,14 @@ class GyroscopeGeometry : public DiscoveryGeometry {
     return true;
   }
 
-  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+  // Within ambiguity_delta_chi2 in units of the residual scatter.
+  bool FitsAboutAsWell(const SwapFit& swap) const override {
     const double scatter = std::max(1.0, current_.chi2 / current_.degrees_of_freedom);
     return swap.worse < ambiguity_delta_chi2_ * scatter;
+  }
+
+  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+    return FitsAboutAsWell(swap);
   }
 
  private:
@@ -243,7 +248,8 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     }
     result->effects.push_back(found);
   }
-  for (const LookAlike& look_alike : FindLookAlikes(&geometry, candidates, necessary)) {
+  for (const LookAlike& look_alike :
+       FindLookAlikes(geometry, candidates, FitSwaps(&geometry, candidates), necessary)) {
     result->look_alikes.push_back({infos[model[look_alike.effect]].name,
                                    infos[look_alike.alternative].name, look_alike.fit.worse});
   }

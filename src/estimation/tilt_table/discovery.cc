@@ -91,6 +91,32 @@ std::string Fixed(double value, double stddev, const char* unit) {
   return StringPrintf("%.3g +- %.2g %s", value, stddev, unit);
 }
 
+// An effect of the final model and its alternatives, in words (Ambiguity::text).
+std::string AmbiguityText(const Ambiguity& ambiguity) {
+  const char* name = Info(ambiguity.effect).name;
+  const char* unit = Info(ambiguity.effect).unit;
+  std::string text =
+      std::string(name) + " = " + Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, unit);
+  for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
+    const std::string other =
+        alternative.Name() + " = " +
+        Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str());
+    const std::string moved =
+        Fixed(alternative.effect_estimate_with, alternative.effect_stddev_with, unit);
+    if (alternative.beside) {
+      text += StringPrintf(" alone, or %s = %s beside %s (delta chi2 %+.2g)", name, moved.c_str(),
+                           other.c_str(), alternative.delta_chi2);
+    } else if (alternative.replaces) {
+      const char* replaced = Info(*alternative.replaces).name;
+      text += StringPrintf(" with %s, or %s = %s with %s in its place (delta chi2 %+.2g)", replaced,
+                           name, moved.c_str(), other.c_str(), alternative.delta_chi2);
+    } else {
+      text += StringPrintf(" or %s (delta chi2 %+.2g)", other.c_str(), alternative.delta_chi2);
+    }
+  }
+  return text;
+}
+
 // The tilt table (and the run tied to a landmark) as a geometry of the one discovery procedure
 // (estimation/discovery/selection.h): the joint fit with a set of catalogue effects, candidates
 // scored by the score test (chi-square(1)), and every change of the model followed by a new
@@ -182,6 +208,14 @@ class TiltTableGeometry : public DiscoveryGeometry {
     fit->worse = TotalChi2(alternative) - TotalChi2(*current_);
     fit->estimate = alternative.estimate.Value(candidates_[candidate]);
     fit->stddev = alternative.estimate.StandardDeviation(candidates_[candidate]);
+    for (size_t e = 0; e < joint_->effects.size(); ++e) {
+      const Parameter kept = joint_->effects[e];
+      fit->current_estimates.push_back(current_->estimate.Value(kept));
+      fit->current_stddevs.push_back(current_->estimate.StandardDeviation(kept));
+      const JointResult& in = e == effect ? *current_ : alternative;
+      fit->estimates.push_back(in.estimate.Value(kept));
+      fit->stddevs.push_back(in.estimate.StandardDeviation(kept));
+    }
     return true;
   }
 
@@ -206,11 +240,15 @@ class TiltTableGeometry : public DiscoveryGeometry {
     return true;
   }
 
+  bool FitsAboutAsWell(const SwapFit& swap) const override {
+    return swap.worse < ambiguity_delta_chi2_;
+  }
+
   // It must explain, alone, what the effect explains (significantly), and about as well.
   bool LooksAlike(size_t, const SwapFit& swap, double effect_delta_chi2,
                   size_t alternatives) const override {
     const double explained = effect_delta_chi2 - swap.worse;
-    return swap.worse < ambiguity_delta_chi2_ &&
+    return FitsAboutAsWell(swap) &&
            ChiSquareSurvival(explained, 1.0) <= family_alpha_ / alternatives;
   }
 
@@ -764,10 +802,12 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     // The catalogue's candidates in each effect's place (the one procedure's look-alikes).
     std::vector<int> all(geometry.candidates().size());
     for (size_t c = 0; c < all.size(); ++c) all[c] = static_cast<int>(c);
-    const std::vector<LookAlike> look_alikes = FindLookAlikes(&geometry, all, necessary);
-    // And those beside it: correlated in this design, not separable from the effect's estimate.
-    const std::vector<Partner> partners =
-        FindPartners(&geometry, all, options.partner_alpha, options.partner_shift_sigma);
+    const std::vector<SwappedModel> swaps = FitSwaps(&geometry, all);
+    const std::vector<LookAlike> look_alikes = FindLookAlikes(geometry, all, swaps, necessary);
+    // And those that move it, beside it or in another effect's place: correlated in this
+    // design, not separable from the effect's estimate.
+    const std::vector<Partner> partners = FindPartners(
+        &geometry, all, swaps, necessary, options.partner_alpha, options.partner_shift_sigma);
     const size_t candidate_count = all.size() - joint.effects.size();
     for (size_t e = 0; e < joint.effects.size(); ++e) {
       Ambiguity ambiguity;
@@ -776,22 +816,26 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       ambiguity.effect_stddev = current.estimate.StandardDeviation(ambiguity.effect);
       for (const LookAlike& look_alike : look_alikes) {
         if (look_alike.effect != e) continue;
-        ambiguity.alternatives.push_back({geometry.candidates()[look_alike.alternative],
-                                          look_alike.fit.estimate, look_alike.fit.stddev,
-                                          look_alike.fit.worse, ""});
+        Ambiguity::Alternative instead;
+        instead.effect = geometry.candidates()[look_alike.alternative];
+        instead.estimate = look_alike.fit.estimate;
+        instead.stddev = look_alike.fit.stddev;
+        instead.delta_chi2 = look_alike.fit.worse;
+        ambiguity.alternatives.push_back(instead);
       }
       for (const Partner& partner : partners) {
         if (partner.effect != e) continue;
-        Ambiguity::Alternative beside;
-        beside.effect = geometry.candidates()[partner.partner];
-        beside.estimate = partner.fit.estimate;
-        beside.stddev = partner.fit.stddev;
-        beside.delta_chi2 = -partner.fit.gain;
-        beside.beside = true;
-        beside.effect_estimate_beside = partner.fit.estimates[e];
-        beside.effect_stddev_beside = partner.fit.stddevs[e];
-        beside.p_value = partner.p_value;
-        ambiguity.alternatives.push_back(beside);
+        Ambiguity::Alternative with;
+        with.effect = geometry.candidates()[partner.partner];
+        with.estimate = partner.fit.estimate;
+        with.stddev = partner.fit.stddev;
+        with.delta_chi2 = -partner.fit.gain;
+        with.beside = partner.replaces < 0;
+        if (partner.replaces >= 0) with.replaces = joint.effects[partner.replaces];
+        with.effect_estimate_with = partner.fit.estimates[e];
+        with.effect_stddev_with = partner.fit.stddevs[e];
+        with.p_value = partner.p_value;
+        ambiguity.alternatives.push_back(with);
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
       // about as well, alone explains what the effect explains, and is not merely a
@@ -881,10 +925,27 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
               Info(ambiguity.effect).name, Info(alternative.effect).name,
               Info(ambiguity.effect).name, Info(alternative.effect).name, -alternative.delta_chi2,
               alternative.p_value, Info(ambiguity.effect).name,
-              std::abs(alternative.effect_estimate_beside - ambiguity.effect_estimate) /
+              std::abs(alternative.effect_estimate_with - ambiguity.effect_estimate) /
                   ambiguity.effect_stddev,
               std::max(1.0, 13.0 / std::max(-alternative.delta_chi2, 1e-3)),
               Info(alternative.effect).name);
+          separation += (separation.empty() ? "" : "; ") + line;
+          continue;
+        }
+        if (alternative.replaces) {
+          // Two look-alikes of this design; which one is there moves the effect.
+          const char* replaced = Info(*alternative.replaces).name;
+          const std::string line = StringPrintf(
+              "%s and %s look alike in this design, and %s depends on which is there: %s in "
+              "%s's place fits within delta chi2 %.1f (explaining what it explained at p = %.2g) "
+              "and moves %s by %.1f of its sigma as fitted; about %.3g times more samples of "
+              "this design would tell them apart, or a design where their signatures differ",
+              replaced, Info(alternative.effect).name, Info(ambiguity.effect).name,
+              Info(alternative.effect).name, replaced, alternative.delta_chi2, alternative.p_value,
+              Info(ambiguity.effect).name,
+              std::abs(alternative.effect_estimate_with - ambiguity.effect_estimate) /
+                  ambiguity.effect_stddev,
+              std::max(1.0, 9.2 / std::max(std::abs(alternative.delta_chi2), 1e-3)));
           separation += (separation.empty() ? "" : "; ") + line;
           continue;
         }
@@ -926,6 +987,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         separation += (separation.empty() ? "" : "; ") + line;
       }
       ambiguity.separation = separation;
+      ambiguity.text = AmbiguityText(ambiguity);
       result->ambiguities.push_back(std::move(ambiguity));
     }
   }
@@ -1020,27 +1082,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     case Verdict::kCannotTellApart: {
       std::string sets;
       for (const Ambiguity& ambiguity : result->ambiguities) {
-        sets +=
-            (sets.empty() ? "" : "; ") + std::string(Info(ambiguity.effect).name) + " = " +
-            Fixed(ambiguity.effect_estimate, ambiguity.effect_stddev, Info(ambiguity.effect).unit);
-        for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
-          if (alternative.beside) {
-            sets += StringPrintf(
-                " alone, or %s = %s beside %s = %s (delta chi2 %+.2g)", Info(ambiguity.effect).name,
-                Fixed(alternative.effect_estimate_beside, alternative.effect_stddev_beside,
-                      Info(ambiguity.effect).unit)
-                    .c_str(),
-                alternative.Name().c_str(),
-                Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
-                alternative.delta_chi2);
-            continue;
-          }
-          sets += StringPrintf(
-              " or %s = %s (delta chi2 %+.2g)", alternative.Name().c_str(),
-              Fixed(alternative.estimate, alternative.stddev, alternative.Unit().c_str()).c_str(),
-              alternative.delta_chi2);
-        }
-        sets += "; what would separate them: " + ambiguity.separation;
+        sets += (sets.empty() ? "" : "; ") + ambiguity.text +
+                "; what would separate them: " + ambiguity.separation;
       }
       if (dependence.Undecided()) {
         sets +=

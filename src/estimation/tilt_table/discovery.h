@@ -31,6 +31,7 @@
 //    and after, k-fold cross-validation against its null value. Then the verdict.
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -97,17 +98,25 @@ struct Ambiguity {
     // Not empty: the alternative is a shape outside the catalogue ("x: 3-theta harmonic"),
     // not `effect`.
     std::string shape;
-    // A partner (FindPartners): the alternative is `effect` beside this one, not in its place;
-    // this one's estimate in that model, and the partner's gain (delta_chi2 is then -gain).
+    // A partner (FindPartners) moves this one's estimate: `effect` beside it (delta_chi2 is
+    // then minus the partner's gain), or `effect` in the place of `replaces`, another effect of
+    // the final model it looks alike in this design. This one's estimate in that model, and the
+    // p-value of the partner's gain (beside) or of what it explains in the place of `replaces`.
     bool beside = false;
-    double effect_estimate_beside = 0.0;
-    double effect_stddev_beside = 0.0;
-    double p_value = 1.0;  // beside: the partner's gain, chi-square(1)
+    std::optional<Parameter> replaces;
+    double effect_estimate_with = 0.0;
+    double effect_stddev_with = 0.0;
+    double p_value = 1.0;
+    bool Partner() const { return beside || replaces.has_value(); }
     std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
     std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
   };
   std::vector<Alternative> alternatives;
   std::string separation;  // what would tell them apart
+  // The effect and its alternatives in words, as the verdict says them ("bias_drift_x = ... with
+  // nonorthogonality, or bias_drift_x = ... with angle_offset = ... in its place (delta chi2
+  // ...)").
+  std::string text;
 };
 
 // What a run effect of the final model owes to the landmark the run is tied to. A run effect

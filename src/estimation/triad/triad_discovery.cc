@@ -759,13 +759,24 @@ class TriadGeometry : public DiscoveryGeometry {
     swap->worse = fit.chi2 - current_.chi2;
     swap->estimate = fit.effects[testable_[candidate]];
     swap->stddev = fit.effects_stddev[testable_[candidate]];
+    for (size_t e = 0; e < model_.size(); ++e) {
+      const int c = testable_[model_[e]];
+      swap->current_estimates.push_back(current_.effects[c]);
+      swap->current_stddevs.push_back(current_.effects_stddev[c]);
+      swap->estimates.push_back(e == effect ? current_.effects[c] : fit.effects[c]);
+      swap->stddevs.push_back(e == effect ? current_.effects_stddev[c] : fit.effects_stddev[c]);
+    }
     return true;
   }
 
   // Within ambiguity_delta_chi2 in units of the residual scatter.
-  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+  bool FitsAboutAsWell(const SwapFit& swap) const override {
     const double scatter = std::max(1.0, current_.chi2 / current_.degrees_of_freedom);
     return swap.worse < options_.ambiguity_delta_chi2 * scatter;
+  }
+
+  bool LooksAlike(size_t, const SwapFit& swap, double, size_t) const override {
+    return FitsAboutAsWell(swap);
   }
 
   // The model with `candidate` beside its effects; its gain in units of the grown model's
@@ -904,31 +915,44 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   std::vector<double> necessary;
   for (const CandidateTest& test : necessity) necessary.push_back(test.delta_chi2);
   // 4. Ambiguity: the same model with another candidate instead of each effect.
-  for (const LookAlike& look_alike : FindLookAlikes(&geometry, candidates, necessary)) {
-    result->ambiguities.push_back({coefficients[model[look_alike.effect]].name,
-                                   coefficients[geometry.Coefficient(look_alike.alternative)].name,
-                                   look_alike.fit.worse});
+  const std::vector<SwappedModel> swaps = FitSwaps(&geometry, candidates);
+  for (const LookAlike& look_alike : FindLookAlikes(geometry, candidates, swaps, necessary)) {
+    TriadAmbiguity ambiguity;
+    ambiguity.effect = coefficients[model[look_alike.effect]].name;
+    ambiguity.alternative = coefficients[geometry.Coefficient(look_alike.alternative)].name;
+    ambiguity.delta_chi2 = look_alike.fit.worse;
+    ambiguity.text =
+        StringPrintf("%s and %s fit these poses about equally well (delta chi2 = %.2g)",
+                     ambiguity.effect.c_str(), ambiguity.alternative.c_str(), ambiguity.delta_chi2);
+    result->ambiguities.push_back(ambiguity);
   }
-  // And a candidate beside an effect found that the data cannot tell from its absence where it
-  // matters (issue 33, item 2): it moves the effect by partner_shift_sigma or more and gains
-  // p <= partner_alpha.
-  for (const Partner& partner :
-       FindPartners(&geometry, candidates, options.partner_alpha, options.partner_shift_sigma)) {
+  // And a candidate that the data cannot tell from its absence where it matters (issue 33, item
+  // 2): beside an effect found, or in the place of another, it moves the effect by
+  // partner_shift_sigma or more and gains (or explains) p <= partner_alpha.
+  for (const Partner& partner : FindPartners(&geometry, candidates, swaps, necessary,
+                                             options.partner_alpha, options.partner_shift_sigma)) {
     const int c = model[partner.effect];
     const std::string unit = TriadEffectUnit(c, options.unit);
     TriadAmbiguity ambiguity;
     ambiguity.effect = coefficients[c].name;
     const int other = geometry.Coefficient(partner.partner);
+    ambiguity.beside = partner.replaces < 0;
+    if (partner.replaces >= 0) ambiguity.replaces = coefficients[model[partner.replaces]].name;
     ambiguity.alternative = StringPrintf(
-        "%s = %.3g +- %.2g %s beside it, with %s = %.3g +- %.2g %s (alone: %.3g +- %.2g; moved by "
-        "%.1f sigma, gain p = %.2g)",
+        "%s = %.3g +- %.2g %s %s, with %s = %.3g +- %.2g %s (%s: %.3g +- %.2g; moved by "
+        "%.1f sigma, %s p = %.2g)",
         coefficients[other].name.c_str(), partner.fit.estimate, partner.fit.stddev,
-        TriadEffectUnit(other, options.unit).c_str(), coefficients[c].name.c_str(),
-        partner.fit.estimates[partner.effect], partner.fit.stddevs[partner.effect], unit.c_str(),
+        TriadEffectUnit(other, options.unit).c_str(),
+        ambiguity.beside ? "beside it" : ("in " + ambiguity.replaces + "'s place").c_str(),
+        coefficients[c].name.c_str(), partner.fit.estimates[partner.effect],
+        partner.fit.stddevs[partner.effect], unit.c_str(),
+        ambiguity.beside ? "alone" : ("with " + ambiguity.replaces).c_str(),
         partner.fit.current_estimates[partner.effect], partner.fit.current_stddevs[partner.effect],
-        partner.shift_sigma, partner.p_value);
+        partner.shift_sigma, ambiguity.beside ? "gain" : "what it explains,", partner.p_value);
     ambiguity.delta_chi2 = -partner.fit.gain;
-    ambiguity.beside = true;
+    ambiguity.text = ambiguity.effect +
+                     (ambiguity.beside ? " alone" : " with " + ambiguity.replaces) + ", or " +
+                     ambiguity.alternative;
     result->ambiguities.push_back(ambiguity);
   }
   for (size_t e = 0; e < model.size(); ++e) {
@@ -993,24 +1017,13 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
                                        : " (found and kept: " + found + ")";
     }
     // What the effects found cannot be told apart from, also when structure remains.
-    for (const TriadAmbiguity& a : result->ambiguities) {
-      result->verdict += a.beside
-                             ? "; cannot tell apart: " + a.effect + " alone, or " + a.alternative
-                             : StringPrintf("; cannot tell apart: %s and %s (delta chi2 = %.2g)",
-                                            a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
-    }
+    for (const TriadAmbiguity& a : result->ambiguities)
+      result->verdict += "; cannot tell apart: " + a.text;
   } else if (result->verdict_code == Verdict::kCannotTellApart) {
-    const TriadAmbiguity& a = result->ambiguities.front();
-    result->verdict =
-        a.beside
-            ? StringPrintf(
-                  "cannot tell apart: %s alone (%s), or %s; poses held at other times or "
-                  "directions would separate them",
-                  a.effect.c_str(), found.c_str(), a.alternative.c_str())
-            : StringPrintf(
-                  "cannot tell apart: %s and %s fit these poses about equally well (delta chi2 = "
-                  "%.2g); poses held at other times or directions would separate them",
-                  a.effect.c_str(), a.alternative.c_str(), a.delta_chi2);
+    result->verdict = "cannot tell apart: " + result->ambiguities.front().text +
+                      "; poses held at other times or directions would separate them (the model "
+                      "as fitted: " +
+                      found + ")";
   } else if (result->verdict_code == Verdict::kMissing) {
     result->verdict = "missing from the 9-parameter model, found: " + found +
                       StringPrintf("; the extended model explains the poses (chi2/dof = %.3g)",

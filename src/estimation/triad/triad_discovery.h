@@ -133,6 +133,8 @@ struct TriadAmbiguity {
   std::string alternative;
   double delta_chi2 = 0.0;  // the alternative model's chi-square minus the final model's
   bool beside = false;      // the alternative is the effect with a partner beside it
+  std::string replaces;     // not empty: the partner is in this effect's place, and moves `effect`
+  std::string text;         // the two in words, as the verdict says them
 };
 
 struct TriadCrossValidation {
