@@ -72,7 +72,7 @@ TEST(DiscoveryLandmarkTie, ARunEffectIsNeverReportedWithoutThePlausibleTiesItDep
     for (const TieAlternative& tie : result.tie_dependence.ties) {
       if (tie.landmark != "C") continue;
       ++truth_listed;
-      const std::vector<Parameter>& effects = result.tie_dependence.run_effects;
+      const std::vector<Parameter>& effects = result.tie_dependence.effects;
       const size_t x =
           std::find(effects.begin(), effects.end(), Parameter::kRunBiasShiftX) - effects.begin();
       ASSERT_LT(x, effects.size()) << "seed " << seed << ": " << result.verdict;

@@ -81,6 +81,34 @@ TEST(DiscoveryPartners, TwoCorrelatedEffectsAreNotReportedAsOneCarryingTheOthers
   EXPECT_GE(with_partner, 25);
 }
 
+// Held out from the design above: the tilt over 0.5 to 3.0 rad only, where angle_offset and
+// bias_drift_x correlate so closely (each 2.4 sigma once the other is fitted, 6 sigma alone)
+// that the partner beside the one named seldom gains p <= 0.1: before the reach rule, 11 of 30
+// seeds named one of them alone, 4.7 to 9 sigma from its truth.
+TEST(DiscoveryPartners, TwoEffectsTheDesignBarelySeparatesAreNeverOneConfidentCause) {
+  const std::map<std::string, double> truth = {{"angle_offset", 0.003425},
+                                               {"bias_drift_x", 0.076248}};
+  Scenario scenario = CorrelatedDesign("angle_offset=0.003425,bias_drift_x=0.076248");
+  scenario.tilt.theta_begin_rad = 0.5;
+  scenario.tilt.theta_end_rad = 3.0;
+  int single = 0;
+  for (uint64_t seed = 1; seed <= 30; ++seed) {
+    const DiscoveryResult result = DiscoverSeed(SimulateScenario(scenario, seed));
+    int named = 0;
+    for (const DiscoveredEffect& effect : result.effects)
+      named += truth.count(Info(effect.effect).name);
+    if (named != 1 || result.verdict_code == Verdict::kCannotTellApart) continue;
+    for (const DiscoveredEffect& effect : result.effects) {
+      const auto t = truth.find(Info(effect.effect).name);
+      if (t != truth.end() && std::abs(effect.estimate - t->second) > 3.0 * effect.stddev) {
+        ++single;
+        std::printf("seed %d: %s\n", static_cast<int>(seed), result.verdict.c_str());
+      }
+    }
+  }
+  EXPECT_EQ(single, 0);
+}
+
 TEST(DiscoveryPartners, TwoEffectsTheDesignSeparatesAreNotDoubtedByAPartnerInAnothersPlace) {
   // scale_nonlinearity_x and bias_drift_y, each about 8 sigma, on different axes: no effect of
   // the catalogue in one's place moves the other. Measured: both named (missing) in 25 of 30,
@@ -97,10 +125,11 @@ TEST(DiscoveryPartners, TwoEffectsTheDesignSeparatesAreNotDoubtedByAPartnerInAno
     for (const DiscoveredEffect& effect : result.effects)
       named += effect.effect == Parameter::kScaleNonlinearityX ||
                effect.effect == Parameter::kBiasDriftY;
-    both += named == 2 && result.verdict_code == Verdict::kMissing;
+    both += named == 2;
     instead += HasPartnerInstead(result);
   }
-  EXPECT_GE(both, 22);
+  std::printf("both named %d of 30, a partner in another's place %d\n", both, instead);
+  EXPECT_GE(both, 27);
   EXPECT_LE(instead, 2);
 }
 
@@ -115,8 +144,13 @@ TEST(DiscoveryPartners, OneEffectAloneIsRarelyGivenAPartner) {
       found += effect.effect == Parameter::kAngleOffset;
     with_partner += HasPartner(result);
   }
+  std::printf("found %d with partner %d\n", found, with_partner);
   EXPECT_GE(found, 45);
-  EXPECT_LE(with_partner, 10);  // partner_alpha 0.1: at most 5 expected, 10 is 2.4 sd above
+  // Measured: 3 of 50 by the gain alone (partner_alpha 0.1 with a 2 sigma shift: about 5%
+  // expected), 9 of 50 with the reach rule: bias_drift_x beside it has r = 1.67, so one of its
+  // sigmas beyond its estimate moves angle_offset by 3 sigma once |z| >= 1.24 (21% expected,
+  // 10.7 of 50, sd 2.9). The price of never naming one of the pair alone.
+  EXPECT_LE(with_partner, 17);
 }
 
 }  // namespace

@@ -145,5 +145,68 @@ TEST(TriadPartners, OneEffectOfTheDesignAloneIsStillNamed) {
   }
 }
 
+// Held out from the design above: other axes, other pose counts, other seeds, the poses held in
+// the order of n_k^2 (with the same disorder), offset_drift_k and scale_nonlinearity_k each 6
+// sigma alone (3.7 to 4.3 sigma beside the other). Every effect named alone with a confident
+// verdict is counted when 3 sigma or more from its truth. Measured: 0 of 150; 1 of 150 without
+// the reach rule (n_x^2, 60 poses). Over seeds 1-100 of each design, 2 of 300 with the rule
+// (noise draws that hide the partner: in one, the fit with both effects is itself 3 sigma from
+// the truth and the partner beside the one named gains p = 0.21), 6 of 300 without.
+TEST(TriadPartners, AcrossDesignsNoEffectIsNamedAloneCarryingTheOthersSignal) {
+  struct Design {
+    int axis;
+    int poses;
+  };
+  int single = 0, total = 0;
+  for (const Design design : {Design{1, 40}, Design{2, 30}, Design{0, 60}}) {
+    const std::string axis(1, "xyz"[design.axis]);
+    const int drift = TriadEffectCoefficientIndex("offset_drift_" + axis);
+    const int k2 = TriadEffectCoefficientIndex("scale_nonlinearity_" + axis);
+    const auto simulate = [&](const TriadEffectCoefficients& effects, uint64_t seed) {
+      RandomSource random(900 + seed, 3);
+      std::vector<std::array<double, 3>> directions = RandomPoseDirections(design.poses, &random);
+      std::vector<std::pair<double, std::array<double, 3>>> keyed;
+      for (const auto& n : directions)
+        keyed.push_back({n[design.axis] * n[design.axis] + 0.3 * random.StandardNormal(), n});
+      std::sort(keyed.begin(), keyed.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (size_t i = 0; i < keyed.size(); ++i) directions[i] = keyed[i].second;
+      TriadSimulationOptions session = Session();
+      session.effects = effects;
+      return SimulateTriadPoses(session, directions, &random);
+    };
+    TriadEffectCoefficients hidden{};
+    for (const int c : {drift, k2}) {
+      TriadMlOptions fit = Discovery().fit;
+      fit.effects = {c};
+      TriadMlResult alone;
+      ASSERT_TRUE(CalibrateTriadMl(simulate({}, 0), fit, &alone).ok());
+      hidden[c] = 6.0 * alone.effects_stddev[c];
+    }
+    int here = 0;
+    for (uint64_t seed = 1; seed <= 50; ++seed) {
+      TriadDiscoveryResult result;
+      ASSERT_TRUE(DiscoverTriad(simulate(hidden, seed), Discovery(), &result).ok());
+      ++total;
+      int named = 0;
+      for (const TriadFoundEffect& effect : result.effects)
+        named += effect.coefficient == drift || effect.coefficient == k2;
+      if (named != 1 || !result.ambiguities.empty()) continue;
+      for (const TriadFoundEffect& effect : result.effects) {
+        if ((effect.coefficient == drift || effect.coefficient == k2) &&
+            std::abs(effect.estimate - hidden[effect.coefficient]) > 3.0 * effect.stddev) {
+          ++here;
+          std::printf("  n_%s^2, %d poses, seed %d: %s\n", axis.c_str(), design.poses,
+                      static_cast<int>(seed), result.verdict.c_str());
+        }
+      }
+    }
+    std::printf("n_%s^2, %d poses: one named alone carrying the other's signal in %d of 50\n",
+                axis.c_str(), design.poses, here);
+    single += here;
+  }
+  EXPECT_EQ(single, 0) << "of " << total;
+}
+
 }  // namespace
 }  // namespace accelcal

@@ -215,18 +215,21 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
   return text;
 }
 
-// The run effects under every plausible landmark tie (TieDependence, discovery.h); null when
-// the final model has no run effect or only one tie is plausible.
+// The effects under every plausible landmark tie (TieDependence, discovery.h); null when
+// nothing depends on the tie or only one tie is plausible.
 nlohmann::json TieDependenceJson(const TieDependence& dependence) {
   if (!dependence.Depends()) return nullptr;
-  nlohmann::json names = nlohmann::json::array();
-  for (const Parameter effect : dependence.run_effects) names.push_back(Info(effect).name);
+  nlohmann::json names = nlohmann::json::array(), run_names = nlohmann::json::array();
+  for (const Parameter effect : dependence.effects) {
+    names.push_back(Info(effect).name);
+    if (ActsOnlyInRun(effect)) run_names.push_back(Info(effect).name);
+  }
   nlohmann::json ties = nlohmann::json::array();
   for (const TieAlternative& tie : dependence.ties) {
     nlohmann::json estimates = nlohmann::json::object(), stddev = nlohmann::json::object();
-    for (size_t e = 0; e < dependence.run_effects.size(); ++e) {
-      estimates[Info(dependence.run_effects[e]).name] = Finite(tie.estimates[e]);
-      stddev[Info(dependence.run_effects[e]).name] = Finite(tie.stddevs[e]);
+    for (size_t e = 0; e < dependence.effects.size(); ++e) {
+      estimates[Info(dependence.effects[e]).name] = Finite(tie.estimates[e]);
+      stddev[Info(dependence.effects[e]).name] = Finite(tie.stddevs[e]);
     }
     ties.push_back({{"landmark", tie.landmark},
                     {"posterior", Finite(tie.posterior)},
@@ -237,9 +240,11 @@ nlohmann::json TieDependenceJson(const TieDependence& dependence) {
                     {"p_value", Finite(tie.p_value)},
                     {"needed", tie.needed}});
   }
-  return {{"run_effects", names},
+  return {{"effects", names},
+          {"run_effects", run_names},
           {"undecided", dependence.Undecided()},
           {"posterior_reported", kTiePosteriorReported},
+          {"shift_sigma", kTieShiftSigma},
           {"ties", ties}};
 }
 

@@ -123,26 +123,28 @@ std::vector<LookAlike> FindLookAlikes(const DiscoveryGeometry& geometry,
 
 std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
                                   const std::vector<SwappedModel>& swaps,
-                                  const std::vector<double>& effect_delta_chi2, double alpha,
-                                  double shift_sigma) {
+                                  const std::vector<double>& effect_delta_chi2,
+                                  const PartnerOptions& options) {
   const size_t model_size = geometry->Effects().size();
   std::vector<Partner> partners;
-  // Each effect's shift in a model fitted with the partner (the slot it replaces is not judged).
-  const auto shifted = [&](int candidate, int replaces, const BesideFit& fit, double p_value) {
-    for (size_t e = 0; e < model_size; ++e) {
-      if (static_cast<int>(e) == replaces || !(fit.current_stddevs[e] > 0.0)) continue;
-      const double shift =
-          std::abs(fit.estimates[e] - fit.current_estimates[e]) / fit.current_stddevs[e];
-      if (shift >= shift_sigma) partners.push_back({e, candidate, replaces, fit, p_value, shift});
-    }
+  const auto shift_of = [](const BesideFit& fit, size_t e) {
+    return std::abs(fit.estimates[e] - fit.current_estimates[e]) / fit.current_stddevs[e];
   };
   for (const int candidate : NotInModel(*geometry, candidates)) {
     BesideFit fit;
     if (!geometry->Beside(candidate, &fit) || fit.estimates.size() != model_size ||
-        fit.current_stddevs.size() != model_size)
+        fit.current_stddevs.size() != model_size || fit.stddevs.size() != model_size)
       continue;
     const double p_value = ChiSquareSurvival(std::max(0.0, fit.gain), 1.0);
-    if (p_value <= alpha) shifted(candidate, -1, fit, p_value);
+    for (size_t e = 0; e < model_size; ++e) {
+      if (!(fit.current_stddevs[e] > 0.0)) continue;
+      const double shift = shift_of(fit, e);
+      const double r = fit.stddevs[e] / fit.current_stddevs[e];
+      const double reach = shift + std::sqrt(std::max(0.0, r * r - 1.0));
+      if ((p_value <= options.alpha && shift >= options.shift_sigma) ||
+          reach >= options.reach_sigma)
+        partners.push_back({e, candidate, -1, fit, p_value, shift, reach});
+    }
   }
   for (const SwappedModel& swap : swaps) {
     const SwapFit& fit = swap.fit;
@@ -151,7 +153,7 @@ std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector
       continue;
     const double explained = std::max(0.0, effect_delta_chi2[swap.effect] - fit.worse);
     const double p_value = ChiSquareSurvival(explained, 1.0);
-    if (!(p_value <= alpha)) continue;
+    if (!(p_value <= options.alpha)) continue;
     BesideFit with;
     with.gain = -fit.worse;
     with.current_estimates = fit.current_estimates;
@@ -160,7 +162,14 @@ std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector
     with.stddevs = fit.stddevs;
     with.estimate = fit.estimate;
     with.stddev = fit.stddev;
-    shifted(swap.alternative, static_cast<int>(swap.effect), with, p_value);
+    // Each effect kept it moves (the slot it replaces is not judged).
+    for (size_t e = 0; e < model_size; ++e) {
+      if (e == swap.effect || !(with.current_stddevs[e] > 0.0)) continue;
+      const double shift = shift_of(with, e);
+      if (shift >= options.shift_sigma)
+        partners.push_back(
+            {e, swap.alternative, static_cast<int>(swap.effect), with, p_value, shift, 0.0});
+    }
   }
   return partners;
 }

@@ -165,7 +165,9 @@ std::vector<LookAlike> FindLookAlikes(const DiscoveryGeometry& geometry,
 // - beside: added beside the model's effects, it gains p <= `alpha` (uncorrected for the
 //   candidates tried: a doubt, not a finding) and moves an effect's estimate by at least
 //   `shift_sigma` of the effect's sigma as fitted: that estimate carries the partner's signal if
-//   the partner is there, and the data do not say whether it is;
+//   the partner is there, and the data do not say whether it is; or, whatever it gains, the
+//   design leaves it so much room that one of its sigmas beyond its estimate would move the
+//   effect by `reach_sigma` or more (two effects each under 3 sigma once the other is fitted);
 // - in another effect's place (`replaces`): of `swaps`, a model that fits about as well
 //   (FitsAboutAsWell), where the partner explains what the effect it replaces explained at
 //   p <= `alpha`, and an effect kept moves by `shift_sigma` or more: the data cannot say which of
@@ -180,11 +182,22 @@ struct Partner {
   BesideFit fit;
   double p_value = 1.0;      // beside: of fit.gain; replacing: of what it explains; chi-square(1)
   double shift_sigma = 0.0;  // |estimate with - without| / sigma without
+  // Beside: the shift one sigma of the partner beyond its estimate would give (PartnerOptions).
+  double reach_sigma = 0.0;
+};
+struct PartnerOptions {
+  double alpha = 0.1;
+  double shift_sigma = 2.0;
+  // Beside: also a partner, whatever its gain, when the design leaves so much room that the
+  // candidate one sigma beyond its estimate would move the effect by reach_sigma or more (the
+  // shift at its estimate plus sqrt(r^2 - 1), r the effect's sigma beside it over its sigma as
+  // fitted: the candidate's own sigma's worth of the effect's, exact for a linear model).
+  double reach_sigma = 3.0;
 };
 std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector<int>& candidates,
                                   const std::vector<SwappedModel>& swaps,
-                                  const std::vector<double>& effect_delta_chi2, double alpha,
-                                  double shift_sigma = 2.0);
+                                  const std::vector<double>& effect_delta_chi2,
+                                  const PartnerOptions& options);
 
 // The verdict, in its precedence: structure the checks flag remains (unexplained, whatever was
 // found), else an effect found has a look-alike (cannot tell apart), else effects or a noise

@@ -222,9 +222,16 @@ class TiltTableGeometry : public DiscoveryGeometry {
   bool Beside(int candidate, BesideFit* fit) override {
     JointOptions grown = *joint_;
     grown.effects.push_back(candidates_[candidate]);
+    // The tie re-decided for the grown model, as Add does: a candidate that moves the
+    // endpoint to another landmark is judged with the run tied there.
+    if (grown.landmark_mode == JointOptions::Landmark::kNamed) {
+      std::string tie;
+      if (!MostProbableLandmark(data_, grown, alpha_, &tie).ok()) tie.clear();
+      if (!tie.empty()) grown.landmark_name = tie;
+    }
     JointResult refit;
     if (!SolveJoint(data_, grown, &refit).ok()) return false;
-    fit->gain = TotalChi2(*current_) - TotalChi2(refit);  // the same tie
+    fit->gain = TotalChi2(*current_) - TotalChi2(refit);
     fit->current_estimates.clear();
     fit->current_stddevs.clear();
     fit->estimates.clear();
@@ -806,8 +813,10 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     const std::vector<LookAlike> look_alikes = FindLookAlikes(geometry, all, swaps, necessary);
     // And those that move it, beside it or in another effect's place: correlated in this
     // design, not separable from the effect's estimate.
-    const std::vector<Partner> partners = FindPartners(
-        &geometry, all, swaps, necessary, options.partner_alpha, options.partner_shift_sigma);
+    const std::vector<Partner> partners =
+        FindPartners(&geometry, all, swaps, necessary,
+                     PartnerOptions{options.partner_alpha, options.partner_shift_sigma,
+                                    options.partner_reach_sigma});
     const size_t candidate_count = all.size() - joint.effects.size();
     for (size_t e = 0; e < joint.effects.size(); ++e) {
       Ambiguity ambiguity;
@@ -835,6 +844,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         with.effect_estimate_with = partner.fit.estimates[e];
         with.effect_stddev_with = partner.fit.stddevs[e];
         with.p_value = partner.p_value;
+        with.reach_sigma = partner.reach_sigma;
         ambiguity.alternatives.push_back(with);
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
@@ -918,8 +928,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
           // same data names it or rules it out (its chi-square grows with them).
           const std::string line = StringPrintf(
               "%s and %s are correlated in this design: %s alone (as fitted) or both, with %s "
-              "gaining delta chi2 %.1f (p = %.2g) and moving %s by %.1f of its sigma as fitted; "
-              "about %.3g times "
+              "gaining delta chi2 %.1f (p = %.2g) and moving %s by %.1f of its sigma as fitted "
+              "(one of its own sigmas further, by %.1f); about %.3g times "
               "more samples of this design would name %s or rule it out, or a design where "
               "their signatures differ",
               Info(ambiguity.effect).name, Info(alternative.effect).name,
@@ -927,6 +937,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
               alternative.p_value, Info(ambiguity.effect).name,
               std::abs(alternative.effect_estimate_with - ambiguity.effect_estimate) /
                   ambiguity.effect_stddev,
+              alternative.reach_sigma,
               std::max(1.0, 13.0 / std::max(-alternative.delta_chi2, 1e-3)),
               Info(alternative.effect).name);
           separation += (separation.empty() ? "" : "; ") + line;
@@ -991,13 +1002,14 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       result->ambiguities.push_back(std::move(ambiguity));
     }
   }
-  // 7. What the run effects owe to the landmark tie: the final model with the run tied to each
+  // 7. What the effects owe to the landmark tie: the final model with the run tied to each
   // landmark (TieDependence in discovery.h).
   TieDependence& dependence = result->tie_dependence;
+  std::vector<Parameter> run_effects;
   for (const Parameter effect : joint.effects) {
-    if (ActsOnlyInRun(effect)) dependence.run_effects.push_back(effect);
+    if (ActsOnlyInRun(effect)) run_effects.push_back(effect);
   }
-  if (!dependence.run_effects.empty() && landmarks.size() > 1 &&
+  if (!joint.effects.empty() && landmarks.size() > 1 &&
       joint.landmark_mode == JointOptions::Landmark::kNamed) {
     JointOptions every = joint;
     every.landmark_mode = JointOptions::Landmark::kAuto;
@@ -1007,6 +1019,8 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
     without.effects.erase(std::remove_if(without.effects.begin(), without.effects.end(),
                                          [](Parameter e) { return ActsOnlyInRun(e); }),
                           without.effects.end());
+    // Every plausible tie, with every effect's estimate under it (joint.effects order).
+    std::vector<TieAlternative> ties;
     for (const LandmarkHypothesis& hypothesis : all.hypotheses) {
       TieAlternative tie;
       tie.landmark = hypothesis.name;
@@ -1017,22 +1031,53 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       with_tie.landmark_name = without_tie.landmark_name = hypothesis.name;
       JointResult with_fit, without_fit;
       // A tie the solver refuses (an effect not separable there) is no alternative to report.
-      if (!SolveJoint(data, with_tie, &with_fit).ok() ||
-          !SolveJoint(data, without_tie, &without_fit).ok())
-        continue;
-      for (const Parameter effect : dependence.run_effects) {
+      if (!SolveJoint(data, with_tie, &with_fit).ok()) continue;
+      if (!run_effects.empty()) {
+        if (!SolveJoint(data, without_tie, &without_fit).ok()) continue;
+        tie.delta_chi2 = std::max(0.0, TotalChi2(without_fit) - TotalChi2(with_fit));
+        tie.p_value = ChiSquareSurvival(tie.delta_chi2, run_effects.size());
+        tie.needed = tie.p_value <= family_alpha;
+      }
+      for (const Parameter effect : joint.effects) {
         tie.estimates.push_back(with_fit.estimate.Value(effect));
         tie.stddevs.push_back(with_fit.estimate.StandardDeviation(effect));
       }
-      tie.delta_chi2 = std::max(0.0, TotalChi2(without_fit) - TotalChi2(with_fit));
-      tie.p_value = ChiSquareSurvival(tie.delta_chi2, dependence.run_effects.size());
-      tie.needed = tie.p_value <= family_alpha;
-      dependence.ties.push_back(tie);
+      ties.push_back(tie);
     }
-    std::stable_sort(dependence.ties.begin(), dependence.ties.end(),
+    std::stable_sort(ties.begin(), ties.end(),
                      [](const TieAlternative& a, const TieAlternative& b) {
                        return a.tied != b.tied ? a.tied : a.posterior > b.posterior;
                      });
+    // The effects the tie moves: every run effect, and any other whose estimate under a
+    // plausible tie is kTieShiftSigma or more of its sigma from the tied one's (a calibration
+    // effect that pays for a tie through the bias and scale the run shares).
+    std::vector<size_t> moved;
+    if (!ties.empty() && ties.front().tied) {
+      const TieAlternative& tied = ties.front();
+      for (size_t e = 0; e < joint.effects.size(); ++e) {
+        bool depends = ActsOnlyInRun(joint.effects[e]);
+        for (const TieAlternative& tie : ties) {
+          depends =
+              depends || (tied.stddevs[e] > 0.0 && std::abs(tie.estimates[e] - tied.estimates[e]) >=
+                                                       kTieShiftSigma * tied.stddevs[e]);
+        }
+        if (depends) moved.push_back(e);
+      }
+    }
+    if (!moved.empty() && ties.size() > 1) {
+      for (const size_t e : moved) dependence.effects.push_back(joint.effects[e]);
+      for (TieAlternative& tie : ties) {
+        std::vector<double> estimates, stddevs;
+        for (const size_t e : moved) {
+          estimates.push_back(tie.estimates[e]);
+          stddevs.push_back(tie.stddevs[e]);
+        }
+        tie.estimates = estimates;
+        tie.stddevs = stddevs;
+      }
+      dependence.has_run_effects = !run_effects.empty();
+      dependence.ties = ties;
+    }
   }
 
   for (int k = 0; k < 2; ++k) result->final_residuals[k] = extended_residuals[k];
@@ -1046,26 +1091,35 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
                Fixed(effect.estimate, effect.stddev, info.unit) +
                StringPrintf(" (delta chi2 = %.1f, p = %.2g)", effect.delta_chi2, effect.p_value);
   }
-  // The run effects under every plausible landmark tie, when more than one is.
+  // The effects under every plausible landmark tie, when more than one is.
   std::string ties;
+  bool only_run_effects = true;
+  for (const Parameter effect : dependence.effects)
+    only_run_effects = only_run_effects && ActsOnlyInRun(effect);
   if (dependence.Depends()) {
     for (const TieAlternative& tie : dependence.ties) {
       std::string effects;
-      for (size_t e = 0; e < dependence.run_effects.size(); ++e) {
-        const ParameterInfo& info = Info(dependence.run_effects[e]);
+      for (size_t e = 0; e < dependence.effects.size(); ++e) {
+        const ParameterInfo& info = Info(dependence.effects[e]);
+        if (ActsOnlyInRun(dependence.effects[e]) && !tie.needed) continue;
         effects += (effects.empty() ? "" : ", ") + std::string(info.name) + " = " +
                    Fixed(tie.estimates[e], tie.stddevs[e], info.unit);
       }
-      effects = tie.needed ? effects + StringPrintf(" (delta chi2 = %.1f)", tie.delta_chi2)
-                           : StringPrintf("no run effect needed (delta chi2 = %.2g, p = %.2g)",
-                                          tie.delta_chi2, tie.p_value);
+      if (dependence.has_run_effects) {
+        effects = tie.needed
+                      ? effects + StringPrintf(" (delta chi2 = %.1f)", tie.delta_chi2)
+                      : effects + (effects.empty() ? "" : "; ") +
+                            StringPrintf("no run effect needed (delta chi2 = %.2g, p = %.2g)",
+                                         tie.delta_chi2, tie.p_value);
+      }
       ties += StringPrintf("%s%s %s (posterior %.2g): %s", ties.empty() ? "" : "; ",
                            tie.tied ? "tied to" : "if it ended at", tie.landmark.c_str(),
                            tie.posterior, effects.c_str());
     }
   }
   if (dependence.Depends() && !dependence.Undecided()) {
-    missing += "; the run effects depend on the landmark the run reached: " + ties;
+    missing += std::string(only_run_effects ? "; the run effects" : "; the estimates") +
+               " depend on the landmark the run reached: " + ties;
   }
   for (const NoiseFinding& finding : result->noise_findings)
     missing += (missing.empty() ? "" : "; ") + finding.description;

@@ -66,9 +66,12 @@ struct DiscoveryOptions {
   // A candidate beside an effect found (FindPartners, estimation/discovery/selection.h) is
   // reported with it when it gains p <= partner_alpha and moves the effect's estimate by at
   // least partner_shift_sigma of the effect's sigma as fitted: the data cannot rule it out, and
-  // the effect's estimate would carry its signal.
+  // the effect's estimate would carry its signal; or when, one of its sigmas beyond its
+  // estimate, it would move the effect by partner_reach_sigma or more (the design leaves it
+  // that much room). Also a candidate in another effect's place that fits about as well.
   double partner_alpha = 0.1;
   double partner_shift_sigma = 2.0;
+  double partner_reach_sigma = 3.0;
 };
 
 // What the noise analysis found on one axis beyond a wrong level (which is
@@ -107,6 +110,7 @@ struct Ambiguity {
     double effect_estimate_with = 0.0;
     double effect_stddev_with = 0.0;
     double p_value = 1.0;
+    double reach_sigma = 0.0;  // beside: PartnerOptions::reach_sigma's measure
     bool Partner() const { return beside || replaces.has_value(); }
     std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
     std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
@@ -119,28 +123,34 @@ struct Ambiguity {
   std::string text;
 };
 
-// What a run effect of the final model owes to the landmark the run is tied to. A run effect
+// What the final model's effects owe to the landmark the run is tied to. A run effect
 // (run_bias_shift_x, ...) moves the endpoint, so it can pay for a tie to the wrong landmark;
-// its estimate, and whether it is needed at all, then depend on the tie. The final model is
+// its estimate, and whether it is needed at all, then depend on the tie. A calibration effect
+// can pay too, through the bias and scale the run shares with the test. The final model is
 // refitted with the run tied to every landmark (JointOptions::Landmark::kAuto): a tie's
-// posterior is its likelihood under the final model, run effects free, over the other ties'
+// posterior is its likelihood under the final model, its effects free, over the other ties'
 // (equal priors). Every tie whose posterior is at least kTiePosteriorReported is kept, with the
-// run effects' estimates under it and their joint chi-square there (the same model without
-// the run effects, tied to the same landmark, minus with them).
+// estimates under it of the run effects and of every other effect that a kept tie moves by
+// kTieShiftSigma of its sigma or more, and the run effects' joint chi-square there (the same
+// model without the run effects, tied to the same landmark, minus with them).
 inline constexpr double kTiePosteriorReported = 0.01;
+inline constexpr double kTieShiftSigma = 2.0;
 struct TieAlternative {
   std::string landmark;
   double posterior = 0.0;
   bool tied = false;              // the tie of the reported estimates
-  std::vector<double> estimates;  // per TieDependence::run_effects
+  std::vector<double> estimates;  // per TieDependence::effects
   std::vector<double> stddevs;
   double delta_chi2 = 0.0;  // what the run effects gain under this tie
-  double p_value = 1.0;     // chi-square on run_effects.size() degrees of freedom
-  bool needed = true;       // p_value <= the verdict's alpha
+  double p_value = 1.0;     // chi-square on as many degrees of freedom as run effects
+  bool needed = true;       // p_value <= the verdict's alpha (true without run effects)
 };
 struct TieDependence {
-  std::vector<Parameter> run_effects;  // the final model's; empty: nothing depends on the tie
-  std::vector<TieAlternative> ties;    // the tied landmark first, then by posterior
+  // The final model's effects that depend on the tie (every run effect, and those a plausible
+  // tie moves); empty: nothing depends on the tie.
+  std::vector<Parameter> effects;
+  bool has_run_effects = false;      // the final model has a run effect
+  std::vector<TieAlternative> ties;  // the tied landmark first, then by posterior
   // Whether another tie than the one taken is plausible (posterior >= kTiePosteriorReported).
   bool Depends() const { return ties.size() > 1; }
   // Whether a plausible tie needs no run effect: the data cannot say whether the run has one.

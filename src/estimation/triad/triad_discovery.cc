@@ -20,6 +20,16 @@
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
+
+namespace {
+PartnerOptions PartnerRule(const TriadDiscoveryOptions& options) {
+  PartnerOptions rule;
+  rule.alpha = options.partner_alpha;
+  rule.shift_sigma = options.partner_shift_sigma;
+  rule.reach_sigma = options.partner_reach_sigma;
+  return rule;
+}
+}  // namespace
 namespace {
 
 // The fit of `poses` with the effect coefficients `effects` under the chosen noise model.
@@ -929,8 +939,8 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   // And a candidate that the data cannot tell from its absence where it matters (issue 33, item
   // 2): beside an effect found, or in the place of another, it moves the effect by
   // partner_shift_sigma or more and gains (or explains) p <= partner_alpha.
-  for (const Partner& partner : FindPartners(&geometry, candidates, swaps, necessary,
-                                             options.partner_alpha, options.partner_shift_sigma)) {
+  for (const Partner& partner :
+       FindPartners(&geometry, candidates, swaps, necessary, PartnerRule(options))) {
     const int c = model[partner.effect];
     const std::string unit = TriadEffectUnit(c, options.unit);
     TriadAmbiguity ambiguity;
@@ -949,6 +959,11 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
         ambiguity.beside ? "alone" : ("with " + ambiguity.replaces).c_str(),
         partner.fit.current_estimates[partner.effect], partner.fit.current_stddevs[partner.effect],
         partner.shift_sigma, ambiguity.beside ? "gain" : "what it explains,", partner.p_value);
+    if (ambiguity.beside) {
+      ambiguity.alternative.pop_back();  // the closing parenthesis
+      ambiguity.alternative +=
+          StringPrintf("; one of its sigmas further, by %.1f sigma)", partner.reach_sigma);
+    }
     ambiguity.delta_chi2 = -partner.fit.gain;
     ambiguity.text = ambiguity.effect +
                      (ambiguity.beside ? " alone" : " with " + ambiguity.replaces) + ", or " +

@@ -87,9 +87,12 @@ struct TriadDiscoveryOptions {
   int max_effects = 6;
   double ambiguity_delta_chi2 = 6.0;
   // A candidate beside an effect found that gains p <= partner_alpha and moves the effect by
-  // partner_shift_sigma or more is a partner: cannot tell apart (estimation/discovery/selection.h).
+  // partner_shift_sigma or more, or one of whose sigmas beyond its estimate would move it by
+  // partner_reach_sigma or more, is a partner: cannot tell apart
+  // (PartnerOptions, estimation/discovery/selection.h).
   double partner_alpha = 0.1;
   double partner_shift_sigma = 1.5;
+  double partner_reach_sigma = 3.0;
   std::string unit = "count";  // the log's unit, for the effects' units
   std::array<double, 3> gain_mps2_per_unit{{1.0, 1.0, 1.0}};  // to state omega in m/s^2
 };
