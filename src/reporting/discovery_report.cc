@@ -193,7 +193,8 @@ std::string AmbiguityBlock(const DiscoveryResult& result) {
       const std::string other_unit = alternative.Unit();
       if (alternative.Partner()) {
         const std::string where =
-            alternative.beside ? std::string("beside it")
+            alternative.beside ? std::string("beside it") +
+                                     (alternative.note.empty() ? "" : ", " + alternative.note)
                                : std::string("in ") + Info(*alternative.replaces).name + "'s place";
         text += StringPrintf(
             "    or with %-16s = %s +- %s %s %s, %s = %s +- %s %s  (delta chi2 %s)\n",
@@ -509,7 +510,9 @@ nlohmann::json DiscoveryJson(const DiscoveryResult& result, double alpha) {
             alternative.Partner() ? Finite(alternative.effect_estimate_with) : nullptr},
            {"effect_stddev_with",
             alternative.Partner() ? Finite(alternative.effect_stddev_with) : nullptr},
-           {"p_value", alternative.Partner() ? Finite(alternative.p_value) : nullptr}});
+           {"p_value", alternative.Partner() ? Finite(alternative.p_value) : nullptr},
+           {"note", alternative.note.empty() ? nlohmann::json(nullptr)
+                                             : nlohmann::json(alternative.note)}});
     }
     ambiguities.push_back({{"name", Info(ambiguity.effect).name},
                            {"unit", Info(ambiguity.effect).unit},

@@ -59,6 +59,7 @@ struct BesideFit {
   std::vector<double> estimates, stddevs;  // the same effects in the grown model
   double estimate = 0.0;                   // the candidate's, in the grown model
   double stddev = 0.0;
+  std::string note;  // what else differs in the grown model, in words (the tilt table's tie)
 };
 
 // What a sensor geometry gives the procedure. Candidates are indices into the geometry's own

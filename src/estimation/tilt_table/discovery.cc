@@ -104,8 +104,10 @@ std::string AmbiguityText(const Ambiguity& ambiguity) {
     const std::string moved =
         Fixed(alternative.effect_estimate_with, alternative.effect_stddev_with, unit);
     if (alternative.beside) {
-      text += StringPrintf(" alone, or %s = %s beside %s (delta chi2 %+.2g)", name, moved.c_str(),
-                           other.c_str(), alternative.delta_chi2);
+      text += StringPrintf(" alone, or %s = %s beside %s%s (delta chi2 %+.2g)", name, moved.c_str(),
+                           other.c_str(),
+                           alternative.note.empty() ? "" : (", " + alternative.note).c_str(),
+                           alternative.delta_chi2);
     } else if (alternative.replaces) {
       const char* replaced = Info(*alternative.replaces).name;
       text += StringPrintf(" with %s, or %s = %s with %s in its place (delta chi2 %+.2g)", replaced,
@@ -231,6 +233,54 @@ class TiltTableGeometry : public DiscoveryGeometry {
     }
     JointResult refit;
     if (!SolveJoint(data_, grown, &refit).ok()) return false;
+    // And every other tie the grown model finds plausible and that fits about as well as the
+    // current model (within ambiguity_delta_chi2): of those fits, the one that moves an effect
+    // of the model most (a candidate whose signal the tie took can only show there).
+    // (Only for a candidate that shares an effect's signal: its sigma grows by a fifth beside
+    // it; another tie cannot move an effect through a candidate the effect does not feel.)
+    bool shares = false;
+    for (const Parameter effect : joint_->effects) {
+      const double sigma = current_->estimate.StandardDeviation(effect);
+      shares = shares || (sigma > 0.0 && refit.estimate.StandardDeviation(effect) >= 1.2 * sigma);
+    }
+    if (grown.landmark_mode == JointOptions::Landmark::kNamed && shares && TieContested()) {
+      const auto largest_shift = [&](const JointResult& with) {
+        double largest = 0.0;
+        for (const Parameter effect : joint_->effects) {
+          const double sigma = current_->estimate.StandardDeviation(effect);
+          if (sigma > 0.0)
+            largest = std::max(
+                largest,
+                std::abs(with.estimate.Value(effect) - current_->estimate.Value(effect)) / sigma);
+        }
+        return largest;
+      };
+      JointOptions every = grown;
+      every.landmark_mode = JointOptions::Landmark::kAuto;
+      JointResult all;
+      if (SolveJoint(data_, every, &all).ok()) {
+        double most = largest_shift(refit);
+        for (const LandmarkHypothesis& hypothesis : all.hypotheses) {
+          if (!hypothesis.solved || hypothesis.name == grown.landmark_name ||
+              !(hypothesis.posterior >= kTiePosteriorReported))
+            continue;
+          JointOptions there = grown;
+          there.landmark_name = hypothesis.name;
+          JointResult other;
+          if (!SolveJoint(data_, there, &other).ok() ||
+              !(TotalChi2(other) - TotalChi2(*current_) < ambiguity_delta_chi2_) ||
+              !(largest_shift(other) > most))
+            continue;
+          most = largest_shift(other);
+          refit = other;
+          grown.landmark_name = hypothesis.name;
+        }
+      }
+    }
+    fit->note = grown.landmark_mode == JointOptions::Landmark::kNamed &&
+                        grown.landmark_name != joint_->landmark_name
+                    ? "with the run tied to " + grown.landmark_name
+                    : "";
     fit->gain = TotalChi2(*current_) - TotalChi2(refit);
     fit->current_estimates.clear();
     fit->current_stddevs.clear();
@@ -249,6 +299,21 @@ class TiltTableGeometry : public DiscoveryGeometry {
 
   bool FitsAboutAsWell(const SwapFit& swap) const override {
     return swap.worse < ambiguity_delta_chi2_;
+  }
+
+  // Whether another landmark than the one the run is tied to is in question: the baseline's
+  // decision had a second landmark with posterior kTiePosteriorReported or more, or the tie has
+  // moved since (only then is a candidate beside the model fitted under the other ties too).
+  bool TieContested() const {
+    const LandmarkDecision& decision = result_->baseline_decision;
+    if (data_.landmarks().size() < 2 || decision.best < 0) return false;
+    if (decision.scores[decision.best].landmark.name != joint_->landmark_name) return true;
+    for (size_t i = 0; i < decision.scores.size(); ++i) {
+      if (static_cast<int>(i) != decision.best &&
+          decision.scores[i].posterior >= kTiePosteriorReported)
+        return true;
+    }
+    return false;
   }
 
   // It must explain, alone, what the effect explains (significantly), and about as well.
@@ -845,6 +910,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         with.effect_stddev_with = partner.fit.stddevs[e];
         with.p_value = partner.p_value;
         with.reach_sigma = partner.reach_sigma;
+        with.note = partner.fit.note;
         ambiguity.alternatives.push_back(with);
       }
       // Shapes outside the catalogue in its place: a theta harmonic on either axis that fits
@@ -923,6 +989,21 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
       std::string separation;
       for (const Ambiguity::Alternative& alternative : ambiguity.alternatives) {
         const bool run_effect = EffectOf(ambiguity.effect).acts_in != ActsIn::kCalibrationTest;
+        if (alternative.beside && !alternative.note.empty()) {
+          // Beside it under another tie: the landmark the run reached decides.
+          const std::string line = StringPrintf(
+              "%s beside %s, %s, fits %s (delta chi2 %+.1f) and moves %s by %.1f of "
+              "its sigma as fitted: which landmark the run reached decides; the run's end "
+              "position measured, or a landmark the endpoint's uncertainty cannot confuse with "
+              "another, would separate them",
+              Info(alternative.effect).name, Info(ambiguity.effect).name, alternative.note.c_str(),
+              alternative.delta_chi2 < 0.0 ? "better" : "about as well", alternative.delta_chi2,
+              Info(ambiguity.effect).name,
+              std::abs(alternative.effect_estimate_with - ambiguity.effect_estimate) /
+                  ambiguity.effect_stddev);
+          separation += (separation.empty() ? "" : "; ") + line;
+          continue;
+        }
         if (alternative.beside) {
           // The partner gains too little to be named, enough to move the effect: more of the
           // same data names it or rules it out (its chi-square grows with them).

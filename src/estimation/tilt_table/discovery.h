@@ -111,6 +111,7 @@ struct Ambiguity {
     double effect_stddev_with = 0.0;
     double p_value = 1.0;
     double reach_sigma = 0.0;  // beside: PartnerOptions::reach_sigma's measure
+    std::string note;          // beside: "with the run tied to C" when that model ties it elsewhere
     bool Partner() const { return beside || replaces.has_value(); }
     std::string Name() const { return shape.empty() ? Info(effect).name : shape; }
     std::string Unit() const { return shape.empty() ? Info(effect).unit : "m/s^2"; }
