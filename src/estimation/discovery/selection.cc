@@ -127,14 +127,16 @@ std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector
                                   const PartnerOptions& options) {
   const size_t model_size = geometry->Effects().size();
   std::vector<Partner> partners;
-  const auto shift_of = [](const BesideFit& fit, size_t e) {
+  const auto complete = [model_size](const AlternativeFit& fit) {
+    return fit.current_estimates.size() == model_size && fit.current_stddevs.size() == model_size &&
+           fit.estimates.size() == model_size && fit.stddevs.size() == model_size;
+  };
+  const auto shift_of = [](const AlternativeFit& fit, size_t e) {
     return std::abs(fit.estimates[e] - fit.current_estimates[e]) / fit.current_stddevs[e];
   };
   for (const int candidate : NotInModel(*geometry, candidates)) {
     BesideFit fit;
-    if (!geometry->Beside(candidate, &fit) || fit.estimates.size() != model_size ||
-        fit.current_stddevs.size() != model_size || fit.stddevs.size() != model_size)
-      continue;
+    if (!geometry->Beside(candidate, &fit) || !complete(fit)) continue;
     const double p_value = ChiSquareSurvival(std::max(0.0, fit.gain), 1.0);
     for (size_t e = 0; e < model_size; ++e) {
       if (!(fit.current_stddevs[e] > 0.0)) continue;
@@ -143,32 +145,22 @@ std::vector<Partner> FindPartners(DiscoveryGeometry* geometry, const std::vector
       const double reach = shift + std::sqrt(std::max(0.0, r * r - 1.0));
       if ((p_value <= options.alpha && shift >= options.shift_sigma) ||
           reach >= options.reach_sigma)
-        partners.push_back({e, candidate, -1, fit, p_value, shift, reach});
+        partners.push_back({e, candidate, -1, fit, -fit.gain, p_value, shift, reach});
     }
   }
   for (const SwappedModel& swap : swaps) {
     const SwapFit& fit = swap.fit;
-    if (fit.estimates.size() != model_size || fit.current_stddevs.size() != model_size ||
-        !geometry->FitsAboutAsWell(fit))
-      continue;
+    if (!complete(fit) || !geometry->FitsAboutAsWell(fit)) continue;
     const double explained = std::max(0.0, effect_delta_chi2[swap.effect] - fit.worse);
     const double p_value = ChiSquareSurvival(explained, 1.0);
     if (!(p_value <= options.alpha)) continue;
-    BesideFit with;
-    with.gain = -fit.worse;
-    with.current_estimates = fit.current_estimates;
-    with.current_stddevs = fit.current_stddevs;
-    with.estimates = fit.estimates;
-    with.stddevs = fit.stddevs;
-    with.estimate = fit.estimate;
-    with.stddev = fit.stddev;
     // Each effect kept it moves (the slot it replaces is not judged).
     for (size_t e = 0; e < model_size; ++e) {
-      if (e == swap.effect || !(with.current_stddevs[e] > 0.0)) continue;
-      const double shift = shift_of(with, e);
+      if (e == swap.effect || !(fit.current_stddevs[e] > 0.0)) continue;
+      const double shift = shift_of(fit, e);
       if (shift >= options.shift_sigma)
-        partners.push_back(
-            {e, swap.alternative, static_cast<int>(swap.effect), with, p_value, shift, 0.0});
+        partners.push_back({e, swap.alternative, static_cast<int>(swap.effect), fit, fit.worse,
+                            p_value, shift, 0.0});
     }
   }
   return partners;

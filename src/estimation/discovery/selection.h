@@ -39,27 +39,27 @@ struct CandidateTest {
   std::string not_tested;  // why, when !tested
 };
 
-// The model with one effect replaced by another candidate.
-struct SwapFit {
-  double worse = 0.0;     // its chi-square minus the current model's
-  double estimate = 0.0;  // the alternative's estimate in it
+// A model with a candidate in it, fitted as an alternative to the current one and not kept:
+// the candidate's estimate, and the current model's effects (Effects() order) as fitted and in
+// it. The vectors are empty when the geometry does not give them (then FindPartners finds no
+// partner in that model).
+struct AlternativeFit {
+  double estimate = 0.0;  // the candidate's
   double stddev = 0.0;
-  // The model's effects, Effects() order, as fitted and in the swapped model (the replaced
-  // effect's slot holds its value as fitted in both). Empty when the geometry does not give
-  // them (then no partner stands in an effect's place, FindPartners).
   std::vector<double> current_estimates, current_stddevs;
   std::vector<double> estimates, stddevs;
+  std::string note;  // what else differs in it, in words (the tilt table's tie)
 };
 
-// The current model grown by one candidate beside its effects, fitted but not kept.
-struct BesideFit {
-  double gain = 0.0;                      // the chi-square the candidate removes
-  std::vector<double> current_estimates;  // the model's effects, Effects() order, as fitted
-  std::vector<double> current_stddevs;
-  std::vector<double> estimates, stddevs;  // the same effects in the grown model
-  double estimate = 0.0;                   // the candidate's, in the grown model
-  double stddev = 0.0;
-  std::string note;  // what else differs in the grown model, in words (the tilt table's tie)
+// The model with one effect replaced by another candidate (the replaced effect's slot holds its
+// value as fitted in both vectors).
+struct SwapFit : AlternativeFit {
+  double worse = 0.0;  // its chi-square minus the current model's
+};
+
+// The current model grown by one candidate beside its effects.
+struct BesideFit : AlternativeFit {
+  double gain = 0.0;  // the chi-square the candidate removes
 };
 
 // What a sensor geometry gives the procedure. Candidates are indices into the geometry's own
@@ -177,11 +177,11 @@ std::vector<LookAlike> FindLookAlikes(const DiscoveryGeometry& geometry,
 struct Partner {
   size_t effect = 0;  // index into Effects(): the effect it moves
   int partner = 0;
-  int replaces = -1;  // index into Effects(): the effect it stands in for; -1: beside them
-  // The model with it: gain = the current model's chi-square minus that model's (negative when
-  // it replaces an effect and fits worse); estimates of the model's effects, Effects() order.
-  BesideFit fit;
-  double p_value = 1.0;      // beside: of fit.gain; replacing: of what it explains; chi-square(1)
+  int replaces = -1;        // index into Effects(): the effect it stands in for; -1: beside them
+  AlternativeFit fit;       // the model with it
+  double delta_chi2 = 0.0;  // that model's chi-square minus the current one's
+  // Beside: of its gain (-delta_chi2); replacing: of what it explains; chi-square(1).
+  double p_value = 1.0;
   double shift_sigma = 0.0;  // |estimate with - without| / sigma without
   // Beside: the shift one sigma of the partner beyond its estimate would give (PartnerOptions).
   double reach_sigma = 0.0;

@@ -268,10 +268,11 @@ class TiltTableGeometry : public DiscoveryGeometry {
           there.landmark_name = hypothesis.name;
           JointResult other;
           if (!SolveJoint(data_, there, &other).ok() ||
-              !(TotalChi2(other) - TotalChi2(*current_) < ambiguity_delta_chi2_) ||
-              !(largest_shift(other) > most))
+              !(TotalChi2(other) - TotalChi2(*current_) < ambiguity_delta_chi2_))
             continue;
-          most = largest_shift(other);
+          const double shift = largest_shift(other);
+          if (!(shift > most)) continue;
+          most = shift;
           refit = other;
           grown.landmark_name = hypothesis.name;
         }
@@ -903,7 +904,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         with.effect = geometry.candidates()[partner.partner];
         with.estimate = partner.fit.estimate;
         with.stddev = partner.fit.stddev;
-        with.delta_chi2 = -partner.fit.gain;
+        with.delta_chi2 = partner.delta_chi2;
         with.beside = partner.replaces < 0;
         if (partner.replaces >= 0) with.replaces = joint.effects[partner.replaces];
         with.effect_estimate_with = partner.fit.estimates[e];
@@ -1156,7 +1157,6 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         tie.estimates = estimates;
         tie.stddevs = stddevs;
       }
-      dependence.has_run_effects = !run_effects.empty();
       dependence.ties = ties;
     }
   }
@@ -1186,7 +1186,7 @@ Status Discover(const CalibrationTest& test, const VehicleRun& run, const RunCon
         effects += (effects.empty() ? "" : ", ") + std::string(info.name) + " = " +
                    Fixed(tie.estimates[e], tie.stddevs[e], info.unit);
       }
-      if (dependence.has_run_effects) {
+      if (dependence.HasRunEffects()) {
         effects = tie.needed
                       ? effects + StringPrintf(" (delta chi2 = %.1f)", tie.delta_chi2)
                       : effects + (effects.empty() ? "" : "; ") +

@@ -150,8 +150,13 @@ struct TieDependence {
   // The final model's effects that depend on the tie (every run effect, and those a plausible
   // tie moves); empty: nothing depends on the tie.
   std::vector<Parameter> effects;
-  bool has_run_effects = false;      // the final model has a run effect
   std::vector<TieAlternative> ties;  // the tied landmark first, then by posterior
+  // Whether the final model has a run effect (every one is among `effects`).
+  bool HasRunEffects() const {
+    for (const Parameter effect : effects)
+      if (ActsOnlyInRun(effect)) return true;
+    return false;
+  }
   // Whether another tie than the one taken is plausible (posterior >= kTiePosteriorReported).
   bool Depends() const { return ties.size() > 1; }
   // Whether a plausible tie needs no run effect: the data cannot say whether the run has one.

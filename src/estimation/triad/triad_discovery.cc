@@ -20,16 +20,6 @@
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
-
-namespace {
-PartnerOptions PartnerRule(const TriadDiscoveryOptions& options) {
-  PartnerOptions rule;
-  rule.alpha = options.partner_alpha;
-  rule.shift_sigma = options.partner_shift_sigma;
-  rule.reach_sigma = options.partner_reach_sigma;
-  return rule;
-}
-}  // namespace
 namespace {
 
 // The fit of `poses` with the effect coefficients `effects` under the chosen noise model.
@@ -940,7 +930,9 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   // 2): beside an effect found, or in the place of another, it moves the effect by
   // partner_shift_sigma or more and gains (or explains) p <= partner_alpha.
   for (const Partner& partner :
-       FindPartners(&geometry, candidates, swaps, necessary, PartnerRule(options))) {
+       FindPartners(&geometry, candidates, swaps, necessary,
+                    PartnerOptions{options.partner_alpha, options.partner_shift_sigma,
+                                   options.partner_reach_sigma})) {
     const int c = model[partner.effect];
     const std::string unit = TriadEffectUnit(c, options.unit);
     TriadAmbiguity ambiguity;
@@ -950,7 +942,7 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
     if (partner.replaces >= 0) ambiguity.replaces = coefficients[model[partner.replaces]].name;
     ambiguity.alternative = StringPrintf(
         "%s = %.3g +- %.2g %s %s, with %s = %.3g +- %.2g %s (%s: %.3g +- %.2g; moved by "
-        "%.1f sigma, %s p = %.2g)",
+        "%.1f sigma, %s p = %.2g%s)",
         coefficients[other].name.c_str(), partner.fit.estimate, partner.fit.stddev,
         TriadEffectUnit(other, options.unit).c_str(),
         ambiguity.beside ? "beside it" : ("in " + ambiguity.replaces + "'s place").c_str(),
@@ -958,13 +950,12 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
         partner.fit.stddevs[partner.effect], unit.c_str(),
         ambiguity.beside ? "alone" : ("with " + ambiguity.replaces).c_str(),
         partner.fit.current_estimates[partner.effect], partner.fit.current_stddevs[partner.effect],
-        partner.shift_sigma, ambiguity.beside ? "gain" : "what it explains,", partner.p_value);
-    if (ambiguity.beside) {
-      ambiguity.alternative.pop_back();  // the closing parenthesis
-      ambiguity.alternative +=
-          StringPrintf("; one of its sigmas further, by %.1f sigma)", partner.reach_sigma);
-    }
-    ambiguity.delta_chi2 = -partner.fit.gain;
+        partner.shift_sigma, ambiguity.beside ? "gain" : "what it explains,", partner.p_value,
+        ambiguity.beside
+            ? StringPrintf("; one of its sigmas further, by %.1f sigma", partner.reach_sigma)
+                  .c_str()
+            : "");
+    ambiguity.delta_chi2 = partner.delta_chi2;
     ambiguity.text = ambiguity.effect +
                      (ambiguity.beside ? " alone" : " with " + ambiguity.replaces) + ", or " +
                      ambiguity.alternative;
