@@ -167,6 +167,8 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
   GyroscopeMlOptions fit_options = options.fit;
   fit_options.bias_wander_fixed = false;
   fit_options.bias_wander_alpha = options.alpha / 4.0;
+  fit_options.turn_sampling_fixed = false;
+  fit_options.turn_sampling_alpha = options.alpha / 4.0;
   ACCELCAL_RETURN_IF_ERROR(CalibrateGyroscopeMl(log, intervals, accelerometer_options,
                                                 accelerometer, fit_options, &result->baseline));
   const std::array<double, 3>& wander = result->baseline.bias_wander_variance;
@@ -181,8 +183,19 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
                 std::sqrt(wander[2]))
           : StringPrintf("white noise (the poses' offsets scatter as it says, p = %.2g)",
                          result->baseline.white_rest_p_value);
+  const double kappa2 = result->baseline.turn_sampling_variance;
+  result->turn_sampling = kappa2 > 0.0;
+  if (result->turn_sampling) {
+    result->noise_note += StringPrintf(
+        "; the turns miss by more than that allows (p = %.2g < alpha/4) as abruptly as their "
+        "rates change between samples: the turns' sampling error, kappa = %.3g (the share of "
+        "the rotation between two samples that the samples do not resolve), is the noise model",
+        result->baseline.turns_without_sampling_p_value, std::sqrt(kappa2));
+  }
   fit_options.bias_wander_fixed = true;
   fit_options.bias_wander_variance = wander;
+  fit_options.turn_sampling_fixed = true;
+  fit_options.turn_sampling_variance = kappa2;
   // Every later fit starts from the baseline's solution (the effects from 0).
   fit_options.initial = result->baseline.parameters;
   fit_options.offset_given = true;
@@ -214,6 +227,7 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
   if (!geometry.Effects().empty()) {
     GyroscopeMlOptions final_options = options.fit;
     final_options.bias_wander_alpha = options.alpha / 4.0;
+    final_options.turn_sampling_alpha = options.alpha / 4.0;
     for (int group : geometry.Effects()) {
       const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
       for (int c = info.first; c < info.first + info.coefficients; ++c)
@@ -228,6 +242,7 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
   }
   const GyroscopeMlResult& current = result->final_fit;
   result->final_bias_wander = current.bias_wander_variance != std::array<double, 3>{};
+  result->final_turn_sampling = current.turn_sampling_variance > 0.0;
   std::vector<double> necessary;
   for (const CandidateTest& test : necessity) necessary.push_back(test.delta_chi2);
   const std::vector<int> model = geometry.Effects();
@@ -280,6 +295,11 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     found += (found.empty() ? "" : ", ") + effect.effect +
              StringPrintf(" (chi2 %.1f on %zu, p = %.2g)", effect.delta_chi2, effect.names.size(),
                           effect.p_value);
+  }
+  if (result->final_turn_sampling) {
+    found = StringPrintf("the turns' sampling error (kappa = %.3g)",
+                         std::sqrt(current.turn_sampling_variance)) +
+            (found.empty() ? "" : "; " + found);
   }
   if (result->final_bias_wander)
     found = "a bias wander between poses" + (found.empty() ? "" : "; " + found);

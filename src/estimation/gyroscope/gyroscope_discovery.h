@@ -9,8 +9,10 @@
 // triad_discovery.h):
 //
 // 1. Noise, alpha/4: a bias wander between poses, when the poses' offsets scatter beyond their
-//    white noise (GyroscopeMlOptions::bias_wander_alpha = alpha/4); the wander found is the noise
-//    model of every fit after it (held fixed, so that nested fits compare by chi-square).
+//    white noise (GyroscopeMlOptions::bias_wander_alpha = alpha/4), then the turns' sampling
+//    error, when the turns reject the model without it (turn_sampling_alpha = alpha/4); the
+//    noise model found is that of every fit after it (held fixed, so that nested fits compare by
+//    chi-square).
 // 2. Effects, alpha/2: the candidates g_sensitivity (9 coefficients), scale_asymmetry (3) and
 //    scale_nonlinearity (3), each tested as one group: the chi-square it removes, chi-square on
 //    its coefficients' count; forward selection with Holm, backward elimination (SelectEffects).
@@ -73,6 +75,8 @@ struct GyroscopeDiscoveryResult {
   GyroscopeMlResult baseline;      // the 12 unknowns, the noise model of step 1
   bool bias_wander = false;        // the baseline's noise model has one
   bool final_bias_wander = false;  // the final model's (estimated again with its effects)
+  bool turn_sampling = false;        // the baseline's noise model has the turns' sampling error
+  bool final_turn_sampling = false;  // the final model's
   std::string noise_note;
   std::vector<GyroscopeEffectScore> scores;
   std::vector<std::string> not_tested;  // candidate: why

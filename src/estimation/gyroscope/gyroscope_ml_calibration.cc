@@ -166,9 +166,14 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const double earth_axis_variance =
       options.earth_rate_as_noise ? kEarthRateRadPerS * kEarthRateRadPerS / 3.0 : 0.0;
 
-  // The samples at a rail: each axis's largest or smallest output, held for kRailRun samples or
-  // more (a smooth turn's peak, rounded, repeats its largest value a few times at most).
+  // The samples at a rail: each axis's largest or smallest output when it is held for kRailRun
+  // samples or more in a row, or reached in kRailVisits separate runs (a smooth turn's peak,
+  // rounded, repeats its largest value a few times in one place; a saturating output returns to
+  // its rail at every swing beyond the range, for a few samples each time). Then every sample at
+  // it is at the rail.
   constexpr size_t kRailRun = 5;
+  constexpr int kRailVisits = 5;
+  constexpr double kRailNoiseSigmas = 50.0;
   std::array<std::vector<bool>, 3> at_rail;
   std::array<std::array<double, 2>, 3> rails{};
   for (int k = 0; k < 3; ++k) {
@@ -181,20 +186,40 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     at_rail[k].assign(log.size(), false);
     for (double rail : {low, high}) {
       size_t run = 0;
+      int visits = 0;
+      bool held = false;
       for (size_t i = 0; i <= log.size(); ++i) {
         if (i < log.size() && log.gyroscope[i][k] == rail) {
           ++run;
           continue;
         }
-        if (run >= kRailRun)
-          for (size_t j = i - run; j < i; ++j) at_rail[k][j] = true;
+        if (run > 0) ++visits;
+        if (run >= kRailRun) held = true;
         run = 0;
       }
+      // Visits count only far beyond the noise (a dead or stuck channel returns to its
+      // extremes at every other sample).
+      const bool far = std::abs(rail - result->offset[k]) > kRailNoiseSigmas * std::sqrt(white[k]);
+      if (!held && !(visits >= kRailVisits && far)) continue;
+      for (size_t i = 0; i < log.size(); ++i)
+        if (log.gyroscope[i][k] == rail) at_rail[k][i] = true;
     }
   }
 
-  // One fit with a bias wander of variance wander[k] (the output's unit squared) between poses.
-  auto fit = [&](const std::array<double, 3>& wander) -> Status {
+  // Per fitted turn, its residual's 2 x 2 covariance without the sampling term and the sampling
+  // term's for kappa^2 = 1, and its residual (unwhitened) at the last fit: the sampling term's
+  // method of moments.
+  struct TurnNoise {
+    Eigen::Matrix2d without_sampling;
+    Eigen::Matrix2d sampling;
+    Eigen::Vector2d residual = Eigen::Vector2d::Zero();
+  };
+  std::vector<TurnNoise> turn_noise;
+
+  // One fit with a bias wander of variance wander[k] (the output's unit squared) between poses
+  // and the turns' sampling error of variance kappa2 (dimensionless).
+  auto fit = [&](const std::array<double, 3>& wander, double kappa2) -> Status {
+    turn_noise.clear();
     result->rest_means.clear();
     result->rest_stddev.clear();
     result->rest_whitened.clear();
@@ -272,7 +297,19 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       }
       GyroscopeTurnSamples samples;
       double weights_squared = 0.0;
+      // D_k: the squared changes between consecutive samples times their steps squared, less
+      // the white noise's share (2 s_k^2 per step).
+      std::array<double, 3> changes{};
+      double steps_squared = 0.0;
       for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+        if (i < turn.last_sample) {
+          const double dt = log.timestamp_s[i + 1] - log.timestamp_s[i];
+          steps_squared += dt * dt;
+          for (int k = 0; k < 3; ++k) {
+            const double change = log.gyroscope[i + 1][k] - log.gyroscope[i][k];
+            changes[k] += change * change * dt * dt;
+          }
+        }
         samples.raw.push_back(log.gyroscope[i]);
         double force[3];
         TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
@@ -293,13 +330,29 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         weights_squared += weight * weight;
       }
       turn.duration_s = log.timestamp_s[turn.last_sample] - log.timestamp_s[turn.first_sample];
-      // The angle's covariance (rad^2), diagonal in the body frame.
-      double angle_variance[3];
+      turn.time_s = log.timestamp_s[turn.first_sample] - log.timestamp_s.front();
+      // The angle's covariance (rad^2), diagonal in the body frame; its sampling part for
+      // kappa^2 = 1 apart.
+      double angle_variance[3], sampling_variance[3];
+      double sampling_sum = 0.0;
       for (int k = 0; k < 3; ++k) {
         angle_variance[k] =
             gain_rad_s[k] * gain_rad_s[k] *
                 (white[k] * weights_squared + wander[k] * turn.duration_s * turn.duration_s) +
             earth_axis_variance * turn.duration_s * turn.duration_s;
+        sampling_variance[k] = gain_rad_s[k] * gain_rad_s[k] *
+                               std::max(0.0, changes[k] - 2.0 * white[k] * steps_squared);
+        sampling_sum += sampling_variance[k];
+        angle_variance[k] += kappa2 * sampling_variance[k];
+      }
+      turn.sampling_measure_rad = std::sqrt(sampling_sum / 3.0);
+      for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+        double squares = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          const double rate = gain_rad_s[k] * (log.gyroscope[i][k] - result->offset[k]);
+          squares += rate * rate;
+        }
+        turn.peak_rate_rad_s = std::max(turn.peak_rate_rad_s, std::sqrt(squares));
       }
       turn_sigmas.push_back(
           std::sqrt((angle_variance[0] + angle_variance[1] + angle_variance[2]) / 3.0));
@@ -308,15 +361,23 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       const Vector3& after = accelerometer.directions[p + 1];
       const std::array<Vector3, 2> basis = NormalBasis(after);
       // C = E^T [n]x S [n]x^T E; [n]x^T e = e x n.
-      Eigen::Matrix2d c;
-      for (int a = 0; a < 2; ++a) {
-        for (int b = 0; b < 2; ++b) {
-          const Vector3 ua = Cross(basis[a], after);
-          const Vector3 ub = Cross(basis[b], after);
-          c(a, b) = ua[0] * angle_variance[0] * ub[0] + ua[1] * angle_variance[1] * ub[1] +
-                    ua[2] * angle_variance[2] * ub[2];
+      auto seen_at_after = [&](const double* variance) {
+        Eigen::Matrix2d c;
+        for (int a = 0; a < 2; ++a) {
+          for (int b = 0; b < 2; ++b) {
+            const Vector3 ua = Cross(basis[a], after);
+            const Vector3 ub = Cross(basis[b], after);
+            c(a, b) = ua[0] * variance[0] * ub[0] + ua[1] * variance[1] * ub[1] +
+                      ua[2] * variance[2] * ub[2];
+          }
         }
-      }
+        return c;
+      };
+      const Eigen::Matrix2d c = seen_at_after(angle_variance);
+      TurnNoise noise;
+      noise.sampling = seen_at_after(sampling_variance);
+      noise.without_sampling = c - kappa2 * noise.sampling;
+      turn_noise.push_back(noise);
       const Eigen::Matrix2d w = Eigen::Matrix2d(c.llt().matrixL()).inverse();
       const std::array<double, 4> whitening = {w(0, 0), w(0, 1), w(1, 0), w(1, 1)};
       turn.angle_rad = AngleBetween(accelerometer.directions[p], after);
@@ -472,6 +533,13 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     for (size_t t = 0; t < result->turns.size(); ++t) {
       GyroscopeMlTurn& turn = result->turns[t];
       turn.whitened = {turn_residuals[2 * t], turn_residuals[2 * t + 1]};
+      {
+        const Eigen::Matrix2d covariance =
+            turn_noise[t].without_sampling + kappa2 * turn_noise[t].sampling;
+        turn_noise[t].residual =
+            Eigen::Matrix2d(covariance.llt().matrixL()) * Eigen::Vector2d(turn.whitened[0],
+                                                                          turn.whitened[1]);
+      }
       result->chi2_turns +=
           turn.whitened[0] * turn.whitened[0] + turn.whitened[1] * turn.whitened[1];
       const auto* residual = static_cast<const GyroscopeTurnResidual*>(
@@ -487,6 +555,11 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       turn.residual_angle_rad = AngleBetween(rotated, result->directions[turn.pose_before + 1]);
       const double trace = rotation[0] + rotation[4] + rotation[8];
       turn.rotation_angle_rad = std::acos(std::clamp(0.5 * (trace - 1.0), -1.0, 1.0));
+      const Vector3 axis = {rotation[7] - rotation[5], rotation[2] - rotation[6],
+                            rotation[3] - rotation[1]};
+      const double axis_norm = std::sqrt(Dot(axis, axis));
+      if (axis_norm > 0.0)
+        for (int k = 0; k < 3; ++k) turn.rotation_axis[k] = axis[k] / axis_norm;
     }
     const int turn_count = static_cast<int>(result->turns.size());
     result->gyroscope_degrees_of_freedom = 3 * pose_count + 2 * turn_count - unknown_count;
@@ -579,12 +652,68 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->turn_earth_angle_rad = Median(turn_earth);
     return Status::Ok();
   };
+  // The turns' sampling error, by the method of moments: the kappa^2 >= 0 that makes
+  // sum_t e_t' (C_t + kappa^2 S_t)^-1 e_t equal its expectation, the turns' components less the
+  // unknowns they determine (the 9 parameters and the effects' scale terms), at the residuals e_t
+  // of the last fit; 0 when they already fit without it.
+  int turn_determined = kGyroscopeParameterCount;
+  for (int c : estimated)
+    if (c >= kGyroscopeScaleAsymmetry) ++turn_determined;
+  auto turn_dof = [&]() {
+    return std::max(1, 2 * static_cast<int>(turn_noise.size()) - turn_determined);
+  };
+  auto estimate_sampling = [&]() {
+    const double target = turn_dof();
+    auto statistic = [&](double kappa2) {
+      double sum = 0.0;
+      for (const TurnNoise& noise : turn_noise) {
+        const Eigen::Matrix2d covariance = noise.without_sampling + kappa2 * noise.sampling;
+        sum += noise.residual.dot(covariance.ldlt().solve(noise.residual));
+      }
+      return sum;
+    };
+    if (turn_noise.empty() || statistic(0.0) <= target) return 0.0;
+    // The statistic falls with kappa^2; bracket, then bisect on the log scale.
+    double low = 0.0, high = 1e-6;
+    while (statistic(high) > target && high < 1e12) high *= 10.0;
+    for (int iteration = 0; iteration < 200; ++iteration) {
+      const double middle = low > 0.0 ? std::sqrt(low * high) : 0.5 * high;
+      (statistic(middle) > target ? low : high) = middle;
+    }
+    return 0.5 * (low + high);
+  };
+  // The turns' chi-square without the sampling term, and whether it rejects the noise model.
+  auto turns_reject = [&]() {
+    result->turns_without_sampling_p_value = ChiSquareSurvival(result->chi2_turns, turn_dof());
+    return options.turn_sampling_alpha > 0.0 &&
+           result->turns_without_sampling_p_value < options.turn_sampling_alpha;
+  };
+  // Fits with the sampling term: estimated from the residuals of the fit without it, then once
+  // more from the fit with it (the residuals move little: the term reweights the turns).
+  auto fit_with_sampling = [&](const std::array<double, 3>& wander) -> Status {
+    if (options.turn_sampling_fixed) {
+      result->turn_sampling_variance = options.turn_sampling_variance;
+      return fit(wander, result->turn_sampling_variance);
+    }
+    result->turn_sampling_variance = 0.0;
+    ACCELCAL_RETURN_IF_ERROR(fit(wander, 0.0));
+    if (!turns_reject()) return Status::Ok();
+    const double without_p = result->turns_without_sampling_p_value;
+    double kappa2 = estimate_sampling();
+    if (!(kappa2 > 0.0)) return Status::Ok();
+    ACCELCAL_RETURN_IF_ERROR(fit(wander, kappa2));
+    kappa2 = std::max(kappa2, estimate_sampling());
+    ACCELCAL_RETURN_IF_ERROR(fit(wander, kappa2));
+    result->turn_sampling_variance = kappa2;
+    result->turns_without_sampling_p_value = without_p;
+    return Status::Ok();
+  };
   if (options.bias_wander_fixed) {
     result->bias_wander_variance = options.bias_wander_variance;
-    return fit(result->bias_wander_variance);
+    return fit_with_sampling(result->bias_wander_variance);
   }
   result->bias_wander_variance = {0.0, 0.0, 0.0};
-  ACCELCAL_RETURN_IF_ERROR(fit(result->bias_wander_variance));
+  ACCELCAL_RETURN_IF_ERROR(fit(result->bias_wander_variance, 0.0));
   // The rest residuals under white noise: 3 per pose, less the 3 offsets (and the g-sensitivity's
   // coefficients, which they determine too).
   int rest_unknowns = 3;
@@ -592,37 +721,42 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     if (c < kGyroscopeScaleAsymmetry) ++rest_unknowns;
   const int rest_dof = std::max(1, 3 * pose_count - rest_unknowns);
   result->white_rest_p_value = ChiSquareSurvival(result->chi2_rest, rest_dof);
-  if (!(result->white_rest_p_value < options.bias_wander_alpha)) return Status::Ok();
-  // The poses' offsets scatter more than their white noise allows: the offset wanders (bias
-  // instability, temperature). Its variance between poses by the method of moments per axis:
-  // the tau^2 >= 0 that makes sum_p e_p^2 / (sigma_p^2 + tau^2) = P - 1, e_p the pose's residual.
+  const double white_rest_p_value = result->white_rest_p_value;
   bool wanders = false;
-  for (int k = 0; k < 3; ++k) {
-    std::vector<double> e2, s2;
-    for (int p = 0; p < pose_count; ++p) {
-      const double sigma = result->rest_stddev[p][k];
-      const double e = result->rest_whitened[p][k] * sigma;
-      e2.push_back(e * e);
-      s2.push_back(sigma * sigma);
+  if (result->white_rest_p_value < options.bias_wander_alpha) {
+    // The poses' offsets scatter more than their white noise allows: the offset wanders (bias
+    // instability, temperature). Its variance between poses by the method of moments per axis:
+    // the tau^2 >= 0 that makes sum_p e_p^2 / (sigma_p^2 + tau^2) = P - 1, e_p the pose's
+    // residual.
+    for (int k = 0; k < 3; ++k) {
+      std::vector<double> e2, s2;
+      for (int p = 0; p < pose_count; ++p) {
+        const double sigma = result->rest_stddev[p][k];
+        const double e = result->rest_whitened[p][k] * sigma;
+        e2.push_back(e * e);
+        s2.push_back(sigma * sigma);
+      }
+      auto statistic = [&](double tau2) {
+        double sum = 0.0;
+        for (int p = 0; p < pose_count; ++p) sum += e2[p] / (s2[p] + tau2);
+        return sum;
+      };
+      const double target = pose_count - 1;
+      if (statistic(0.0) <= target) continue;
+      double low = 0.0, high = *std::max_element(e2.begin(), e2.end()) + 1.0;
+      for (int iteration = 0; iteration < 200; ++iteration) {
+        const double middle = 0.5 * (low + high);
+        (statistic(middle) > target ? low : high) = middle;
+      }
+      result->bias_wander_variance[k] = 0.5 * (low + high);
+      wanders = true;
     }
-    auto statistic = [&](double tau2) {
-      double sum = 0.0;
-      for (int p = 0; p < pose_count; ++p) sum += e2[p] / (s2[p] + tau2);
-      return sum;
-    };
-    const double target = pose_count - 1;
-    if (statistic(0.0) <= target) continue;
-    double low = 0.0, high = *std::max_element(e2.begin(), e2.end()) + 1.0;
-    for (int iteration = 0; iteration < 200; ++iteration) {
-      const double middle = 0.5 * (low + high);
-      (statistic(middle) > target ? low : high) = middle;
-    }
-    result->bias_wander_variance[k] = 0.5 * (low + high);
-    wanders = true;
   }
-  if (!wanders) return Status::Ok();
+  if (!wanders && !turns_reject()) return Status::Ok();
   const std::array<double, 3> wander = result->bias_wander_variance;
-  return fit(wander);
+  ACCELCAL_RETURN_IF_ERROR(fit_with_sampling(wander));
+  result->white_rest_p_value = white_rest_p_value;
+  return Status::Ok();
 }
 
 }  // namespace accelcal

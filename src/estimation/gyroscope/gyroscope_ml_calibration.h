@@ -37,6 +37,18 @@
 //     (options.bias_wander_alpha) added to every pose mean, and (gain_k tau_k T)^2 to a turn's
 //     angle; the fit is repeated with it. The rest residuals then fit by construction; the turns
 //     are the check.
+//   - what the samples do not resolve (docs/gyroscope.md, "The turns' sampling error"): a turn's
+//     rate is sampled, and where it changes abruptly between two samples (a hand that stops the
+//     sensor against a table) no integration rule recovers the rotation between them: the
+//     integral of the samples misses it by about |delta w| dt times a fraction that depends on
+//     when, within the step, the change happened. Each turn's angle gets the variance
+//     kappa^2 gain_k^2 D_k per axis, D_k = sum_j (u_k,j+1 - u_k,j)^2 dt_j^2 over the turn's steps
+//     less what the white noise puts there (2 s_k^2 sum_j dt_j^2), kappa^2 (dimensionless: 1/12
+//     for steps at uniformly random times within a sample interval) estimated when the turns
+//     reject the noise model without it (options.turn_sampling_alpha), by the method of moments
+//     over the turns, and the fit repeated with it. The turns then fit by construction in
+//     total; whether their residuals follow D (and nothing else: rate, angle, axis, duration,
+//     time) is discovery's check of the turns' shapes (gyroscope_discovery.h).
 //
 // Clipping: a turn in which an output sits at the end of its range (the log's largest or smallest
 // value on that axis, held for 5 samples or more in a row, as an ADC or a driver saturates) is
@@ -92,6 +104,12 @@ struct GyroscopeMlOptions {
   bool bias_wander_fixed = false;
   std::array<double, 3> bias_wander_variance{};
   double bias_wander_alpha = 0.0025;
+  // The turns' sampling error kappa^2 (see above): when `turn_sampling_fixed`, the given one;
+  // else estimated when the turns' chi-square under the rest of the noise model is rejected at
+  // turn_sampling_alpha (0: never).
+  bool turn_sampling_fixed = false;
+  double turn_sampling_variance = 0.0;
+  double turn_sampling_alpha = 0.0;
   // A singular value ratio of the column-normalised marginal information below this marks a
   // direction the turns do not determine.
   double rank_tolerance = 1e-8;
@@ -107,6 +125,13 @@ struct GyroscopeMlTurn {
   double rotation_angle_rad = 0.0;  // the whole rotation the calibrated rates integrate to
   double residual_angle_rad = 0.0;  // the angle between R^T n_p and n_p+1 at the solution
   double angle_stddev_rad = 0.0;    // the noise model's per-axis angle sigma over the turn
+  // How abruptly the rate changes between the turn's samples: sqrt(sum_k gain_k^2 D_k / 3) (rad,
+  // D_k as above), the size of the rotation the samples may miss; the sampling term's angle sigma
+  // is kappa times it.
+  double sampling_measure_rad = 0.0;
+  double peak_rate_rad_s = 0.0;  // the largest calibrated-rate magnitude over the turn
+  double time_s = 0.0;           // the turn's first sample's time, from the log's start
+  std::array<double, 3> rotation_axis{};  // the integrated rotation's axis (body, unit)
   std::array<double, 2> whitened{};
 };
 
@@ -132,6 +157,9 @@ struct GyroscopeMlResult {
 
   std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
   std::array<double, 3> bias_wander_variance{};  // between poses, the unit squared; 0: none
+  double turn_sampling_variance = 0.0;  // kappa^2 of the turns' sampling error; 0: none
+  // The turns' chi-square under the noise model without the sampling term: its p-value.
+  double turns_without_sampling_p_value = 1.0;
   double white_rest_p_value = 1.0;  // the rest residuals' chi-square under white noise alone
   std::vector<std::array<double, 3>> rest_means;     // per pose, the output's unit
   std::vector<std::array<double, 3>> rest_whitened;  // per pose
