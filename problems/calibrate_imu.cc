@@ -102,6 +102,7 @@ ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
 ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(initial_gyro_gain, 0.0, 100.0);
+DEFINE_bool(gyro_turn_sampling, true, "Mode ml, a log with a gyroscope: discovery may add the turns' sampling error to the gyroscope's noise model when the turns reject it without (each turn's angle variance kappa^2 times the sum of its rate's squared changes between samples times the steps squared, rad^2: what samples cannot resolve of a turn that starts or stops abruptly; docs/gyroscope.md). false: never, as before; the turns' shape checks then say what remains.");
 
 namespace accelcal {
 namespace {
@@ -193,6 +194,10 @@ Status ValidateFlags() {
   ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
   if (FLAGS_mode == "ferraris")
     ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
+  if (FLAGS_mode != "ml" && FlagGiven("gyro_turn_sampling")) {
+    return Status::Error("--gyro_turn_sampling belongs to --mode=ml, whose discovery chooses the "
+                         "gyroscope's noise model; --mode=" + FLAGS_mode + " does not read it");
+  }
   if (FLAGS_mode == "ml" && !FLAGS_imu_tk_calib_out.empty()) {
     return Status::Error(
         "--imu_tk_calib_out belongs to --mode=imu_tk, whose result imu_tk's files hold; "
@@ -358,6 +363,7 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
   ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &options.gyroscope_unit)
                                .WithContext("--gyro_unit"));
   options.initial_gyro_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
+  options.gyro_turn_sampling = FLAGS_gyro_turn_sampling;
   // Asked for: a gyroscope that cannot be calibrated is then the run's refusal, else a note
   // (--gyro_bias and --imu_tk_calib_out belong to mode imu_tk; mode ml refuses them).
   options.gyroscope_asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||

@@ -27,6 +27,9 @@ DEFINE_double(hold_s, 4.0, "Each pose's duration, s, in [0.5, 600].");
 DEFINE_double(gyro_noise, 3.0, "The gyroscope's white noise per sample, counts, in (0, 1e4] (at the Xsens-like gain of 1/4770 (rad/s)/count, 3 counts is 6.3e-4 rad/s).");
 DEFINE_string(effects, "", "Gyroscope effects to simulate AND estimate, comma-separated: g_sensitivity (G = 2e-4 (rad/s)/(m/s^2) on the diagonal, 1e-4 off it), scale_asymmetry (2e-3, -1e-3, 1.5e-3), scale_nonlinearity (1e-3, -2e-3, 1.5e-3 1/(rad/s)). Empty: the 12 unknowns of the model.");
 DEFINE_double(discovery, 0.0, "Also run the gyroscope's discovery at this alpha (e.g. 0.01) on every session and count its verdicts: with no --effects, the rate of any verdict but explained is its false-alarm rate (must be <= alpha + 2 sd); with --effects (then also estimated in the calibration), how often each is found. 0: no discovery.");
+DEFINE_double(rate_hz, 100.0, "The sessions' sample rate, Hz, in [10, 10000] (the MIMU4444 array's 62.5).");
+DEFINE_double(turn_abruptness, 0.0, "How abruptly each turn starts and stops, in [0, 1): the rate jumps to this fraction of its peak at the start and from it to 0 at the end, at a random time within a sample interval, as a hand that sets the sensor down against a table (docs/gyroscope.md, \"The turns' sampling error\"). 0: the smooth (1 - cos) turn.");
+DEFINE_double(turn_sampling_alpha, 0.0, "The calibration estimates the turns' sampling error (kappa^2) when the turns reject the model without it at this level, in [0, 1]; 1: whenever they scatter beyond it; 0: never (discovery estimates it at alpha/4 whatever this says).");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 ACCELCAL_DEFINE_THREADS_FLAG(0);
 ACCELCAL_DEFINE_PROGRESS_FLAG();
@@ -36,6 +39,9 @@ ACCELCAL_FLAG_RANGE(poses, 3, 1000);
 ACCELCAL_FLAG_RANGE(hold_s, 0.5, 600.0);
 ACCELCAL_FLAG_OPEN_RANGE(gyro_noise, 0.0, 10000.0);
 ACCELCAL_FLAG_RANGE(discovery, 0.0, 0.5);
+ACCELCAL_FLAG_RANGE(rate_hz, 10.0, 10000.0);
+ACCELCAL_FLAG_RANGE(turn_abruptness, 0.0, 0.99);
+ACCELCAL_FLAG_RANGE(turn_sampling_alpha, 0.0, 1.0);
 
 namespace accelcal {
 namespace {
@@ -99,13 +105,20 @@ Status OptionsFromFlags(GyroscopeMonteCarloOptions* options, DataSource* source)
   options->design.poses = FLAGS_poses;
   options->design.hold_s = FLAGS_hold_s;
   options->design.gyroscope_noise = {FLAGS_gyro_noise, FLAGS_gyro_noise, FLAGS_gyro_noise};
+  options->design.rate_hz = FLAGS_rate_hz;
+  options->design.turn_abruptness = FLAGS_turn_abruptness;
+  options->design.turn_sampling_alpha = FLAGS_turn_sampling_alpha;
   source->simulated = true;
   source->seed = FLAGS_seed;
   source->scenario = StringPrintf(
       "hand-held IMU sessions (Xsens-like accelerometer and gyroscope, %s turns, %d poses of "
-      "%g s%s%s)",
-      FLAGS_turn_set.c_str(), FLAGS_poses, FLAGS_hold_s, FLAGS_effects.empty() ? "" : ", effects ",
-      FLAGS_effects.c_str());
+      "%g s at %g Hz%s%s%s)",
+      FLAGS_turn_set.c_str(), FLAGS_poses, FLAGS_hold_s, FLAGS_rate_hz,
+      FLAGS_turn_abruptness > 0.0 ? StringPrintf(", turns abrupt at %g of their peak rate",
+                                                 FLAGS_turn_abruptness)
+                                        .c_str()
+                                  : "",
+      FLAGS_effects.empty() ? "" : ", effects ", FLAGS_effects.c_str());
   return Status::Ok();
 }
 

@@ -164,6 +164,7 @@ Status SolveMlGyroscope(const TriadLog& log, const CalibrateImuOptions& options,
   GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
   discovery.alpha = options.session.alpha;
   discovery.fit = ml;
+  discovery.turn_sampling = options.gyro_turn_sampling;
   const Status status = DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
                                           report->ml, discovery, &report->gyroscope_discovery)
                             .WithContext(where + ": the gyroscope");

@@ -44,6 +44,9 @@ struct CalibrateImuOptions {
   GyroscopeOutputUnit gyroscope_unit = GyroscopeOutputUnit::kCount;
   double initial_gyro_gain = 0.0;
   bool gyroscope_asked = false;
+  // Mode ml: discovery may put the turns' sampling error in the gyroscope's noise model
+  // (docs/gyroscope.md); false: never (the turns then carry white noise and wander alone).
+  bool gyro_turn_sampling = true;
   // The names messages start with: the log's file, and the gyroscope's (its own file, or "").
   std::string log_name;
   std::string gyroscope_log_name;

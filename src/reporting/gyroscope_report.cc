@@ -193,7 +193,9 @@ nlohmann::json GyroscopeDiscoveryJson(const GyroscopeDiscoveryResult& d, double 
                       {"dof", check.dof},
                       {"p_value", check.p_value},
                       {"flagged", check.flagged},
-                      {"description", check.description}});
+                      {"description", check.description},
+                      {"shape_class", ShapeClassName(check.shape_class)},
+                      {"advice", check.advice}});
   }
   nlohmann::json look_alikes = nlohmann::json::array();
   for (const GyroscopeLookAlike& look_alike : d.look_alikes) {
@@ -204,6 +206,7 @@ nlohmann::json GyroscopeDiscoveryJson(const GyroscopeDiscoveryResult& d, double 
   return {{"alpha", alpha},
           {"noise", d.noise_note},
           {"bias_wander", d.bias_wander},
+          {"turn_sampling", d.turn_sampling},
           {"scores", scores},
           {"not_tested", d.not_tested},
           {"effects", effects},
@@ -244,6 +247,9 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
                      {"rotation_angle_rad", turn.rotation_angle_rad},
                      {"residual_angle_rad", turn.residual_angle_rad},
                      {"angle_stddev_rad", turn.angle_stddev_rad},
+                     {"sampling_measure_rad", turn.sampling_measure_rad},
+                     {"peak_rate_rad_s", turn.peak_rate_rad_s},
+                     {"time_s", turn.time_s},
                      {"whitened_residual", turn.whitened}});
   }
   nlohmann::json clipped = nlohmann::json::array();
@@ -274,6 +280,7 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
           {"covariance", covariance},
           {"noise_variance", g.noise_variance},
           {"bias_wander_variance", g.bias_wander_variance},
+          {"turn_sampling_variance", g.turn_sampling_variance},
           {"fit",
            {{"chi2", g.chi2_gyroscope},
             {"degrees_of_freedom", g.gyroscope_degrees_of_freedom},

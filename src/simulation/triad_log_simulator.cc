@@ -1,5 +1,6 @@
 #include "simulation/triad_log_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "simulation/triad_simulator.h"
@@ -116,11 +117,26 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
         std::sqrt(Dot(Cross(direction, next), Cross(direction, next))), Dot(direction, next));
     // The yaw of the turn (the gyroscope's alone: it leaves the gravity direction's path as is).
     const double yaw_rad = holds[p].turn_yaw_deg * M_PI / 180.0;
-    const double turn_duration_s = turn_samples / options.rate_hz;
+    // The motion spans [start, start + motion) in samples from the hold's last one; the smooth
+    // profile fills the turn; an abrupt one starts within the second sample interval and ends
+    // within the last but one, so that, as a static detector leaves them, the turn's first two
+    // and last two samples are at rest (turns of at least 4 samples).
+    const double abrupt = turn_samples >= 4 ? options.turn_abruptness : 0.0;
+    const double start = abrupt > 0.0 ? 1.0 + random->Uniform() : 0.0;
+    const double motion =
+        abrupt > 0.0 ? turn_samples - 2.0 + random->Uniform() - start : turn_samples;
+    const double motion_s = motion / options.rate_hz;
+    const double area = abrupt + (1.0 - abrupt) * 2.0 / M_PI;  // of the rate's shape over u
     // Samples strictly inside the turn: its end points are the holds' own samples.
     for (int i = 1; i < turn_samples; ++i) {
-      const double progress = 0.5 * (1.0 - std::cos(M_PI * i / turn_samples));
-      const double speed = 0.5 * M_PI / turn_duration_s * std::sin(M_PI * i / turn_samples);
+      double progress = 0.5 * (1.0 - std::cos(M_PI * i / turn_samples));
+      double speed = 0.5 * M_PI / motion_s * std::sin(M_PI * i / turn_samples);
+      if (abrupt > 0.0) {
+        const double u = std::clamp((i - start) / motion, 0.0, 1.0);
+        const bool moving = i - start > 0.0 && i - start < motion;
+        progress = (abrupt * u + (1.0 - abrupt) * (1.0 - std::cos(M_PI * u)) / M_PI) / area;
+        speed = moving ? (abrupt + (1.0 - abrupt) * std::sin(M_PI * u)) / (area * motion_s) : 0.0;
+      }
       const Vector3 now = Rotate(direction, axis, angle_rad * progress);
       writer.SetRate({yaw_rad * speed * now[0] - angle_rad * speed * axis[0],
                       yaw_rad * speed * now[1] - angle_rad * speed * axis[1],

@@ -97,6 +97,7 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   simulation.gravity_mps2 = design.gravity_mps2;
   simulation.rate_hz = design.rate_hz;
   simulation.turn_s = design.turn_s;
+  simulation.turn_abruptness = design.turn_abruptness;
   simulation.noise_stddev = design.accelerometer_noise;
   simulation.gyroscope.enabled = true;
   simulation.gyroscope.truth = design.truth;
@@ -130,6 +131,7 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   options.quantisation_step = design.gyroscope_in_counts ? 1.0 : 0.0;
   if (!design.gyroscope_in_counts) options.unit = GyroscopeOutputUnit::kRadPerS;
   options.earth_rate_as_noise = design.earth_rate_allowance;
+  options.turn_sampling_alpha = design.turn_sampling_alpha;
   options.effects = estimated;
   fit->gyroscope_options = options;
   return CalibrateGyroscopeMl(fit->session.log, fit->intervals, fit->accelerometer_options,

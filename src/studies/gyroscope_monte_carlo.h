@@ -67,6 +67,11 @@ struct GyroscopeSessionDesign {
   // earth_rate_as_noise) is then off, unless this asks for it (its sigmas are then wider than the
   // spread by design).
   bool earth_rate_allowance = false;
+  // Turns that start and stop abruptly (TriadLogSimulationOptions::turn_abruptness), and the
+  // fit's estimation of the turns' sampling error (GyroscopeMlOptions::turn_sampling_alpha; 1:
+  // whenever the turns scatter beyond the rest of the noise model; 0: never).
+  double turn_abruptness = 0.0;
+  double turn_sampling_alpha = 0.0;
 };
 
 // The design's holds (directions and yaws), drawn from `seed`.

@@ -18,6 +18,8 @@ const char* ShapeClassName(ShapeClass shape_class) {
       return "pose_order";
     case ShapeClass::kFullScale:
       return "full_scale";
+    case ShapeClass::kTurnMotion:
+      return "turn_motion";
   }
   return "noise";
 }

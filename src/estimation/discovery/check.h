@@ -17,9 +17,19 @@ namespace accelcal {
 // axis, which power), time over the session (a trend, up then down, a step at one time), the
 // direction the table turns (up-sweeps against down-sweeps), the order of the poses (one pose,
 // offsets that jump between poses), full scale (outputs near one end of an axis's range that
-// fall short), or none of these (the noise: a scatter or a correlation with no shape).
-enum class ShapeClass { kNoise, kOrientation, kTime, kTurnDirection, kPoseOrder, kFullScale };
-// "noise", "orientation", "time", "turn_direction", "pose_order", "full_scale"
+// fall short), the motion of a gyroscope's turns (their rate, angle, duration, or how abruptly
+// the rate changes between samples), or none of these (the noise: a scatter or a correlation
+// with no shape).
+enum class ShapeClass {
+  kNoise,
+  kOrientation,
+  kTime,
+  kTurnDirection,
+  kPoseOrder,
+  kFullScale,
+  kTurnMotion
+};
+// "noise", "orientation", "time", "turn_direction", "pose_order", "full_scale", "turn_motion"
 const char* ShapeClassName(ShapeClass shape_class);
 
 struct ResidualCheck {

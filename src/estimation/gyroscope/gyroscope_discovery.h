@@ -43,6 +43,8 @@ struct GyroscopeDiscoveryOptions {
   GyroscopeMlOptions fit;  // unit, g, start; its effects must be empty
   int max_effects = 3;
   double ambiguity_delta_chi2 = 6.0;
+  // The turns' sampling error may be part of the noise model (step 1); false: never.
+  bool turn_sampling = true;
 };
 
 struct GyroscopeEffectScore {

@@ -50,6 +50,48 @@ double Median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// The turns' sampling error for kappa^2 = 1 (rad^2, 3 x 3, in the body frame at the turn's
+// end): each step's change of the rate times its step, carried to the end's body frame along the
+// turn's attitude, outer products summed, less what the white noise puts there (the change of
+// two independent samples). The attitude and rates from the start's gains without misalignment:
+// a noise model's weights, not an estimate, so they stay fixed while the fit moves.
+Eigen::Matrix3d TurnSamplingMatrix(const TriadLog& log, int first, int last,
+                                   const std::vector<double>& step_s, const double* gain,
+                                   const GyroscopeOffset& offset,
+                                   const std::array<double, 3>& white) {
+  const int count = last - first + 1;
+  auto rate = [&](int j) {
+    Eigen::Vector3d w;
+    for (int k = 0; k < 3; ++k) w[k] = gain[k] * (log.gyroscope[first + j][k] - offset[k]);
+    return w;
+  };
+  auto rate_at = [&](int j, double* out) {
+    const Eigen::Vector3d w = rate(j);
+    for (int k = 0; k < 3; ++k) out[k] = w[k];
+  };
+  std::vector<std::array<double, 4>> path;
+  double end[9];
+  IntegrateAngularRateHermite(count, rate_at, step_s, end, &path);
+  const Eigen::Matrix3d end_rotation = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(end);
+  Eigen::Matrix3d sampling = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d noise = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d noise_per_step;
+  for (int k = 0; k < 3; ++k) noise_per_step[k] = 2.0 * gain[k] * gain[k] * white[k];
+  for (int j = 0; j + 1 < count; ++j) {
+    double at[9];
+    QuaternionToRotationMatrix(path[j + 1].data(), at);
+    const Eigen::Matrix3d to_end =
+        end_rotation.transpose() * Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(at);
+    const double dt = step_s[j];
+    const Eigen::Vector3d change = to_end * (rate(j + 1) - rate(j)) * dt;
+    sampling += change * change.transpose();
+    noise += dt * dt * to_end * noise_per_step.asDiagonal() * to_end.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(sampling - noise);
+  return eigen.eigenvectors() * eigen.eigenvalues().cwiseMax(0.0).asDiagonal() *
+         eigen.eigenvectors().transpose();
+}
+
 std::vector<std::string> UnknownNames(const std::vector<int>& effects) {
   std::vector<std::string> names;
   for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
@@ -297,19 +339,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       }
       GyroscopeTurnSamples samples;
       double weights_squared = 0.0;
-      // D_k: the squared changes between consecutive samples times their steps squared, less
-      // the white noise's share (2 s_k^2 per step).
-      std::array<double, 3> changes{};
-      double steps_squared = 0.0;
       for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
-        if (i < turn.last_sample) {
-          const double dt = log.timestamp_s[i + 1] - log.timestamp_s[i];
-          steps_squared += dt * dt;
-          for (int k = 0; k < 3; ++k) {
-            const double change = log.gyroscope[i + 1][k] - log.gyroscope[i][k];
-            changes[k] += change * change * dt * dt;
-          }
-        }
         samples.raw.push_back(log.gyroscope[i]);
         double force[3];
         TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
@@ -331,21 +361,19 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       }
       turn.duration_s = log.timestamp_s[turn.last_sample] - log.timestamp_s[turn.first_sample];
       turn.time_s = log.timestamp_s[turn.first_sample] - log.timestamp_s.front();
-      // The angle's covariance (rad^2), diagonal in the body frame; its sampling part for
-      // kappa^2 = 1 apart.
-      double angle_variance[3], sampling_variance[3];
-      double sampling_sum = 0.0;
+      // The angle's covariance (rad^2) in the body frame at the turn's end: diagonal but for the
+      // sampling part, whose matrix for kappa^2 = 1 is kept apart.
+      double angle_variance[3];
       for (int k = 0; k < 3; ++k) {
         angle_variance[k] =
             gain_rad_s[k] * gain_rad_s[k] *
                 (white[k] * weights_squared + wander[k] * turn.duration_s * turn.duration_s) +
             earth_axis_variance * turn.duration_s * turn.duration_s;
-        sampling_variance[k] = gain_rad_s[k] * gain_rad_s[k] *
-                               std::max(0.0, changes[k] - 2.0 * white[k] * steps_squared);
-        sampling_sum += sampling_variance[k];
-        angle_variance[k] += kappa2 * sampling_variance[k];
       }
-      turn.sampling_measure_rad = std::sqrt(sampling_sum / 3.0);
+      const Eigen::Matrix3d sampling =
+          TurnSamplingMatrix(log, turn.first_sample, turn.last_sample, samples.step_s, gain_rad_s,
+                             result->offset, white);
+      turn.sampling_measure_rad = std::sqrt(sampling.trace() / 3.0);
       for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
         double squares = 0.0;
         for (int k = 0; k < 3; ++k) {
@@ -354,29 +382,28 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         }
         turn.peak_rate_rad_s = std::max(turn.peak_rate_rad_s, std::sqrt(squares));
       }
-      turn_sigmas.push_back(
-          std::sqrt((angle_variance[0] + angle_variance[1] + angle_variance[2]) / 3.0));
+      turn_sigmas.push_back(std::sqrt(
+          (angle_variance[0] + angle_variance[1] + angle_variance[2] + kappa2 * sampling.trace()) /
+          3.0));
       turn_earth.push_back(kEarthRateRadPerS * turn.duration_s);
       turn.angle_stddev_rad = turn_sigmas.back();
       const Vector3& after = accelerometer.directions[p + 1];
       const std::array<Vector3, 2> basis = NormalBasis(after);
       // C = E^T [n]x S [n]x^T E; [n]x^T e = e x n.
-      auto seen_at_after = [&](const double* variance) {
-        Eigen::Matrix2d c;
+      auto seen_at_after = [&](const Eigen::Matrix3d& variance) {
+        Eigen::Matrix<double, 3, 2> u;
         for (int a = 0; a < 2; ++a) {
-          for (int b = 0; b < 2; ++b) {
-            const Vector3 ua = Cross(basis[a], after);
-            const Vector3 ub = Cross(basis[b], after);
-            c(a, b) = ua[0] * variance[0] * ub[0] + ua[1] * variance[1] * ub[1] +
-                      ua[2] * variance[2] * ub[2];
-          }
+          const Vector3 ua = Cross(basis[a], after);
+          u.col(a) = Eigen::Vector3d(ua[0], ua[1], ua[2]);
         }
-        return c;
+        return Eigen::Matrix2d(u.transpose() * variance * u);
       };
-      const Eigen::Matrix2d c = seen_at_after(angle_variance);
       TurnNoise noise;
-      noise.sampling = seen_at_after(sampling_variance);
-      noise.without_sampling = c - kappa2 * noise.sampling;
+      noise.without_sampling =
+          seen_at_after(Eigen::Vector3d(angle_variance[0], angle_variance[1], angle_variance[2])
+                            .asDiagonal());
+      noise.sampling = seen_at_after(sampling);
+      const Eigen::Matrix2d c = noise.without_sampling + kappa2 * noise.sampling;
       turn_noise.push_back(noise);
       const Eigen::Matrix2d w = Eigen::Matrix2d(c.llt().matrixL()).inverse();
       const std::array<double, 4> whitening = {w(0, 0), w(0, 1), w(1, 0), w(1, 1)};
@@ -699,10 +726,17 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     ACCELCAL_RETURN_IF_ERROR(fit(wander, 0.0));
     if (!turns_reject()) return Status::Ok();
     const double without_p = result->turns_without_sampling_p_value;
+    // A fixed point: kappa^2 from the residuals of the fit it weights (the fit without it
+    // leaves its largest residuals where the term is largest, so one step from there overshoots).
     double kappa2 = estimate_sampling();
     if (!(kappa2 > 0.0)) return Status::Ok();
-    ACCELCAL_RETURN_IF_ERROR(fit(wander, kappa2));
-    kappa2 = std::max(kappa2, estimate_sampling());
+    for (int iteration = 0; iteration < 8; ++iteration) {
+      ACCELCAL_RETURN_IF_ERROR(fit(wander, kappa2));
+      const double next = estimate_sampling();
+      const bool settled = std::abs(next - kappa2) <= 0.02 * kappa2;
+      kappa2 = next;
+      if (settled || !(kappa2 > 0.0)) break;
+    }
     ACCELCAL_RETURN_IF_ERROR(fit(wander, kappa2));
     result->turn_sampling_variance = kappa2;
     result->turns_without_sampling_p_value = without_p;
@@ -712,8 +746,10 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->bias_wander_variance = options.bias_wander_variance;
     return fit_with_sampling(result->bias_wander_variance);
   }
+  // The turns' sampling error first: turns the noise model cannot fit pull the offsets, and
+  // the poses' offsets would then seem to wander.
   result->bias_wander_variance = {0.0, 0.0, 0.0};
-  ACCELCAL_RETURN_IF_ERROR(fit(result->bias_wander_variance, 0.0));
+  ACCELCAL_RETURN_IF_ERROR(fit_with_sampling(result->bias_wander_variance));
   // The rest residuals under white noise: 3 per pose, less the 3 offsets (and the g-sensitivity's
   // coefficients, which they determine too).
   int rest_unknowns = 3;
@@ -752,7 +788,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       wanders = true;
     }
   }
-  if (!wanders && !turns_reject()) return Status::Ok();
+  if (!wanders) return Status::Ok();
   const std::array<double, 3> wander = result->bias_wander_variance;
   ACCELCAL_RETURN_IF_ERROR(fit_with_sampling(wander));
   result->white_rest_p_value = white_rest_p_value;
