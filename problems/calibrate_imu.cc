@@ -102,6 +102,7 @@ ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
 ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(initial_gyro_gain, 0.0, 100.0);
+DEFINE_double(latitude_deg, 1000.0, "Mode ml, a log with a gyroscope: the latitude where it was recorded, in degrees north (-90 to 90; south negative). The Earth's rate (7.292e-5 rad/s) then has a known vertical part, Omega sin(latitude) rad/s about the up direction in every pose, which the model holds; without it that part is estimated with the prior N(0, Omega^2) and reported, never taken for a g-sensitivity (docs/gyroscope.md). Not given: unknown.");
 DEFINE_bool(gyro_turn_sampling, true, "Mode ml, a log with a gyroscope: discovery may add the turns' sampling error to the gyroscope's noise model when the turns reject it without (each turn's angle variance kappa^2 times the sum of its rate's squared changes between samples times the steps squared, rad^2: what samples cannot resolve of a turn that starts or stops abruptly; docs/gyroscope.md). false: never, as before; the turns' shape checks then say what remains.");
 
 namespace accelcal {
@@ -194,6 +195,17 @@ Status ValidateFlags() {
   ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
   if (FLAGS_mode == "ferraris")
     ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
+  if (FlagGiven("latitude_deg") &&
+      !(std::abs(FLAGS_latitude_deg) <= 90.0)) {
+    return Status::Error(StringPrintf(
+        "--latitude_deg=%g is not a latitude; give degrees north in [-90, 90] (south negative), "
+        "e.g. --latitude_deg=59.35 for Stockholm",
+        FLAGS_latitude_deg));
+  }
+  if (FLAGS_mode != "ml" && FlagGiven("latitude_deg")) {
+    return Status::Error("--latitude_deg belongs to --mode=ml, whose gyroscope model holds the "
+                         "Earth's rate; --mode=" + FLAGS_mode + " does not read it");
+  }
   if (FLAGS_mode != "ml" && FlagGiven("gyro_turn_sampling")) {
     return Status::Error("--gyro_turn_sampling belongs to --mode=ml, whose discovery chooses the "
                          "gyroscope's noise model; --mode=" + FLAGS_mode + " does not read it");
@@ -364,6 +376,8 @@ Status Solve(const TriadLog& log, CalibrateImuReport* report) {
                                .WithContext("--gyro_unit"));
   options.initial_gyro_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
   options.gyro_turn_sampling = FLAGS_gyro_turn_sampling;
+  options.latitude_given = FlagGiven("latitude_deg");
+  options.latitude_deg = FLAGS_latitude_deg;
   // Asked for: a gyroscope that cannot be calibrated is then the run's refusal, else a note
   // (--gyro_bias and --imu_tk_calib_out belong to mode imu_tk; mode ml refuses them).
   options.gyroscope_asked = !FLAGS_gyro_log.empty() || FlagGiven("gyro_unit") ||

@@ -30,6 +30,9 @@ DEFINE_double(discovery, 0.0, "Also run the gyroscope's discovery at this alpha 
 DEFINE_double(rate_hz, 100.0, "The sessions' sample rate, Hz, in [10, 10000] (the MIMU4444 array's 62.5).");
 DEFINE_double(turn_abruptness, 0.0, "How abruptly each turn starts and stops, in [0, 1): the rate jumps to this fraction of its peak at the start and from it to 0 at the end, at a random time within a sample interval, as a hand that sets the sensor down against a table (docs/gyroscope.md, \"The turns' sampling error\"). 0: the smooth (1 - cos) turn.");
 DEFINE_double(turn_sampling_alpha, 0.0, "The calibration estimates the turns' sampling error (kappa^2) when the turns reject the model without it at this level, in [0, 1]; 1: whenever they scatter beyond it; 0: never (discovery estimates it at alpha/4 whatever this says).");
+DEFINE_bool(earth_rate, false, "Simulate the Earth's rate (7.292e-5 rad/s) at --latitude_deg in the gyroscope (vertical part about up, horizontal part at a random azimuth in each pose), and count it in the fit.");
+DEFINE_double(latitude_deg, 59.35, "With --earth_rate: the latitude simulated, degrees north in [-90, 90].");
+DEFINE_bool(latitude_known, false, "With --earth_rate: the fit is told the latitude (calibrate_imu --latitude_deg) and holds the vertical part; else it estimates it with its prior.");
 DEFINE_string(json, "", "Write the results as JSON to this file (atomically).");
 ACCELCAL_DEFINE_THREADS_FLAG(0);
 ACCELCAL_DEFINE_PROGRESS_FLAG();
@@ -42,6 +45,7 @@ ACCELCAL_FLAG_RANGE(discovery, 0.0, 0.5);
 ACCELCAL_FLAG_RANGE(rate_hz, 10.0, 10000.0);
 ACCELCAL_FLAG_RANGE(turn_abruptness, 0.0, 0.99);
 ACCELCAL_FLAG_RANGE(turn_sampling_alpha, 0.0, 1.0);
+ACCELCAL_FLAG_RANGE(latitude_deg, -90.0, 90.0);
 
 namespace accelcal {
 namespace {
@@ -108,6 +112,9 @@ Status OptionsFromFlags(GyroscopeMonteCarloOptions* options, DataSource* source)
   options->design.rate_hz = FLAGS_rate_hz;
   options->design.turn_abruptness = FLAGS_turn_abruptness;
   options->design.turn_sampling_alpha = FLAGS_turn_sampling_alpha;
+  options->design.earth_rate = FLAGS_earth_rate;
+  options->design.latitude_deg = FLAGS_latitude_deg;
+  options->design.latitude_known = FLAGS_latitude_known;
   source->simulated = true;
   source->seed = FLAGS_seed;
   source->scenario = StringPrintf(
@@ -119,6 +126,10 @@ Status OptionsFromFlags(GyroscopeMonteCarloOptions* options, DataSource* source)
                                         .c_str()
                                   : "",
       FLAGS_effects.empty() ? "" : ", effects ", FLAGS_effects.c_str());
+  if (FLAGS_earth_rate) {
+    source->scenario += StringPrintf(", the Earth's rate at %g deg (%s to the fit)",
+                                     FLAGS_latitude_deg, FLAGS_latitude_known ? "given" : "not given");
+  }
   return Status::Ok();
 }
 

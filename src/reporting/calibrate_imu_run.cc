@@ -161,6 +161,8 @@ Status SolveMlGyroscope(const TriadLog& log, const CalibrateImuOptions& options,
   ml.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
                                                  : report->gyroscope_options.initial;
   ml.quantisation_step = report->gyroscope_unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
+  ml.latitude_given = options.latitude_given;
+  ml.latitude_rad = options.latitude_deg * M_PI / 180.0;
   GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
   discovery.alpha = options.session.alpha;
   discovery.fit = ml;

@@ -47,6 +47,10 @@ struct CalibrateImuOptions {
   // Mode ml: discovery may put the turns' sampling error in the gyroscope's noise model
   // (docs/gyroscope.md); false: never (the turns then carry white noise and wander alone).
   bool gyro_turn_sampling = true;
+  // Mode ml: the latitude of the recording (degrees north), when given: the Earth's rate's
+  // vertical part is then held in the gyroscope's model.
+  bool latitude_given = false;
+  double latitude_deg = 0.0;
   // The names messages start with: the log's file, and the gyroscope's (its own file, or "").
   std::string log_name;
   std::string gyroscope_log_name;

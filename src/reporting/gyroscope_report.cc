@@ -18,6 +18,36 @@ double ImuTkValue(const CalibrateImuReport& report, int i) {
 
 }  // namespace
 
+// What the fit does with the Earth's rate: its vertical part held (latitude given) or estimated
+// with its prior, the horizontal part as noise; or nothing.
+std::string EarthVerticalClause(const CalibrateImuReport& report) {
+  const GyroscopeMlOptions& options = report.gyroscope_ml_options;
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  if (!options.earth_rate_as_noise) return "; the fit leaves it out";
+  if (options.latitude_given) {
+    return StringPrintf(
+        "; its vertical part, Omega sin(%.4g deg) = %.3g rad/s about the up direction in every "
+        "pose (--latitude_deg), is in the model, its horizontal part (direction in the body not "
+        "known) counted as noise, and over the turns all of it",
+        options.latitude_rad * 180.0 / M_PI, g.earth_vertical_rate_rad_s);
+  }
+  const double ratio = g.earth_vertical_rate_rad_s / kEarthRateRadPerS;
+  const bool determined = g.earth_vertical_rate_stddev < 0.5 * g.earth_vertical_prior_stddev;
+  return StringPrintf(
+      "; its vertical part (Omega sin(latitude) about the up direction in every pose, the "
+      "latitude not given) is estimated with the prior 0 +- %.2g rad/s: %.3g +- %.2g rad/s, %s "
+      "(give --latitude_deg to hold it), never taken for a g-sensitivity; its horizontal part "
+      "is counted as noise",
+      g.earth_vertical_prior_stddev, g.earth_vertical_rate_rad_s, g.earth_vertical_rate_stddev,
+      !determined ? "bounded by its prior more than determined by the poses"
+      : std::abs(ratio) <= 1.0
+          ? StringPrintf("determined by the poses: a latitude of %.0f deg", std::asin(ratio) *
+                                                                                180.0 / M_PI)
+                .c_str()
+          : "beyond the Earth's whole rate: not the Earth's alone (a g-sensitivity's isotropic "
+            "part adds to it)");
+}
+
 std::string EarthRateSentence(const CalibrateImuReport& report) {
   const GyroscopeMlResult& g = report.gyroscope_ml;
   const double earth = kEarthRateRadPerS;
@@ -29,11 +59,7 @@ std::string EarthRateSentence(const CalibrateImuReport& report) {
       "adds %.2g rad, %s the turn's angle noise (%.2g rad)%s",
       earth, compare(g.pose_mean_sigma_rad_s).c_str(), compare(g.offset_sigma_rad_s).c_str(),
       g.turn_earth_angle_rad, g.turn_earth_angle_rad > g.turn_angle_sigma_rad ? "above" : "below",
-      g.turn_angle_sigma_rad,
-      report.gyroscope_ml_options.earth_rate_as_noise
-          ? "; its direction in the body is not known, so the fit counts it as noise of "
-            "7.29e-5/sqrt(3) rad/s per axis in every pose mean and turn"
-          : "; the fit leaves it out");
+      g.turn_angle_sigma_rad, EarthVerticalClause(report).c_str());
 }
 
 std::string GyroscopeMlTable(const CalibrateImuReport& report) {
@@ -297,6 +323,13 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"turn_angle_sigma_rad", g.turn_angle_sigma_rad},
             {"turn_earth_angle_rad", g.turn_earth_angle_rad},
             {"counted_as_noise", report.gyroscope_ml_options.earth_rate_as_noise},
+            {"latitude_deg",
+             report.gyroscope_ml_options.latitude_given
+                 ? nlohmann::json(report.gyroscope_ml_options.latitude_rad * 180.0 / M_PI)
+                 : nlohmann::json(nullptr)},
+            {"vertical_rate_rad_s", g.earth_vertical_rate_rad_s},
+            {"vertical_rate_stddev", g.earth_vertical_rate_stddev},
+            {"vertical_prior_stddev", g.earth_vertical_prior_stddev},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
           {"clipped_turns", clipped},

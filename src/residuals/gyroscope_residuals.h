@@ -39,32 +39,43 @@ namespace accelcal {
 
 class GyroscopeRestResidual {
  public:
-  GyroscopeRestResidual(const std::array<double, 3>& mean, const std::array<double, 3>& stddev,
+  // `whitening`: W (row-major, 3 x 3), the inverse of the mean's covariance's Cholesky factor:
+  // the residual is W (mean - predicted).
+  GyroscopeRestResidual(const std::array<double, 3>& mean, const std::array<double, 9>& whitening,
                         double gravity_mps2)
-      : mean_(mean), stddev_(stddev), gravity_mps2_(gravity_mps2) {}
+      : mean_(mean), whitening_(whitening), gravity_mps2_(gravity_mps2) {}
 
+  // `vertical_rate`: the Earth's rate along gravity (rad/s; Omega sin(latitude)), which the
+  // sensor at rest turns at about its up direction, the unit specific force `direction`.
   template <typename T>
   bool operator()(const T* const parameters, const T* const offset, const T* const effects,
-                  const T* const direction, T* residual) const {
-    const T rate[3] = {T(0.0), T(0.0), T(0.0)};
+                  const T* const direction, const T* const vertical_rate, T* residual) const {
+    const T rate[3] = {vertical_rate[0] * direction[0], vertical_rate[0] * direction[1],
+                       vertical_rate[0] * direction[2]};
     const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
                         T(gravity_mps2_) * direction[2]};
     T raw[3];
     GyroscopeRawWithEffects(parameters, offset, effects, rate, force, raw);
-    for (int k = 0; k < 3; ++k) residual[k] = (T(mean_[k]) - raw[k]) / T(stddev_[k]);
+    T difference[3];
+    for (int k = 0; k < 3; ++k) difference[k] = T(mean_[k]) - raw[k];
+    for (int k = 0; k < 3; ++k) {
+      residual[k] = T(whitening_[3 * k]) * difference[0] +
+                    T(whitening_[3 * k + 1]) * difference[1] +
+                    T(whitening_[3 * k + 2]) * difference[2];
+    }
     return true;
   }
 
   static ceres::CostFunction* Create(const std::array<double, 3>& mean,
-                                     const std::array<double, 3>& stddev, double gravity_mps2) {
+                                     const std::array<double, 9>& whitening, double gravity_mps2) {
     return new ceres::AutoDiffCostFunction<GyroscopeRestResidual, 3, kGyroscopeParameterCount, 3,
-                                           kGyroscopeEffectCoefficientCount, 3>(
-        new GyroscopeRestResidual(mean, stddev, gravity_mps2));
+                                           kGyroscopeEffectCoefficientCount, 3, 1>(
+        new GyroscopeRestResidual(mean, whitening, gravity_mps2));
   }
 
  private:
   const std::array<double, 3> mean_;
-  const std::array<double, 3> stddev_;
+  const std::array<double, 9> whitening_;
   const double gravity_mps2_;
 };
 

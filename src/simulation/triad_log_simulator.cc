@@ -73,8 +73,9 @@ class SampleWriter {
     const GyroscopeSimulationOptions& gyroscope = options_.gyroscope;
     if (!gyroscope.enabled) return;
     double raw[3];
+    const Vector3 rate = {rate_[0] + earth_[0], rate_[1] + earth_[1], rate_[2] + earth_[2]};
     GyroscopeRawWithEffects(gyroscope.truth.data(), gyroscope.offset.data(),
-                            gyroscope.effects.data(), rate_.data(), force, raw);
+                            gyroscope.effects.data(), rate.data(), force, raw);
     for (int k = 0; k < 3; ++k) {
       raw[k] += noise_scale_ * gyroscope.noise_stddev[k] * random_->StandardNormal();
       if (gyroscope.round_to_counts) raw[k] = std::round(raw[k]);
@@ -83,6 +84,8 @@ class SampleWriter {
   }
   // The body's angular rate (rad/s) for the samples that follow.
   void SetRate(const Vector3& rate) { rate_ = rate; }
+  // The Earth's rate in the body (rad/s), added to the body's own for the samples that follow.
+  void SetEarth(const Vector3& earth) { earth_ = earth; }
   int size() const { return static_cast<int>(log_->size()); }
 
  private:
@@ -92,7 +95,20 @@ class SampleWriter {
   double noise_scale_ = 1.0;
   std::array<double, 3> vibration_phase_{};
   Vector3 rate_{};
+  Vector3 earth_{};
 };
+
+// The Earth's rate in a body whose up direction is `up` and whose horizontal reference (unit,
+// normal to up) is `level`.
+Vector3 EarthRateInBody(const GyroscopeSimulationOptions& gyroscope, const Vector3& up,
+                        const Vector3& level) {
+  constexpr double kEarthRate = 7.2921159e-5;
+  const double latitude = gyroscope.latitude_deg * M_PI / 180.0;
+  const double vertical = kEarthRate * std::sin(latitude);
+  const double horizontal = kEarthRate * std::cos(latitude);
+  return {vertical * up[0] + horizontal * level[0], vertical * up[1] + horizontal * level[1],
+          vertical * up[2] + horizontal * level[2]};
+}
 
 }  // namespace
 
@@ -107,6 +123,21 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     samples.start = writer.size();
     const int hold_samples = static_cast<int>(std::lround(holds[p].duration_s * options.rate_hz));
     writer.SetNoiseScale(holds[p].noise_scale);
+    // The hold's horizontal reference for the Earth's rate: a random azimuth about up.
+    Vector3 level{};
+    const bool earth = options.gyroscope.enabled && options.gyroscope.earth_rate;
+    if (earth) {
+      const Vector3 seed = std::abs(direction[0]) < 0.6 ? Vector3{1.0, 0.0, 0.0}
+                                                       : Vector3{0.0, 1.0, 0.0};
+      Vector3 east = Cross(direction, seed);
+      const double norm = std::sqrt(Dot(east, east));
+      for (double& v : east) v /= norm;
+      const Vector3 north = Cross(east, direction);
+      const double azimuth = 2.0 * M_PI * random->Uniform();
+      for (int k = 0; k < 3; ++k)
+        level[k] = std::cos(azimuth) * north[k] + std::sin(azimuth) * east[k];
+      writer.SetEarth(EarthRateInBody(options.gyroscope, direction, level));
+    }
     for (int i = 0; i < hold_samples; ++i) writer.Add(direction);
     samples.end = writer.size() - 1;
     session.holds.push_back(samples);
@@ -138,6 +169,10 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
         speed = moving ? (abrupt + (1.0 - abrupt) * std::sin(M_PI * u)) / (area * motion_s) : 0.0;
       }
       const Vector3 now = Rotate(direction, axis, angle_rad * progress);
+      if (earth) {
+        writer.SetEarth(
+            EarthRateInBody(options.gyroscope, now, Rotate(level, axis, angle_rad * progress)));
+      }
       writer.SetRate({yaw_rad * speed * now[0] - angle_rad * speed * axis[0],
                       yaw_rad * speed * now[1] - angle_rad * speed * axis[1],
                       yaw_rad * speed * now[2] - angle_rad * speed * axis[2]});

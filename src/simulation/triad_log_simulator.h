@@ -47,6 +47,11 @@ struct GyroscopeSimulationOptions {
   GyroscopeEffectCoefficients effects{};
   std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in the output's unit
   bool round_to_counts = true;
+  // The Earth's rate (7.292e-5 rad/s) at this latitude: Omega sin(latitude) about the up
+  // direction (the specific force's) and Omega cos(latitude) about a horizontal direction at a
+  // random azimuth in each hold (turned with the body through the turn that follows it).
+  bool earth_rate = false;
+  double latitude_deg = 0.0;
 };
 
 struct TriadLogSimulationOptions {

@@ -105,6 +105,8 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   simulation.gyroscope.effects = design.effects;
   simulation.gyroscope.noise_stddev = design.gyroscope_noise;
   simulation.gyroscope.round_to_counts = design.gyroscope_in_counts;
+  simulation.gyroscope.earth_rate = design.earth_rate;
+  simulation.gyroscope.latitude_deg = design.latitude_deg;
   RandomSource random(noise_seed, 1);
   fit->session = SimulateTriadSession(simulation, holds, &random);
   fit->intervals.clear();
@@ -130,7 +132,9 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   options.initial = GyroscopeParametersWithGain(gain, gain, gain);
   options.quantisation_step = design.gyroscope_in_counts ? 1.0 : 0.0;
   if (!design.gyroscope_in_counts) options.unit = GyroscopeOutputUnit::kRadPerS;
-  options.earth_rate_as_noise = design.earth_rate_allowance;
+  options.earth_rate_as_noise = design.earth_rate_allowance || design.earth_rate;
+  options.latitude_given = design.latitude_known;
+  options.latitude_rad = design.latitude_deg * M_PI / 180.0;
   options.turn_sampling_alpha = design.turn_sampling_alpha;
   options.effects = estimated;
   fit->gyroscope_options = options;

@@ -72,6 +72,11 @@ struct GyroscopeSessionDesign {
   // whenever the turns scatter beyond the rest of the noise model; 0: never).
   double turn_abruptness = 0.0;
   double turn_sampling_alpha = 0.0;
+  // The Earth's rate in the simulated gyroscope at this latitude (and then counted in the fit),
+  // and whether the fit is told the latitude (GyroscopeMlOptions::latitude_given).
+  bool earth_rate = false;
+  double latitude_deg = 59.35;
+  bool latitude_known = false;
 };
 
 // The design's holds (directions and yaws), drawn from `seed`.

@@ -266,6 +266,8 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
   fit_options.bias_wander_variance = wander;
   fit_options.turn_sampling_fixed = true;
   fit_options.turn_sampling_variance = kappa2;
+  fit_options.earth_horizontal_fixed = true;
+  fit_options.earth_horizontal_axis_variance = result->baseline.earth_horizontal_axis_variance;
   // Every later fit starts from the baseline's solution (the effects from 0).
   fit_options.initial = result->baseline.parameters;
   fit_options.offset_given = true;
@@ -298,6 +300,9 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     GyroscopeMlOptions final_options = options.fit;
     final_options.bias_wander_alpha = options.alpha / 4.0;
     final_options.turn_sampling_alpha = options.turn_sampling ? options.alpha / 4.0 : 0.0;
+    final_options.earth_horizontal_fixed = true;
+    final_options.earth_horizontal_axis_variance =
+        result->baseline.earth_horizontal_axis_variance;
     for (int group : geometry.Effects()) {
       const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
       for (int c = info.first; c < info.first + info.coefficients; ++c)

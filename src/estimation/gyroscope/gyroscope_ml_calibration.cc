@@ -17,6 +17,7 @@
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "residuals/gyroscope_residuals.h"
+#include "residuals/scalar_prior_residual.h"
 #include "residuals/triad_pose_residual.h"
 
 namespace accelcal {
@@ -205,8 +206,26 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   const double gain_rad_s[3] = {std::abs(options.initial[kGyroscopeGainX]),
                                 std::abs(options.initial[kGyroscopeGainY]),
                                 std::abs(options.initial[kGyroscopeGainZ])};
-  const double earth_axis_variance =
-      options.earth_rate_as_noise ? kEarthRateRadPerS * kEarthRateRadPerS / 3.0 : 0.0;
+  // The Earth's rate: its vertical part in the model (given, or an unknown with a prior), the
+  // rest as noise per axis: of the pose means (horizontal part) and over a turn (all of it).
+  const double omega2 = kEarthRateRadPerS * kEarthRateRadPerS;
+  const double earth_axis_variance = options.earth_rate_as_noise ? omega2 / 3.0 : 0.0;
+  // The horizontal part's squared size h^2 ((rad/s)^2): in pose p it lies in the plane normal to
+  // up, at an azimuth not known, so its covariance there is h^2 / 2 (I - n_p n_p^T).
+  double earth_horizontal2 = 0.0;
+  double vertical_prior_stddev = 0.0;
+  double vertical_start = 0.0;
+  if (options.earth_rate_as_noise && options.latitude_given) {
+    const double horizontal = kEarthRateRadPerS * std::cos(options.latitude_rad);
+    earth_horizontal2 = horizontal * horizontal;
+    vertical_start = kEarthRateRadPerS * std::sin(options.latitude_rad);
+  } else if (options.earth_rate_as_noise) {
+    earth_horizontal2 = options.earth_horizontal_fixed
+                            ? 3.0 * options.earth_horizontal_axis_variance
+                            : 2.0 * omega2 / 3.0;  // until a first fit says more
+    vertical_prior_stddev = kEarthRateRadPerS;
+  }
+  result->earth_vertical_prior_stddev = vertical_prior_stddev;
 
   // The samples at a rail: each axis's largest or smallest output when it is held for kRailRun
   // samples or more in a row, or reached in kRailVisits separate runs (a smooth turn's peak,
@@ -257,11 +276,14 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     Eigen::Vector2d residual = Eigen::Vector2d::Zero();
   };
   std::vector<TurnNoise> turn_noise;
+  // Per pose, the Cholesky factor of its mean's covariance at the last fit.
+  std::vector<Eigen::Matrix3d> rest_factors;
 
   // One fit with a bias wander of variance wander[k] (the output's unit squared) between poses
   // and the turns' sampling error of variance kappa2 (dimensionless).
   auto fit = [&](const std::array<double, 3>& wander, double kappa2) -> Status {
     turn_noise.clear();
+    rest_factors.clear();
     result->rest_means.clear();
     result->rest_stddev.clear();
     result->rest_whitened.clear();
@@ -272,6 +294,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->chi2_rest = result->chi2_turns = 0.0;
     result->accelerometer_shift_sigma = result->offset_sigma_rad_s = 0.0;
     ceres::Problem problem;
+    double vertical_rate = vertical_start;
     double* gyroscope = result->parameters.data();
     double* offset = result->offset.data();
     double* effects = result->effects.data();
@@ -293,18 +316,42 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
             nullptr, accelerometer_parameters.data(), accelerometer_effects.data(), direction));
       }
       problem.SetManifold(direction, new ceres::SphereManifold<3>());
+      // The mean's covariance (the output's unit squared): white noise and wander per axis, the
+      // Earth's horizontal part in the plane normal to the pose's up direction (the
+      // accelerometer's), through the gains.
+      const Vector3& up = accelerometer.directions[p];
+      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+      for (int i = 0; i < 3; ++i) {
+        covariance(i, i) = white[i] / rest[p].sample_count + wander[i];
+        for (int j = 0; j < 3; ++j) {
+          covariance(i, j) += 0.5 * earth_horizontal2 * ((i == j ? 1.0 : 0.0) - up[i] * up[j]) /
+                              (gain_rad_s[i] * gain_rad_s[j]);
+        }
+      }
       std::array<double, 3> stddev;
       for (int k = 0; k < 3; ++k) {
-        const double variance = white[k] / rest[p].sample_count +
-                                earth_axis_variance / (gain_rad_s[k] * gain_rad_s[k]) + wander[k];
-        stddev[k] = std::sqrt(variance);
+        stddev[k] = std::sqrt(covariance(k, k));
         pose_sigmas.push_back(std::sqrt(white[k] / rest[p].sample_count) * gain_rad_s[k]);
       }
+      const Eigen::Matrix3d factor = covariance.llt().matrixL();
+      rest_factors.push_back(factor);
+      const Eigen::Matrix3d inverse = factor.inverse();
+      std::array<double, 9> whitening;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) whitening[3 * i + j] = inverse(i, j);
       result->rest_means.push_back(rest[p].mean);
       result->rest_stddev.push_back(stddev);
       rest_blocks.push_back(problem.AddResidualBlock(
-          GyroscopeRestResidual::Create(rest[p].mean, stddev, options.gravity_mps2), nullptr,
-          gyroscope, offset, effects, direction));
+          GyroscopeRestResidual::Create(rest[p].mean, whitening, options.gravity_mps2), nullptr,
+          gyroscope, offset, effects, direction, &vertical_rate));
+    }
+    // The vertical Earth rate: held where given or not counted, else its prior.
+    ceres::ResidualBlockId vertical_prior = nullptr;
+    if (vertical_prior_stddev > 0.0) {
+      vertical_prior = problem.AddResidualBlock(
+          ScalarPrior::Create(0.0, vertical_prior_stddev), nullptr, &vertical_rate);
+    } else {
+      problem.SetParameterBlockConstant(&vertical_rate);
     }
     if (!accelerometer.effects_estimated.empty())
       problem.SetParameterBlockConstant(accelerometer_effects.data());
@@ -590,7 +637,14 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     }
     const int turn_count = static_cast<int>(result->turns.size());
     result->gyroscope_degrees_of_freedom = 3 * pose_count + 2 * turn_count - unknown_count;
-    result->chi2 = chi2_accelerometer + result->chi2_rest + result->chi2_turns;
+    // The vertical Earth rate's prior: one residual for its one unknown.
+    double chi2_prior = 0.0;
+    if (vertical_prior != nullptr) {
+      std::vector<double> prior_residual;
+      evaluate_blocks({vertical_prior}, &prior_residual);
+      chi2_prior = prior_residual[0] * prior_residual[0];
+    }
+    result->chi2 = chi2_accelerometer + result->chi2_rest + result->chi2_turns + chi2_prior;
     // What the gyroscope adds to the accelerometer's fit alone: the joint fit nests it, so the
     // increase is chi-square on the gyroscope's residuals minus its unknowns.
     result->chi2_gyroscope = std::max(0.0, result->chi2 - accelerometer.chi2);
@@ -616,6 +670,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         {gyroscope, offset},
         {offset, offset},
         {accelerometer_parameters.data(), accelerometer_parameters.data()}};
+    if (vertical_prior != nullptr) pairs.push_back({&vertical_rate, &vertical_rate});
     if (!estimated.empty()) {
       pairs.push_back({gyroscope, effects});
       pairs.push_back({offset, effects});
@@ -669,7 +724,14 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       }
     }
 
-    // The Earth's rate against the noise.
+    // The Earth's rate against the noise, and its vertical part.
+    result->earth_vertical_rate_rad_s = vertical_rate;
+    result->earth_vertical_rate_stddev = 0.0;
+    if (vertical_prior != nullptr) {
+      double variance = 0.0;
+      covariance.GetCovarianceBlock(&vertical_rate, &vertical_rate, &variance);
+      result->earth_vertical_rate_stddev = std::sqrt(std::max(variance, 0.0));
+    }
     result->pose_mean_sigma_rad_s = Median(pose_sigmas);
     for (int k = 0; k < 3; ++k) {
       result->offset_sigma_rad_s = std::max(result->offset_sigma_rad_s,
@@ -742,6 +804,17 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->turns_without_sampling_p_value = without_p;
     return Status::Ok();
   };
+  // Without the latitude, the horizontal part of the Earth's rate has the size the vertical part
+  // leaves, Omega^2 - e^2, e from a first fit: taken at the smallest |e| within one sigma (a
+  // vertical part one sigma too large would leave the poses no horizontal allowance at all, and
+  // their offsets would seem to wander: 6 of 200 quiet sessions at alpha/4 measured).
+  if (vertical_prior_stddev > 0.0 && !options.earth_horizontal_fixed) {
+    ACCELCAL_RETURN_IF_ERROR(fit({0.0, 0.0, 0.0}, 0.0));
+    const double smallest = std::max(0.0, std::abs(result->earth_vertical_rate_rad_s) -
+                                              result->earth_vertical_rate_stddev);
+    earth_horizontal2 = std::max(0.0, omega2 - smallest * smallest);
+  }
+  result->earth_horizontal_axis_variance = earth_horizontal2 / 3.0;
   if (options.bias_wander_fixed) {
     result->bias_wander_variance = options.bias_wander_variance;
     return fit_with_sampling(result->bias_wander_variance);
@@ -768,7 +841,9 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       std::vector<double> e2, s2;
       for (int p = 0; p < pose_count; ++p) {
         const double sigma = result->rest_stddev[p][k];
-        const double e = result->rest_whitened[p][k] * sigma;
+        const Eigen::Vector3d whitened(result->rest_whitened[p][0], result->rest_whitened[p][1],
+                                       result->rest_whitened[p][2]);
+        const double e = (rest_factors[p] * whitened)[k];
         e2.push_back(e * e);
         s2.push_back(sigma * sigma);
       }

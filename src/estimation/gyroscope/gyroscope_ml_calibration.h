@@ -96,6 +96,20 @@ struct GyroscopeMlOptions {
   GyroscopeEffectCoefficients initial_effects{};
   double quantisation_step = 0.0;  // the output's step (1 for counts), 0: not quantised
   bool earth_rate_as_noise = true;
+  // The Earth's rate at rest is Omega sin(latitude) about the up direction (along the specific
+  // force in every pose) and Omega cos(latitude) in the horizontal plane, whose direction in the
+  // body is not known. With the latitude given, the vertical part is in the model, exactly; the
+  // horizontal part is noise of (Omega cos(latitude))^2 / 3 per axis. Without it, the vertical
+  // part is an unknown e of the fit with the prior N(0, Omega^2), so that it is modelled where the
+  // poses determine it and bounded where they do not, and never taken for a g-sensitivity
+  // (G g n_p with G = e/g I is the same pattern); the horizontal part is noise of
+  // (Omega^2 - e^2 - var e) / 3 per axis, e from a first fit of the model (or, when
+  // `earth_horizontal_fixed`, the given variance: discovery holds the baseline's, so that nested
+  // fits share one noise model). Only with earth_rate_as_noise.
+  bool latitude_given = false;
+  double latitude_rad = 0.0;
+  bool earth_horizontal_fixed = false;
+  double earth_horizontal_axis_variance = 0.0;  // (rad/s)^2 per axis
   // The bias wander between poses (a variance per axis, the output's unit squared): each pose
   // mean gets it, and each turn the angle of an offset that far off over its duration. When
   // `bias_wander_fixed`, the given one; else it is estimated when the poses' offsets scatter
@@ -158,6 +172,12 @@ struct GyroscopeMlResult {
   std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
   std::array<double, 3> bias_wander_variance{};  // between poses, the unit squared; 0: none
   double turn_sampling_variance = 0.0;  // kappa^2 of the turns' sampling error; 0: none
+  // The Earth's rate along gravity (rad/s): given (latitude_given; stddev 0) or estimated with
+  // its prior (see GyroscopeMlOptions); 0 and 0 when the Earth's rate is not counted.
+  double earth_vertical_rate_rad_s = 0.0;
+  double earth_vertical_rate_stddev = 0.0;
+  double earth_vertical_prior_stddev = 0.0;  // the prior's sigma; 0: given or not counted
+  double earth_horizontal_axis_variance = 0.0;  // the pose means' allowance, (rad/s)^2 per axis
   // The turns' chi-square under the noise model without the sampling term: its p-value.
   double turns_without_sampling_p_value = 1.0;
   double white_rest_p_value = 1.0;  // the rest residuals' chi-square under white noise alone
