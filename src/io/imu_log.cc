@@ -106,7 +106,8 @@ bool ReadFourShortDecimals(std::string_view trimmed, double values[4]) {
 // ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave: no step
 // above kMaxGapSteps median steps (a gap), and no block of consecutive steps whose median
 // step is more than kMaxRateChange from the log's (a change of rate). Jitter and a few lost
-// samples pass: a pose's mean and variance are those of the samples it holds.
+// samples pass: a pose's mean and variance are those of the samples it holds. Host stamps in
+// bursts never reach it (TimeTheSamples, for every spacing).
 constexpr double kMaxGapSteps = 10.0;
 constexpr double kMaxRateChange = 0.05;
 constexpr size_t kMinRateBlock = 100;

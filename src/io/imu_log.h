@@ -20,7 +20,8 @@
 // The outputs are kept in whatever unit the sensor gives (raw counts in imu_tk's example);
 // the calibration maps them to m/s^2. Every value used must be a finite number; time must be
 // strictly increasing, and its median step that of an IMU log (CheckLogTime,
-// io/course_data.h). A log read for calibration must also be evenly sampled
+// io/course_data.h). A time column of host receive times in bursts is never the samples'
+// times, whatever the use (ImuLogTiming). A log read for calibration must also be evenly sampled
 // (ImuLogSpacing::kEven), which one correcting sample by sample need not be. Every line ends in
 // '\n' (a last line without one is a file cut short). Failures say "line N: what is wrong;
 // what to do" and start with the file's name.
