@@ -288,6 +288,7 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   report->log_path = FLAGS_log;
   report->log_layout = log_source.layout;
   report->log_notes = log_source.notes;
+  report->log_timing = log_source.timing;
   report->log_metadata = log_source.metadata;
   ACCELCAL_RETURN_IF_ERROR(
       TakeStatedUnit(log_source, &FLAGS_unit, &report->log_notes).WithContext(FLAGS_log));
