@@ -1,5 +1,5 @@
 // calibrate_imu --log=S1,S2,... (several sessions of one device) and triad_repeatability end
-// to end on mimu4444: the table and JSON keys (docs/json_sessions.md), the refusals (one line,
+// to end on mimu4444: the table and JSON keys (docs/json.md, calibrate_imu_sessions), the refusals (one line,
 // exit status 2, nothing written), and the leave-one-session-out figures as printed.
 
 #include <gtest/gtest.h>
