@@ -16,7 +16,8 @@
 // says why and is left out of that combination. Each sensor's sessions are checked against each
 // other (CheckSessionDrift): a session that drifts is named with its parameters.
 //
-//   build/bin/calibrate_imu --log=run1/imu1_acc_gyr.csv,run2/imu1_acc_gyr.csv,run3/imu1_acc_gyr.csv \
+//   build/bin/calibrate_imu --log=run1/imu1_acc_gyr.csv,run2/imu1_acc_gyr.csv,run3/imu1_acc_gyr.csv
+//   \
 //       --g=9.8187 --mode=ml --initial_gyro_gain=0.00106422515 --json=imu1_sessions.json
 //
 // Called from problems/calibrate_imu.cc when --log holds a comma, after its flags are parsed.
@@ -167,8 +168,7 @@ Status SessionGyroscopeUnit(const ImuLogSource& source, std::string* unit) {
   *unit = FLAGS_gyro_unit;
   std::vector<std::string> notes;
   return TakeStatedUnitOf(source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
-                          "gyroscope outputs", "gyroscope", unit, &notes,
-                          source.units_stated_by);
+                          "gyroscope outputs", "gyroscope", unit, &notes, source.units_stated_by);
 }
 
 // Every session's gyroscope (when some log has one), then their combination.
@@ -176,7 +176,8 @@ Status CalibrateGyroscopes(const std::vector<TriadLog>& logs, const std::string&
                            TriadSessionsReport* report) {
   GyroscopeSessionsOptions& options = report->gyroscope_options;
   options.gravity_mps2 = report->options.gravity_mps2;
-  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(unit, &options.unit).WithContext("--gyro_unit"));
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseGyroscopeOutputUnit(unit, &options.unit).WithContext("--gyro_unit"));
   options.initial_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
   options.alpha = report->options.alpha;
   std::vector<GyroscopeSessionOutcome> outcomes;
@@ -233,9 +234,9 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
         ReadImuLog(paths[s], read_options, &logs[s], ImuLogSpacing::kEven, &log_source));
     if (logs[s].has_gyroscope()) {
       std::string unit;
-      ACCELCAL_RETURN_IF_ERROR(SessionGyroscopeUnit(log_source, &unit)
-                                   .WithContext(gyroscope_paths[s].empty() ? paths[s]
-                                                                           : gyroscope_paths[s]));
+      ACCELCAL_RETURN_IF_ERROR(
+          SessionGyroscopeUnit(log_source, &unit)
+              .WithContext(gyroscope_paths[s].empty() ? paths[s] : gyroscope_paths[s]));
       if (!gyroscope_unit.empty() && unit != gyroscope_unit) {
         return Status::Error("the sessions' gyroscopes hold different units: " + paths[s] +
                              "'s is in " + unit + ", an earlier session's in " + gyroscope_unit +

@@ -133,9 +133,9 @@ Status GyroscopeRepeatability(TriadRepeatabilityReport* report) {
       calibrated.back().push_back(outcome.calibration.ml);
   }
   if (calibrated.size() < 2) {
-    report->gyroscope_loso_not_run = StringPrintf(
-        "%zu device(s) with every session's gyroscope calibrated; the check needs 2",
-        calibrated.size());
+    report->gyroscope_loso_not_run =
+        StringPrintf("%zu device(s) with every session's gyroscope calibrated; the check needs 2",
+                     calibrated.size());
     return Status::Ok();
   }
   report->has_gyroscope_loso = true;

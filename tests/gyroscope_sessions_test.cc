@@ -29,9 +29,9 @@ std::vector<std::vector<SessionEstimate>> DrawSessions(int parameters, int sessi
   std::vector<std::vector<SessionEstimate>> by_parameter(parameters);
   for (std::vector<SessionEstimate>& estimates : by_parameter) {
     for (int s = 0; s < sessions; ++s) {
-      estimates.push_back({10.0 + tau * random->StandardNormal() +
-                               std::sqrt(within) * random->StandardNormal(),
-                           within});
+      estimates.push_back(
+          {10.0 + tau * random->StandardNormal() + std::sqrt(within) * random->StandardNormal(),
+           within});
     }
   }
   return by_parameter;
@@ -136,7 +136,8 @@ TEST(Mimu4444, GyroscopeLeaveOneSessionOutCoversTheTarget) {
       TriadSessionCalibration calibration;
       const Status status = CalibrateTriadSession(log, accelerometer, &calibration);
       ASSERT_TRUE(status.ok()) << path << ": " << status.message();
-      const GyroscopeSessionOutcome outcome = CalibrateSessionGyroscope(log, calibration, gyroscope);
+      const GyroscopeSessionOutcome outcome =
+          CalibrateSessionGyroscope(log, calibration, gyroscope);
       ASSERT_TRUE(outcome.calibrated) << path << ": " << outcome.not_calibrated;
       sessions[imu - 1].push_back(outcome.calibration.ml);
     }

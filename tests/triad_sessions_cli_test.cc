@@ -1,6 +1,6 @@
 // calibrate_imu --log=S1,S2,... (several sessions of one device) and triad_repeatability end
-// to end on mimu4444: the table and JSON keys (docs/json.md, calibrate_imu_sessions), the refusals (one line,
-// exit status 2, nothing written), and the leave-one-session-out figures as printed.
+// to end on mimu4444: the table and JSON keys (docs/json.md, calibrate_imu_sessions), the refusals
+// (one line, exit status 2, nothing written), and the leave-one-session-out figures as printed.
 
 #include <gtest/gtest.h>
 
@@ -133,8 +133,7 @@ TEST(CalibrateImuSessionsCli, GyroscopeColumnsGiveTheGyroscopesNewSessionSigma) 
   EXPECT_NE(out.find("  gyroscope_offset_x             -22.627491"), std::string::npos) << out;
   EXPECT_NE(out.find("Drift (gyroscope): each session against the others"), std::string::npos)
       << out;
-  EXPECT_NE(out.find("Drift (accelerometer): each session against the others"),
-            std::string::npos)
+  EXPECT_NE(out.find("Drift (accelerometer): each session against the others"), std::string::npos)
       << out;
 
   const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
@@ -167,11 +166,11 @@ TEST(CalibrateImuSessionsCli, NamesASessionWithoutAGyroscope) {
   REQUIRE_MIMU4444(dir);
   testing::ScratchDir scratch;
   const std::string json_path = scratch.File("sessions.json");
-  const std::string logs = dir + "/run1/imu1_acc_gyr.csv," + dir + "/run2/imu1.csv," + dir +
-                           "/run3/imu1_acc_gyr.csv";
-  const testing::CommandResult result = RunBinary(
-      "calibrate_imu",
-      "--log='" + logs + "' --g=9.8187 --mode=ml" + kMimuGyroGain + " --json=" + json_path);
+  const std::string logs =
+      dir + "/run1/imu1_acc_gyr.csv," + dir + "/run2/imu1.csv," + dir + "/run3/imu1_acc_gyr.csv";
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log='" + logs + "' --g=9.8187 --mode=ml" + kMimuGyroGain +
+                                     " --json=" + json_path);
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   const std::string& out = result.stdout_text;
   EXPECT_NE(out.find("  gyroscope: none in this log: not calibrated\n"), std::string::npos) << out;
@@ -193,9 +192,9 @@ TEST(CalibrateImuSessionsCli, SaysPerSessionWhyTheGyroscopeIsNotCalibrated) {
   REQUIRE_MIMU4444(dir);
   testing::ScratchDir scratch;
   const std::string json_path = scratch.File("sessions.json");
-  testing::CommandResult result = RunBinary(
-      "calibrate_imu",
-      "--log='" + Imu1GyroscopeRuns(dir) + "' --g=9.8187 --mode=ml --json=" + json_path);
+  testing::CommandResult result =
+      RunBinary("calibrate_imu",
+                "--log='" + Imu1GyroscopeRuns(dir) + "' --g=9.8187 --mode=ml --json=" + json_path);
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   size_t lines = 0;
   for (size_t at = result.stdout_text.find("NOT calibrated: its outputs are counts");
@@ -222,9 +221,9 @@ TEST(CalibrateImuSessionsCli, RefusesGyroscopeFlagsItCannotUse) {
   testing::ScratchDir scratch;
   ExpectRefused("--mode=ml --log='" + Imu1Runs(dir) + "'" + kMimuGyroGain,
                 "no session's log has one", scratch);
-  ExpectRefused("--mode=ml --log='" + Imu1Runs(dir) + "' --gyro_log='" + dir +
-                    "/run1/imu1_acc_gyr.csv'",
-                "--gyro_log names 1 gyroscope file(s) for 3 sessions", scratch);
+  ExpectRefused(
+      "--mode=ml --log='" + Imu1Runs(dir) + "' --gyro_log='" + dir + "/run1/imu1_acc_gyr.csv'",
+      "--gyro_log names 1 gyroscope file(s) for 3 sessions", scratch);
   ExpectRefused("--mode=ml --log='" + Imu1GyroscopeRuns(dir) + "' --gyro_bias=rest",
                 "--gyro_bias belongs to --mode=imu_tk", scratch);
   ExpectRefused("--mode=ml --log='" + Imu1GyroscopeRuns(dir) + "' --initial_gyro_gain=0",

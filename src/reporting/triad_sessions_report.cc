@@ -105,7 +105,8 @@ void PerSessionTable(const SessionRows& rows, std::ostringstream* out) {
 }
 
 // `suffixes[p]`: what follows parameter p's new-session sigma (an offset's in a physical unit).
-void AcrossSessionsTable(const SessionRows& rows, const std::vector<RandomEffectsEstimate>& combined,
+void AcrossSessionsTable(const SessionRows& rows,
+                         const std::vector<RandomEffectsEstimate>& combined,
                          const std::vector<std::string>& suffixes, std::ostringstream* out) {
   *out << StringPrintf("  %-*s %14s %10s %10s %10s %21s %9s %12s\n", rows.name_width, "parameter",
                        "common", "+-sigma", "stddev", "tau", "tau 95% interval", "p(tau=0)",
@@ -140,8 +141,8 @@ void DriftLines(const char* sensor, const SessionDriftCheck& check,
       "lies outside the others' new-session interval at 1 - %.3g/%d (Bonferroni over the %d "
       "parameters; t_%g multiplier %.3g), so a session like the others is named at most %.3g%% "
       "of the times\n",
-      sensor, check.level, check.parameter_count, check.parameter_count,
-      check.degrees_of_freedom, check.multiplier, 100.0 * check.level);
+      sensor, check.level, check.parameter_count, check.parameter_count, check.degrees_of_freedom,
+      check.multiplier, 100.0 * check.level);
   for (const SessionDrift& drift : check.sessions) {
     const SessionDeviation& largest = drift.largest;
     *out << StringPrintf(
@@ -156,8 +157,7 @@ void DriftLines(const char* sensor, const SessionDriftCheck& check,
     *out << ": DRIFTS in";
     for (size_t i = 0; i < drift.outside.size(); ++i) {
       *out << StringPrintf("%s %s (%.3g sigma)", i == 0 ? "" : ",",
-                           names[drift.outside[i].parameter].c_str(),
-                           drift.outside[i].deviation);
+                           names[drift.outside[i].parameter].c_str(), drift.outside[i].deviation);
     }
     *out << "\n";
   }
@@ -182,9 +182,8 @@ std::string GyroscopeSessionLine(const TriadSessionReport& session) {
   return StringPrintf(
       "  gyroscope: %s%d samples, %zu turns; fit chi2 %.1f on %d (p = %.2g); Verdict "
       "(gyroscope, %s)\n",
-      file.c_str(), g.samples, ml.turns.size(), ml.chi2_gyroscope,
-      ml.gyroscope_degrees_of_freedom, ml.gyroscope_p_value,
-      VerdictCode(g.calibration.discovery.verdict_code));
+      file.c_str(), g.samples, ml.turns.size(), ml.chi2_gyroscope, ml.gyroscope_degrees_of_freedom,
+      ml.gyroscope_p_value, VerdictCode(g.calibration.discovery.verdict_code));
 }
 
 void GyroscopeSection(const TriadSessionsReport& report, std::ostringstream* out) {
@@ -223,8 +222,8 @@ void GyroscopeSection(const TriadSessionsReport& report, std::ostringstream* out
     // An offset in counts is also given in deg/s (times the common gain).
     if (i >= kGyroscopeOffsetX && report.gyroscope_options.unit == GyroscopeOutputUnit::kCount) {
       const double gain = g.random_effects[kGyroscopeGainX + i - kGyroscopeOffsetX].common;
-      suffix = StringPrintf(" (%.3g deg/s)",
-                            g.random_effects[i].new_session_stddev * std::fabs(gain) * 180.0 / M_PI);
+      suffix = StringPrintf(
+          " (%.3g deg/s)", g.random_effects[i].new_session_stddev * std::fabs(gain) * 180.0 / M_PI);
     }
     suffixes.push_back(suffix);
   }
@@ -305,14 +304,12 @@ nlohmann::json DriftJson(const SessionDriftCheck& check, const std::vector<std::
                         {"outside", outside}});
   }
   for (int s : check.drifting) drifting.push_back(session_numbers[s]);
-  nlohmann::json json = {{"checked", check.checked},
-                         {"rule", kDriftRule},
-                         {"level", check.level},
-                         {"parameter_count", check.parameter_count},
-                         {"sessions", sessions},
-                         {"drifting_sessions", drifting}};
+  nlohmann::json json = {{"checked", check.checked}, {"rule", kDriftRule},
+                         {"level", check.level},     {"parameter_count", check.parameter_count},
+                         {"sessions", sessions},     {"drifting_sessions", drifting}};
   json["not_checked"] = check.checked ? nlohmann::json() : nlohmann::json(check.not_checked);
-  json["parameter_level"] = check.checked ? nlohmann::json(check.parameter_level) : nlohmann::json();
+  json["parameter_level"] =
+      check.checked ? nlohmann::json(check.parameter_level) : nlohmann::json();
   json["degrees_of_freedom"] =
       check.checked ? nlohmann::json(check.degrees_of_freedom) : nlohmann::json();
   json["multiplier"] = check.checked ? nlohmann::json(check.multiplier) : nlohmann::json();
@@ -351,10 +348,12 @@ void CombinedJson(const SessionRows& rows, const std::vector<RandomEffectsEstima
 
 nlohmann::json GyroscopeSessionJson(const TriadSessionReport& session, GyroscopeOutputUnit unit) {
   const GyroscopeSessionOutcome& g = session.gyroscope;
-  nlohmann::json json = {{"present", g.present}, {"samples", g.samples},
-                         {"calibrated", g.calibrated}};
-  json["file"] = session.gyroscope_path.empty() ? nlohmann::json() : nlohmann::json(session.gyroscope_path);
-  json["sha256"] = session.gyroscope_path.empty() ? nlohmann::json() : nlohmann::json(session.gyroscope_sha256);
+  nlohmann::json json = {
+      {"present", g.present}, {"samples", g.samples}, {"calibrated", g.calibrated}};
+  json["file"] =
+      session.gyroscope_path.empty() ? nlohmann::json() : nlohmann::json(session.gyroscope_path);
+  json["sha256"] =
+      session.gyroscope_path.empty() ? nlohmann::json() : nlohmann::json(session.gyroscope_sha256);
   json["not_calibrated"] = g.calibrated ? nlohmann::json() : nlohmann::json(g.not_calibrated);
   if (!g.calibrated) return json;
   const GyroscopeMlResult& ml = g.calibration.ml;
@@ -385,16 +384,17 @@ nlohmann::json GyroscopeJson(const TriadSessionsReport& report) {
   for (int s : g.sessions) combined.push_back(s + 1);
   for (size_t s = 0; s < report.sessions.size(); ++s) {
     if (!report.sessions[s].gyroscope.calibrated)
-      left_out.push_back({{"session", s + 1}, {"why", report.sessions[s].gyroscope.not_calibrated}});
+      left_out.push_back(
+          {{"session", s + 1}, {"why", report.sessions[s].gyroscope.not_calibrated}});
   }
   json["sessions_combined"] = combined;
   json["sessions_left_out"] = left_out;
   json["not_combined"] = g.combined ? nlohmann::json() : nlohmann::json(g.not_combined);
   if (!g.combined) {
-    for (const char* key : {"parameters", "parameters_stddev", "stddev", "stddev_new_session",
-                            "between_session_stddev", "between_session_stddev_interval_95",
-                            "between_session_p_value", "interval_multiplier_95",
-                            "degrees_of_freedom", "units", "drift"})
+    for (const char* key :
+         {"parameters", "parameters_stddev", "stddev", "stddev_new_session",
+          "between_session_stddev", "between_session_stddev_interval_95", "between_session_p_value",
+          "interval_multiplier_95", "degrees_of_freedom", "units", "drift"})
       json[key] = nullptr;
     return json;
   }
@@ -610,11 +610,10 @@ void GyroscopeRepeatabilitySection(const TriadRepeatabilityReport& report,
       for (size_t s = 0; s < session_count; ++s) {
         const GyroscopeSessionOutcome& outcome = report.gyroscope_sessions[d][s];
         const GyroscopeMlResult& ml = outcome.calibration.ml;
-        *out << StringPrintf(" %24s", outcome.calibrated
-                                          ? StringPrintf("%.7g (%.2g)", GyroscopeValue(ml, i),
-                                                         ml.stddev[i])
-                                                .c_str()
-                                          : "-");
+        *out << StringPrintf(
+            " %24s", outcome.calibrated
+                         ? StringPrintf("%.7g (%.2g)", GyroscopeValue(ml, i), ml.stddev[i]).c_str()
+                         : "-");
       }
       const GyroscopeSessionsResult& device = report.gyroscope_per_device[d];
       if (!device.combined) {

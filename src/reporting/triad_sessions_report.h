@@ -2,9 +2,9 @@
 #define ACCELCAL_REPORTING_TRIAD_SESSIONS_REPORT_H_
 
 // What `calibrate_imu --log=S1,S2,... --mode=ml` prints and writes (docs/repeatability.md,
-// docs/json.md, calibrate_imu_sessions), and what triad_repeatability prints and writes. Each figure says
-// which sigma it is: `stddev` (within-session: one session's own ceres::Covariance, the mean
-// over the sessions), `between_session_stddev` (tau, how much the device itself moves between
+// docs/json.md, calibrate_imu_sessions), and what triad_repeatability prints and writes. Each
+// figure says which sigma it is: `stddev` (within-session: one session's own ceres::Covariance, the
+// mean over the sessions), `between_session_stddev` (tau, how much the device itself moves between
 // sessions), `stddev_new_session` (what a new session's estimate scatters about the common
 // value). Formatting only.
 

@@ -59,8 +59,8 @@ Status SimulateAndCalibrateSession(const GyroscopeSessionDesign& design,
   TriadSessionOptions options;
   options.gravity_mps2 = design.gravity_mps2;
   TriadSessionCalibration accelerometer;
-  ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(session.log, options, &accelerometer)
-                               .WithContext("the accelerometer"));
+  ACCELCAL_RETURN_IF_ERROR(
+      CalibrateTriadSession(session.log, options, &accelerometer).WithContext("the accelerometer"));
   GyroscopeSessionsOptions gyroscope;
   gyroscope.gravity_mps2 = design.gravity_mps2;
   gyroscope.initial_gain = truth[kGyroscopeGainX];
@@ -122,9 +122,9 @@ Status RunGyroscopeRepeatabilityMonteCarlo(const GyroscopeRepeatabilityOptions& 
       for (int i = 0; i < kGyroscopeCalibrationCount; ++i)
         truth[i] += result->between_stddev[i] * random.StandardNormal();
       GyroscopeMlResult session;
-      trial.status = SimulateAndCalibrateSession(options.design, holds, truth, &random, &session)
-                         .WithContext("device " + std::to_string(d) + ", session " +
-                                      std::to_string(s + 1));
+      trial.status =
+          SimulateAndCalibrateSession(options.design, holds, truth, &random, &session)
+              .WithContext("device " + std::to_string(d) + ", session " + std::to_string(s + 1));
       if (!trial.status.ok()) return;
       if (s < options.training_sessions) {
         training.push_back(session);
@@ -151,9 +151,8 @@ Status RunGyroscopeRepeatabilityMonteCarlo(const GyroscopeRepeatabilityOptions& 
       continue;
     }
     for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
-      for (CoverageCount* count :
-           {&result->coverage[static_cast<int>(GyroscopeParameterKindOf(i))],
-            &result->coverage_by_unknown[i], &result->coverage_all}) {
+      for (CoverageCount* count : {&result->coverage[static_cast<int>(GyroscopeParameterKindOf(i))],
+                                   &result->coverage_by_unknown[i], &result->coverage_all}) {
         ++count->total;
         count->covered += trial.covered[i];
       }

@@ -41,7 +41,8 @@ TriadParameterKind TriadParameterKindOf(int index) {
 
 TriadParameterKind GyroscopeParameterKindOf(int index) {
   if (index < kGyroscopeGainX) return TriadParameterKind::kMisalignment;
-  return index < kGyroscopeCalibrationOffsetX ? TriadParameterKind::kGain : TriadParameterKind::kOffset;
+  return index < kGyroscopeCalibrationOffsetX ? TriadParameterKind::kGain
+                                              : TriadParameterKind::kOffset;
 }
 
 std::vector<TriadParameterKind> TriadParameterKinds() {
@@ -95,8 +96,8 @@ void Count(const SessionPrediction& prediction, CoverageTable* table) {
 }  // namespace
 
 Status PredictSessionEstimates(const ArraySessionEstimates& training,
-                               const std::vector<std::vector<double>>& held_out,
-                               int held_out_index, const std::vector<TriadParameterKind>& kinds,
+                               const std::vector<std::vector<double>>& held_out, int held_out_index,
+                               const std::vector<TriadParameterKind>& kinds,
                                std::vector<SessionPrediction>* predictions) {
   ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(training, 2));
   if (held_out.size() != training.size() || kinds.size() != training.size())

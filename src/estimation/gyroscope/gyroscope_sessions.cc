@@ -52,9 +52,9 @@ GyroscopeSessionOutcome CalibrateSessionGyroscope(const TriadLog& log,
   session.unit = options.unit;
   session.initial = GyroscopeParametersWithGain(gain, gain, gain);
   session.alpha = options.alpha;
-  Status status = CalibrateGyroscopeSession(log, accelerometer.pose_intervals,
-                                            accelerometer.ml_options, accelerometer.ml, session,
-                                            &outcome.calibration);
+  Status status =
+      CalibrateGyroscopeSession(log, accelerometer.pose_intervals, accelerometer.ml_options,
+                                accelerometer.ml, session, &outcome.calibration);
   if (status.ok()) {
     status = CheckGyroscopeMatchesUnit(outcome.calibration.ml.parameters,
                                        outcome.calibration.ml.offset, options.unit);

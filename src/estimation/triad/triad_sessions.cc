@@ -174,9 +174,10 @@ Status CheckSessionDrift(const std::vector<std::vector<SessionEstimate>>& by_par
       return Status::Error("every parameter of the drift check needs the same sessions");
   }
   if (session_count < 3) {
-    check->not_checked = "leaving one session out needs 3 sessions or more (2 others to "
-                         "estimate the between-session sigma from); " +
-                         std::to_string(session_count) + " given";
+    check->not_checked =
+        "leaving one session out needs 3 sessions or more (2 others to "
+        "estimate the between-session sigma from); " +
+        std::to_string(session_count) + " given";
     return Status::Ok();
   }
   check->checked = true;

@@ -137,17 +137,17 @@ Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimat
 
 struct SessionDeviation {
   int parameter = 0;
-  double value = 0.0;               // theta_s
-  double others_common = 0.0;       // common_{-s}
+  double value = 0.0;          // theta_s
+  double others_common = 0.0;  // common_{-s}
   double others_new_session_stddev = 0.0;
-  double deviation = 0.0;           // t_{s,p}, in the others' new-session sigmas
-  double p_value = 1.0;             // two-sided, Student t on S - 2
+  double deviation = 0.0;  // t_{s,p}, in the others' new-session sigmas
+  double p_value = 1.0;    // two-sided, Student t on S - 2
 };
 
 struct SessionDrift {
-  int session = 0;                             // index into the sessions
-  SessionDeviation largest;                    // the smallest p-value (largest |t|)
-  std::vector<SessionDeviation> outside;       // p < level / P, in parameter order
+  int session = 0;                        // index into the sessions
+  SessionDeviation largest;               // the smallest p-value (largest |t|)
+  std::vector<SessionDeviation> outside;  // p < level / P, in parameter order
   bool drifting() const { return !outside.empty(); }
 };
 
@@ -156,9 +156,9 @@ struct SessionDriftCheck {
   std::string not_checked;
   double level = 0.05;
   int parameter_count = 0;
-  double parameter_level = 0.0;      // level / P
-  double degrees_of_freedom = 0.0;   // S - 2
-  double multiplier = 0.0;           // t_{S-2}(1 - parameter_level / 2)
+  double parameter_level = 0.0;        // level / P
+  double degrees_of_freedom = 0.0;     // S - 2
+  double multiplier = 0.0;             // t_{S-2}(1 - parameter_level / 2)
   std::vector<SessionDrift> sessions;  // one per session, in order
   std::vector<int> drifting;           // the sessions named
 };
