@@ -140,8 +140,10 @@ std::string ImuTkCalibPath(const char* sensor) {
 
 bool FlagGiven(const char* name) { return !gflags::GetCommandLineFlagInfoOrDie(name).is_default; }
 
+}  // namespace
+
 // The flags of imu_tk's gyroscope calibration, their values alone (what the log holds is checked
-// once it is read, GyroscopeStart).
+// once it is read, GyroscopeStart). Also the sessions path's (calibrate_imu_sessions.cc).
 Status ValidateGyroscopeFlags() {
   GyroscopeOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(
@@ -165,8 +167,6 @@ Status ValidateGyroscopeFlags() {
   }
   return Status::Ok();
 }
-
-}  // namespace
 
 // The gyroscope's flags belong to mode imu_tk; elsewhere (`where`: "--mode=ml", "several
 // sessions") one given is refused rather than ignored.
