@@ -488,7 +488,7 @@ Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report,
           spooled = spool.Append(batch.timestamp_s[i], batch.output[i]);
       },
       &log_source);
-  if (!read.ok() || log_source.ordered_by_sample_number || !spooled.ok() || !spool.Finish().ok())
+  if (!read.ok() || log_source.times_need_whole_log || !spooled.ok() || !spool.Finish().ok())
     return Status::Ok();
   // ReadImuLog's time checks (CheckTimeUnit, CheckLogTime) on the median step.
   if (spool.size() < 2) return Status::Ok();

@@ -425,8 +425,9 @@ Status ApplyTriadWhole(const CalibrationRecord& record, const TriadParameters& p
 // (common/streaming_rank.h), in the same pass for a log of up to some two million samples,
 // else in one or two more passes that only read and correct. When a check fails on a median,
 // the log is read whole after all (ApplyTriadWhole) so that the message states the median: a
-// refused log's cost, not a corrected one's. So is a log whose rows are ordered by sample number
-// (ImuLogSource::ordered_by_sample_number), which the reader can only sort whole.
+// refused log's cost, not a corrected one's. So is a log whose times need the whole log
+// (ImuLogSource::times_need_whole_log): rows ordered by sample number, which the reader can only
+// sort whole, or host times in bursts timed by a rate fitted to all of them.
 constexpr size_t kBatchSamples = 1 << 16;
 constexpr size_t kWriteBlockBytes = 1 << 20;
 
@@ -530,7 +531,7 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
           pass.summary.last_t_s = pass.previous_t_s;
         },
         &log_source);
-    if (log_source.ordered_by_sample_number) {
+    if (log_source.times_need_whole_log) {
       pass.read_whole = true;
       return Status::Error("the rows are sorted whole");
     }

@@ -141,8 +141,10 @@ std::string ImuTkCalibPath(const char* sensor) {
 
 bool FlagGiven(const char* name) { return !gflags::GetCommandLineFlagInfoOrDie(name).is_default; }
 
+}  // namespace
+
 // The flags of imu_tk's gyroscope calibration, their values alone (what the log holds is checked
-// once it is read, GyroscopeStart).
+// once it is read, GyroscopeStart). Also the sessions path's (calibrate_imu_sessions.cc).
 Status ValidateGyroscopeFlags() {
   GyroscopeOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(
@@ -166,8 +168,6 @@ Status ValidateGyroscopeFlags() {
   }
   return Status::Ok();
 }
-
-}  // namespace
 
 // The gyroscope's flags belong to mode imu_tk; elsewhere (`where`: "--mode=ml", "several
 // sessions") one given is refused rather than ignored.
@@ -300,6 +300,7 @@ Status Load(TriadLog* log, CalibrateImuReport* report, DataSource* source) {
   report->log_path = FLAGS_log;
   report->log_layout = log_source.layout;
   report->log_notes = log_source.notes;
+  report->log_timing = log_source.timing;
   report->log_metadata = log_source.metadata;
   ACCELCAL_RETURN_IF_ERROR(
       TakeStatedUnit(log_source, &FLAGS_unit, &report->log_notes).WithContext(FLAGS_log));

@@ -9,6 +9,17 @@
 //   build/bin/calibrate_imu --log=run1/imu1.csv,run2/imu1.csv,run3/imu1.csv --g=9.8187 \
 //       --mode=ml --json=imu1_sessions.json
 //
+// With a gyroscope (the logs' gyroscope columns, or imu_tk's pairs: --gyro_log=G1,G2,..., one per
+// session), each session's gyroscope is calibrated as the single-session ml mode calibrates it
+// (estimation/gyroscope/gyroscope_session_calibration.h), its 12 unknowns combined by the same
+// model (estimation/gyroscope/gyroscope_sessions.h); a session whose gyroscope is not calibrated
+// says why and is left out of that combination. Each sensor's sessions are checked against each
+// other (CheckSessionDrift): a session that drifts is named with its parameters.
+//
+//   build/bin/calibrate_imu --log=run1/imu1_acc_gyr.csv,run2/imu1_acc_gyr.csv,run3/imu1_acc_gyr.csv
+//   \
+//       --g=9.8187 --mode=ml --initial_gyro_gain=0.00106422515 --json=imu1_sessions.json
+//
 // Called from problems/calibrate_imu.cc when --log holds a comma, after its flags are parsed.
 
 #include <gflags/gflags.h>
@@ -17,6 +28,7 @@
 #include <set>
 #include <sstream>
 
+#include "estimation/gyroscope/gyroscope_sessions.h"
 #include "estimation/triad/triad_session_calibration.h"
 #include "estimation/triad/triad_sessions.h"
 #include "io/imu_log.h"
@@ -41,34 +53,50 @@ DECLARE_string(time_unit);
 DECLARE_string(topic);
 DECLARE_string(bag_time);
 DECLARE_string(gyro_log);
+DECLARE_string(gyro_unit);
+DECLARE_double(initial_gyro_gain);
+DECLARE_string(gyro_bias);
+DECLARE_string(imu_tk_calib_out);
 
 namespace accelcal {
 
 // problems/calibrate_imu.cc, where the flags are defined.
 Status TriadSessionOptionsFromFlags(TriadSessionOptions* options);
-Status RefuseGyroscopeFlags(const std::string& where);
+Status ValidateGyroscopeFlags();
 
 namespace {
 
-// The sessions of --log, refused when fewer than 2, empty or repeated.
-Status SplitSessions(std::vector<std::string>* paths) {
-  std::stringstream list(FLAGS_log);
+// The drift check's level per sensor and session (CheckSessionDrift).
+constexpr double kDriftLevel = 0.05;
+
+bool FlagGiven(const char* name) { return !gflags::GetCommandLineFlagInfoOrDie(name).is_default; }
+
+// The items of a comma-separated list flag (--log, --gyro_log), refused when empty or repeated.
+Status SplitList(const std::string& flag, const std::string& value,
+                 std::vector<std::string>* paths) {
+  std::stringstream list(value);
   std::string path;
   std::set<std::string> seen;
   while (std::getline(list, path, ',')) {
     if (path.empty()) {
-      return Status::Error("--log='" + FLAGS_log +
-                           "' holds an empty session; give the logs of one device as "
-                           "--log=S1,S2,... with no empty item");
+      return Status::Error(flag + "='" + value +
+                           "' holds an empty session; give the logs of one device as " + flag +
+                           "=S1,S2,... with no empty item");
     }
     if (!seen.insert(path).second) {
-      return Status::Error("--log names " + path +
+      return Status::Error(flag + " names " + path +
                            " twice; each session of the device must be its own recording");
     }
     paths->push_back(path);
   }
-  if (!FLAGS_log.empty() && FLAGS_log.back() == ',')
-    return Status::Error("--log='" + FLAGS_log + "' ends with a comma: an empty session");
+  if (!value.empty() && value.back() == ',')
+    return Status::Error(flag + "='" + value + "' ends with a comma: an empty session");
+  return Status::Ok();
+}
+
+// The sessions of --log, refused when fewer than 2, empty or repeated.
+Status SplitSessions(std::vector<std::string>* paths) {
+  ACCELCAL_RETURN_IF_ERROR(SplitList("--log", FLAGS_log, paths));
   if (paths->size() < 2) {
     return Status::Error("--log='" + FLAGS_log +
                          "' names fewer than 2 sessions; a between-session sigma needs at least "
@@ -100,7 +128,65 @@ Status ValidateSessionFlags(const std::vector<std::string>& paths) {
   // detector refuses an even window itself.
   TriadSessionOptions options;
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
-  return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{paths, {}});
+  // The gyroscope's flags as the single-session ml mode reads them; imu_tk's are refused.
+  ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
+  for (const char* name : {"gyro_bias", "imu_tk_calib_out"}) {
+    if (FlagGiven(name)) {
+      return Status::Error(std::string("--") + name +
+                           " belongs to --mode=imu_tk; the sessions path (--log=S1,S2,...) does "
+                           "not read it");
+    }
+  }
+  std::vector<std::string> inputs = paths;
+  if (!FLAGS_gyro_log.empty()) {
+    std::vector<std::string> gyroscope_paths;
+    ACCELCAL_RETURN_IF_ERROR(SplitList("--gyro_log", FLAGS_gyro_log, &gyroscope_paths));
+    if (gyroscope_paths.size() != paths.size()) {
+      return Status::Error(StringPrintf(
+          "--gyro_log names %zu gyroscope file(s) for %zu sessions; give one per session of "
+          "--log, in its order (imu_tk's pairs)",
+          gyroscope_paths.size(), paths.size()));
+    }
+    inputs.insert(inputs.end(), gyroscope_paths.begin(), gyroscope_paths.end());
+  }
+  return CheckOutputPaths({{"--json", FLAGS_json}}, RunInputs{inputs, {}});
+}
+
+// --gyro_log's files, one per session (ValidateSessionFlags checked the list), or empty strings
+// without it.
+std::vector<std::string> GyroscopePaths(size_t sessions) {
+  std::vector<std::string> paths;
+  if (!FLAGS_gyro_log.empty() && !SplitList("--gyro_log", FLAGS_gyro_log, &paths).ok())
+    paths.clear();
+  paths.resize(sessions);
+  return paths;
+}
+
+// The gyroscope's unit in a session: --gyro_unit, or what the log's columns state when it was not
+// given (the single-session mode's rule, TakeStatedUnitOf).
+Status SessionGyroscopeUnit(const ImuLogSource& source, std::string* unit) {
+  *unit = FLAGS_gyro_unit;
+  std::vector<std::string> notes;
+  return TakeStatedUnitOf(source.gyroscope_unit, {"count", "rad/s", "deg/s"}, "gyro_unit",
+                          "gyroscope outputs", "gyroscope", unit, &notes, source.units_stated_by);
+}
+
+// Every session's gyroscope (when some log has one), then their combination.
+Status CalibrateGyroscopes(const std::vector<TriadLog>& logs, const std::string& unit,
+                           TriadSessionsReport* report) {
+  GyroscopeSessionsOptions& options = report->gyroscope_options;
+  options.gravity_mps2 = report->options.gravity_mps2;
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseGyroscopeOutputUnit(unit, &options.unit).WithContext("--gyro_unit"));
+  options.initial_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
+  options.alpha = report->options.alpha;
+  std::vector<GyroscopeSessionOutcome> outcomes;
+  for (size_t s = 0; s < logs.size(); ++s) {
+    TriadSessionReport& session = report->sessions[s];
+    session.gyroscope = CalibrateSessionGyroscope(logs[s], session.calibration, options);
+    outcomes.push_back(session.gyroscope);
+  }
+  return CombineGyroscopeSessionOutcomes(outcomes, 0.95, kDriftLevel, &report->gyroscope);
 }
 
 // The unit a log's outputs look like (the first of count, m/s^2, g its outputs match), to
@@ -118,7 +204,12 @@ const char* ApparentUnit(const TriadLog& log) {
 Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsReport* report,
                         DataSource* source) {
   std::map<std::string, std::string> files;
-  for (size_t s = 0; s < paths.size(); ++s) files["session_" + std::to_string(s + 1)] = paths[s];
+  const std::vector<std::string> gyroscope_files = GyroscopePaths(paths.size());
+  for (size_t s = 0; s < paths.size(); ++s) {
+    files["session_" + std::to_string(s + 1)] = paths[s];
+    if (!gyroscope_files[s].empty())
+      files["session_" + std::to_string(s + 1) + "_gyroscope"] = gyroscope_files[s];
+  }
   ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", files, source));
   std::map<std::string, std::string> by_content;
   for (size_t s = 0; s < paths.size(); ++s) {
@@ -133,15 +224,26 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   ACCELCAL_RETURN_IF_ERROR(TriadSessionOptionsFromFlags(&options));
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
-  ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("the sessions path (--log=S1,S2,...)"));
-  if (!FLAGS_gyro_log.empty()) {
-    return Status::Error(
-        "--gyro_log names one gyroscope file; with several sessions give logs that hold the "
-        "gyroscope's columns, or calibrate each session on its own");
-  }
+  const std::vector<std::string> gyroscope_paths = GyroscopePaths(paths.size());
   std::vector<TriadLog> logs(paths.size());
+  std::string gyroscope_unit;  // the first session's with a gyroscope
   for (size_t s = 0; s < paths.size(); ++s) {
-    ACCELCAL_RETURN_IF_ERROR(ReadImuLog(paths[s], read_options, &logs[s]));
+    read_options.gyroscope_path = gyroscope_paths[s];
+    ImuLogSource log_source;
+    ACCELCAL_RETURN_IF_ERROR(
+        ReadImuLog(paths[s], read_options, &logs[s], ImuLogSpacing::kEven, &log_source));
+    if (logs[s].has_gyroscope()) {
+      std::string unit;
+      ACCELCAL_RETURN_IF_ERROR(
+          SessionGyroscopeUnit(log_source, &unit)
+              .WithContext(gyroscope_paths[s].empty() ? paths[s] : gyroscope_paths[s]));
+      if (!gyroscope_unit.empty() && unit != gyroscope_unit) {
+        return Status::Error("the sessions' gyroscopes hold different units: " + paths[s] +
+                             "'s is in " + unit + ", an earlier session's in " + gyroscope_unit +
+                             "; combine sessions of one device in one unit");
+      }
+      gyroscope_unit = unit;
+    }
     const std::string unit = ApparentUnit(logs[s]);
     const std::string first = ApparentUnit(logs[0]);
     if (unit != first) {
@@ -154,6 +256,10 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
     TriadSessionReport session;
     session.path = paths[s];
     session.sha256 = source->files.at("session_" + std::to_string(s + 1)).sha256;
+    session.gyroscope_path = gyroscope_paths[s];
+    if (!session.gyroscope_path.empty())
+      session.gyroscope_sha256 =
+          source->files.at("session_" + std::to_string(s + 1) + "_gyroscope").sha256;
     ACCELCAL_RETURN_IF_ERROR(CalibrateTriadSession(logs[s], options, &session.calibration)
                                  .WithContext("session " + std::to_string(s + 1) + " (" + paths[s] +
                                               ") fails calibration"));
@@ -162,7 +268,23 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
   std::vector<TriadMlResult> results;
   for (const TriadSessionReport& session : report->sessions)
     results.push_back(session.calibration.ml);
-  return CombineTriadSessions(results, 0.95, &report->combined).WithContext("--log");
+  ACCELCAL_RETURN_IF_ERROR(
+      CombineTriadSessions(results, 0.95, &report->combined).WithContext("--log"));
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckSessionDrift(TriadSessionEstimates(results), kDriftLevel, &report->drift));
+  report->has_gyroscope = !gyroscope_unit.empty();
+  if (!report->has_gyroscope) {
+    for (const char* name : {"gyro_unit", "initial_gyro_gain"}) {
+      if (FlagGiven(name)) {
+        return Status::Error("--" + std::string(name) +
+                             " is for the gyroscope, and no session's log has one: give logs "
+                             "with gyroscope columns (gx, gy, gz; docs/log-layouts.md), or "
+                             "imu_tk's gyroscope files with --gyro_log=G1,G2,...");
+      }
+    }
+    return Status::Ok();
+  }
+  return CalibrateGyroscopes(logs, gyroscope_unit, report);
 }
 
 }  // namespace

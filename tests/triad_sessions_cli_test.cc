@@ -1,6 +1,6 @@
 // calibrate_imu --log=S1,S2,... (several sessions of one device) and triad_repeatability end
-// to end on mimu4444: the table and JSON keys (docs/json_sessions.md), the refusals (one line,
-// exit status 2, nothing written), and the leave-one-session-out figures as printed.
+// to end on mimu4444: the table and JSON keys (docs/json.md, calibrate_imu_sessions), the refusals
+// (one line, exit status 2, nothing written), and the leave-one-session-out figures as printed.
 
 #include <gtest/gtest.h>
 
@@ -108,6 +108,126 @@ TEST(CalibrateImuSessionsCli, RefusesWhatCannotBeCombined) {
   const std::string cut = scratch.Write("cut.csv", short_log.str());
   ExpectRefused("--mode=ml --log='" + a + "," + cut + "'",
                 "session 2 (" + cut + ") fails calibration", scratch);
+}
+
+// --- The gyroscope (issue 44, item 8) ---
+
+std::string Imu1GyroscopeRuns(const std::string& dir) {
+  return dir + "/run1/imu1_acc_gyr.csv," + dir + "/run2/imu1_acc_gyr.csv," + dir +
+         "/run3/imu1_acc_gyr.csv";
+}
+
+constexpr char kMimuGyroGain[] = " --initial_gyro_gain=0.00106422515";
+
+TEST(CalibrateImuSessionsCli, GyroscopeColumnsGiveTheGyroscopesNewSessionSigma) {
+  REQUIRE_MIMU4444(dir);
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("sessions.json");
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log='" + Imu1GyroscopeRuns(dir) + "' --g=9.8187 --mode=ml" +
+                                     kMimuGyroGain + " --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const std::string& out = result.stdout_text;
+  EXPECT_NE(out.find("  gyroscope: 37439 samples, 19 turns"), std::string::npos) << out;
+  EXPECT_NE(out.find("  combined over sessions 1 2 3\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("  gyroscope_offset_x             -22.627491"), std::string::npos) << out;
+  EXPECT_NE(out.find("Drift (gyroscope): each session against the others"), std::string::npos)
+      << out;
+  EXPECT_NE(out.find("Drift (accelerometer): each session against the others"), std::string::npos)
+      << out;
+
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  // The accelerometer's keys as without the gyroscope.
+  EXPECT_NEAR(json["stddev_new_session"]["offset_z"].get<double>(), 3.45, 0.01);
+  const nlohmann::json& gyroscope = json["gyroscope"];
+  ASSERT_TRUE(gyroscope.is_object()) << json.dump();
+  EXPECT_EQ(gyroscope["output_unit"], "count");
+  EXPECT_EQ(gyroscope["sessions_combined"], nlohmann::json({1, 2, 3}));
+  EXPECT_TRUE(gyroscope["not_combined"].is_null());
+  ASSERT_EQ(gyroscope["parameters"].size(), 12u);
+  EXPECT_NEAR(gyroscope["parameters"]["gyroscope_offset_x"].get<double>(), -22.627, 0.001);
+  EXPECT_NEAR(gyroscope["stddev_new_session"]["gyroscope_offset_x"].get<double>(), 0.516, 0.001);
+  EXPECT_NEAR(gyroscope["interval_multiplier_95"]["gyroscope_gain_z"].get<double>(), 4.303, 0.001);
+  EXPECT_EQ(gyroscope["units"]["gyroscope_gain_x"], "(rad/s)/count");
+  EXPECT_EQ(gyroscope["degrees_of_freedom"], 2);
+  EXPECT_EQ(gyroscope["drift"]["checked"], true);
+  EXPECT_EQ(gyroscope["drift"]["parameter_count"], 12);
+  EXPECT_EQ(gyroscope["drift"]["sessions"].size(), 3u);
+  EXPECT_EQ(json["drift"]["parameter_count"], 9);
+  // Each session's own gyroscope, as the single-session mode gives it.
+  EXPECT_EQ(json["sessions"][0]["gyroscope"]["calibrated"], true);
+  EXPECT_NEAR(json["sessions"][0]["gyroscope"]["parameters"]["gyroscope_offset_x"].get<double>(),
+              -23.1013, 0.0001);
+}
+
+// A session without a gyroscope among sessions with one: named, and left out of the
+// gyroscope's combination (never dropped silently); the accelerometer combines all three.
+TEST(CalibrateImuSessionsCli, NamesASessionWithoutAGyroscope) {
+  REQUIRE_MIMU4444(dir);
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("sessions.json");
+  const std::string logs =
+      dir + "/run1/imu1_acc_gyr.csv," + dir + "/run2/imu1.csv," + dir + "/run3/imu1_acc_gyr.csv";
+  const testing::CommandResult result =
+      RunBinary("calibrate_imu", "--log='" + logs + "' --g=9.8187 --mode=ml" + kMimuGyroGain +
+                                     " --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  const std::string& out = result.stdout_text;
+  EXPECT_NE(out.find("  gyroscope: none in this log: not calibrated\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("  combined over sessions 1 3; LEFT OUT: session 2"), std::string::npos)
+      << out;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_EQ(json["gyroscope"]["sessions_combined"], nlohmann::json({1, 3}));
+  ASSERT_EQ(json["gyroscope"]["sessions_left_out"].size(), 1u);
+  EXPECT_EQ(json["gyroscope"]["sessions_left_out"][0]["session"], 2);
+  EXPECT_EQ(json["gyroscope"]["degrees_of_freedom"], 1);
+  EXPECT_EQ(json["gyroscope"]["drift"]["checked"], false);
+  EXPECT_EQ(json["degrees_of_freedom"], 2);
+  EXPECT_EQ(json["sessions"][1]["gyroscope"]["present"], false);
+}
+
+// Gyroscope columns in counts without a gain to start from: each session says so, nothing is
+// combined; logs without any gyroscope give no gyroscope lines at all (as before).
+TEST(CalibrateImuSessionsCli, SaysPerSessionWhyTheGyroscopeIsNotCalibrated) {
+  REQUIRE_MIMU4444(dir);
+  testing::ScratchDir scratch;
+  const std::string json_path = scratch.File("sessions.json");
+  testing::CommandResult result =
+      RunBinary("calibrate_imu",
+                "--log='" + Imu1GyroscopeRuns(dir) + "' --g=9.8187 --mode=ml --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  size_t lines = 0;
+  for (size_t at = result.stdout_text.find("NOT calibrated: its outputs are counts");
+       at != std::string::npos;
+       at = result.stdout_text.find("NOT calibrated: its outputs are counts", at + 1))
+    ++lines;
+  EXPECT_EQ(lines, 3u) << result.stdout_text;
+  EXPECT_NE(result.stdout_text.find("  not combined: 0 of 3 sessions' gyroscopes calibrated"),
+            std::string::npos)
+      << result.stdout_text;
+  nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_TRUE(json["gyroscope"]["parameters"].is_null());
+
+  result = RunBinary("calibrate_imu",
+                     "--log='" + Imu1Runs(dir) + "' --g=9.8187 --mode=ml --json=" + json_path);
+  ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
+  EXPECT_EQ(result.stdout_text.find("yroscope"), std::string::npos) << result.stdout_text;
+  json = nlohmann::json::parse(testing::ReadText(json_path));
+  EXPECT_TRUE(json["gyroscope"].is_null());
+}
+
+TEST(CalibrateImuSessionsCli, RefusesGyroscopeFlagsItCannotUse) {
+  REQUIRE_MIMU4444(dir);
+  testing::ScratchDir scratch;
+  ExpectRefused("--mode=ml --log='" + Imu1Runs(dir) + "'" + kMimuGyroGain,
+                "no session's log has one", scratch);
+  ExpectRefused(
+      "--mode=ml --log='" + Imu1Runs(dir) + "' --gyro_log='" + dir + "/run1/imu1_acc_gyr.csv'",
+      "--gyro_log names 1 gyroscope file(s) for 3 sessions", scratch);
+  ExpectRefused("--mode=ml --log='" + Imu1GyroscopeRuns(dir) + "' --gyro_bias=rest",
+                "--gyro_bias belongs to --mode=imu_tk", scratch);
+  ExpectRefused("--mode=ml --log='" + Imu1GyroscopeRuns(dir) + "' --initial_gyro_gain=0",
+                "--initial_gyro_gain=0 is not a gain", scratch);
 }
 
 TEST(TriadRepeatabilityCli, PrintsTheLeaveOneSessionOutCoverage) {

@@ -106,26 +106,14 @@ bool ReadFourShortDecimals(std::string_view trimmed, double values[4]) {
 // ImuLogSpacing::kEven's rule on a time axis whose median step CheckLogTime gave: no step
 // above kMaxGapSteps median steps (a gap), and no block of consecutive steps whose median
 // step is more than kMaxRateChange from the log's (a change of rate). Jitter and a few lost
-// samples pass: a pose's mean and variance are those of the samples it holds.
+// samples pass: a pose's mean and variance are those of the samples it holds. Host stamps in
+// bursts never reach it (TimeTheSamples, for every spacing).
 constexpr double kMaxGapSteps = 10.0;
 constexpr double kMaxRateChange = 0.05;
 constexpr size_t kMinRateBlock = 100;
 
 Status CheckEvenSpacing(const std::vector<double>& timestamp_s, double median_step_s) {
   const size_t steps = timestamp_s.size() - 1;
-  // Host stamps of buffered packets: many steps far below the mean and many far above it (a
-  // BLE link stamps three samples within 2 ms every 60 ms). The samples' own rate is the mean.
-  const double mean_step_s = (timestamp_s.back() - timestamp_s.front()) / steps;
-  size_t long_steps = 0;
-  for (size_t j = 1; j <= steps; ++j)
-    long_steps += timestamp_s[j] - timestamp_s[j - 1] > 3.0 * median_step_s ? 1 : 0;
-  if (mean_step_s > 3.0 * median_step_s && long_steps > steps / 10) {
-    return Status::Error(StringPrintf(
-        "the time stamps come in bursts (a median step of %.6g s, a mean of %.6g s, %zu steps "
-        "above three medians): host stamps of buffered packets, not the samples' times; give "
-        "--rate_hz=%.4g, the mean rate, to time the samples by their order",
-        median_step_s, mean_step_s, long_steps, 1.0 / mean_step_s));
-  }
   for (size_t j = 1; j <= steps; ++j) {
     const double step_s = timestamp_s[j] - timestamp_s[j - 1];
     if (step_s <= kMaxGapSteps * median_step_s) continue;
@@ -189,6 +177,10 @@ class ImuLogLineParser {
   double t_s() const { return t_s_; }
   const std::array<double, 3>& accelerometer() const { return accelerometer_; }
   const std::array<double, 3>& gyroscope() const { return gyroscope_; }
+  // The sample-number column's value when time comes from a time column (NaN when the cell is
+  // no number: the column is then of no use to time host stamps in bursts, and
+  // FitIndexClock says so).
+  double sample_number() const { return sample_number_; }
 
  private:
   Status Cell(int column, const char* role, double* value) const;
@@ -207,6 +199,7 @@ class ImuLogLineParser {
   long long integer_time_value_ = 0;
   bool integer_origin_ = false;
   long long integer_time_origin_ = 0;
+  double sample_number_ = std::numeric_limits<double>::quiet_NaN();
   std::array<double, 3> accelerometer_{};
   std::array<double, 3> gyroscope_{};
 };
@@ -276,8 +269,13 @@ Status ImuLogLineParser::ParseLine(std::string_view line, bool* is_sample) {
       integer_time_ = error == std::errc() && end == cell.data() + cell.size();
       if (integer_time_) integer_time_value_ = integer;
     }
-    if (format_.index_column >= 0 && format_.rate_hz > 0.0)
+    if (format_.index_column >= 0 && format_.rate_hz > 0.0) {
       ACCELCAL_RETURN_IF_ERROR(Cell(format_.index_column, "sample number", &raw_time));
+    } else if (format_.index_column >= 0) {
+      // Read only to time host stamps in bursts: a cell that is no number is no refusal here.
+      if (!Cell(format_.index_column, "sample number", &sample_number_).ok())
+        sample_number_ = std::numeric_limits<double>::quiet_NaN();
+    }
     for (int k = 0; k < 3; ++k) {
       if (format_.accelerometer[k] >= 0)
         ACCELCAL_RETURN_IF_ERROR(
@@ -334,7 +332,19 @@ void FillSource(const ImuTextFormat& format, ImuLogSource* source) {
                               : "'" + EchoInput(format.header[format.time_column]) + "'";
   }
   source->time_scale_s = format.time_scale_s;
-  source->ordered_by_sample_number = format.index_column >= 0 && format.rate_hz > 0.0;
+  source->times_need_whole_log = format.index_column >= 0 && format.rate_hz > 0.0;
+  source->sample_number_column =
+      format.index_column < 0 ? ""
+      : format.header.empty() ? "column " + std::to_string(format.index_column + 1)
+                              : "'" + EchoInput(format.header[format.index_column]) + "'";
+  source->timing = ImuLogTiming();
+  if (format.rate_hz > 0.0) {
+    source->timing.from =
+        format.index_column >= 0 ? "sample number and --rate_hz" : "row number and --rate_hz";
+    source->timing.index_column = source->sample_number_column;
+  } else {
+    source->timing.from = "time column";
+  }
 }
 
 // A time axis whose median step is no IMU's, read from a column in a unit stated or inferred:
@@ -421,11 +431,14 @@ Status CheckUnchangedSince(const std::string& path, const FileIdentity& before) 
   return now == before ? Status::Ok() : FileChangedWhileRead(before, now);
 }
 
-// A text log's lines, streamed with the format decided from its head.
+// A text log's lines, streamed with the format decided from its head. `sample_numbers`, when
+// not null, receives the sample-number column's values when time comes from a time column
+// (else it stays empty).
 Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
                      size_t batch_samples,
                      const std::function<void(const TriadLog& batch)>& on_batch,
-                     ImuLogSource* source, bool reorder = false) {
+                     ImuLogSource* source, bool reorder = false,
+                     std::vector<double>* sample_numbers = nullptr) {
   std::string head;
   bool whole = false;
   uint64_t size = 0;
@@ -444,6 +457,7 @@ Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
   TriadLog batch;
   const bool gyroscope = format.gyroscope[0] >= 0;
   const bool accelerometer = format.accelerometer[0] >= 0;
+  if (format.index_column < 0 || format.rate_hz > 0.0) sample_numbers = nullptr;
   const size_t batch_limit = std::max<size_t>(1, batch_samples);
   ACCELCAL_RETURN_IF_ERROR(StreamTextLines(
       path, "an IMU log", kMaxLineBytes,
@@ -455,6 +469,7 @@ Status StreamTextLog(const std::string& path, const ImuLogReadOptions& options,
         batch.timestamp_s.push_back(parser.t_s());
         if (accelerometer) batch.output.push_back(a);
         if (gyroscope) batch.gyroscope.push_back(parser.gyroscope());
+        if (sample_numbers != nullptr) sample_numbers->push_back(parser.sample_number());
         if (batch.size() >= batch_limit) {
           on_batch(batch);
           batch = TriadLog();
@@ -558,8 +573,9 @@ std::string Described(const MatVariableDescription& variable) {
 }
 
 // A MATLAB .mat log: its variables by name (io/imu_log_format.h's aliases), or by --columns.
+// `sample_numbers` as StreamTextLog's.
 Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
-                  ImuLogSource* source) {
+                  ImuLogSource* source, std::vector<double>* sample_numbers) {
   std::vector<ImuColumnChoice> choices;
   ACCELCAL_RETURN_IF_ERROR(ParseImuColumnChoices(options.columns, &choices));
   MatFileReader reader;
@@ -750,6 +766,10 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
     time_scale_s = format.time_scale_s;
     const double origin = format.epoch ? time[0] : 0.0;
     for (double& t : time) t = (t - origin) * format.time_scale_s;
+    // Kept to time host stamps in bursts; a variable of another length is of no use for that.
+    if (chosen.count("index") &&
+        !VariableValues(variables, chosen["index"], rows, sample_numbers).ok())
+      sample_numbers->clear();
   } else {
     if (const std::string* why = unread_for(ImuColumnKind::kTime)) return Status::Error(*why);
     return Status::Error("no time variable among (" + listing +
@@ -790,6 +810,12 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
                      (chosen.count("gx") ? "; gyroscope " + describe("g") : std::string()) + ")";
     source->time_column = options.rate_hz > 0.0 ? "" : "'" + chosen["t"].name + "'";
     source->time_scale_s = time_scale_s;
+    source->sample_number_column = chosen.count("index") ? "'" + chosen["index"].name + "'" : "";
+    source->timing = ImuLogTiming();
+    source->timing.from = options.rate_hz <= 0.0   ? "time column"
+                          : chosen.count("index") ? "sample number and --rate_hz"
+                                                  : "row number and --rate_hz";
+    if (options.rate_hz > 0.0) source->timing.index_column = source->sample_number_column;
     source->notes.clear();
     if (!time_rule.empty()) source->notes.push_back(time_rule);
     source->notes.insert(source->notes.end(), notes.begin(), notes.end());
@@ -885,10 +911,14 @@ Status RefuseBagOptions(const std::string& path, const ImuLogReadOptions& option
                        "metadata.yaml, or a .db3 file); this log is not one");
 }
 
-// The whole of one file, of any layout, without the spacing check.
+// The whole of one file, of any layout, without the spacing check. `sample_numbers` as
+// StreamTextLog's (may be null).
 Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, TriadLog* log,
-                   ImuLogSource* source) {
+                   ImuLogSource* source, std::vector<double>* sample_numbers) {
   *log = TriadLog();
+  std::vector<double> unused;
+  if (sample_numbers == nullptr) sample_numbers = &unused;
+  sample_numbers->clear();
   if (IsRos2Bag(path)) return ReadBagLog(path, options, log, source);
   ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
   std::string head;
@@ -900,7 +930,8 @@ Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, Tr
   // its path: the file must be unchanged from the head to the end of the reading, and a run's
   // record of its bytes (io/input_file.h) is their checksum taken in the same state.
   if (IsMatHeader(head) || (head.find('\0') != std::string::npos && HasMatSuffix(path))) {
-    ACCELCAL_RETURN_IF_ERROR(ReadMatLog(path, options, log, source).WithContext(path));
+    ACCELCAL_RETURN_IF_ERROR(
+        ReadMatLog(path, options, log, source, sample_numbers).WithContext(path));
     ACCELCAL_RETURN_IF_ERROR(CheckUnchangedSince(path, identity).WithContext(path));
     if (!RecordingInputReads()) return Status::Ok();
     InputRead read;
@@ -917,7 +948,7 @@ Status ReadOneFile(const std::string& path, const ImuLogReadOptions& options, Tr
         log->output.insert(log->output.end(), batch.output.begin(), batch.output.end());
         log->gyroscope.insert(log->gyroscope.end(), batch.gyroscope.begin(), batch.gyroscope.end());
       },
-      source, /*reorder=*/true));
+      source, /*reorder=*/true, sample_numbers));
   return OrderBySampleNumber(log, source).WithContext(path);
 }
 
@@ -935,7 +966,8 @@ Status AddPairedGyroscope(const std::string& path, const ImuLogReadOptions& opti
   gyroscope_options.columns.clear();
   TriadLog gyroscope;
   ImuLogSource gyroscope_source;
-  ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, gyroscope_options, &gyroscope, &gyroscope_source));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadOneFile(path, gyroscope_options, &gyroscope, &gyroscope_source, nullptr));
   if (gyroscope.size() != log->size()) {
     return Status::Error(StringPrintf(
         "%s: %zu samples, the accelerometer's log %zu: imu_tk's pair of files must hold the same "
@@ -962,6 +994,77 @@ Status AddPairedGyroscope(const std::string& path, const ImuLogReadOptions& opti
   return Status::Ok();
 }
 
+// A time column of host stamps in bursts, and nothing to time the samples by: what the
+// stamps look like and the flag that times them.
+Status RefuseHostTimeBursts(bool bag, const ImuLogReadOptions& options, const ImuLogSource& source,
+                            const HostTimeBursts& bursts) {
+  const std::string statistics = DescribeHostTimeBursts(bursts);
+  if (bag) {
+    const bool receive = options.bag_time == "receive";
+    return Status::Error(
+        std::string("the messages' ") + (receive ? "receive times" : "header stamps") +
+        " come in bursts (" + statistics + "): a host's stamps of buffered samples, not the "
+        "samples' times; " +
+        (receive ? "read the driver's stamps with --bag_time=header"
+                 : "an Imu message carries no sample number to time it by: have the driver "
+                   "stamp each sample with the device's time"));
+  }
+  return Status::Error(StringPrintf(
+      "time %s: the time stamps come in bursts (%s): a host's receive times of buffered "
+      "samples, not the samples' times; give --rate_hz=%.6g, the mean rate, to time the samples "
+      "by their order, or --columns=index:NAME naming a column that counts the samples (their "
+      "times then come from it at a rate fitted to these stamps)",
+      source.time_column.c_str(), statistics.c_str(), bursts.mean_rate_hz()));
+}
+
+// The sample numbers' jumps beyond 1, from times that are sample numbers over `rate_hz`.
+long long DroppedSamples(const std::vector<double>& timestamp_s, double rate_hz) {
+  long long dropped = 0;
+  for (size_t j = 1; j < timestamp_s.size(); ++j)
+    dropped += std::llround((timestamp_s[j] - timestamp_s[j - 1]) * rate_hz) - 1;
+  return dropped;
+}
+
+// The samples' times once the log is read (ImuLogTiming): a time column of host stamps in
+// bursts is replaced by the sample numbers' times at a fitted rate, or refused; sample numbers
+// over --rate_hz count the samples they skip.
+Status TimeTheSamples(bool bag, const ImuLogReadOptions& options,
+                      const std::vector<double>& sample_numbers, TriadLog* log,
+                      ImuLogSource* source) {
+  ImuLogTiming& timing = source->timing;
+  if (options.rate_hz > 0.0) {
+    if (timing.index_column.empty()) return Status::Ok();
+    timing.dropped_samples = DroppedSamples(log->timestamp_s, options.rate_hz);
+    if (timing.dropped_samples > 0) {
+      source->notes.push_back(StringPrintf(
+          "%lld dropped sample%s: the sample numbers in %s skip them; the samples read keep their "
+          "numbers' times",
+          timing.dropped_samples, timing.dropped_samples == 1 ? "" : "s",
+          timing.index_column.c_str()));
+    }
+    return Status::Ok();
+  }
+  const HostTimeBursts bursts = MeasureHostTimeBursts(log->timestamp_s);
+  if (!bursts.bursty) return Status::Ok();
+  if (sample_numbers.empty()) return RefuseHostTimeBursts(bag, options, *source, bursts);
+  std::vector<double> timestamp_s;
+  ACCELCAL_RETURN_IF_ERROR(
+      FitIndexClock(sample_numbers, log->timestamp_s, &timing.fit, &timestamp_s)
+          .WithContext("time " + source->time_column + " comes in bursts, timed by " +
+                       source->sample_number_column));
+  log->timestamp_s = std::move(timestamp_s);
+  timing.from = "sample number and a fitted rate";
+  timing.index_column = source->sample_number_column;
+  timing.bursts = bursts;
+  timing.rate_fitted = true;
+  timing.dropped_samples = timing.fit.dropped_samples;
+  source->notes.insert(source->notes.begin(),
+                       "time: host receive times in bursts in " + source->time_column + " (" +
+                           DescribeHostTimeBursts(bursts) + "): sample times from the index " +
+                           timing.index_column + " " + DescribeIndexClockFit(timing.fit));
+  return Status::Ok();
+}
+
 }  // namespace
 
 Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, TriadLog* log,
@@ -973,6 +1076,8 @@ Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, Tria
   ACCELCAL_RETURN_IF_ERROR(DetectImuTextFormat(head, head.size() == text.size(), options, &format));
   FillSource(format, source);
   ImuLogLineParser parser(format, false);
+  const bool sample_numbers_kept = format.index_column >= 0 && format.rate_hz <= 0.0;
+  std::vector<double> sample_numbers;
   size_t begin = 0;
   while (begin < text.size()) {
     const size_t end = text.find('\n', begin);
@@ -983,13 +1088,16 @@ Status ParseImuLog(std::string_view text, const ImuLogReadOptions& options, Tria
       log->timestamp_s.push_back(parser.t_s());
       if (format.accelerometer[0] >= 0) log->output.push_back(parser.accelerometer());
       if (format.gyroscope[0] >= 0) log->gyroscope.push_back(parser.gyroscope());
+      if (sample_numbers_kept) sample_numbers.push_back(parser.sample_number());
     }
     begin = end + 1;
   }
   ACCELCAL_RETURN_IF_ERROR(parser.Finish());
   ImuLogSource read;
   FillSource(format, &read);
+  ACCELCAL_RETURN_IF_ERROR(TimeTheSamples(false, options, sample_numbers, log, &read));
   ACCELCAL_RETURN_IF_ERROR(CheckTimeUnit(log->timestamp_s, read));
+  if (source != nullptr) *source = read;
   return CheckSpacing(log->timestamp_s, spacing);
 }
 
@@ -1013,7 +1121,25 @@ Status StreamImuLog(const std::string& path, const ImuLogReadOptions& options, s
     return Status::Ok();
   }
   ACCELCAL_RETURN_IF_ERROR(RefuseBagOptions(path, options));
-  return StreamTextLog(path, options, batch_samples, on_batch, source);
+  ImuLogSource local;
+  if (source == nullptr) source = &local;
+  HostTimeBurstTally tally;
+  ACCELCAL_RETURN_IF_ERROR(StreamTextLog(
+      path, options, batch_samples,
+      [&](const TriadLog& batch) {
+        for (double t_s : batch.timestamp_s) tally.Add(t_s);
+        on_batch(batch);
+      },
+      source));
+  // As ReadImuLog's TimeTheSamples decides, from the same statistics.
+  const HostTimeBursts bursts = tally.Result();
+  if (options.rate_hz > 0.0 || !bursts.bursty) return Status::Ok();
+  if (source->sample_number_column.empty())
+    return RefuseHostTimeBursts(false, options, *source, bursts).WithContext(path);
+  source->times_need_whole_log = true;
+  return Status::Error(path + ": time " + source->time_column +
+                       " holds host stamps in bursts, timed by " + source->sample_number_column +
+                       " at a rate fitted to the whole log: read it whole");
 }
 
 bool StreamsLikeReadImuLog(const std::string& path, const ImuLogReadOptions& options) {
@@ -1030,10 +1156,14 @@ Status ReadImuLog(const std::string& path, const ImuLogReadOptions& options, Tri
                   ImuLogSpacing spacing, ImuLogSource* source) {
   ImuLogSource local;
   if (source == nullptr) source = &local;
-  ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, options, log, source));
-  ACCELCAL_RETURN_IF_ERROR(CheckTimeUnit(log->timestamp_s, *source).WithContext(path));
+  std::vector<double> sample_numbers;
+  ACCELCAL_RETURN_IF_ERROR(ReadOneFile(path, options, log, source, &sample_numbers));
   if (!options.gyroscope_path.empty())
     ACCELCAL_RETURN_IF_ERROR(AddPairedGyroscope(options.gyroscope_path, options, log, source));
+  // Bursts first: their median step is the within-burst one, which says nothing of the unit.
+  ACCELCAL_RETURN_IF_ERROR(
+      TimeTheSamples(IsRos2Bag(path), options, sample_numbers, log, source).WithContext(path));
+  ACCELCAL_RETURN_IF_ERROR(CheckTimeUnit(log->timestamp_s, *source).WithContext(path));
   return CheckSpacing(log->timestamp_s, spacing).WithContext(path);
 }
 

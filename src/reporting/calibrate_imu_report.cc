@@ -391,6 +391,37 @@ nlohmann::json IntervalJson(const StaticInterval& s) {
       {"duration_s", s.duration_s}, {"mean", s.mean}, {"noise", s.noise_stddev}};
 }
 
+// How the samples' times were found (docs/json.md, log.time).
+nlohmann::json TimingJson(const ImuLogTiming& timing) {
+  auto or_null = [](bool known, double value) {
+    return known ? nlohmann::json(value) : nlohmann::json(nullptr);
+  };
+  nlohmann::json bursts = nullptr;
+  if (timing.bursts.bursty) {
+    bursts = {{"steps", timing.bursts.steps},
+              {"share_below_third_period", timing.bursts.short_share},
+              {"share_above_1_5_periods", timing.bursts.long_share},
+              {"period_s", timing.bursts.period_s},
+              {"median_step_s", timing.bursts.median_step_s},
+              {"mean_step_s", timing.bursts.mean_step_s},
+              {"mean_rate_hz", timing.bursts.mean_rate_hz()}};
+  }
+  const IndexClockFit& fit = timing.fit;
+  return {{"from", timing.from},
+          {"index_column", timing.index_column.empty() ? nlohmann::json(nullptr)
+                                                       : nlohmann::json(timing.index_column)},
+          {"host_time_bursts", bursts},
+          {"fitted_rate_hz", or_null(timing.rate_fitted, fit.rate_hz)},
+          {"fitted_rate_tolerance_hz", or_null(timing.rate_fitted, fit.rate_tolerance_hz)},
+          {"nominal_rate_hz", or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0,
+                                      fit.nominal_rate_hz)},
+          {"clock_drift_ppm", or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0,
+                                      fit.clock_drift_ppm)},
+          {"largest_host_delay_s", or_null(timing.rate_fitted, fit.largest_delay_s)},
+          {"dropped_samples", timing.dropped_samples < 0 ? nlohmann::json(nullptr)
+                                                         : nlohmann::json(timing.dropped_samples)}};
+}
+
 nlohmann::json LogJson(const CalibrateImuReport& report) {
   return {{"path", report.log_path},
           {"layout", report.log_layout},
@@ -399,6 +430,7 @@ nlohmann::json LogJson(const CalibrateImuReport& report) {
           {"first_t_s", report.first_t_s},
           {"last_t_s", report.last_t_s},
           {"read_notes", report.log_notes},
+          {"time", TimingJson(report.log_timing)},
           {"metadata", report.log_metadata},
           {"gyroscope_samples", report.gyroscope_samples}};
 }

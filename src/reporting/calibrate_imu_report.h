@@ -24,6 +24,7 @@
 #include "estimation/triad/triad_pose_noise.h"
 #include "estimation/triad/triad_session_calibration.h"
 #include "io/calibration_file.h"
+#include "io/imu_log.h"
 #include "io/provenance.h"
 #include "models/gyroscope_units.h"
 #include "models/triad_units.h"
@@ -34,6 +35,7 @@ struct CalibrateImuReport {
   std::string log_path;
   std::string log_layout;                          // ImuLogSource::layout
   std::vector<std::string> log_notes;              // what the reader chose, to be printed
+  ImuLogTiming log_timing;                         // how the samples' times were found
   std::vector<std::string> log_metadata;           // lines before the header, skipped
   size_t gyroscope_samples = 0;                    // read beside the accelerometer's, or 0
   std::string log_sha256;                          // to recognise imu_tk's example log

@@ -5,6 +5,7 @@
 
 #include "common/format.h"
 #include "estimation/gyroscope/gyroscope_discovery.h"
+#include "estimation/gyroscope/gyroscope_session_calibration.h"
 #include "estimation/gyroscope/imu_tk_gyroscope_calibration.h"
 #include "estimation/triad/imu_tk_calibration.h"
 
@@ -155,21 +156,22 @@ Status SolveMlGyroscope(const TriadLog& log, const CalibrateImuOptions& options,
     report->imu_tk_gyroscope_status =
         Status::Error("imu_tk's accelerometer calibration gave none to start from");
   }
-  GyroscopeMlOptions& ml = report->gyroscope_ml_options;
-  ml.gravity_mps2 = options.session.gravity_mps2;
-  ml.unit = report->gyroscope_unit;
-  ml.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
-                                                 : report->gyroscope_options.initial;
-  ml.quantisation_step = report->gyroscope_unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
-  ml.latitude_given = options.latitude_given;
-  ml.latitude_rad = options.latitude_deg * M_PI / 180.0;
-  GyroscopeDiscoveryOptions& discovery = report->gyroscope_discovery_options;
-  discovery.alpha = options.session.alpha;
-  discovery.fit = ml;
-  discovery.turn_sampling = options.gyro_turn_sampling;
-  const Status status = DiscoverGyroscope(log, report->pose_intervals, report->ml_options,
-                                          report->ml, discovery, &report->gyroscope_discovery)
+  GyroscopeSessionOptions session;
+  session.gravity_mps2 = options.session.gravity_mps2;
+  session.unit = report->gyroscope_unit;
+  session.initial = report->has_gyroscope_calibration ? report->gyroscope.parameters
+                                                      : report->gyroscope_options.initial;
+  session.alpha = options.session.alpha;
+  session.turn_sampling = options.gyro_turn_sampling;
+  session.latitude_given = options.latitude_given;
+  session.latitude_rad = options.latitude_deg * M_PI / 180.0;
+  GyroscopeSessionCalibration calibration;
+  const Status status = CalibrateGyroscopeSession(log, report->pose_intervals, report->ml_options,
+                                                  report->ml, session, &calibration)
                             .WithContext(where + ": the gyroscope");
+  report->gyroscope_ml_options = calibration.ml_options;
+  report->gyroscope_discovery_options = calibration.discovery_options;
+  report->gyroscope_discovery = std::move(calibration.discovery);
   if (!status.ok()) {
     if (options.gyroscope_asked) return status;
     NoteGyroscopeNotCalibrated(log,
@@ -179,7 +181,7 @@ Status SolveMlGyroscope(const TriadLog& log, const CalibrateImuOptions& options,
                                report);
     return Status::Ok();
   }
-  report->gyroscope_ml = report->gyroscope_discovery.baseline;
+  report->gyroscope_ml = std::move(calibration.ml);
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
                                                      report->gyroscope_ml.offset,
                                                      report->gyroscope_unit)

@@ -89,11 +89,9 @@ std::vector<TriadHold> GyroscopeDesignHolds(const GyroscopeSessionDesign& design
   return holds;
 }
 
-Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
-                                     const std::vector<TriadHold>& holds, uint64_t noise_seed,
-                                     const std::vector<int>& estimated, GyroscopeSessionFit* fit) {
+TriadLogSimulationOptions GyroscopeDesignSimulation(const GyroscopeSessionDesign& design) {
   TriadLogSimulationOptions simulation;
-  simulation.truth = XsensLikeTriad();
+  simulation.truth = design.accelerometer_truth;
   simulation.gravity_mps2 = design.gravity_mps2;
   simulation.rate_hz = design.rate_hz;
   simulation.turn_s = design.turn_s;
@@ -107,6 +105,13 @@ Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
   simulation.gyroscope.round_to_counts = design.gyroscope_in_counts;
   simulation.gyroscope.earth_rate = design.earth_rate;
   simulation.gyroscope.latitude_deg = design.latitude_deg;
+  return simulation;
+}
+
+Status SimulateAndCalibrateGyroscope(const GyroscopeSessionDesign& design,
+                                     const std::vector<TriadHold>& holds, uint64_t noise_seed,
+                                     const std::vector<int>& estimated, GyroscopeSessionFit* fit) {
+  const TriadLogSimulationOptions simulation = GyroscopeDesignSimulation(design);
   RandomSource random(noise_seed, 1);
   fit->session = SimulateTriadSession(simulation, holds, &random);
   fit->intervals.clear();

@@ -31,6 +31,7 @@
 #include "estimation/triad/triad_ml_calibration.h"
 #include "simulation/triad_log_simulator.h"
 #include "studies/sigma_check.h"
+#include "studies/triad_monte_carlo.h"
 
 namespace accelcal {
 
@@ -57,6 +58,7 @@ struct GyroscopeSessionDesign {
   double gravity_mps2 = 9.81744;
   std::array<double, 3> accelerometer_noise{{3.0, 3.0, 3.0}};  // counts
   std::array<double, 3> gyroscope_noise{{3.0, 3.0, 3.0}};      // counts
+  TriadParameters accelerometer_truth = XsensLikeTriad();
   GyroscopeParameters truth = XsensLikeGyroscope();
   GyroscopeOffset offset = XsensLikeGyroscopeOffset();
   GyroscopeEffectCoefficients effects{};  // simulated
@@ -78,6 +80,9 @@ struct GyroscopeSessionDesign {
   double latitude_deg = 59.35;
   bool latitude_known = false;
 };
+
+// The simulator's options for a session of the design (both sensors, their truths and noise).
+TriadLogSimulationOptions GyroscopeDesignSimulation(const GyroscopeSessionDesign& design);
 
 // The design's holds (directions and yaws), drawn from `seed`.
 std::vector<TriadHold> GyroscopeDesignHolds(const GyroscopeSessionDesign& design, uint64_t seed);

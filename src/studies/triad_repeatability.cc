@@ -39,49 +39,74 @@ TriadParameterKind TriadParameterKindOf(int index) {
   return index < kTriadOffsetX ? TriadParameterKind::kGain : TriadParameterKind::kOffset;
 }
 
+TriadParameterKind GyroscopeParameterKindOf(int index) {
+  if (index < kGyroscopeGainX) return TriadParameterKind::kMisalignment;
+  return index < kGyroscopeCalibrationOffsetX ? TriadParameterKind::kGain
+                                              : TriadParameterKind::kOffset;
+}
+
+std::vector<TriadParameterKind> TriadParameterKinds() {
+  std::vector<TriadParameterKind> kinds;
+  for (int p = 0; p < kTriadParameterCount; ++p) kinds.push_back(TriadParameterKindOf(p));
+  return kinds;
+}
+
+std::vector<TriadParameterKind> GyroscopeParameterKinds() {
+  std::vector<TriadParameterKind> kinds;
+  for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
+    kinds.push_back(GyroscopeParameterKindOf(i));
+  return kinds;
+}
+
+ArraySessionEstimates TriadArrayEstimates(const std::vector<std::vector<TriadMlResult>>& sessions) {
+  ArraySessionEstimates estimates(kTriadParameterCount);
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    for (const std::vector<TriadMlResult>& device : sessions)
+      estimates[p].push_back(SessionEstimatesOf(device, p));
+  }
+  return estimates;
+}
+
 namespace {
 
 constexpr double kConfidence = 0.95;
 
-// [device] -> the device's sessions' estimates of parameter p.
-std::vector<std::vector<SessionEstimate>> EstimatesOf(
-    const std::vector<std::vector<TriadMlResult>>& sessions, int p) {
-  std::vector<std::vector<SessionEstimate>> groups;
-  for (const std::vector<TriadMlResult>& device : sessions)
-    groups.push_back(SessionEstimatesOf(device, p));
-  return groups;
-}
-
-Status CheckArrayShape(const std::vector<std::vector<TriadMlResult>>& sessions, size_t minimum) {
-  if (sessions.size() < 2)
-    return Status::Error("a session study needs at least 2 devices of the array");
-  for (const std::vector<TriadMlResult>& device : sessions) {
-    if (device.size() != sessions[0].size() || device.size() < minimum) {
-      return Status::Error("every device needs the same sessions, at least " +
-                           std::to_string(minimum));
+Status CheckArrayShape(const ArraySessionEstimates& estimates, size_t minimum) {
+  if (estimates.empty()) return Status::Error("a session study needs parameters");
+  for (const std::vector<std::vector<SessionEstimate>>& devices : estimates) {
+    if (devices.size() < 2 || devices.size() != estimates[0].size())
+      return Status::Error("a session study needs at least 2 devices of the array");
+    for (const std::vector<SessionEstimate>& device : devices) {
+      if (device.size() != estimates[0][0].size() || device.size() < minimum) {
+        return Status::Error("every device needs the same sessions, at least " +
+                             std::to_string(minimum));
+      }
     }
   }
   return Status::Ok();
 }
 
 void Count(const SessionPrediction& prediction, CoverageTable* table) {
-  CoverageCount& count = (*table)[static_cast<int>(prediction.scheme)]
-                                 [static_cast<int>(TriadParameterKindOf(prediction.parameter))];
+  CoverageCount& count =
+      (*table)[static_cast<int>(prediction.scheme)][static_cast<int>(prediction.kind)];
   ++count.total;
   count.covered += prediction.covered;
 }
 
 }  // namespace
 
-Status PredictSessions(const std::vector<std::vector<TriadMlResult>>& training,
-                       const std::vector<TriadMlResult>& held_out, int held_out_index,
-                       std::vector<SessionPrediction>* predictions) {
+Status PredictSessionEstimates(const ArraySessionEstimates& training,
+                               const std::vector<std::vector<double>>& held_out, int held_out_index,
+                               const std::vector<TriadParameterKind>& kinds,
+                               std::vector<SessionPrediction>* predictions) {
   ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(training, 2));
-  if (held_out.size() != training.size())
-    return Status::Error("the held-out session needs one estimate per device");
-  const double session_count = training[0].size();
-  for (int p = 0; p < kTriadParameterCount; ++p) {
-    const std::vector<std::vector<SessionEstimate>> groups = EstimatesOf(training, p);
+  if (held_out.size() != training.size() || kinds.size() != training.size())
+    return Status::Error("the held-out session needs one estimate per parameter, and a kind");
+  const double session_count = training[0][0].size();
+  for (size_t p = 0; p < training.size(); ++p) {
+    const std::vector<std::vector<SessionEstimate>>& groups = training[p];
+    if (held_out[p].size() != groups.size())
+      return Status::Error("the held-out session needs one estimate per device");
     BetweenSessionVariance pooled;
     ACCELCAL_RETURN_IF_ERROR(EstimateBetweenSessionVariance(groups, kConfidence, &pooled));
     ArraySessionVariance array;
@@ -93,8 +118,9 @@ Status PredictSessions(const std::vector<std::vector<TriadMlResult>>& training,
       SessionPrediction prediction;
       prediction.device = static_cast<int>(d);
       prediction.held_out = held_out_index;
-      prediction.parameter = p;
-      prediction.value = held_out[d].parameters[p];
+      prediction.parameter = static_cast<int>(p);
+      prediction.kind = kinds[p];
+      prediction.value = held_out[p][d];
       for (int scheme = 0; scheme < kSessionSchemeCount; ++scheme) {
         prediction.scheme = static_cast<SessionScheme>(scheme);
         if (prediction.scheme == SessionScheme::kArray) {
@@ -123,23 +149,40 @@ Status PredictSessions(const std::vector<std::vector<TriadMlResult>>& training,
   return Status::Ok();
 }
 
-Status LeaveOneSessionOut(const std::vector<std::vector<TriadMlResult>>& sessions,
-                          LosoResult* result) {
+Status PredictSessions(const std::vector<std::vector<TriadMlResult>>& training,
+                       const std::vector<TriadMlResult>& held_out, int held_out_index,
+                       std::vector<SessionPrediction>* predictions) {
+  if (held_out.size() != training.size())
+    return Status::Error("the held-out session needs one estimate per device");
+  std::vector<std::vector<double>> held_out_values(kTriadParameterCount);
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    for (const TriadMlResult& ml : held_out) held_out_values[p].push_back(ml.parameters[p]);
+  }
+  return PredictSessionEstimates(TriadArrayEstimates(training), held_out_values, held_out_index,
+                                 TriadParameterKinds(), predictions);
+}
+
+Status LeaveOneSessionOutOf(const ArraySessionEstimates& sessions,
+                            const std::vector<TriadParameterKind>& kinds, LosoResult* result) {
   ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(sessions, 3));
   *result = LosoResult();
-  const int session_count = static_cast<int>(sessions[0].size());
+  const int session_count = static_cast<int>(sessions[0][0].size());
   for (int scheme = 0; scheme < kSessionSchemeCount; ++scheme)
     result->coverage_by_session[scheme].assign(session_count, CoverageCount());
   for (int out = 0; out < session_count; ++out) {
-    std::vector<std::vector<TriadMlResult>> training(sessions.size());
-    std::vector<TriadMlResult> held_out;
-    for (size_t d = 0; d < sessions.size(); ++d) {
-      for (int s = 0; s < session_count; ++s) {
-        if (s != out) training[d].push_back(sessions[d][s]);
+    ArraySessionEstimates training(sessions.size());
+    std::vector<std::vector<double>> held_out(sessions.size());
+    for (size_t p = 0; p < sessions.size(); ++p) {
+      for (const std::vector<SessionEstimate>& device : sessions[p]) {
+        training[p].emplace_back();
+        for (int s = 0; s < session_count; ++s) {
+          if (s != out) training[p].back().push_back(device[s]);
+        }
+        held_out[p].push_back(device[out].value);
       }
-      held_out.push_back(sessions[d][out]);
     }
-    ACCELCAL_RETURN_IF_ERROR(PredictSessions(training, held_out, out, &result->predictions));
+    ACCELCAL_RETURN_IF_ERROR(
+        PredictSessionEstimates(training, held_out, out, kinds, &result->predictions));
   }
   for (const SessionPrediction& prediction : result->predictions) {
     Count(prediction, &result->coverage);
@@ -151,12 +194,17 @@ Status LeaveOneSessionOut(const std::vector<std::vector<TriadMlResult>>& session
   return Status::Ok();
 }
 
+Status LeaveOneSessionOut(const std::vector<std::vector<TriadMlResult>>& sessions,
+                          LosoResult* result) {
+  return LeaveOneSessionOutOf(TriadArrayEstimates(sessions), TriadParameterKinds(), result);
+}
+
 Status ArrayVariances(const std::vector<std::vector<TriadMlResult>>& sessions,
                       std::array<ArraySessionVariance, kTriadParameterCount>* variances) {
-  ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(sessions, 2));
+  const ArraySessionEstimates estimates = TriadArrayEstimates(sessions);
+  ACCELCAL_RETURN_IF_ERROR(CheckArrayShape(estimates, 2));
   for (int p = 0; p < kTriadParameterCount; ++p)
-    ACCELCAL_RETURN_IF_ERROR(
-        EstimateArraySessionVariance(EstimatesOf(sessions, p), &(*variances)[p]));
+    ACCELCAL_RETURN_IF_ERROR(EstimateArraySessionVariance(estimates[p], &(*variances)[p]));
   return Status::Ok();
 }
 

@@ -35,6 +35,7 @@
 #include "common/status.h"
 #include "estimation/triad/triad_ml_calibration.h"
 #include "estimation/triad/triad_sessions.h"
+#include "models/gyroscope.h"
 #include "models/triad.h"
 
 namespace accelcal {
@@ -47,12 +48,16 @@ enum class TriadParameterKind { kMisalignment, kGain, kOffset };
 constexpr int kTriadParameterKindCount = 3;
 const char* TriadParameterKindName(TriadParameterKind kind);
 TriadParameterKind TriadParameterKindOf(int index);
+// The gyroscope's 12 unknowns (kGyroscopeCalibrationCount's order) by the same kinds: its six
+// angles, three gains, three offsets.
+TriadParameterKind GyroscopeParameterKindOf(int index);
 
 // One held-out estimate and its prediction.
 struct SessionPrediction {
   int device = 0;
   int held_out = 0;  // session index
   int parameter = 0;
+  TriadParameterKind kind = TriadParameterKind::kMisalignment;
   SessionScheme scheme = SessionScheme::kDevice;
   double value = 0.0;   // the held-out session's estimate
   double centre = 0.0;  // from the other sessions
@@ -77,6 +82,24 @@ struct LosoResult {
   // [scheme][held-out session]: every kind together.
   std::array<std::vector<CoverageCount>, kSessionSchemeCount> coverage_by_session;
 };
+
+// Any sensor's parameters: estimates[p][d][s], parameter p of device d in session s (every
+// device the same sessions), with kinds[p] its kind.
+using ArraySessionEstimates = std::vector<std::vector<std::vector<SessionEstimate>>>;
+ArraySessionEstimates TriadArrayEstimates(const std::vector<std::vector<TriadMlResult>>& sessions);
+std::vector<TriadParameterKind> TriadParameterKinds();
+std::vector<TriadParameterKind> GyroscopeParameterKinds();
+
+// The predictions of the held-out session (held_out[p][d]: its estimate of parameter p on
+// device d) from `training` (at least 2 sessions per device; D >= 2), each scheme.
+Status PredictSessionEstimates(const ArraySessionEstimates& training,
+                               const std::vector<std::vector<double>>& held_out,
+                               int held_out_index, const std::vector<TriadParameterKind>& kinds,
+                               std::vector<SessionPrediction>* predictions);
+
+// Every session held out in turn (S >= 3, D >= 2).
+Status LeaveOneSessionOutOf(const ArraySessionEstimates& sessions,
+                            const std::vector<TriadParameterKind>& kinds, LosoResult* result);
 
 // The predictions of `held_out` (its estimates for every device and parameter, each scheme)
 // from `training` (sessions[d][s], every device the same sessions, at least 2; D >= 2).

@@ -160,6 +160,58 @@ Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimat
   return Status::Ok();
 }
 
+Status CheckSessionDrift(const std::vector<std::vector<SessionEstimate>>& by_parameter,
+                         double level, SessionDriftCheck* check) {
+  *check = SessionDriftCheck();
+  check->level = level;
+  check->parameter_count = static_cast<int>(by_parameter.size());
+  if (!(level > 0.0 && level < 1.0))
+    return Status::Error("the drift check's level " + std::to_string(level) + " is not in (0, 1)");
+  if (by_parameter.empty()) return Status::Error("no parameter to check for drift");
+  const size_t session_count = by_parameter[0].size();
+  for (const std::vector<SessionEstimate>& sessions : by_parameter) {
+    if (sessions.size() != session_count)
+      return Status::Error("every parameter of the drift check needs the same sessions");
+  }
+  if (session_count < 3) {
+    check->not_checked =
+        "leaving one session out needs 3 sessions or more (2 others to "
+        "estimate the between-session sigma from); " +
+        std::to_string(session_count) + " given";
+    return Status::Ok();
+  }
+  check->checked = true;
+  check->parameter_level = level / check->parameter_count;
+  check->degrees_of_freedom = session_count - 2.0;
+  check->multiplier =
+      StudentTQuantile(1.0 - 0.5 * check->parameter_level, check->degrees_of_freedom);
+  for (size_t s = 0; s < session_count; ++s) {
+    SessionDrift drift;
+    drift.session = static_cast<int>(s);
+    for (int p = 0; p < check->parameter_count; ++p) {
+      std::vector<SessionEstimate> others;
+      for (size_t o = 0; o < session_count; ++o) {
+        if (o != s) others.push_back(by_parameter[p][o]);
+      }
+      RandomEffectsEstimate estimate;
+      ACCELCAL_RETURN_IF_ERROR(EstimateRandomEffects(others, 0.95, &estimate));
+      SessionDeviation deviation;
+      deviation.parameter = p;
+      deviation.value = by_parameter[p][s].value;
+      deviation.others_common = estimate.common;
+      deviation.others_new_session_stddev = estimate.new_session_stddev;
+      deviation.deviation = (deviation.value - estimate.common) / estimate.new_session_stddev;
+      deviation.p_value =
+          2.0 * (1.0 - StudentTCdf(std::fabs(deviation.deviation), check->degrees_of_freedom));
+      if (p == 0 || deviation.p_value < drift.largest.p_value) drift.largest = deviation;
+      if (deviation.p_value < check->parameter_level) drift.outside.push_back(deviation);
+    }
+    if (drift.drifting()) check->drifting.push_back(drift.session);
+    check->sessions.push_back(drift);
+  }
+  return Status::Ok();
+}
+
 std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>& sessions,
                                                 int index) {
   std::vector<SessionEstimate> estimates;
@@ -206,6 +258,14 @@ Status CheckOneDevice(const std::vector<TriadMlResult>& sessions) {
 }
 
 }  // namespace
+
+std::vector<std::vector<SessionEstimate>> TriadSessionEstimates(
+    const std::vector<TriadMlResult>& sessions) {
+  std::vector<std::vector<SessionEstimate>> by_parameter;
+  for (int p = 0; p < kTriadParameterCount; ++p)
+    by_parameter.push_back(SessionEstimatesOf(sessions, p));
+  return by_parameter;
+}
 
 Status CombineTriadSessions(const std::vector<TriadMlResult>& sessions, double confidence,
                             TriadRandomEffects* combined) {

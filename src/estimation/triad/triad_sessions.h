@@ -117,6 +117,57 @@ struct ArraySessionVariance {
 Status EstimateArraySessionVariance(const std::vector<std::vector<SessionEstimate>>& devices,
                                     ArraySessionVariance* array);
 
+// --- Which session drifts (issue 44, item 8) ---
+//
+// Each session against the others, leave one out: for session s and parameter p, the random
+// effects of the S - 1 other sessions (their own tau^2) give the interval a new session should
+// fall in, common_{-s} +- t_{S-2} x stddev_new_session_{-s}; the pivot
+//   t_{s,p} = (theta_s - common_{-s}) / stddev_new_session_{-s}
+// is Student t on S - 2 degrees of freedom when session s is drawn like the others (exactly so
+// with equal within variances and tau^2 > 0; conservative otherwise), its two-sided p-value
+// p_{s,p} = P(|t_{S-2}| > |t_{s,p}|).
+//
+// Rule: a session is named as drifting when some parameter has p_{s,p} < level / P, P the
+// sensor's parameter count (Bonferroni): outside the others' new-session interval at confidence
+// 1 - level / P. A session drawn like the others is then named with probability at most `level`
+// (per sensor), whatever the correlation between its parameters. The parameters named are those
+// below level / P. It needs S >= 3 (two others to estimate tau from); with S = 3 the others'
+// tau rests on 1 degree of freedom and t_1 at 1 - 0.05 / 24 is 153: only a gross jump is named,
+// and the report gives each session's largest deviation whatever it is.
+
+struct SessionDeviation {
+  int parameter = 0;
+  double value = 0.0;          // theta_s
+  double others_common = 0.0;  // common_{-s}
+  double others_new_session_stddev = 0.0;
+  double deviation = 0.0;  // t_{s,p}, in the others' new-session sigmas
+  double p_value = 1.0;    // two-sided, Student t on S - 2
+};
+
+struct SessionDrift {
+  int session = 0;                        // index into the sessions
+  SessionDeviation largest;               // the smallest p-value (largest |t|)
+  std::vector<SessionDeviation> outside;  // p < level / P, in parameter order
+  bool drifting() const { return !outside.empty(); }
+};
+
+struct SessionDriftCheck {
+  bool checked = false;  // false with fewer than 3 sessions (`not_checked` says why)
+  std::string not_checked;
+  double level = 0.05;
+  int parameter_count = 0;
+  double parameter_level = 0.0;        // level / P
+  double degrees_of_freedom = 0.0;     // S - 2
+  double multiplier = 0.0;             // t_{S-2}(1 - parameter_level / 2)
+  std::vector<SessionDrift> sessions;  // one per session, in order
+  std::vector<int> drifting;           // the sessions named
+};
+
+// by_parameter[p][s]: parameter p's estimate in session s (every parameter the same sessions).
+// Fails only on input no check can use (a parameter's sessions not finite and positive).
+Status CheckSessionDrift(const std::vector<std::vector<SessionEstimate>>& by_parameter,
+                         double level, SessionDriftCheck* check);
+
 // --- The triad's 9 parameters ---
 
 // Each session is calibrated on its own by CalibrateTriadSession
@@ -128,6 +179,10 @@ std::vector<SessionEstimate> SessionEstimatesOf(const std::vector<TriadMlResult>
                                                 int index);
 
 using TriadRandomEffects = std::array<RandomEffectsEstimate, kTriadParameterCount>;
+
+// The sessions' estimates of every parameter, by_parameter[p][s] (CheckSessionDrift's order).
+std::vector<std::vector<SessionEstimate>> TriadSessionEstimates(
+    const std::vector<TriadMlResult>& sessions);
 
 // Every parameter's random-effects estimate from the device's own sessions (2 or more).
 Status CombineTriadSessions(const std::vector<TriadMlResult>& sessions, double confidence,

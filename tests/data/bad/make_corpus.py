@@ -540,6 +540,21 @@ def calibration_fuzz_seeds():
         triad, poorly_determined=[{"parameter": "gain_x"}] * 600))
 
 
+def host_time_bursts_issue_44():
+    """A BLE logger's CSV: host receive times in microseconds, the samples delivered in bursts
+    of 2 to 8 (0.2 ms apart, after the burst's last sample), no sample-number column."""
+    rng = np.random.default_rng(44)
+    rows, first = [], 0
+    while first < 300:
+        last = min(299, first + int(rng.integers(2, 9)) - 1)
+        delivered_us = 1_000_000 + last * 10_000 + int(rng.integers(100, 3000))
+        for position, _ in enumerate(range(first, last + 1)):
+            rows.append([str(delivered_us + 200 * position), "%.4f" % rng.normal(0.0, 0.01),
+                         "%.4f" % rng.normal(0.0, 0.01), "%.4f" % rng.normal(G, 0.01)])
+        first = last + 1
+    csv("imu_host_bursts.csv", "t_us,ax,ay,az", rows)
+
+
 def main():
     theta, datos = tilt_test()
 
@@ -679,6 +694,7 @@ def main():
     fuzz_seeds()
     calibration_fuzz_seeds()
     calibration_files()
+    host_time_bursts_issue_44()
     readers_issue_15()
     conditions_and_landmarks_issue_15()
     probe_findings_issue_15()
