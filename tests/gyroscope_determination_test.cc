@@ -16,50 +16,14 @@
 
 #include "common/format.h"
 #include "models/gyroscope.h"
+#include "gyroscope_one_axis_session.h"
 #include "studies/gyroscope_monte_carlo.h"
 
 namespace accelcal {
 namespace {
 
-std::array<double, 3> Unit(double x, double y, double z) {
-  const double norm = std::sqrt(x * x + y * y + z * z);
-  return {x / norm, y / norm, z / norm};
-}
-
-// A session whose consecutive poses differ by rotations about the sensor's x axis: gravity on the
-// great circle normal to x, 133 degrees further each time, but for one excursion out of it that
-// the accelerometer needs (its x axis must see g at two levels for its gain and offset, and
-// gravity between x and y, x and z for the angles coupling x): from gravity along +y, tilted 45
-// degrees towards +x twice (about z), then 45 degrees towards +z twice (about y), back on the
-// circle. Those 4 turns of 45 degrees are all the session turns about y and z.
-std::vector<TriadHold> MostlyAboutXHolds(double hold_s, int poses = 30) {
-  std::vector<std::array<double, 3>> directions;
-  for (int p = 0; static_cast<int>(directions.size()) < poses; ++p) {
-    if (p == 8 || p == 16) {
-      const double sign = p == 8 ? 1.0 : -1.0;
-      directions.push_back(Unit(0.0, sign, 0.0));
-      directions.push_back(Unit(sign, sign, 0.0));
-      directions.push_back(Unit(sign, 0.0, 0.0));
-      directions.push_back(Unit(sign, 0.0, sign));
-      directions.push_back(Unit(0.0, 0.0, sign));
-      continue;
-    }
-    const double angle = 2.0 * M_PI * 0.37 * p;
-    directions.push_back(Unit(0.0, std::cos(angle), std::sin(angle)));
-  }
-  std::vector<TriadHold> holds;
-  for (const auto& direction : directions) holds.push_back({direction, hold_s});
-  return holds;
-}
-
-// Xsens's gyroscope white noise (27 counts per sample, docs/gyroscope.md) on the Xsens-like
-// unit, turned by hand in 3 s turns.
-GyroscopeSessionDesign NoisyDesign() {
-  GyroscopeSessionDesign design;
-  design.gyroscope_noise = {27.0, 27.0, 27.0};
-  design.turn_s = 3.0;
-  return design;
-}
+using testing::MostlyAboutXHolds;
+using testing::NoisyGyroscopeDesign;
 
 std::set<std::string> Named(const std::vector<PoorlyDeterminedParameter>& list) {
   std::set<std::string> names;
@@ -72,7 +36,7 @@ std::set<std::string> Named(const std::vector<PoorlyDeterminedParameter>& list) 
 // misalignment_yz and _yx (y), _zy and _zx (z) are named, each with its axis and share; the
 // gains y and z reach 6.6e-4 of the gain, within the threshold, and are not named.
 TEST(GyroscopeDetermination, TurnsAboutOneAxisNameTheOtherAxesUnknownsWithTheirAxis) {
-  const GyroscopeSessionDesign design = NoisyDesign();
+  const GyroscopeSessionDesign design = NoisyGyroscopeDesign();
   GyroscopeSessionFit fit;
   const Status status =
       SimulateAndCalibrateGyroscope(design, MostlyAboutXHolds(design.hold_s), 3, {}, &fit);
@@ -110,7 +74,7 @@ TEST(GyroscopeDetermination, TurnsAboutOneAxisNameTheOtherAxesUnknownsWithTheirA
 // own 3 counts). The one-axis session's flags come from its turns, not from the noise.
 TEST(GyroscopeDetermination, WellSpreadSessionsNameNone) {
   for (const bool noisy : {true, false}) {
-    GyroscopeSessionDesign design = noisy ? NoisyDesign() : GyroscopeSessionDesign();
+    GyroscopeSessionDesign design = noisy ? NoisyGyroscopeDesign() : GyroscopeSessionDesign();
     int flagged = 0;
     std::string first;
     for (int session = 0; session < 100; ++session) {

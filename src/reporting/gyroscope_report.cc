@@ -5,10 +5,18 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "estimation/gyroscope/gyroscope_determination.h"
 #include "reporting/calibrate_imu_report.h"
 
 namespace accelcal {
 namespace {
+
+// Unknown i's estimate (the 9, the offsets, then the effect coefficients estimated).
+double GyroscopeUnknownValue(const GyroscopeMlResult& g, int i) {
+  return i < kGyroscopeParameterCount    ? g.parameters[i]
+         : i < kGyroscopeCalibrationCount ? g.offset[i - kGyroscopeParameterCount]
+                                          : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+}
 
 // imu_tk's value of unknown i (the 9, then the offsets) on this session, when it ran.
 double ImuTkValue(const CalibrateImuReport& report, int i) {
@@ -34,6 +42,23 @@ std::string EarthRateSentence(const CalibrateImuReport& report) {
           ? "; its direction in the body is not known, so the fit counts it as noise of "
             "7.29e-5/sqrt(3) rad/s per axis in every pose mean and turn"
           : "; the fit leaves it out");
+}
+
+std::string GyroscopeTurnedAboutSentence(const GyroscopeMlResult& g) {
+  const std::array<double, 3> shares = GyroscopeTurnShares(g);
+  return StringPrintf(
+      "The turns went %.3g rad about x, %.3g about y, %.3g about z (%.0f%%, %.0f%%, %.0f%%; a gain "
+      "or a misalignment column is determined by turns about its axis)",
+      g.turned_about_rad[0], g.turned_about_rad[1], g.turned_about_rad[2], 100.0 * shares[0],
+      100.0 * shares[1], 100.0 * shares[2]);
+}
+
+std::string GyroscopePoorlyDeterminedTable(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  return GyroscopeTurnedAboutSentence(g) + ".\n" +
+         PoorlyDeterminedLines("Poorly determined, gyroscope", "this session's turns and poses",
+                               report.gyroscope_discovery.poorly_determined,
+                               [&](int i) { return GyroscopeUnknownValue(g, i); });
 }
 
 std::string GyroscopeMlTable(const CalibrateImuReport& report) {
@@ -68,10 +93,7 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
   if (example) out << StringPrintf(" %s", "datasheet");
   out << "\n";
   for (int i = 0; i < g.stddev.size(); ++i) {
-    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
-                         : i < kGyroscopeCalibrationCount
-                             ? g.offset[i - kGyroscopeParameterCount]
-                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    const double value = GyroscopeUnknownValue(g, i);
     out << StringPrintf("  %-32s %-16s %-28s", g.names[i].c_str(), g.units[i].c_str(),
                         StringPrintf("%.8g +- %.2g", value, g.stddev[i]).c_str());
     if (with_imu_tk && i < kGyroscopeCalibrationCount) {
@@ -99,6 +121,7 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
     out << "  (imu_tk's gyroscope calibration gave no result: "
         << report.imu_tk_gyroscope_status.message() << ")\n";
   }
+  out << "\n" << GyroscopePoorlyDeterminedTable(report);
   double worst_angle = 0.0;
   int worst = -1;
   for (size_t t = 0; t < g.turns.size(); ++t) {
@@ -222,10 +245,7 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
   nlohmann::json parameters, stddev, units;
   nlohmann::json order = nlohmann::json::array();
   for (int i = 0; i < g.stddev.size(); ++i) {
-    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
-                         : i < kGyroscopeCalibrationCount
-                             ? g.offset[i - kGyroscopeParameterCount]
-                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    const double value = GyroscopeUnknownValue(g, i);
     parameters[g.names[i]] = value;
     stddev[g.names[i]] = g.stddev[i];
     units[g.names[i]] = g.units[i];
@@ -299,6 +319,8 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"counted_as_noise", report.gyroscope_ml_options.earth_rate_as_noise},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
+          {"turned_about_rad", g.turned_about_rad},
+          {"poorly_determined", PoorlyDeterminedJson(report.gyroscope_discovery.poorly_determined)},
           {"clipped_turns", clipped},
           {"imu_tk", imu_tk},
           {"discovery", GyroscopeDiscoveryJson(report.gyroscope_discovery,

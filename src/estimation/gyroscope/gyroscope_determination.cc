@@ -1,6 +1,7 @@
 #include "estimation/gyroscope/gyroscope_determination.h"
 
 #include <cmath>
+#include <set>
 
 #include "common/format.h"
 
@@ -12,6 +13,34 @@ namespace {
 constexpr double kFairShare = 1.0 / 6.0;
 
 }  // namespace
+
+std::string PoorlyDeterminedClause(const std::vector<PoorlyDeterminedParameter>& list) {
+  if (list.empty()) return "";
+  std::set<std::string> axes;
+  bool offsets = false;
+  for (const PoorlyDeterminedParameter& entry : list) {
+    const std::string axis = GyroscopeTurnAxisOf(entry.index, {});
+    if (axis.empty()) {
+      offsets = true;
+    } else {
+      axes.insert(axis);
+    }
+  }
+  std::string what;
+  if (!axes.empty()) {
+    std::string joined;
+    size_t i = 0;
+    for (const std::string& axis : axes) {
+      joined += (i == 0 ? "" : i + 1 == axes.size() ? " and " : ", ") + axis;
+      ++i;
+    }
+    what = "turns about " + joined;
+  }
+  if (offsets) what += std::string(what.empty() ? "" : ", and ") + "more static poses";
+  return "; the session does not determine " + PoorlyDeterminedNames(list) +
+         " to the thresholds (poorly determined; " + what + " would determine " +
+         (list.size() == 1 ? "it" : "them") + ")";
+}
 
 std::array<double, 3> GyroscopeTurnShares(const GyroscopeMlResult& fit) {
   const double total = fit.turned_about_rad[0] + fit.turned_about_rad[1] + fit.turned_about_rad[2];
@@ -67,14 +96,14 @@ std::vector<PoorlyDeterminedParameter> PoorlyDeterminedGyroscopeParameters(
       if (shares[k] >= kFairShare) {
         entry.suggestion = StringPrintf(
             "more turns about the sensor's %s axis (the session's turns went %.0f%% about %s "
-            "already, %.2g of %.2g rad: the gyroscope's noise sets this sigma, which falls as one "
+            "already, %.1f of %.1f rad: the gyroscope's noise sets this sigma, which falls as one "
             "over the square root of the number of such turns)",
             axis.c_str(), 100.0 * shares[k], axis.c_str(), fit.turned_about_rad[k], total);
       } else {
         entry.suggestion = StringPrintf(
             "turns about the sensor's %s axis (tilt it so that %s is level and turn it about %s "
             "by 90 degrees or more, several times, both ways; the session's turns went %.0f%% "
-            "about %s: %.2g of %.2g rad)",
+            "about %s: %.1f of %.1f rad)",
             axis.c_str(), axis.c_str(), axis.c_str(), 100.0 * shares[k], axis.c_str(),
             fit.turned_about_rad[k], total);
       }

@@ -20,6 +20,7 @@
 // The effect coefficients estimated beyond the 12 are not judged (as the accelerometer's list
 // judges its 9 parameters only); their sigma is in the table beside them.
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ namespace accelcal {
 std::vector<PoorlyDeterminedParameter> PoorlyDeterminedGyroscopeParameters(
     const GyroscopeMlResult& fit, const std::string& unit,
     const DeterminationThresholds& thresholds = DeterminationThresholds());
+
+// What the gyroscope's verdict adds for `list`: "" when empty, else "; the session does not
+// determine gyroscope_misalignment_yz, ... to the thresholds (poorly determined; turns about y
+// and z would determine them)".
+std::string PoorlyDeterminedClause(const std::vector<PoorlyDeterminedParameter>& list);
 
 // The share of the turns' rotation about each body axis (turned_about_rad over its sum; 0 when
 // the turns did not turn).
