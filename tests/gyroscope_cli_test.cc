@@ -164,7 +164,16 @@ TEST(GyroscopeCli, NamesTheUnknownsATurnedAboutOneAxisSessionLeavesPoorlyDetermi
             std::string::npos);
   const std::string html = testing::ReadText(report);
   EXPECT_NE(html.find("Poorly determined by this session (gyroscope): gyroscope_misalignment_yz"),
-            std::string::npos);
+            std::string::npos);  // apply names them in its summary, beside the accelerometer's (none here).
+  const testing::CommandResult applied = RunBinaryArgs(
+      "apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + scratch.File("c.csv")});
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  EXPECT_NE(applied.stdout_text.find("poorly determined by the calibration's session, of the "
+                                     "gyroscope (its gyroscope.poorly_determined says why and "
+                                     "which turns would determine them): "
+                                     "gyroscope_misalignment_yz, gyroscope_misalignment_zy"),
+            std::string::npos)
+      << applied.stdout_text;
 }
 
 // Another sensor's log: a gyroscope already in rad/s (gains within 2% of 1, offsets of 0.01
