@@ -31,7 +31,7 @@ std::set<std::string> Named(const std::vector<PoorlyDeterminedParameter>& list) 
   return names;
 }
 
-// Turns about x (93% of the session's turning) determine gain_x and the x column (xz, xy) to
+// Turns about x (85% of the session's turning) determine gain_x and the x column (xz, xy) to
 // 1e-4 of the gain and 0.2 mrad; the y and z columns get 7% and 8% and sigmas of 1.3 mrad:
 // misalignment_yz and _yx (y), _zy and _zx (z) are named, each with its axis and share; the
 // gains y and z reach 6.6e-4 of the gain, within the threshold, and are not named.
