@@ -363,15 +363,25 @@ Status GyroscopeUseOf(const CalibrationRecord& record, bool log_has_gyroscope,
 }
 
 // The parameters the calibration file names as poorly determined (docs/calibration.md), in
-// one line, or "" when it names none or predates the key.
-std::string PoorlyDeterminedLine(const CalibrationRecord& record) {
-  if (!record.poorly_determined.is_array() || record.poorly_determined.empty()) return "";
+// one line, or "" when it names none or predates the key; `by` says whose list it is.
+std::string PoorlyDeterminedLine(const nlohmann::json& list, const std::string& by) {
+  if (!list.is_array() || list.empty()) return "";
   std::string names;
-  for (const nlohmann::json& entry : record.poorly_determined)
+  for (const nlohmann::json& entry : list)
     names += (names.empty() ? "" : ", ") + entry["parameter"].get<std::string>();
-  return "  poorly determined by the calibration's poses (its poorly_determined says why and "
-         "which poses would determine them): " +
-         names + "\n";
+  return "  poorly determined by the calibration's " + by + ": " + names + "\n";
+}
+
+// The accelerometer's list, and the gyroscope's when its section corrected the log.
+std::string PoorlyDeterminedLine(const CalibrationRecord& record, bool gyroscope_corrected) {
+  return PoorlyDeterminedLine(record.poorly_determined,
+                              "poses (its poorly_determined says why and which poses would "
+                              "determine them)") +
+         (gyroscope_corrected
+              ? PoorlyDeterminedLine(record.gyroscope.poorly_determined,
+                                     "session, of the gyroscope (its gyroscope.poorly_determined "
+                                     "says why and which turns would determine them)")
+              : "");
 }
 
 // A log the triad's reader refused (`refusal`) that the two-axis readers take: the course's
@@ -410,7 +420,7 @@ Status ApplyTriadWhole(const CalibrationRecord& record, const TriadParameters& p
   // The notes once the log is corrected, so that a refusal is one line.
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
-  *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record));
+  *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
 }
 
@@ -572,7 +582,8 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
   *summary = WithDataLine(
-      source, TriadSummary(pass.summary, record, gyroscope) + PoorlyDeterminedLine(record));
+      source, TriadSummary(pass.summary, record, gyroscope) +
+                  PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
 }
 

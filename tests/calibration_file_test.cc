@@ -100,6 +100,45 @@ TEST(CalibrationFile, PoorlyDeterminedRoundTripsAndIsOptional) {
   }
 }
 
+// Issue 44, item 6: the gyroscope section's poorly determined unknowns round-trip as the
+// accelerometer's do; a section without the key is read as not assessed; an entry naming no
+// unknown of the section (an accelerometer parameter included) is refused, naming the key.
+TEST(GyroscopeCalibrationSection, PoorlyDeterminedRoundTripsAndIsOptional) {
+  CalibrationRecord written = testing::ExampleTriadRecordWithGyroscope();
+  written.gyroscope.poorly_determined = nlohmann::json::array(
+      {{{"parameter", "gyroscope_misalignment_zy"},
+        {"reason", "sigma 0.0013 > 0.001 (0.001 rad)"},
+        {"sigma", 0.0013},
+        {"threshold", 0.001},
+        {"sigma_over_threshold", true},
+        {"correlated_with", nlohmann::json::array()},
+        {"suggestion", "turns about the sensor's z axis"}}});
+  const nlohmann::json json = CalibrationJson(written);
+  EXPECT_EQ(json["gyroscope"]["poorly_determined"], written.gyroscope.poorly_determined);
+  CalibrationRecord read;
+  Status status = ParseCalibration(json.dump(2), "cal.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.gyroscope.poorly_determined, written.gyroscope.poorly_determined);
+
+  nlohmann::json without = json;
+  without["gyroscope"].erase("poorly_determined");
+  status = ParseCalibration(without.dump(), "cal.json", &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_TRUE(read.gyroscope.poorly_determined.is_null());
+
+  for (const nlohmann::json& bad :
+       {nlohmann::json("gyroscope_gain_x"), nlohmann::json::array({{{"parameter", "gain_x"}}}),
+        nlohmann::json::array({{{"reason", "no name"}}})}) {
+    nlohmann::json damaged = json;
+    damaged["gyroscope"]["poorly_determined"] = bad;
+    status = ParseCalibration(damaged.dump(), "cal.json", &read);
+    ASSERT_FALSE(status.ok()) << bad.dump();
+    EXPECT_EQ(status.message().rfind("cal.json: ", 0), 0u) << status.message();
+    EXPECT_NE(status.message().find("gyroscope/poorly_determined"), std::string::npos)
+        << status.message();
+  }
+}
+
 // Each damaged file is refused with a message naming what is wrong.
 TEST(CalibrationFile, RefusesWhatDoesNotSayWhatItClaims) {
   const nlohmann::json good = CalibrationJson(ExampleRecord());

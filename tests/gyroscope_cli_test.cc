@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "gyroscope_one_axis_session.h"
 #include "studies/gyroscope_monte_carlo.h"
 #include "test_support.h"
 
@@ -21,6 +22,17 @@ namespace accelcal {
 namespace {
 
 using testing::RunBinaryArgs;
+
+// `log` as the CSV a logger writes: t, ax, ay, az, gx, gy, gz in counts.
+void WriteCountsCsv(const TriadLog& log, const std::string& csv) {
+  std::ofstream out(csv);
+  out << "t,ax,ay,az,gx,gy,gz\n";
+  for (size_t i = 0; i < log.size(); ++i) {
+    out << StringPrintf("%.2f,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f\n", log.timestamp_s[i],
+                        log.output[i][0], log.output[i][1], log.output[i][2], log.gyroscope[i][0],
+                        log.gyroscope[i][1], log.gyroscope[i][2]);
+  }
+}
 
 TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscopeColumns) {
   GyroscopeSessionDesign design;
@@ -30,15 +42,7 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
   const TriadLog& log = fit.session.log;
   testing::ScratchDir scratch;
   const std::string csv = scratch.File("session.csv");
-  {
-    std::ofstream out(csv);
-    out << "t,ax,ay,az,gx,gy,gz\n";
-    for (size_t i = 0; i < log.size(); ++i) {
-      out << StringPrintf("%.2f,%.0f,%.0f,%.0f,%.0f,%.0f,%.0f\n", log.timestamp_s[i],
-                          log.output[i][0], log.output[i][1], log.output[i][2], log.gyroscope[i][0],
-                          log.gyroscope[i][1], log.gyroscope[i][2]);
-    }
-  }
+  WriteCountsCsv(log, csv);
   const std::string json_path = scratch.File("out.json");
   const std::string calibration = scratch.File("calibration.json");
   const testing::CommandResult run =
@@ -63,6 +67,10 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
     EXPECT_DOUBLE_EQ(section.at("parameters").at(name).get<double>(), value) << name;
     EXPECT_DOUBLE_EQ(section.at("stddev").at(name).get<double>(), sigma) << name;
   }
+  // A well-spread session: nothing poorly determined, in the JSON and the file alike.
+  EXPECT_EQ(g.at("poorly_determined"), nlohmann::json::array());
+  EXPECT_EQ(section.at("poorly_determined"), nlohmann::json::array());
+  EXPECT_NE(run.stdout_text.find("Poorly determined, gyroscope: none"), std::string::npos);
 
   const std::string corrected = scratch.File("corrected.csv");
   const testing::CommandResult applied =
@@ -103,6 +111,69 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
     EXPECT_LT(std::abs(sum / count), 1e-4) << "axis " << k;
     EXPECT_GT(rows[0][sigma_gx + k], 0.0);
   }
+}
+
+// A session turned 85% about x (gyroscope_one_axis_session.h), with Xsens's 27 counts of
+// gyroscope noise: the table, the JSON's gyroscope block, the calibration file's gyroscope section
+// and the HTML report name misalignment_yz and _yx (turns about y) and _zy and _zx (turns about
+// z), and the gyroscope's verdict says the session does not determine them.
+TEST(GyroscopeCli, NamesTheUnknownsATurnedAboutOneAxisSessionLeavesPoorlyDetermined) {
+  const GyroscopeSessionDesign design = testing::NoisyGyroscopeDesign();
+  GyroscopeSessionFit fit;
+  ASSERT_TRUE(
+      SimulateAndCalibrateGyroscope(design, testing::MostlyAboutXHolds(design.hold_s), 3, {}, &fit)
+          .ok());
+  testing::ScratchDir scratch;
+  const std::string csv = scratch.File("session.csv");
+  WriteCountsCsv(fit.session.log, csv);
+  const std::string json_path = scratch.File("out.json");
+  const std::string calibration = scratch.File("calibration.json");
+  const std::string report = scratch.File("report.html");
+  const testing::CommandResult run = RunBinaryArgs(
+      "calibrate_imu", {"--log=" + csv, "--mode=ml", "--g=9.81744", "--gyro_unit=count",
+                        "--initial_gyro_gain=0.00021", "--json=" + json_path,
+                        "--calibration_out=" + calibration, "--report=" + report});
+  ASSERT_EQ(run.exit_status, 0) << run.stderr_text;
+  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  const nlohmann::json& g = json.at("gyroscope");
+  const std::vector<std::string> expected = {
+      "gyroscope_misalignment_yz", "gyroscope_misalignment_zy", "gyroscope_misalignment_zx",
+      "gyroscope_misalignment_yx"};
+  const std::vector<std::string> axes = {"y", "z", "z", "y"};
+  const nlohmann::json& list = g.at("poorly_determined");
+  ASSERT_EQ(list.size(), expected.size()) << list.dump(1);
+  for (size_t i = 0; i < expected.size(); ++i) {
+    EXPECT_EQ(list[i].at("parameter"), expected[i]);
+    EXPECT_TRUE(list[i].at("sigma_over_threshold").get<bool>());
+    const std::string suggestion = list[i].at("suggestion");
+    EXPECT_NE(suggestion.find("turns about the sensor's " + axes[i] + " axis"), std::string::npos)
+        << suggestion;
+    EXPECT_NE(run.stdout_text.find("  " + expected[i] + " = "), std::string::npos);
+  }
+  const nlohmann::json& turned = g.at("turned_about_rad");
+  EXPECT_GT(turned[0].get<double>(), 5.0 * (turned[1].get<double>() + turned[2].get<double>()));
+  const nlohmann::json file = nlohmann::json::parse(testing::ReadText(calibration));
+  EXPECT_EQ(file.at("gyroscope").at("poorly_determined"), list);
+  const std::string verdict = g.at("verdict_text");
+  EXPECT_NE(verdict.find("the session does not determine gyroscope_misalignment_yz"),
+            std::string::npos)
+      << verdict;
+  EXPECT_NE(verdict.find("turns about y and z would determine them"), std::string::npos)
+      << verdict;
+  EXPECT_NE(run.stdout_text.find("Poorly determined, gyroscope (estimated and written"),
+            std::string::npos);
+  const std::string html = testing::ReadText(report);
+  EXPECT_NE(html.find("Poorly determined by this session (gyroscope): gyroscope_misalignment_yz"),
+            std::string::npos);  // apply names them in its summary, beside the accelerometer's (none here).
+  const testing::CommandResult applied = RunBinaryArgs(
+      "apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + scratch.File("c.csv")});
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  EXPECT_NE(applied.stdout_text.find("poorly determined by the calibration's session, of the "
+                                     "gyroscope (its gyroscope.poorly_determined says why and "
+                                     "which turns would determine them): "
+                                     "gyroscope_misalignment_yz, gyroscope_misalignment_zy"),
+            std::string::npos)
+      << applied.stdout_text;
 }
 
 // Another sensor's log: a gyroscope already in rad/s (gains within 2% of 1, offsets of 0.01

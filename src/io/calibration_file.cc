@@ -374,6 +374,7 @@ nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) 
       {"document", "docs/calibration.md, docs/gyroscope.md"}};
   json["output_unit"] = section.output_unit;
   json["fit"] = section.fit;
+  json["poorly_determined"] = section.poorly_determined;
   return json;
 }
 
@@ -413,24 +414,26 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
 
 namespace {
 
-// The optional list of poorly determined parameters: absent (files written before it), null
-// (not assessed: a two-axis calibration), or a list of objects whose `parameter` names one of the
-// file's parameters.
-Status ReadPoorlyDetermined(const nlohmann::json& json, CalibrationRecord* parsed) {
-  if (!json.contains("poorly_determined") || json["poorly_determined"].is_null())
+// The optional list of poorly determined parameters of `object` (the file, or its gyroscope
+// section, named by `prefix`): absent (files written before it), null (not assessed: a two-axis
+// calibration), or a list of objects whose `parameter` names one of `parameters`.
+Status ReadPoorlyDetermined(const nlohmann::json& object, const std::string& prefix,
+                            const std::vector<std::string>& parameters, nlohmann::json* read) {
+  if (!object.contains("poorly_determined") || object["poorly_determined"].is_null())
     return Status::Ok();
-  const nlohmann::json& list = json["poorly_determined"];
-  if (!list.is_array())
-    return Status::Error("\"poorly_determined\" must be a list of {parameter, reason, ...}");
+  const nlohmann::json& list = object["poorly_determined"];
+  const std::string key = "\"" + prefix + "poorly_determined\"";
+  if (!list.is_array()) return Status::Error(key + " must be a list of {parameter, reason, ...}");
   for (const nlohmann::json& entry : list) {
     if (!entry.is_object() || !entry.contains("parameter") || !entry["parameter"].is_string() ||
-        parsed->IndexOf(entry["parameter"].get<std::string>()) < 0) {
-      return Status::Error(
-          "\"poorly_determined\" holds an entry that does not name a parameter of the file: " +
-          entry.dump());
+        std::find(parameters.begin(), parameters.end(), entry["parameter"].get<std::string>()) ==
+            parameters.end()) {
+      return Status::Error(key + " holds an entry that does not name a parameter of " +
+                           (prefix.empty() ? "the file" : "the gyroscope section") + ": " +
+                           entry.dump());
     }
   }
-  parsed->poorly_determined = list;
+  *read = list;
   return Status::Ok();
 }
 
@@ -466,6 +469,8 @@ Status ReadGyroscopeSection(const nlohmann::json& json, CalibrationRecord* parse
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeSection(section));
   section.fit = object.value("fit", nlohmann::json::object());
   if (!section.fit.is_object()) return Status::Error("gyroscope/fit must be an object");
+  ACCELCAL_RETURN_IF_ERROR(ReadPoorlyDetermined(object, "gyroscope/", section.parameter_order,
+                                                &section.poorly_determined));
   parsed->has_gyroscope = true;
   parsed->gyroscope = std::move(section);
   return Status::Ok();
@@ -522,7 +527,8 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   }
   parsed.noise_variance_from = noise.value("from", "");
   parsed.fit = json.value("fit", nlohmann::json::object());
-  ACCELCAL_RETURN_IF_ERROR(in_file(ReadPoorlyDetermined(json, &parsed)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(
+      ReadPoorlyDetermined(json, "", parsed.parameter_order, &parsed.poorly_determined)));
   ACCELCAL_RETURN_IF_ERROR(in_file(ReadGyroscopeSection(json, &parsed)));
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");

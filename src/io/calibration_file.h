@@ -69,6 +69,11 @@ struct GyroscopeCalibrationSection {
   Eigen::VectorXd values;                         // parameter_order's order
   Eigen::MatrixXd covariance;                     // 12x12, parameter_order's order
   nlohmann::json fit = nlohmann::json::object();  // the estimator's own summary, free form
+  // The unknowns the session determines too loosely to vouch for
+  // (estimation/gyroscope/gyroscope_determination.h), each as CalibrationRecord::
+  // poorly_determined's entries; null when not assessed (a file written before the key existed,
+  // which the reader accepts), an empty array when none.
+  nlohmann::json poorly_determined = nullptr;
 };
 
 // The section of a gyroscope's calibration: `parameters` (the block), `offset` (in `unit`) and

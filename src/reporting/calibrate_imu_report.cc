@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -102,25 +103,32 @@ nlohmann::json PoorlyDeterminedJson(const std::vector<TriadPoorlyDetermined>& li
   return json;
 }
 
-std::string PoorlyDeterminedTable(const CalibrateImuReport& report) {
-  const TriadDeterminationOptions thresholds;
-  if (report.poorly_determined.empty()) {
+std::string PoorlyDeterminedLines(const std::string& label, const std::string& subject,
+                                  const std::vector<PoorlyDeterminedParameter>& list,
+                                  const std::function<double(int)>& value) {
+  const DeterminationThresholds thresholds;
+  if (list.empty()) {
     return StringPrintf(
-        "Poorly determined: none (every sigma within its threshold: angles %g rad, gains %g of "
+        "%s: none (every sigma within its threshold: angles %g rad, gains %g of "
         "the gain, offsets %g x the axis's per-sample noise; no |correlation| > %g)\n",
-        thresholds.angle_sigma_rad, thresholds.gain_relative_sigma,
+        label.c_str(), thresholds.angle_sigma_rad, thresholds.gain_relative_sigma,
         thresholds.offset_noise_fraction, thresholds.correlation);
   }
   std::string text = StringPrintf(
-      "Poorly determined (estimated and written, but these poses do not vouch for them; "
+      "%s (estimated and written, but %s do not vouch for them; "
       "--calibration_out names them too): %s\n",
-      PoorlyDeterminedNames(report.poorly_determined).c_str());
-  for (const TriadPoorlyDetermined& entry : report.poorly_determined) {
+      label.c_str(), subject.c_str(), PoorlyDeterminedNames(list).c_str());
+  for (const PoorlyDeterminedParameter& entry : list) {
     text += StringPrintf("  %s = %.6g +- %.3g: %s\n    would be determined by %s\n",
-                         entry.parameter.c_str(), report.ml.parameters[entry.index], entry.sigma,
+                         entry.parameter.c_str(), value(entry.index), entry.sigma,
                          entry.reason.c_str(), entry.suggestion.c_str());
   }
   return text;
+}
+
+std::string PoorlyDeterminedTable(const CalibrateImuReport& report) {
+  return PoorlyDeterminedLines("Poorly determined", "these poses", report.poorly_determined,
+                               [&](int p) { return report.ml.parameters[p]; });
 }
 
 bool IsImuTkExample(const CalibrateImuReport& report) {
@@ -783,6 +791,7 @@ Status AddGyroscopeSection(const CalibrateImuReport& report, CalibrationRecord* 
                  {"bias_wander_variance", g.bias_wander_variance},
                  {"verdict", VerdictCode(d.verdict_code)},
                  {"verdict_text", d.verdict}};
+  section.poorly_determined = PoorlyDeterminedJson(d.poorly_determined);
   record->gyroscope = section;
   record->has_gyroscope = true;
   return Status::Ok();

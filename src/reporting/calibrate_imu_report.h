@@ -9,8 +9,10 @@
 // discovery's verdict, the run's one verdict. The text and the JSON come from the same numbers.
 // Formatting only.
 
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "common/triad_log.h"
 #include "estimation/gyroscope/gyroscope_discovery.h"
@@ -124,6 +126,13 @@ std::string PosesLine(const CalibrateImuReport& report);
 // Mode ml: the poorly determined parameters, as the table lists them (a line "none" when
 // there are none), and as the JSON's and the calibration file's `poorly_determined` array.
 std::string PoorlyDeterminedTable(const CalibrateImuReport& report);
+// A list of poorly determined parameters as the table prints it: "<label>: none (...)", or
+// "<label> (estimated and written, but <subject> do not vouch for them; ...): names" and each
+// entry's value(index) +- sigma, reason and suggestion. The accelerometer's (above) and the
+// gyroscope's (gyroscope_report.h).
+std::string PoorlyDeterminedLines(const std::string& label, const std::string& subject,
+                                  const std::vector<PoorlyDeterminedParameter>& list,
+                                  const std::function<double(int)>& value);
 nlohmann::json PoorlyDeterminedJson(const std::vector<TriadPoorlyDetermined>& list);
 
 std::string CalibrateImuTable(const CalibrateImuReport& report, bool full_solver_report);

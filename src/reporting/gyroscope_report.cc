@@ -5,10 +5,18 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "estimation/gyroscope/gyroscope_determination.h"
 #include "reporting/calibrate_imu_report.h"
 
 namespace accelcal {
 namespace {
+
+// Unknown i's estimate (the 9, the offsets, then the effect coefficients estimated).
+double GyroscopeUnknownValue(const GyroscopeMlResult& g, int i) {
+  return i < kGyroscopeParameterCount    ? g.parameters[i]
+         : i < kGyroscopeCalibrationCount ? g.offset[i - kGyroscopeParameterCount]
+                                          : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+}
 
 // imu_tk's value of unknown i (the 9, then the offsets) on this session, when it ran.
 double ImuTkValue(const CalibrateImuReport& report, int i) {
@@ -62,6 +70,23 @@ std::string EarthRateSentence(const CalibrateImuReport& report) {
       g.turn_angle_sigma_rad, EarthVerticalClause(report).c_str());
 }
 
+std::string GyroscopeTurnedAboutSentence(const GyroscopeMlResult& g) {
+  const std::array<double, 3> shares = GyroscopeTurnShares(g);
+  return StringPrintf(
+      "The turns went %.3g rad about x, %.3g about y, %.3g about z (%.0f%%, %.0f%%, %.0f%%; a gain "
+      "or a misalignment column is determined by turns about its axis)",
+      g.turned_about_rad[0], g.turned_about_rad[1], g.turned_about_rad[2], 100.0 * shares[0],
+      100.0 * shares[1], 100.0 * shares[2]);
+}
+
+std::string GyroscopePoorlyDeterminedTable(const CalibrateImuReport& report) {
+  const GyroscopeMlResult& g = report.gyroscope_ml;
+  return GyroscopeTurnedAboutSentence(g) + ".\n" +
+         PoorlyDeterminedLines("Poorly determined, gyroscope", "this session's turns and poses",
+                               report.gyroscope_discovery.poorly_determined,
+                               [&](int i) { return GyroscopeUnknownValue(g, i); });
+}
+
 std::string GyroscopeMlTable(const CalibrateImuReport& report) {
   const GyroscopeMlResult& g = report.gyroscope_ml;
   const GyroscopeOutputUnit unit = report.gyroscope_ml_options.unit;
@@ -94,10 +119,7 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
   if (example) out << StringPrintf(" %s", "datasheet");
   out << "\n";
   for (int i = 0; i < g.stddev.size(); ++i) {
-    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
-                         : i < kGyroscopeCalibrationCount
-                             ? g.offset[i - kGyroscopeParameterCount]
-                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    const double value = GyroscopeUnknownValue(g, i);
     out << StringPrintf("  %-32s %-16s %-28s", g.names[i].c_str(), g.units[i].c_str(),
                         StringPrintf("%.8g +- %.2g", value, g.stddev[i]).c_str());
     if (with_imu_tk && i < kGyroscopeCalibrationCount) {
@@ -125,6 +147,7 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
     out << "  (imu_tk's gyroscope calibration gave no result: "
         << report.imu_tk_gyroscope_status.message() << ")\n";
   }
+  out << "\n" << GyroscopePoorlyDeterminedTable(report);
   double worst_angle = 0.0;
   int worst = -1;
   for (size_t t = 0; t < g.turns.size(); ++t) {
@@ -248,10 +271,7 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
   nlohmann::json parameters, stddev, units;
   nlohmann::json order = nlohmann::json::array();
   for (int i = 0; i < g.stddev.size(); ++i) {
-    const double value = i < kGyroscopeParameterCount ? g.parameters[i]
-                         : i < kGyroscopeCalibrationCount
-                             ? g.offset[i - kGyroscopeParameterCount]
-                             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+    const double value = GyroscopeUnknownValue(g, i);
     parameters[g.names[i]] = value;
     stddev[g.names[i]] = g.stddev[i];
     units[g.names[i]] = g.units[i];
@@ -332,6 +352,8 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"vertical_prior_stddev", g.earth_vertical_prior_stddev},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
+          {"turned_about_rad", g.turned_about_rad},
+          {"poorly_determined", PoorlyDeterminedJson(report.gyroscope_discovery.poorly_determined)},
           {"clipped_turns", clipped},
           {"imu_tk", imu_tk},
           {"discovery", GyroscopeDiscoveryJson(report.gyroscope_discovery,

@@ -22,6 +22,11 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report);
 std::string GyroscopeDiscoveryTable(const GyroscopeDiscoveryResult& discovery, double alpha);
 nlohmann::json GyroscopeDiscoveryJson(const GyroscopeDiscoveryResult& discovery, double alpha);
 
+// The turns' rotation about each body axis, and the unknowns the session determines too poorly
+// to vouch for (estimation/gyroscope/gyroscope_determination.h), as the accelerometer's
+// PoorlyDeterminedTable prints its own: the table's lines (also the HTML report's).
+std::string GyroscopePoorlyDeterminedTable(const CalibrateImuReport& report);
+
 // One sentence: where the Earth's rate (7.29e-5 rad/s) is below the noise and where it is not.
 std::string EarthRateSentence(const CalibrateImuReport& report);
 

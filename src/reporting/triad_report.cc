@@ -335,6 +335,9 @@ ReportSection GyroscopeSection(const CalibrateImuReport& report) {
       g.chi2_gyroscope, g.gyroscope_degrees_of_freedom, g.gyroscope_p_value, g.chi2_rest,
       g.chi2_turns, 2 * g.turns.size()));
   section.paragraphs.push_back(EarthRateSentence(report) + ".");
+  std::string poorly = GyroscopePoorlyDeterminedTable(report);
+  while (!poorly.empty() && poorly.back() == '\n') poorly.pop_back();
+  section.paragraphs.push_back(poorly);
   return section;
 }
 
@@ -395,6 +398,11 @@ ReportDocument Document(const CalibrateImuReport& report, const DataSource& sour
     doc.summary.push_back(std::string("The gyroscope: ") +
                           VerdictCode(report.gyroscope_discovery.verdict_code) + ", " +
                           report.gyroscope_discovery.verdict + " (sections 6 and 7).");
+    if (!report.gyroscope_discovery.poorly_determined.empty()) {
+      doc.summary.push_back("Poorly determined by this session (gyroscope): " +
+                            PoorlyDeterminedNames(report.gyroscope_discovery.poorly_determined) +
+                            " (section 6).");
+    }
     doc.sections.push_back(GyroscopeSection(report));
     doc.sections.push_back(GyroscopeTurnsSection(report));
   }

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "estimation/gyroscope/gyroscope_determination.h"
 #include "estimation/statistics/chi_square.h"
 
 namespace accelcal {
@@ -417,6 +418,9 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
           options.alpha);
       break;
   }
+  result->poorly_determined = PoorlyDeterminedGyroscopeParameters(
+      result->baseline, GyroscopeOutputUnitName(options.fit.unit), options.determination);
+  result->verdict += PoorlyDeterminedClause(result->poorly_determined);
   return Status::Ok();
 }
 

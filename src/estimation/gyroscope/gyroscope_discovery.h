@@ -33,6 +33,7 @@
 #include "estimation/discovery/selection.h"
 #include "estimation/discovery/verdict.h"
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
+#include "estimation/statistics/parameter_determination.h"
 #include "estimation/triad/static_intervals.h"
 #include "estimation/triad/triad_ml_calibration.h"
 
@@ -45,6 +46,8 @@ struct GyroscopeDiscoveryOptions {
   double ambiguity_delta_chi2 = 6.0;
   // The turns' sampling error may be part of the noise model (step 1); false: never.
   bool turn_sampling = true;
+  // What the baseline's unknowns must be determined to (gyroscope_determination.h).
+  DeterminationThresholds determination;
 };
 
 struct GyroscopeEffectScore {
@@ -87,6 +90,10 @@ struct GyroscopeDiscoveryResult {
   std::vector<ResidualCheck> checks;  // "turns_chi2", "rest_chi2"
   std::vector<std::string> remaining;
   std::vector<GyroscopeLookAlike> look_alikes;
+  // The baseline's unknowns the session determines too poorly to vouch for
+  // (gyroscope_determination.h); the verdict's text names them after its own words, and the
+  // verdict's code is not changed by them (as the accelerometer's is not).
+  std::vector<PoorlyDeterminedParameter> poorly_determined;
 };
 
 // The candidates, as indices into GyroscopeEffectInfos().

@@ -288,6 +288,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->rest_stddev.clear();
     result->rest_whitened.clear();
     result->turns.clear();
+    result->turned_about_rad = {};
     result->clipped_turns.clear();
     result->undetermined.clear();
     result->turn_axes_to_add.clear();
@@ -422,10 +423,15 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
                              result->offset, white);
       turn.sampling_measure_rad = std::sqrt(sampling.trace() / 3.0);
       for (int i = turn.first_sample; i <= turn.last_sample; ++i) {
+        const double before =
+            i > turn.first_sample ? log.timestamp_s[i] - log.timestamp_s[i - 1] : 0.0;
+        const double after =
+            i < turn.last_sample ? log.timestamp_s[i + 1] - log.timestamp_s[i] : 0.0;
         double squares = 0.0;
         for (int k = 0; k < 3; ++k) {
           const double rate = gain_rad_s[k] * (log.gyroscope[i][k] - result->offset[k]);
           squares += rate * rate;
+          result->turned_about_rad[k] += 0.5 * (before + after) * std::abs(rate);
         }
         turn.peak_rate_rad_s = std::max(turn.peak_rate_rad_s, std::sqrt(squares));
       }

@@ -187,6 +187,11 @@ struct GyroscopeMlResult {
   std::vector<GyroscopeMlTurn> turns;                // the turns fitted
   std::vector<GyroscopeClippedTurn> clipped_turns;   // the turns left out (one entry per turn)
   std::vector<std::array<double, 3>> directions;     // the joint fit's n_p
+  // How far the turns went about each body axis (rad): |w_k| integrated over every turn fitted
+  // (trapezoid weights, the rates of the fit's gains and offsets at its start), yaws about
+  // gravity included. A gain or a misalignment column is determined by turns about its axis
+  // (GyroscopeTurnAxisOf); gyroscope_determination.h says how much of the turning each got.
+  std::array<double, 3> turned_about_rad{};
 
   // The fit: every whitened residual of the joint problem (chi2 on degrees_of_freedom); what the
   // gyroscope adds, the joint chi2 minus the accelerometer's fit alone (its residuals nest in the

@@ -56,59 +56,36 @@ std::vector<TriadPoorlyDetermined> PoorlyDeterminedTriadParameters(
     const TriadMlResult& ml, const std::string& unit, const TriadDeterminationOptions& options) {
   std::vector<TriadPoorlyDetermined> list;
   const auto& infos = TriadParameterInfos();
+  std::vector<std::string> names;
+  Eigen::MatrixXd covariance(kTriadParameterCount, kTriadParameterCount);
   for (int p = 0; p < kTriadParameterCount; ++p) {
-    TriadPoorlyDetermined entry;
-    entry.index = p;
-    entry.parameter = infos[p].name;
-    entry.sigma = ml.stddev[p];
+    names.push_back(infos[p].name);
+    for (int q = 0; q < kTriadParameterCount; ++q) covariance(p, q) = ml.covariance[p][q];
+  }
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    double threshold = 0.0;
     std::string threshold_words;
     if (p < kTriadGainX) {
-      entry.threshold = options.angle_sigma_rad;
-      threshold_words = StringPrintf("%.3g rad", entry.threshold);
+      threshold = options.angle_sigma_rad;
+      threshold_words = StringPrintf("%.3g rad", threshold);
     } else if (p < kTriadOffsetX) {
-      entry.threshold = options.gain_relative_sigma * std::fabs(ml.parameters[p]);
+      threshold = options.gain_relative_sigma * std::fabs(ml.parameters[p]);
       threshold_words = StringPrintf("%.3g of the gain", options.gain_relative_sigma);
     } else {
       const int k = p - kTriadOffsetX;
       const double noise = std::sqrt(ml.noise_variance[k]);
-      entry.threshold = options.offset_noise_fraction * noise;
+      threshold = options.offset_noise_fraction * noise;
       threshold_words = StringPrintf("%.3g x the %c axis's noise of %.3g %s per sample",
                                      options.offset_noise_fraction, kAxes[k], noise, unit.c_str());
     }
-    entry.sigma_over_threshold = !(entry.sigma <= entry.threshold);
-    for (int q = 0; q < kTriadParameterCount; ++q) {
-      if (q == p) continue;
-      const double scale = ml.stddev[p] * ml.stddev[q];
-      const double rho = scale > 0.0 ? ml.covariance[p][q] / scale : 0.0;
-      if (std::fabs(rho) > options.correlation)
-        entry.correlated_with.push_back({infos[q].name, rho});
-    }
-    if (!entry.sigma_over_threshold && entry.correlated_with.empty()) continue;
-    if (entry.sigma_over_threshold) {
-      entry.reason = StringPrintf("sigma %.3g > %.3g (%s)", entry.sigma, entry.threshold,
-                                  threshold_words.c_str());
-    }
-    if (!entry.correlated_with.empty()) {
-      std::string with;
-      for (const TriadCorrelatedParameter& other : entry.correlated_with) {
-        with += StringPrintf("%s%s (%+.4f)", with.empty() ? "" : ", ", other.parameter.c_str(),
-                             other.correlation);
-      }
-      entry.reason +=
-          StringPrintf("%scorrelation beyond +-%g with %s", entry.reason.empty() ? "" : "; ",
-                       options.correlation, with.c_str());
-    }
+    TriadPoorlyDetermined entry;
+    if (!JudgeParameterDetermination(p, names, covariance, threshold, threshold_words,
+                                     options.correlation, &entry))
+      continue;
     entry.suggestion = Suggestion(ml, p);
     list.push_back(entry);
   }
   return list;
-}
-
-std::string PoorlyDeterminedNames(const std::vector<TriadPoorlyDetermined>& list) {
-  std::string names;
-  for (const TriadPoorlyDetermined& entry : list)
-    names += (names.empty() ? "" : ", ") + entry.parameter;
-  return names;
 }
 
 }  // namespace accelcal
