@@ -39,21 +39,15 @@ std::string EarthVerticalClause(const CalibrateImuReport& report) {
         "known) counted as noise, and over the turns all of it",
         options.latitude_rad * 180.0 / M_PI, g.earth_vertical_rate_rad_s);
   }
-  const double ratio = g.earth_vertical_rate_rad_s / kEarthRateRadPerS;
   const bool determined = g.earth_vertical_rate_stddev < 0.5 * g.earth_vertical_prior_stddev;
   return StringPrintf(
       "; its vertical part (Omega sin(latitude) about the up direction in every pose, the "
-      "latitude not given) is estimated with the prior 0 +- %.2g rad/s: %.3g +- %.2g rad/s, %s "
-      "(give --latitude_deg to hold it), never taken for a g-sensitivity; its horizontal part "
-      "is counted as noise",
+      "latitude not given) is an unknown with the prior 0 +- %.2g rad/s: %.3g +- %.2g rad/s, %s; "
+      "static poses cannot tell it from a g-sensitivity's isotropic part (G = (e/g) I), so it is "
+      "held apart and never named as one: give --latitude_deg to hold the Earth's share and test "
+      "the rest; its horizontal part is counted as noise",
       g.earth_vertical_prior_stddev, g.earth_vertical_rate_rad_s, g.earth_vertical_rate_stddev,
-      !determined ? "bounded by its prior more than determined by the poses"
-      : std::abs(ratio) <= 1.0
-          ? StringPrintf("determined by the poses: a latitude of %.0f deg", std::asin(ratio) *
-                                                                                180.0 / M_PI)
-                .c_str()
-          : "beyond the Earth's whole rate: not the Earth's alone (a g-sensitivity's isotropic "
-            "part adds to it)");
+      determined ? "determined by the poses" : "bounded by its prior more than determined by the poses");
 }
 
 std::string EarthRateSentence(const CalibrateImuReport& report) {
