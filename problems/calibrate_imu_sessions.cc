@@ -24,6 +24,7 @@
 
 #include <gflags/gflags.h>
 
+#include <cmath>
 #include <iostream>
 #include <set>
 #include <sstream>
@@ -55,6 +56,8 @@ DECLARE_string(bag_time);
 DECLARE_string(gyro_log);
 DECLARE_string(gyro_unit);
 DECLARE_double(initial_gyro_gain);
+DECLARE_double(latitude_deg);
+DECLARE_bool(gyro_turn_sampling);
 DECLARE_string(gyro_bias);
 DECLARE_string(imu_tk_calib_out);
 
@@ -179,6 +182,9 @@ Status CalibrateGyroscopes(const std::vector<TriadLog>& logs, const std::string&
   ACCELCAL_RETURN_IF_ERROR(
       ParseGyroscopeOutputUnit(unit, &options.unit).WithContext("--gyro_unit"));
   options.initial_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
+  options.turn_sampling = FLAGS_gyro_turn_sampling;
+  options.latitude_given = FlagGiven("latitude_deg");
+  options.latitude_rad = FLAGS_latitude_deg * M_PI / 180.0;
   options.alpha = report->options.alpha;
   std::vector<GyroscopeSessionOutcome> outcomes;
   for (size_t s = 0; s < logs.size(); ++s) {
@@ -274,7 +280,8 @@ Status LoadAndCalibrate(const std::vector<std::string>& paths, TriadSessionsRepo
       CheckSessionDrift(TriadSessionEstimates(results), kDriftLevel, &report->drift));
   report->has_gyroscope = !gyroscope_unit.empty();
   if (!report->has_gyroscope) {
-    for (const char* name : {"gyro_unit", "initial_gyro_gain"}) {
+    for (const char* name :
+         {"gyro_unit", "initial_gyro_gain", "latitude_deg", "gyro_turn_sampling"}) {
       if (FlagGiven(name)) {
         return Status::Error("--" + std::string(name) +
                              " is for the gyroscope, and no session's log has one: give logs "

@@ -262,6 +262,7 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   report.log_path = log->path;
   report.log_layout = log->source.layout;
   report.log_notes = log->source.notes;
+  report.log_timing = log->source.timing;
   report.log_metadata = log->source.metadata;
   CalibrateImuOptions options;
   const std::string unit_name =

@@ -52,6 +52,9 @@ GyroscopeSessionOutcome CalibrateSessionGyroscope(const TriadLog& log,
   session.unit = options.unit;
   session.initial = GyroscopeParametersWithGain(gain, gain, gain);
   session.alpha = options.alpha;
+  session.turn_sampling = options.turn_sampling;
+  session.latitude_given = options.latitude_given;
+  session.latitude_rad = options.latitude_rad;
   Status status =
       CalibrateGyroscopeSession(log, accelerometer.pose_intervals, accelerometer.ml_options,
                                 accelerometer.ml, session, &outcome.calibration);

@@ -44,6 +44,9 @@ struct GyroscopeSessionsOptions {
   // (their sessions are then not calibrated, and say why).
   double initial_gain = 0.0;
   double alpha = 0.01;  // discovery's
+  bool turn_sampling = true;  // GyroscopeSessionOptions::turn_sampling
+  bool latitude_given = false;
+  double latitude_rad = 0.0;
 };
 
 // One session's gyroscope: calibrated, or why not.
