@@ -581,9 +581,8 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
   // The notes once the log is corrected, so that a refusal is one line.
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
-  *summary = WithDataLine(
-      source, TriadSummary(pass.summary, record, gyroscope) +
-                  PoorlyDeterminedLine(record, gyroscope.corrected));
+  *summary = WithDataLine(source, TriadSummary(pass.summary, record, gyroscope) +
+                                      PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
 }
 

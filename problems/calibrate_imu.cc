@@ -90,6 +90,8 @@ DEFINE_double(initial_gyro_gain, 0.0, "Modes imu_tk and ml, a log with a gyrosco
 DEFINE_string(gyro_bias, "rest", "Mode imu_tk: how the gyroscope's offset is found. rest (the only value): imu_tk's rule, the mean of its output over the initial rest (--init_rest_s), subtracted and not estimated.");
 DEFINE_string(imu_tk_calib_out, "", "Mode imu_tk: write imu_tk's calibration files PREFIX_acc.calib and PREFIX_gyro.calib (the gyroscope's only when the log has one), byte for byte the text imu_tk's CalibratedTriad_::save writes and its load reads: the misalignment matrix, the scale matrix (gains on its diagonal) and the bias vector (offsets, the log's unit), 6 significant digits (docs/gyroscope.md). Written atomically with the other outputs, nothing on failure.");
 DEFINE_string(calibration_out, "", "Mode ml: write the calibration file (docs/calibration.md, geometry triad: parameters, units, covariance, output unit, g, fit, input checksums) that apply reads. Written atomically, nothing on failure.");
+DEFINE_double(latitude_deg, 1000.0, "Mode ml, a log with a gyroscope: the latitude where it was recorded, in degrees north (-90 to 90; south negative). The Earth's rate (7.292e-5 rad/s) then has a known vertical part, Omega sin(latitude) rad/s about the up direction in every pose, which the model holds; without it that part is estimated with the prior N(0, Omega^2) and reported, never taken for a g-sensitivity (docs/gyroscope.md). Not given: unknown.");
+DEFINE_bool(gyro_turn_sampling, true, "Mode ml, a log with a gyroscope: discovery may add the turns' sampling error to the gyroscope's noise model when the turns reject it without (each turn's angle variance kappa^2 times the sum of its rate's squared changes between samples times the steps squared, rad^2: what samples cannot resolve of a turn that starts or stops abruptly; docs/gyroscope.md). false: never, as before; the turns' shape checks then say what remains.");
 // clang-format on
 
 ACCELCAL_FLAG_RANGE(g, 9.7, 9.9);
@@ -102,8 +104,6 @@ ACCELCAL_FLAG_RANGE(threshold_factor, 1.0, 1e6);
 ACCELCAL_FLAG_RANGE(min_interval_s, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(sampling_rate_hz, 0.0, 1e6);
 ACCELCAL_FLAG_RANGE(initial_gyro_gain, 0.0, 100.0);
-DEFINE_double(latitude_deg, 1000.0, "Mode ml, a log with a gyroscope: the latitude where it was recorded, in degrees north (-90 to 90; south negative). The Earth's rate (7.292e-5 rad/s) then has a known vertical part, Omega sin(latitude) rad/s about the up direction in every pose, which the model holds; without it that part is estimated with the prior N(0, Omega^2) and reported, never taken for a g-sensitivity (docs/gyroscope.md). Not given: unknown.");
-DEFINE_bool(gyro_turn_sampling, true, "Mode ml, a log with a gyroscope: discovery may add the turns' sampling error to the gyroscope's noise model when the turns reject it without (each turn's angle variance kappa^2 times the sum of its rate's squared changes between samples times the steps squared, rad^2: what samples cannot resolve of a turn that starts or stops abruptly; docs/gyroscope.md). false: never, as before; the turns' shape checks then say what remains.");
 
 namespace accelcal {
 namespace {
@@ -195,20 +195,23 @@ Status ValidateFlags() {
   ACCELCAL_RETURN_IF_ERROR(ValidateGyroscopeFlags());
   if (FLAGS_mode == "ferraris")
     ACCELCAL_RETURN_IF_ERROR(RefuseGyroscopeFlags("--mode=" + FLAGS_mode));
-  if (FlagGiven("latitude_deg") &&
-      !(std::abs(FLAGS_latitude_deg) <= 90.0)) {
+  if (FlagGiven("latitude_deg") && !(std::abs(FLAGS_latitude_deg) <= 90.0)) {
     return Status::Error(StringPrintf(
         "--latitude_deg=%g is not a latitude; give degrees north in [-90, 90] (south negative), "
         "e.g. --latitude_deg=59.35 for Stockholm",
         FLAGS_latitude_deg));
   }
   if (FLAGS_mode != "ml" && FlagGiven("latitude_deg")) {
-    return Status::Error("--latitude_deg belongs to --mode=ml, whose gyroscope model holds the "
-                         "Earth's rate; --mode=" + FLAGS_mode + " does not read it");
+    return Status::Error(
+        "--latitude_deg belongs to --mode=ml, whose gyroscope model holds the "
+        "Earth's rate; --mode=" +
+        FLAGS_mode + " does not read it");
   }
   if (FLAGS_mode != "ml" && FlagGiven("gyro_turn_sampling")) {
-    return Status::Error("--gyro_turn_sampling belongs to --mode=ml, whose discovery chooses the "
-                         "gyroscope's noise model; --mode=" + FLAGS_mode + " does not read it");
+    return Status::Error(
+        "--gyro_turn_sampling belongs to --mode=ml, whose discovery chooses the "
+        "gyroscope's noise model; --mode=" +
+        FLAGS_mode + " does not read it");
   }
   if (FLAGS_mode == "ml" && !FLAGS_imu_tk_calib_out.empty()) {
     return Status::Error(

@@ -121,14 +121,14 @@ Status OptionsFromFlags(GyroscopeMonteCarloOptions* options, DataSource* source)
       "hand-held IMU sessions (Xsens-like accelerometer and gyroscope, %s turns, %d poses of "
       "%g s at %g Hz%s%s%s)",
       FLAGS_turn_set.c_str(), FLAGS_poses, FLAGS_hold_s, FLAGS_rate_hz,
-      FLAGS_turn_abruptness > 0.0 ? StringPrintf(", turns abrupt at %g of their peak rate",
-                                                 FLAGS_turn_abruptness)
-                                        .c_str()
-                                  : "",
+      FLAGS_turn_abruptness > 0.0
+          ? StringPrintf(", turns abrupt at %g of their peak rate", FLAGS_turn_abruptness).c_str()
+          : "",
       FLAGS_effects.empty() ? "" : ", effects ", FLAGS_effects.c_str());
   if (FLAGS_earth_rate) {
-    source->scenario += StringPrintf(", the Earth's rate at %g deg (%s to the fit)",
-                                     FLAGS_latitude_deg, FLAGS_latitude_known ? "given" : "not given");
+    source->scenario +=
+        StringPrintf(", the Earth's rate at %g deg (%s to the fit)", FLAGS_latitude_deg,
+                     FLAGS_latitude_known ? "given" : "not given");
   }
   return Status::Ok();
 }

@@ -527,8 +527,8 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   }
   parsed.noise_variance_from = noise.value("from", "");
   parsed.fit = json.value("fit", nlohmann::json::object());
-  ACCELCAL_RETURN_IF_ERROR(in_file(
-      ReadPoorlyDetermined(json, "", parsed.parameter_order, &parsed.poorly_determined)));
+  ACCELCAL_RETURN_IF_ERROR(
+      in_file(ReadPoorlyDetermined(json, "", parsed.parameter_order, &parsed.poorly_determined)));
   ACCELCAL_RETURN_IF_ERROR(in_file(ReadGyroscopeSection(json, &parsed)));
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");

@@ -80,8 +80,7 @@ HostTimeBursts HostTimeBurstTally::Result() const {
   result.mean_step_s = (previous_t_s_ - first_t_s_) / result.steps;
   result.median_step_s = BinValue(BinOfRank(step_bins_, result.steps / 2));
   const uint64_t blocks = result.steps / kBlockSteps;
-  result.period_s =
-      blocks == 0 ? result.mean_step_s : BinValue(BinOfRank(block_bins_, blocks / 2));
+  result.period_s = blocks == 0 ? result.mean_step_s : BinValue(BinOfRank(block_bins_, blocks / 2));
   uint64_t short_steps = 0;
   uint64_t long_steps = 0;
   for (size_t b = 0; b < step_bins_.size(); ++b) {

@@ -215,9 +215,9 @@ std::vector<ResidualCheck> TurnShapeChecks(const GyroscopeMlResult& fit) {
     check.dof = 1;
     check.p_value = ChiSquareSurvival(check.statistic, 1);
     check.shape_class = property.shape_class;
-    check.description = StringPrintf(
-        "the turns' residuals %s with %s (score test: chi2 %.1f on 1)",
-        score > 0.0 ? "grow" : "shrink", property.what, check.statistic);
+    check.description =
+        StringPrintf("the turns' residuals %s with %s (score test: chi2 %.1f on 1)",
+                     score > 0.0 ? "grow" : "shrink", property.what, check.statistic);
     check.advice = property.advice;
     checks.push_back(check);
   }
@@ -302,8 +302,7 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     final_options.bias_wander_alpha = options.alpha / 4.0;
     final_options.turn_sampling_alpha = options.turn_sampling ? options.alpha / 4.0 : 0.0;
     final_options.earth_horizontal_fixed = true;
-    final_options.earth_horizontal_axis_variance =
-        result->baseline.earth_horizontal_axis_variance;
+    final_options.earth_horizontal_axis_variance = result->baseline.earth_horizontal_axis_variance;
     for (int group : geometry.Effects()) {
       const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
       for (int c = info.first; c < info.first + info.coefficients; ++c)

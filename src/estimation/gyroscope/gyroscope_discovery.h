@@ -76,10 +76,10 @@ struct GyroscopeLookAlike {
 
 struct GyroscopeDiscoveryResult {
   Verdict verdict_code = Verdict::kExplained;
-  std::string verdict;             // in words
-  GyroscopeMlResult baseline;      // the 12 unknowns, the noise model of step 1
-  bool bias_wander = false;        // the baseline's noise model has one
-  bool final_bias_wander = false;  // the final model's (estimated again with its effects)
+  std::string verdict;               // in words
+  GyroscopeMlResult baseline;        // the 12 unknowns, the noise model of step 1
+  bool bias_wander = false;          // the baseline's noise model has one
+  bool final_bias_wander = false;    // the final model's (estimated again with its effects)
   bool turn_sampling = false;        // the baseline's noise model has the turns' sampling error
   bool final_turn_sampling = false;  // the final model's
   std::string noise_note;

@@ -73,7 +73,8 @@ Eigen::Matrix3d TurnSamplingMatrix(const TriadLog& log, int first, int last,
   std::vector<std::array<double, 4>> path;
   double end[9];
   IntegrateAngularRateHermite(count, rate_at, step_s, end, &path);
-  const Eigen::Matrix3d end_rotation = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(end);
+  const Eigen::Matrix3d end_rotation =
+      Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(end);
   Eigen::Matrix3d sampling = Eigen::Matrix3d::Zero();
   Eigen::Matrix3d noise = Eigen::Matrix3d::Zero();
   Eigen::Vector3d noise_per_step;
@@ -349,8 +350,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     // The vertical Earth rate: held where given or not counted, else its prior.
     ceres::ResidualBlockId vertical_prior = nullptr;
     if (vertical_prior_stddev > 0.0) {
-      vertical_prior = problem.AddResidualBlock(
-          ScalarPrior::Create(0.0, vertical_prior_stddev), nullptr, &vertical_rate);
+      vertical_prior = problem.AddResidualBlock(ScalarPrior::Create(0.0, vertical_prior_stddev),
+                                                nullptr, &vertical_rate);
     } else {
       problem.SetParameterBlockConstant(&vertical_rate);
     }
@@ -452,9 +453,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         return Eigen::Matrix2d(u.transpose() * variance * u);
       };
       TurnNoise noise;
-      noise.without_sampling =
-          seen_at_after(Eigen::Vector3d(angle_variance[0], angle_variance[1], angle_variance[2])
-                            .asDiagonal());
+      noise.without_sampling = seen_at_after(
+          Eigen::Vector3d(angle_variance[0], angle_variance[1], angle_variance[2]).asDiagonal());
       noise.sampling = seen_at_after(sampling);
       const Eigen::Matrix2d c = noise.without_sampling + kappa2 * noise.sampling;
       turn_noise.push_back(noise);
@@ -616,9 +616,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       {
         const Eigen::Matrix2d covariance =
             turn_noise[t].without_sampling + kappa2 * turn_noise[t].sampling;
-        turn_noise[t].residual =
-            Eigen::Matrix2d(covariance.llt().matrixL()) * Eigen::Vector2d(turn.whitened[0],
-                                                                          turn.whitened[1]);
+        turn_noise[t].residual = Eigen::Matrix2d(covariance.llt().matrixL()) *
+                                 Eigen::Vector2d(turn.whitened[0], turn.whitened[1]);
       }
       result->chi2_turns +=
           turn.whitened[0] * turn.whitened[0] + turn.whitened[1] * turn.whitened[1];
@@ -816,8 +815,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   // their offsets would seem to wander: 6 of 200 quiet sessions at alpha/4 measured).
   if (vertical_prior_stddev > 0.0 && !options.earth_horizontal_fixed) {
     ACCELCAL_RETURN_IF_ERROR(fit({0.0, 0.0, 0.0}, 0.0));
-    const double smallest = std::max(0.0, std::abs(result->earth_vertical_rate_rad_s) -
-                                              result->earth_vertical_rate_stddev);
+    const double smallest = std::max(
+        0.0, std::abs(result->earth_vertical_rate_rad_s) - result->earth_vertical_rate_stddev);
     earth_horizontal2 = std::max(0.0, omega2 - smallest * smallest);
   }
   result->earth_horizontal_axis_variance = earth_horizontal2 / 3.0;

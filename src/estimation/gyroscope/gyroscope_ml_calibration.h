@@ -143,8 +143,8 @@ struct GyroscopeMlTurn {
   // D_k as above), the size of the rotation the samples may miss; the sampling term's angle sigma
   // is kappa times it.
   double sampling_measure_rad = 0.0;
-  double peak_rate_rad_s = 0.0;  // the largest calibrated-rate magnitude over the turn
-  double time_s = 0.0;           // the turn's first sample's time, from the log's start
+  double peak_rate_rad_s = 0.0;           // the largest calibrated-rate magnitude over the turn
+  double time_s = 0.0;                    // the turn's first sample's time, from the log's start
   std::array<double, 3> rotation_axis{};  // the integrated rotation's axis (body, unit)
   std::array<double, 2> whitened{};
 };
@@ -171,12 +171,12 @@ struct GyroscopeMlResult {
 
   std::array<double, 3> noise_variance{};  // the pooled white noise, the output's unit squared
   std::array<double, 3> bias_wander_variance{};  // between poses, the unit squared; 0: none
-  double turn_sampling_variance = 0.0;  // kappa^2 of the turns' sampling error; 0: none
+  double turn_sampling_variance = 0.0;           // kappa^2 of the turns' sampling error; 0: none
   // The Earth's rate along gravity (rad/s): given (latitude_given; stddev 0) or estimated with
   // its prior (see GyroscopeMlOptions); 0 and 0 when the Earth's rate is not counted.
   double earth_vertical_rate_rad_s = 0.0;
   double earth_vertical_rate_stddev = 0.0;
-  double earth_vertical_prior_stddev = 0.0;  // the prior's sigma; 0: given or not counted
+  double earth_vertical_prior_stddev = 0.0;     // the prior's sigma; 0: given or not counted
   double earth_horizontal_axis_variance = 0.0;  // the pose means' allowance, (rad/s)^2 per axis
   // The turns' chi-square under the noise model without the sampling term: its p-value.
   double turns_without_sampling_p_value = 1.0;

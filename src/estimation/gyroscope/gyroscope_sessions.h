@@ -43,7 +43,7 @@ struct GyroscopeSessionsOptions {
   // The gains' start, (rad/s) per unit; 0: the unit's nominal gain, which counts do not have
   // (their sessions are then not calibrated, and say why).
   double initial_gain = 0.0;
-  double alpha = 0.01;  // discovery's
+  double alpha = 0.01;        // discovery's
   bool turn_sampling = true;  // GyroscopeSessionOptions::turn_sampling
   bool latitude_given = false;
   double latitude_rad = 0.0;
