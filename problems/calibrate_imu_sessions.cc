@@ -178,14 +178,14 @@ Status SessionGyroscopeUnit(const ImuLogSource& source, std::string* unit) {
 Status CalibrateGyroscopes(const std::vector<TriadLog>& logs, const std::string& unit,
                            TriadSessionsReport* report) {
   GyroscopeSessionsOptions& options = report->gyroscope_options;
-  options.gravity_mps2 = report->options.gravity_mps2;
+  options.session.gravity_mps2 = report->options.gravity_mps2;
   ACCELCAL_RETURN_IF_ERROR(
-      ParseGyroscopeOutputUnit(unit, &options.unit).WithContext("--gyro_unit"));
+      ParseGyroscopeOutputUnit(unit, &options.session.unit).WithContext("--gyro_unit"));
   options.initial_gain = FlagGiven("initial_gyro_gain") ? FLAGS_initial_gyro_gain : 0.0;
-  options.turn_sampling = FLAGS_gyro_turn_sampling;
-  options.latitude_given = FlagGiven("latitude_deg");
-  options.latitude_rad = FLAGS_latitude_deg * M_PI / 180.0;
-  options.alpha = report->options.alpha;
+  options.session.turn_sampling = FLAGS_gyro_turn_sampling;
+  options.session.latitude_given = FlagGiven("latitude_deg");
+  options.session.latitude_rad = FLAGS_latitude_deg * M_PI / 180.0;
+  options.session.alpha = report->options.alpha;
   std::vector<GyroscopeSessionOutcome> outcomes;
   for (size_t s = 0; s < logs.size(); ++s) {
     TriadSessionReport& session = report->sessions[s];

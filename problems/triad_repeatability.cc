@@ -173,11 +173,11 @@ Status LoadAndCalibrate(TriadRepeatabilityReport* report, DataSource* source) {
   report->sessions.assign(report->device_names.size(), {});
   report->gyroscope_sessions.assign(report->device_names.size(), {});
   GyroscopeSessionsOptions gyroscope;
-  gyroscope.gravity_mps2 = FLAGS_g;
+  gyroscope.session.gravity_mps2 = FLAGS_g;
   ACCELCAL_RETURN_IF_ERROR(
-      ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &gyroscope.unit).WithContext("--gyro_unit"));
+      ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &gyroscope.session.unit).WithContext("--gyro_unit"));
   gyroscope.initial_gain = FLAGS_initial_gyro_gain;
-  report->gyroscope_unit = gyroscope.unit;
+  report->gyroscope_unit = gyroscope.session.unit;
   for (const std::string& session : report->session_names) {
     for (size_t d = 0; d < report->device_names.size(); ++d) {
       const std::string& path = files.at(session + "/" + report->device_names[d]);

@@ -124,7 +124,7 @@ TEST(Mimu4444, GyroscopeLeaveOneSessionOutCoversTheTarget) {
   TriadSessionOptions accelerometer;
   accelerometer.gravity_mps2 = 9.8187;
   GyroscopeSessionsOptions gyroscope;
-  gyroscope.gravity_mps2 = 9.8187;
+  gyroscope.session.gravity_mps2 = 9.8187;
   gyroscope.initial_gain = 0.00106422515;
   std::vector<std::vector<GyroscopeMlResult>> sessions(8);
   for (int run = 1; run <= 3; ++run) {

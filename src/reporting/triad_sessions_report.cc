@@ -74,7 +74,7 @@ SessionRows GyroscopeRows(const TriadSessionsReport& report) {
   rows.name_width = 26;
   for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
     rows.names.push_back(GyroscopeCalibrationParameterName(i));
-    rows.units.push_back(GyroscopeParameterUnit(i, report.gyroscope_options.unit));
+    rows.units.push_back(GyroscopeParameterUnit(i, report.gyroscope_options.session.unit));
     rows.values.emplace_back();
     rows.stddevs.emplace_back();
     for (int s : report.gyroscope.sessions) {
@@ -192,7 +192,7 @@ void GyroscopeSection(const TriadSessionsReport& report, std::ostringstream* out
       "\nGyroscope (w = T K (u - b), docs/gyroscope.md; outputs in %s): each session's calibrated "
       "as calibrate_imu --mode=ml calibrates one log, then combined by the same random-effects "
       "model\n",
-      GyroscopeOutputUnitName(report.gyroscope_options.unit));
+      GyroscopeOutputUnitName(report.gyroscope_options.session.unit));
   if (!g.combined) {
     *out << "  not combined: " << g.not_combined << " (each session's line above says why)\n";
     return;
@@ -220,7 +220,7 @@ void GyroscopeSection(const TriadSessionsReport& report, std::ostringstream* out
   for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
     std::string suffix;
     // An offset in counts is also given in deg/s (times the common gain).
-    if (i >= kGyroscopeOffsetX && report.gyroscope_options.unit == GyroscopeOutputUnit::kCount) {
+    if (i >= kGyroscopeOffsetX && report.gyroscope_options.session.unit == GyroscopeOutputUnit::kCount) {
       const double gain = g.random_effects[kGyroscopeGainX + i - kGyroscopeOffsetX].common;
       suffix = StringPrintf(
           " (%.3g deg/s)", g.random_effects[i].new_session_stddev * std::fabs(gain) * 180.0 / M_PI);
@@ -379,7 +379,7 @@ nlohmann::json GyroscopeSessionJson(const TriadSessionReport& session, Gyroscope
 nlohmann::json GyroscopeJson(const TriadSessionsReport& report) {
   const GyroscopeSessionsResult& g = report.gyroscope;
   nlohmann::json json;
-  json["output_unit"] = GyroscopeOutputUnitName(report.gyroscope_options.unit);
+  json["output_unit"] = GyroscopeOutputUnitName(report.gyroscope_options.session.unit);
   nlohmann::json combined = nlohmann::json::array(), left_out = nlohmann::json::array();
   for (int s : g.sessions) combined.push_back(s + 1);
   for (size_t s = 0; s < report.sessions.size(); ++s) {
@@ -438,7 +438,7 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
                                                            session.calibration.discovery)},
                         {"p_value", ml.p_value}});
     if (report.has_gyroscope)
-      sessions.back()["gyroscope"] = GyroscopeSessionJson(session, report.gyroscope_options.unit);
+      sessions.back()["gyroscope"] = GyroscopeSessionJson(session, report.gyroscope_options.session.unit);
   }
   json["sessions"] = sessions;
   const SessionRows rows = TriadRows(report);

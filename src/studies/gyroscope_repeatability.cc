@@ -62,7 +62,7 @@ Status SimulateAndCalibrateSession(const GyroscopeSessionDesign& design,
   ACCELCAL_RETURN_IF_ERROR(
       CalibrateTriadSession(session.log, options, &accelerometer).WithContext("the accelerometer"));
   GyroscopeSessionsOptions gyroscope;
-  gyroscope.gravity_mps2 = design.gravity_mps2;
+  gyroscope.session.gravity_mps2 = design.gravity_mps2;
   gyroscope.initial_gain = truth[kGyroscopeGainX];
   const GyroscopeSessionOutcome outcome =
       CalibrateSessionGyroscope(session.log, accelerometer, gyroscope);

@@ -39,7 +39,7 @@ GyroscopeSessionOutcome CalibrateSessionGyroscope(const TriadLog& log,
     return outcome;
   }
   double gain = options.initial_gain;
-  if (!(gain > 0.0)) gain = GyroscopeNominalGain(options.unit);
+  if (!(gain > 0.0)) gain = GyroscopeNominalGain(options.session.unit);
   if (!(gain > 0.0)) {
     outcome.not_calibrated =
         "its outputs are counts and its calibration needs their gain to start from; give "
@@ -47,20 +47,14 @@ GyroscopeSessionOutcome CalibrateSessionGyroscope(const TriadLog& log,
         "counts per rad/s), or --gyro_unit=rad/s or deg/s";
     return outcome;
   }
-  GyroscopeSessionOptions session;
-  session.gravity_mps2 = options.gravity_mps2;
-  session.unit = options.unit;
+  GyroscopeSessionOptions session = options.session;
   session.initial = GyroscopeParametersWithGain(gain, gain, gain);
-  session.alpha = options.alpha;
-  session.turn_sampling = options.turn_sampling;
-  session.latitude_given = options.latitude_given;
-  session.latitude_rad = options.latitude_rad;
   Status status =
       CalibrateGyroscopeSession(log, accelerometer.pose_intervals, accelerometer.ml_options,
                                 accelerometer.ml, session, &outcome.calibration);
   if (status.ok()) {
     status = CheckGyroscopeMatchesUnit(outcome.calibration.ml.parameters,
-                                       outcome.calibration.ml.offset, options.unit);
+                                       outcome.calibration.ml.offset, options.session.unit);
   }
   if (!status.ok()) {
     outcome.not_calibrated = "its calibration refused: " + status.message();

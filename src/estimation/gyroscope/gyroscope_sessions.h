@@ -38,15 +38,11 @@ Status CombineGyroscopeSessions(const std::vector<GyroscopeMlResult>& sessions, 
                                 GyroscopeRandomEffects* combined);
 
 struct GyroscopeSessionsOptions {
-  double gravity_mps2 = 9.81;
-  GyroscopeOutputUnit unit = GyroscopeOutputUnit::kCount;
+  // Every session's options but its start, which `initial_gain` gives.
+  GyroscopeSessionOptions session;
   // The gains' start, (rad/s) per unit; 0: the unit's nominal gain, which counts do not have
   // (their sessions are then not calibrated, and say why).
   double initial_gain = 0.0;
-  double alpha = 0.01;        // discovery's
-  bool turn_sampling = true;  // GyroscopeSessionOptions::turn_sampling
-  bool latitude_given = false;
-  double latitude_rad = 0.0;
 };
 
 // One session's gyroscope: calibrated, or why not.
