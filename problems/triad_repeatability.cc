@@ -174,8 +174,8 @@ Status LoadAndCalibrate(TriadRepeatabilityReport* report, DataSource* source) {
   report->gyroscope_sessions.assign(report->device_names.size(), {});
   GyroscopeSessionsOptions gyroscope;
   gyroscope.session.gravity_mps2 = FLAGS_g;
-  ACCELCAL_RETURN_IF_ERROR(
-      ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &gyroscope.session.unit).WithContext("--gyro_unit"));
+  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(FLAGS_gyro_unit, &gyroscope.session.unit)
+                               .WithContext("--gyro_unit"));
   gyroscope.initial_gain = FLAGS_initial_gyro_gain;
   report->gyroscope_unit = gyroscope.session.unit;
   for (const std::string& session : report->session_names) {

@@ -220,7 +220,8 @@ void GyroscopeSection(const TriadSessionsReport& report, std::ostringstream* out
   for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
     std::string suffix;
     // An offset in counts is also given in deg/s (times the common gain).
-    if (i >= kGyroscopeOffsetX && report.gyroscope_options.session.unit == GyroscopeOutputUnit::kCount) {
+    if (i >= kGyroscopeOffsetX &&
+        report.gyroscope_options.session.unit == GyroscopeOutputUnit::kCount) {
       const double gain = g.random_effects[kGyroscopeGainX + i - kGyroscopeOffsetX].common;
       suffix = StringPrintf(
           " (%.3g deg/s)", g.random_effects[i].new_session_stddev * std::fabs(gain) * 180.0 / M_PI);
@@ -438,7 +439,8 @@ nlohmann::json TriadSessionsJson(const TriadSessionsReport& report) {
                                                            session.calibration.discovery)},
                         {"p_value", ml.p_value}});
     if (report.has_gyroscope)
-      sessions.back()["gyroscope"] = GyroscopeSessionJson(session, report.gyroscope_options.session.unit);
+      sessions.back()["gyroscope"] =
+          GyroscopeSessionJson(session, report.gyroscope_options.session.unit);
   }
   json["sessions"] = sessions;
   const SessionRows rows = TriadRows(report);
