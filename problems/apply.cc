@@ -128,9 +128,7 @@ constexpr double kMaxAngularRateRadps = 1e5;
 // and the log gyroscope columns; otherwise why not, for a '#' line and a note.
 struct GyroscopeUse {
   bool corrected = false;
-  GyroscopeParameters parameters{};
-  GyroscopeOffset offset{};
-  Eigen::MatrixXd covariance;
+  GyroscopeCalibrationModel model;  // with its effect terms, when the section carries some
   std::string unit;
   std::string not_used;  // "" when corrected or when there is neither
 };
@@ -164,13 +162,27 @@ Status CheckInRange(size_t j, double t_s, const std::array<double, 3>& u,
       range.symbol, value.norm(), range.unit, range.sensor, range.largest, range.unit));
 }
 
-// The log's gyroscope samples corrected, appended to `samples`.
+// Sample j's output corrected by the model (its effect terms applied), or why it cannot be.
+Status CorrectTriadSample(const TriadCalibrationModel& model, size_t j, double t_s,
+                          const std::array<double, 3>& output, CorrectedTriadSample* sample) {
+  if (CorrectTriad(model, output, sample)) return Status::Ok();
+  return Status::Error(StringPrintf(
+      "%s: sample %zu (t = %.9g s), output (%.6g, %.6g, %.6g) %s, has no specific force near "
+      "the 9-parameter correction's under %s's effect terms: a damaged value, or a calibration "
+      "of another sensor; remove or repair the sample",
+      FLAGS_in.c_str(), j + 1, t_s, output[0], output[1], output[2],
+      TriadOutputUnitName(model.unit), FLAGS_calibration.c_str()));
+}
+
+// The log's gyroscope samples corrected, appended to `samples`; `accelerometer` the log's
+// samples corrected (the specific force a g-sensitivity term reads).
 Status CorrectGyroscopeLog(const TriadLog& log, const GyroscopeUse& gyroscope,
+                           const std::vector<CorrectedTriadSample>& accelerometer,
                            std::vector<CorrectedGyroscopeSample>* samples) {
   samples->reserve(log.size());
   for (size_t j = 0; j < log.size(); ++j) {
-    samples->push_back(CorrectGyroscope(gyroscope.parameters, gyroscope.offset,
-                                        gyroscope.covariance, log.gyroscope[j]));
+    samples->push_back(
+        CorrectGyroscope(gyroscope.model, log.gyroscope[j], accelerometer[j].acceleration));
     ACCELCAL_RETURN_IF_ERROR(CheckInRange(j, log.timestamp_s[j], log.gyroscope[j], gyroscope.unit,
                                           samples->back().angular_rate, samples->back().covariance,
                                           kGyroscopeRange));
@@ -210,6 +222,19 @@ void AppendTriadRow(double t_s, const CorrectedTriadSample& sample,
 
 // The '#' line of the gyroscope: what its columns are, or why there are none.
 std::string GyroscopeLine(const GyroscopeUse& gyroscope) {
+  if (gyroscope.corrected && gyroscope.model.has_effects()) {
+    std::vector<std::string> terms;
+    for (const int c : gyroscope.model.effects_in_file)
+      terms.push_back(GyroscopeEffectCoefficientName(c));
+    return "# gyroscope: g*_radps = T v' - G f (docs/gyroscope.md: the calibration's effect "
+           "terms " +
+           JoinStrings(terms) +
+           " applied, f the corrected a*), the angular rate in rad/s in the accelerometer's "
+           "frame, u the log's gyroscope columns in " +
+           gyroscope.unit +
+           "; sigma_g*_radps and corr_g*: the calibration's uncertainty (its gyroscope section's "
+           "covariance), not the gyroscope's white noise\n";
+  }
   if (gyroscope.corrected) {
     return "# gyroscope: g*_radps = T K (u - b), the angular rate in rad/s in the "
            "accelerometer's frame, u the log's gyroscope columns in " +
@@ -235,9 +260,43 @@ Status ImplausibleMedianMagnitude(double median, const CalibrationRecord& record
       record.output_unit.c_str()));
 }
 
-// A triad's output up to its first row: provenance, the gyroscope's line, the columns.
-std::string TriadHeader(const DataSource& source, const GyroscopeUse& gyroscope) {
-  std::string csv = ProvenanceLines(source) + GyroscopeLine(gyroscope);
+// The names of coefficients of the triad's block.
+std::string TriadTermList(const std::vector<int>& terms) {
+  std::vector<std::string> names;
+  for (const int c : terms) names.push_back(TriadEffectCoefficientList()[c].name);
+  return JoinStrings(names);
+}
+
+// What the accelerometer's correction does with the calibration's effect terms, as a note (""
+// when it carries none): those applied, and those carried but left out, and why.
+std::string TriadTermsNote(const TriadCalibrationModel& model) {
+  std::string note;
+  if (model.has_effects()) {
+    note = "the calibration's effect terms " + TriadTermList(model.effects_applied) +
+           " are applied (a* is the force whose predicted output is the log's, docs/triad.md)";
+  }
+  if (!model.effects_not_applied.empty()) {
+    std::vector<std::string> why;
+    for (const int c : model.effects_not_applied) {
+      const char* reason = TriadEffectInfos()[TriadEffectCoefficientList()[c].effect].session_only;
+      if (std::find(why.begin(), why.end(), reason) == why.end()) why.push_back(reason);
+    }
+    note += (note.empty() ? "" : "; ") + std::string("the calibration's effect terms ") +
+            TriadTermList(model.effects_not_applied) +
+            " are not applied: they belong to the session calibrated (" + JoinStrings(why, "; ") +
+            ")";
+  }
+  return note;
+}
+
+// A triad's output up to its first row: provenance, the effect terms' and the gyroscope's
+// lines, the columns.
+std::string TriadHeader(const DataSource& source, const TriadCalibrationModel& model,
+                        const GyroscopeUse& gyroscope) {
+  const std::string terms = TriadTermsNote(model);
+  std::string csv = ProvenanceLines(source) +
+                    (terms.empty() ? "" : "# accelerometer: " + terms + "\n") +
+                    GyroscopeLine(gyroscope);
   csv +=
       "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,"
       "corr_yz";
@@ -291,27 +350,32 @@ std::string TriadSummary(const TriadLogSummary& log, const CalibrationRecord& re
 // A triad's log held whole (a .mat file, a pair of files, rows ordered by sample number)
 // corrected; refused when the corrected magnitudes are not about 1 g. The gyroscope's columns
 // too, when `gyroscope` says so.
-Status CorrectTriadLog(const TriadLog& log, const TriadParameters& parameters,
-                       const Eigen::MatrixXd& covariance, const CalibrationRecord& record,
-                       const GyroscopeUse& gyroscope, const DataSource& source, std::string* csv,
-                       std::string* summary) {
-  std::vector<CorrectedTriadSample> samples;
-  samples.reserve(log.size());
+Status CorrectTriadLog(const TriadLog& log, const TriadCalibrationModel& model,
+                       const CalibrationRecord& record, const GyroscopeUse& gyroscope,
+                       const DataSource& source, std::string* csv, std::string* summary) {
+  std::vector<CorrectedTriadSample> samples(log.size());
   std::vector<double> magnitude;
   magnitude.reserve(log.size());
-  std::vector<CorrectedGyroscopeSample> rates;
-  if (gyroscope.corrected) ACCELCAL_RETURN_IF_ERROR(CorrectGyroscopeLog(log, gyroscope, &rates));
+  // The first refusal of the log's order (the gyroscope's before the accelerometer's, as the
+  // streamed path's), once every sample is corrected.
+  Status accelerometer_range;
   for (size_t j = 0; j < log.size(); ++j) {
-    samples.push_back(CorrectTriad(parameters, covariance, log.output[j]));
-    magnitude.push_back(samples.back().acceleration.norm());
-    ACCELCAL_RETURN_IF_ERROR(CheckInRange(j, log.timestamp_s[j], log.output[j], record.output_unit,
-                                          samples.back().acceleration, samples.back().covariance,
-                                          kAccelerometerRange));
+    Status status = CorrectTriadSample(model, j, log.timestamp_s[j], log.output[j], &samples[j]);
+    magnitude.push_back(samples[j].acceleration.norm());
+    if (status.ok()) {
+      status = CheckInRange(j, log.timestamp_s[j], log.output[j], record.output_unit,
+                            samples[j].acceleration, samples[j].covariance, kAccelerometerRange);
+    }
+    if (accelerometer_range.ok()) accelerometer_range = status;
   }
+  std::vector<CorrectedGyroscopeSample> rates;
+  if (gyroscope.corrected)
+    ACCELCAL_RETURN_IF_ERROR(CorrectGyroscopeLog(log, gyroscope, samples, &rates));
+  ACCELCAL_RETURN_IF_ERROR(accelerometer_range);
   std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
   const double median = magnitude[magnitude.size() / 2];
   if (!MedianMagnitudePlausible(median, record)) return ImplausibleMedianMagnitude(median, record);
-  *csv = TriadHeader(source, gyroscope);
+  *csv = TriadHeader(source, model, gyroscope);
   for (size_t j = 0; j < log.size(); ++j)
     AppendTriadRow(log.timestamp_s[j], samples[j], gyroscope.corrected ? &rates[j] : nullptr, csv);
   TriadLogSummary described;
@@ -346,11 +410,9 @@ Status GyroscopeUseOf(const CalibrationRecord& record, bool log_has_gyroscope,
     return Status::Ok();
   }
   if (!record.has_gyroscope) return Status::Ok();
-  GyroscopeOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(GyroscopeCalibration(record.gyroscope, &use->parameters, &use->offset,
-                                                &use->covariance, &unit)
-                               .WithContext(FLAGS_calibration));
-  use->unit = GyroscopeOutputUnitName(unit);
+  ACCELCAL_RETURN_IF_ERROR(
+      GyroscopeCalibrationModelOf(record.gyroscope, &use->model).WithContext(FLAGS_calibration));
+  use->unit = GyroscopeOutputUnitName(use->model.unit);
   const std::string& stated = log_source.gyroscope_unit;
   if ((stated == "count" || stated == "rad/s" || stated == "deg/s") && stated != use->unit) {
     return Status::Error(FLAGS_in + ": the gyroscope columns' names say " + stated + ", but " +
@@ -401,9 +463,8 @@ Status TwoAxisDataForATriad(const Status& refusal) {
 }
 
 // A triad's log read whole (ReadImuLog), corrected and written.
-Status ApplyTriadWhole(const CalibrationRecord& record, const TriadParameters& parameters,
-                       const Eigen::MatrixXd& covariance, const ImuLogReadOptions& read_options,
-                       std::string* summary) {
+Status ApplyTriadWhole(const CalibrationRecord& record, const TriadCalibrationModel& model,
+                       const ImuLogReadOptions& read_options, std::string* summary) {
   TriadLog log;
   ImuLogSource log_source;
   const Status read = ReadImuLog(FLAGS_in, read_options, &log, ImuLogSpacing::kAny, &log_source);
@@ -414,11 +475,11 @@ Status ApplyTriadWhole(const CalibrationRecord& record, const TriadParameters& p
   GyroscopeUse gyroscope;
   ACCELCAL_RETURN_IF_ERROR(GyroscopeUseOf(record, log.has_gyroscope(), log_source, &gyroscope));
   std::string csv;
-  ACCELCAL_RETURN_IF_ERROR(
-      CorrectTriadLog(log, parameters, covariance, record, gyroscope, source, &csv, summary));
+  ACCELCAL_RETURN_IF_ERROR(CorrectTriadLog(log, model, record, gyroscope, source, &csv, summary));
   ACCELCAL_RETURN_IF_ERROR(WriteOutputFiles({{FLAGS_out, csv}}));
   // The notes once the log is corrected, so that a refusal is one line.
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
+  if (!TriadTermsNote(model).empty()) std::cerr << "apply: note: " << TriadTermsNote(model) << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
   *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
@@ -464,9 +525,9 @@ bool RankBeyond(uint64_t count, uint64_t rank, uint64_t size, bool below) {
 
 // The streamed triad path: true in *streamed when it wrote (or refused) the log, false when the
 // log must be read whole after all (nothing is written then).
-Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters& parameters,
-                          const Eigen::MatrixXd& covariance, const ImuLogReadOptions& read_options,
-                          std::string* summary, bool* streamed) {
+Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadCalibrationModel& model,
+                          const ImuLogReadOptions& read_options, std::string* summary,
+                          bool* streamed) {
   *streamed = false;
   // The checksums come first in the output, so the log is hashed before it is streamed (a pass
   // at disk speed; the reader then checks that it parses the very bytes hashed). A file the
@@ -491,7 +552,7 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
           if (j == 0) {
             pass.has_gyroscope = batch.has_gyroscope();
             pass.gyroscope_use = GyroscopeUseOf(record, pass.has_gyroscope, log_source, &gyroscope);
-            block = TriadHeader(source, gyroscope);
+            block = TriadHeader(source, model, gyroscope);
           }
           for (size_t i = 0; i < batch.size(); ++i, ++j) {
             const double t_s = batch.timestamp_s[i];
@@ -502,8 +563,11 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
             }
             pass.previous_t_s = t_s;
             if (!pass.gyroscope_use.ok() || !pass.gyroscope_range.ok()) continue;
-            const CorrectedTriadSample sample =
-                CorrectTriad(parameters, covariance, batch.output[i]);
+            CorrectedTriadSample sample;
+            if (pass.accelerometer_range.ok()) {
+              pass.accelerometer_range =
+                  CorrectTriadSample(model, j, t_s, batch.output[i], &sample);
+            }
             const double magnitude = sample.acceleration.norm();
             median.Add(magnitude);
             pass.magnitudes_below += magnitude < 0.5 * gravity ? 1 : 0;
@@ -515,8 +579,7 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
             }
             CorrectedGyroscopeSample rate;
             if (gyroscope.corrected) {
-              rate = CorrectGyroscope(gyroscope.parameters, gyroscope.offset, gyroscope.covariance,
-                                      batch.gyroscope[i]);
+              rate = CorrectGyroscope(gyroscope.model, batch.gyroscope[i], sample.acceleration);
               pass.gyroscope_range =
                   CheckInRange(j, t_s, batch.gyroscope[i], gyroscope.unit, rate.angular_rate,
                                rate.covariance, kGyroscopeRange);
@@ -567,8 +630,11 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
       ACCELCAL_RETURN_IF_ERROR(StreamImuLog(
           FLAGS_in, read_options, kBatchSamples,
           [&](const TriadLog& batch) {
-            for (const std::array<double, 3>& output : batch.output)
-              median.Add(CorrectTriad(parameters, covariance, output).acceleration.norm());
+            for (const std::array<double, 3>& output : batch.output) {
+              CorrectedTriadSample sample;
+              CorrectTriad(model, output, &sample);  // every sample settled in the first pass
+              median.Add(sample.acceleration.norm());
+            }
           },
           nullptr));
     }
@@ -581,6 +647,7 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
   // The notes once the log is corrected, so that a refusal is one line.
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
+  if (!TriadTermsNote(model).empty()) std::cerr << "apply: note: " << TriadTermsNote(model) << "\n";
   *summary = WithDataLine(source, TriadSummary(pass.summary, record, gyroscope) +
                                       PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
@@ -588,20 +655,16 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadParameters
 
 // The triad path of Run: its own log layout and output columns.
 Status ApplyTriad(const CalibrationRecord& record, std::string* summary) {
-  TriadParameters parameters;
-  Eigen::MatrixXd covariance;
-  TriadOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(
-      TriadCalibration(record, FLAGS_calibration, &parameters, &covariance, &unit));
+  TriadCalibrationModel model;
+  ACCELCAL_RETURN_IF_ERROR(TriadCalibrationModelOf(record, FLAGS_calibration, &model));
   ImuLogReadOptions read_options;
   ACCELCAL_RETURN_IF_ERROR(ACCELCAL_IMU_LOG_OPTIONS(&read_options));
   if (FLAGS_stream && StreamsLikeReadImuLog(FLAGS_in, read_options)) {
     bool streamed = false;
-    ACCELCAL_RETURN_IF_ERROR(
-        ApplyTriadStreamed(record, parameters, covariance, read_options, summary, &streamed));
+    ACCELCAL_RETURN_IF_ERROR(ApplyTriadStreamed(record, model, read_options, summary, &streamed));
     if (streamed) return Status::Ok();
   }
-  return ApplyTriadWhole(record, parameters, covariance, read_options, summary);
+  return ApplyTriadWhole(record, model, read_options, summary);
 }
 
 std::string Summary(const VehicleRun& log, const Eigen::Vector4d& parameters,

@@ -80,7 +80,7 @@ DEFINE_double(min_interval_s, 1.0, "Detector noise_floor: static intervals short
 DEFINE_string(session, "", "Mode ferraris: imucal's annotated session CSV (header part,samples,acc_x,acc_y,acc_z,gyr_x,gyr_y,gyr_z; raw counts; the six holds and three turns labelled in part), docs/imucal.md.");
 DEFINE_string(reference, "", "Mode ferraris: an imucal calibration JSON (e.g. its example_cal.json) to show beside the closed form, with the largest relative difference.");
 DEFINE_double(sampling_rate_hz, 0.0, "Mode ferraris: the session's sampling rate in Hz, needed for the gyroscope's turns (imucal's example: 204.8); 0 calibrates the accelerometer only.");
-DEFINE_bool(scale_nonlinearity, false, "Mode ml: estimate a second-order scale term per axis too (scale_nonlinearity_x/y/z, 1/(m/s^2), the spec's k2: the axis reads w + k2 w^2 for a force w along it), 12 parameters in all. Not yet written to a calibration file.");
+DEFINE_bool(scale_nonlinearity, false, "Mode ml: estimate a second-order scale term per axis too (scale_nonlinearity_x/y/z, 1/(m/s^2), the spec's k2: the axis reads w + k2 w^2 for a force w along it), 12 parameters in all, written to the calibration file (format_version 2, the 9-parameter fit beside them) and applied by apply.");
 DEFINE_string(noise, "auto", "Mode ml: the noise model of the pose means. white: white noise of the pooled within-pose variance, s^2/N for a pose of N samples. allan: the Allan variance of the poses' own samples (N, B, K fitted per axis), a pose of T s has variance sigma^2(T) (docs/noise.md). auto: allan when white noise is rejected against it from the within-pose data at alpha/4, else white. The parameters' sigmas and the fit statistic follow it.");
 DEFINE_double(alpha, 0.01, "Mode ml: discovery's family-wise error rate, in (0, 0.5): a session the 9-parameter model and its noise model explain gets any verdict but explained at most this often (docs/triad-discovery.md).");
 DEFINE_string(json, "", "Write the results as JSON to this file (written atomically).");
@@ -266,11 +266,6 @@ Status ValidateFlags() {
   }
   if (FLAGS_scale_nonlinearity && FLAGS_mode != "ml")
     return Status::Error("--scale_nonlinearity needs --mode=ml");
-  if (FLAGS_scale_nonlinearity && !FLAGS_calibration_out.empty()) {
-    return Status::Error(
-        "--calibration_out with --scale_nonlinearity: the calibration file and apply do not yet "
-        "carry the second-order terms; calibrate without it to write a file");
-  }
   if (!FLAGS_calibration_out.empty() && FLAGS_mode != "ml") {
     return Status::Error(
         "--calibration_out needs --mode=ml: a calibration file carries the parameters' "

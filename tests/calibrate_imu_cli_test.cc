@@ -525,7 +525,8 @@ TEST(CalibrateImuCli, ModeMlEstimatesTheSecondOrderScaleTermsWithTheirSigma) {
   const std::string log = "--log='" + dir + "/xsens_acc.mat' --g=9.81744 --mode=ml";
   ASSERT_EQ(RunBinary("calibrate_imu", log + " --json=" + nine).exit_status, 0);
   const testing::CommandResult result =
-      RunBinary("calibrate_imu", log + " --scale_nonlinearity --json=" + twelve);
+      RunBinary("calibrate_imu", log + " --scale_nonlinearity --json=" + twelve +
+                                     " --calibration_out=" + scratch.File("cal12.json"));
   ASSERT_EQ(result.exit_status, 0) << result.stderr_text;
   const nlohmann::json a = nlohmann::json::parse(testing::ReadText(nine));
   const nlohmann::json b = nlohmann::json::parse(testing::ReadText(twelve));
@@ -539,6 +540,31 @@ TEST(CalibrateImuCli, ModeMlEstimatesTheSecondOrderScaleTermsWithTheirSigma) {
     EXPECT_LT(std::fabs(b["parameters"][name].get<double>()), 1e-3) << name;
   }
   EXPECT_FALSE(a["parameters"].contains("scale_nonlinearity_x"));
+  // The file carries the three terms (issue 44, item 7) with the 9-parameter fit beside them,
+  // and apply applies them (a note says so).
+  const nlohmann::json file = nlohmann::json::parse(testing::ReadText(scratch.File("cal12.json")));
+  EXPECT_EQ(file["format_version"], 2);
+  for (const char* name :
+       {"scale_nonlinearity_x", "scale_nonlinearity_y", "scale_nonlinearity_z", "gain_x"}) {
+    EXPECT_DOUBLE_EQ(file["parameters"][name].get<double>(), b["parameters"][name].get<double>())
+        << name;
+  }
+  ASSERT_TRUE(b["baseline"].is_object());
+  EXPECT_EQ(file["baseline"]["parameters"], b["baseline"]["parameters"]);
+  for (const char* name : {"gain_x", "offset_z", "misalignment_zx"}) {
+    EXPECT_LT(std::fabs(b["baseline"]["parameters"][name].get<double>() -
+                        a["parameters"][name].get<double>()),
+              0.01 * a["stddev"][name].get<double>())
+        << name;
+  }
+  const testing::CommandResult applied =
+      RunBinary("apply", "--calibration=" + scratch.File("cal12.json") + " --in='" + dir +
+                             "/xsens_acc.mat' --out=" + scratch.File("c.csv"));
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  EXPECT_NE(applied.stderr_text.find("effect terms scale_nonlinearity_x, scale_nonlinearity_y, "
+                                     "scale_nonlinearity_z are applied"),
+            std::string::npos)
+      << applied.stderr_text;
 }
 
 }  // namespace

@@ -149,7 +149,8 @@ TEST(CalibrationFile, RefusesWhatDoesNotSayWhatItClaims) {
   };
   const Damage damages[] = {
       {"/format", "something-else", "not an accelcal calibration file"},
-      {"/format_version", 2, "format_version 2, but this accelcal reads version 1; update"},
+      {"/format_version", 3, "format_version 3, but this accelcal reads versions 1 and 2; update"},
+      {"/format_version", 2, "format_version 2 is written for a model with effect terms"},
       {"/model/geometry", "four_axis", "unknown sensor geometry 'four_axis'"},
       {"/units/bias_x", "mg", "units/bias_x must be \"m/s^2\""},
       {"/parameters/scale_y", "0.01", "parameters/scale_y must be a number"},

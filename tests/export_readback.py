@@ -171,6 +171,36 @@ def kalibr_check(text, expected):
     return worst_difference
 
 
+def baseline_of(block):
+    """`block` (the file's top level or its gyroscope section) with its baseline in place of
+    the model with effect terms."""
+    if block.get("baseline") is None:
+        return block
+    block = dict(block)
+    for key in ("parameter_order", "parameters", "units", "stddev", "covariance"):
+        block[key] = block["baseline"][key]
+    block["baseline"] = None
+    model = dict(block["model"])
+    model.pop("effect_terms", None)
+    model.pop("measurement_with_effects", None)
+    if "effects" in model:
+        model["effects"] = [e for e in model["effects"]
+                            if e in ("misalignment", "gain", "offset")] or None
+        if model["effects"] is None:
+            del model["effects"]
+    block["model"] = model
+    return block
+
+
+def without_terms(calibration):
+    """A version-1 file of the calibration's baselines."""
+    out = baseline_of(calibration)
+    out["format_version"] = 1
+    if out.get("gyroscope") is not None:
+        out["gyroscope"] = baseline_of(out["gyroscope"])
+    return out
+
+
 def main():
     bin_dir, data_dir = sys.argv[1], sys.argv[2]
     binary = lambda name: os.path.join(bin_dir, name)
@@ -191,9 +221,17 @@ def main():
         for sensor, log in (("acc", "xsens_acc.mat"), ("gyro", "xsens_gyro.mat")):
             run(binary("allan"), "--log=" + os.path.join(data_dir, log), "--unit=count",
                 "--static=longest", "--bootstrap=100", f"--json={path(sensor + '_allan.json')}")
-        run(binary("apply"), "--calibration=" + path("cal.json"), "--in=" + path("xsens.csv"),
-            "--out=" + path("corrected.csv"))
         calibration = json.load(open(path("cal.json")))
+        # A model with effect terms (format_version 2: the gyroscope's g-sensitivity on this
+        # session) is exported as its baseline, the same session's fit without them: the formats
+        # are compared with apply of that baseline written as a version-1 file.
+        applied = path("cal.json")
+        if calibration["format_version"] == 2:
+            applied = path("baseline.json")
+            with open(applied, "w") as out:
+                json.dump(without_terms(calibration), out)
+        run(binary("apply"), "--calibration=" + applied, "--in=" + path("xsens.csv"),
+            "--out=" + path("corrected.csv"))
         acc_raw, gyr_raw = read_log(path("xsens.csv"))
         acc_apply, gyr_apply = read_corrected(path("corrected.csv"))
         if len(acc_apply) != len(acc_raw) or len(acc_raw) < 50000:

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -34,6 +35,41 @@ void WriteCountsCsv(const TriadLog& log, const std::string& csv) {
   }
 }
 
+// `log` written as `csv` and calibrated by calibrate_imu --mode=ml (gyroscope in counts, gains
+// started at 2.1e-4 rad/s per count), its calibration file at `calibration`, its JSON in *json,
+// the run in *run.
+void CalibrateCountsCsv(const TriadLog& log, const std::string& csv, const std::string& calibration,
+                        nlohmann::json* json, testing::CommandResult* run) {
+  WriteCountsCsv(log, csv);
+  const std::string json_path = csv + ".json";
+  *run =
+      RunBinaryArgs("calibrate_imu", {"--log=" + csv, "--mode=ml", "--g=9.81744",
+                                      "--gyro_unit=count", "--initial_gyro_gain=0.00021",
+                                      "--json=" + json_path, "--calibration_out=" + calibration});
+  ASSERT_EQ(run->exit_status, 0) << run->stderr_text;
+  *json = nlohmann::json::parse(testing::ReadText(json_path));
+}
+
+// apply's output: its header's columns and its rows (the '#' lines skipped).
+void ReadCorrectedCsv(const std::string& path, std::vector<std::string>* header,
+                      std::vector<std::vector<double>>* rows) {
+  std::istringstream lines(testing::ReadText(path));
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::vector<std::string> fields;
+    std::stringstream cells(line);
+    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
+    if (header->empty()) {
+      *header = fields;
+      continue;
+    }
+    std::vector<double> row;
+    for (const std::string& cell : fields) row.push_back(std::stod(cell));
+    rows->push_back(row);
+  }
+}
+
 TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscopeColumns) {
   GyroscopeSessionDesign design;
   const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 21);
@@ -42,15 +78,10 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
   const TriadLog& log = fit.session.log;
   testing::ScratchDir scratch;
   const std::string csv = scratch.File("session.csv");
-  WriteCountsCsv(log, csv);
-  const std::string json_path = scratch.File("out.json");
   const std::string calibration = scratch.File("calibration.json");
-  const testing::CommandResult run =
-      RunBinaryArgs("calibrate_imu", {"--log=" + csv, "--mode=ml", "--g=9.81744",
-                                      "--gyro_unit=count", "--initial_gyro_gain=0.00021",
-                                      "--json=" + json_path, "--calibration_out=" + calibration});
-  ASSERT_EQ(run.exit_status, 0) << run.stderr_text;
-  const nlohmann::json json = nlohmann::json::parse(testing::ReadText(json_path));
+  nlohmann::json json;
+  testing::CommandResult run;
+  ASSERT_NO_FATAL_FAILURE(CalibrateCountsCsv(log, csv, calibration, &json, &run));
   const nlohmann::json& g = json.at("gyroscope");
   const nlohmann::json file = nlohmann::json::parse(testing::ReadText(calibration));
   const nlohmann::json& section = file.at("gyroscope");
@@ -78,23 +109,9 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
   ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
   // The corrected rates over the true holds: zero within the mean's noise (3 counts of
   // 2.1e-4 rad/s per sample, some 10^4 samples) and the offsets' sigma.
-  std::istringstream lines(testing::ReadText(corrected));
-  std::string line;
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  while (std::getline(lines, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::vector<std::string> fields;
-    std::stringstream cells(line);
-    for (std::string cell; std::getline(cells, cell, ',');) fields.push_back(cell);
-    if (header.empty()) {
-      header = fields;
-      continue;
-    }
-    std::vector<double> row;
-    for (const std::string& cell : fields) row.push_back(std::stod(cell));
-    rows.push_back(row);
-  }
+  ReadCorrectedCsv(corrected, &header, &rows);
   ASSERT_EQ(rows.size(), log.size());
   const auto column = [&](const std::string& name) {
     return static_cast<int>(std::find(header.begin(), header.end(), name) - header.begin());
@@ -111,6 +128,103 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
     EXPECT_LT(std::abs(sum / count), 1e-4) << "axis " << k;
     EXPECT_GT(rows[0][sigma_gx + k], 0.0);
   }
+}
+
+// The calibration is the model discovery settled on (issue 44, item 7): a simulated gyroscope
+// with a g-sensitivity of 5e-5 (rad/s)/(m/s^2) on the diagonal and 2.5e-5 off it (5e-4 rad/s at
+// 1 g, twenty times a pose mean's noise). Discovery names it; the JSON, the table and the
+// calibration file give the extended model (the 12 and the 9 terms, truth within 4 sigma) with
+// the 12 unknowns' fit beside it; apply applies the terms, so that the corrected rates at rest
+// are zero within the noise, where the baseline's correction leaves G f in every pose; the
+// imu_tk export writes the baseline and says so.
+TEST(GyroscopeCli, WritesTheModelDiscoverySettledOnAndApplyAppliesItsTerms) {
+  GyroscopeSessionDesign design;
+  for (int c = 0; c < 9; ++c)
+    design.effects[kGyroscopeGSensitivity + c] = c % 4 == 0 ? 5e-5 : 2.5e-5;
+  const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 31);
+  GyroscopeSessionFit fit;
+  ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 32, {}, &fit).ok());
+  testing::ScratchDir scratch;
+  const std::string csv = scratch.File("session.csv");
+  const std::string calibration = scratch.File("calibration.json");
+  nlohmann::json json;
+  testing::CommandResult run;
+  ASSERT_NO_FATAL_FAILURE(CalibrateCountsCsv(fit.session.log, csv, calibration, &json, &run));
+  const nlohmann::json& g = json.at("gyroscope");
+  ASSERT_EQ(g.at("effect_terms").size(), 9u) << g.at("verdict_text");
+  ASSERT_TRUE(g.at("baseline").is_object());
+  EXPECT_NE(run.stdout_text.find("The model discovery settled on, its effect terms below the 12"),
+            std::string::npos);
+  std::vector<double> truth(design.truth.begin(), design.truth.end());
+  truth.insert(truth.end(), design.offset.begin(), design.offset.end());
+  for (int c = 0; c < 9; ++c) truth.push_back(design.effects[kGyroscopeGSensitivity + c]);
+  const nlohmann::json& order = g.at("parameter_order");
+  ASSERT_EQ(order.size(), 21u);
+  const nlohmann::json file = nlohmann::json::parse(testing::ReadText(calibration));
+  EXPECT_EQ(file.at("format_version"), 2);
+  const nlohmann::json& section = file.at("gyroscope");
+  EXPECT_EQ(section.at("parameter_order"), order);
+  for (size_t i = 0; i < order.size(); ++i) {
+    const std::string name = order[i];
+    const double value = g.at("parameters").at(name);
+    const double sigma = g.at("stddev").at(name);
+    EXPECT_LT(std::abs(value - truth[i]), 4.0 * sigma) << name << " " << value << " +- " << sigma;
+    EXPECT_DOUBLE_EQ(section.at("parameters").at(name).get<double>(), value) << name;
+  }
+  EXPECT_EQ(section.at("baseline").at("parameters"), g.at("baseline").at("parameters"));
+
+  const std::string corrected = scratch.File("corrected.csv");
+  const testing::CommandResult applied =
+      RunBinaryArgs("apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + corrected});
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  std::vector<std::string> header;
+  std::vector<std::vector<double>> rows;
+  ReadCorrectedCsv(corrected, &header, &rows);
+  ASSERT_EQ(rows.size(), fit.session.log.size());
+  const int gx =
+      static_cast<int>(std::find(header.begin(), header.end(), "gx_radps") - header.begin());
+  ASSERT_LT(gx, static_cast<int>(header.size()));
+  // Each hold's mean rate, rms over holds and axes: the applied model's, and the baseline's
+  // correction of the same samples.
+  GyroscopeParameters baseline{};
+  GyroscopeOffset baseline_offset{};
+  for (int i = 0; i < 12; ++i) {
+    const double value = g.at("baseline").at("parameters").at(order[i].get<std::string>());
+    if (i < 9)
+      baseline[i] = value;
+    else
+      baseline_offset[i - 9] = value;
+  }
+  double applied_sum = 0.0, baseline_sum = 0.0;
+  int count = 0;
+  for (const TriadHoldSamples& hold : fit.session.holds) {
+    for (int k = 0; k < 3; ++k) {
+      double mean = 0.0, mean_baseline = 0.0;
+      for (int i = hold.start; i <= hold.end; ++i) {
+        mean += rows[i][gx + k];
+        double rate[3];
+        GyroscopeAngularRate(baseline.data(), baseline_offset.data(),
+                             fit.session.log.gyroscope[i].data(), rate);
+        mean_baseline += rate[k];
+      }
+      const int n = hold.end - hold.start + 1;
+      applied_sum += (mean / n) * (mean / n);
+      baseline_sum += (mean_baseline / n) * (mean_baseline / n);
+      ++count;
+    }
+  }
+  const double applied_rms = std::sqrt(applied_sum / count);
+  const double baseline_rms = std::sqrt(baseline_sum / count);
+  // A hold's mean: 3 counts of 2.1e-4 rad/s over 400 samples, 3e-5 rad/s; G f: 5e-4 rad/s.
+  EXPECT_LT(applied_rms, 1e-4);
+  EXPECT_GT(baseline_rms, 5.0 * applied_rms);
+
+  const testing::CommandResult exported = RunBinaryArgs(
+      "export_calibration",
+      {"--calibration=" + calibration, "--format=imu_tk", "--out=" + scratch.File("x")});
+  ASSERT_EQ(exported.exit_status, 0) << exported.stderr_text;
+  EXPECT_NE(exported.stdout_text.find("the gyroscope's effect terms"), std::string::npos);
+  EXPECT_NE(exported.stdout_text.find("its 12 parameters are the baseline's"), std::string::npos);
 }
 
 // A session turned 85% about x (gyroscope_one_axis_session.h), with Xsens's 27 counts of
@@ -158,13 +272,13 @@ TEST(GyroscopeCli, NamesTheUnknownsATurnedAboutOneAxisSessionLeavesPoorlyDetermi
   EXPECT_NE(verdict.find("the session does not determine gyroscope_misalignment_yz"),
             std::string::npos)
       << verdict;
-  EXPECT_NE(verdict.find("turns about y and z would determine them"), std::string::npos)
-      << verdict;
+  EXPECT_NE(verdict.find("turns about y and z would determine them"), std::string::npos) << verdict;
   EXPECT_NE(run.stdout_text.find("Poorly determined, gyroscope (estimated and written"),
             std::string::npos);
   const std::string html = testing::ReadText(report);
   EXPECT_NE(html.find("Poorly determined by this session (gyroscope): gyroscope_misalignment_yz"),
-            std::string::npos);  // apply names them in its summary, beside the accelerometer's (none here).
+            std::string::npos);  // apply names them in its summary, beside the accelerometer's
+                                 // (none here).
   const testing::CommandResult applied = RunBinaryArgs(
       "apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + scratch.File("c.csv")});
   ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;

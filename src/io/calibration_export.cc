@@ -133,15 +133,34 @@ Status ExportCalibration(const CalibrationRecord& record, const std::string& cal
   TriadParameters triad;
   Eigen::MatrixXd covariance;
   TriadOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(TriadCalibration(record, calibration_path, &triad, &covariance, &unit));
+  // The peers' formats hold the 9 (and the gyroscope's 12): a model with effect terms is
+  // written as its baseline, the same session's fit without them, and the notes say so.
+  bool from_baseline = false;
+  ACCELCAL_RETURN_IF_ERROR(TriadBaselineCalibration(record, calibration_path, &triad, &covariance,
+                                                    &unit, &from_baseline));
+  if (from_baseline) {
+    notes->push_back("the accelerometer's effect terms (" + JoinStrings(EffectTermNames(record)) +
+                     ") do not fit " + format_name +
+                     ": its 9 parameters are the baseline's, the same session's fit without them "
+                     "(docs/calibration.md, Exports)");
+  }
   GyroscopeParameters gyroscope{};
   GyroscopeOffset gyroscope_offset{};
   GyroscopeOutputUnit gyroscope_unit = GyroscopeOutputUnit::kCount;
   if (record.has_gyroscope) {
     Eigen::MatrixXd gyroscope_covariance;
-    ACCELCAL_RETURN_IF_ERROR(GyroscopeCalibration(record.gyroscope, &gyroscope, &gyroscope_offset,
-                                                  &gyroscope_covariance, &gyroscope_unit)
+    bool gyroscope_from_baseline = false;
+    ACCELCAL_RETURN_IF_ERROR(GyroscopeBaselineCalibration(record.gyroscope, &gyroscope,
+                                                          &gyroscope_offset, &gyroscope_covariance,
+                                                          &gyroscope_unit, &gyroscope_from_baseline)
                                  .WithContext(calibration_path));
+    if (gyroscope_from_baseline) {
+      notes->push_back("the gyroscope's effect terms (" +
+                       JoinStrings(EffectTermNames(record.gyroscope)) + ") do not fit " +
+                       format_name +
+                       ": its 12 parameters are the baseline's, the same session's fit without "
+                       "them (docs/calibration.md, Exports)");
+    }
   }
   switch (options.format) {
     case ExportFormat::kKalibr:

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "common/format.h"
 #include "io/input_file.h"
@@ -232,7 +233,7 @@ nlohmann::json ParameterBlockJson(const std::vector<std::string>& names,
 
 // The gyroscope section's block, for outputs in `unit`. Offsets in counts reach 2^30 as the
 // triad's do.
-ParameterBlock GyroscopeBlock(GyroscopeOutputUnit unit) {
+ParameterBlock GyroscopeBlock(GyroscopeOutputUnit unit, const std::vector<int>& terms = {}) {
   ParameterBlock block;
   block.prefix = "gyroscope/";
   block.owner = "the gyroscope section";
@@ -240,12 +241,112 @@ ParameterBlock GyroscopeBlock(GyroscopeOutputUnit unit) {
     block.names.push_back(GyroscopeCalibrationParameterName(p));
     block.units.push_back(GyroscopeParameterUnit(p, unit));
   }
+  for (const int c : terms) {
+    block.names.push_back(GyroscopeEffectCoefficientName(c));
+    block.units.push_back(GyroscopeEffectCoefficientUnit(c));
+  }
   block.limit = 1e9;
   block.stddev_required = true;
   return block;
 }
 
-Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
+// The effect terms `object`'s parameter_order lists after its first `base` names: each a
+// coefficient `index_of` knows (-1: none), once, in the block's order; only in a file of
+// format_version 2. Nothing when parameter_order is not a list longer than `base` (its own
+// check says what is wrong with it).
+Status ReadEffectTerms(const nlohmann::json& object, size_t base, const std::string& prefix,
+                       int version, const std::function<int(const std::string&)>& index_of,
+                       std::vector<int>* terms) {
+  terms->clear();
+  const nlohmann::json& order =
+      object.contains("parameter_order") ? object.at("parameter_order") : nlohmann::json();
+  if (!order.is_array() || order.size() <= base) return Status::Ok();
+  if (version < kCalibrationFormatVersionWithEffects) {
+    return Status::Error(StringPrintf(
+        "%sparameter_order lists %zu names after the model's %zu: effect terms come only in a "
+        "file of format_version %d",
+        prefix.c_str(), order.size() - base, base, kCalibrationFormatVersionWithEffects));
+  }
+  for (size_t i = base; i < order.size(); ++i) {
+    const int c = order[i].is_string() ? index_of(order[i].get<std::string>()) : -1;
+    if (c < 0) {
+      return Status::Error(prefix + "parameter_order[" + std::to_string(i) +
+                           "] = " + EchoInput(order[i].dump()) +
+                           " is not an effect term this accelcal knows (docs/calibration.md)");
+    }
+    if (!terms->empty() && c <= terms->back()) {
+      return Status::Error(prefix + "parameter_order[" + std::to_string(i) +
+                           "] = " + EchoInput(order[i].dump()) +
+                           ": effect terms are listed once each, in the registry's order");
+    }
+    terms->push_back(c);
+  }
+  return Status::Ok();
+}
+
+// The optional baseline of `object`: required (an object holding `block`) when the model carries
+// effect terms, absent or null otherwise.
+Status ReadBaseline(const nlohmann::json& object, ParameterBlock block, bool has_terms,
+                    CalibrationBaseline* baseline) {
+  const std::string key = block.prefix + "baseline";
+  const bool given = object.contains("baseline") && !object.at("baseline").is_null();
+  if (!has_terms) {
+    if (given) {
+      return Status::Error(key + " is given, but the model carries no effect term: a baseline " +
+                           "is the model without them");
+    }
+    return Status::Ok();
+  }
+  if (!given || !object.at("baseline").is_object()) {
+    return Status::Error(key + " must be an object (the model without its effect terms, fitted " +
+                         "to the same session), as the writer writes it");
+  }
+  block.prefix = key + "/";
+  block.owner = "the baseline of " + block.owner;
+  baseline->parameter_order = block.names;
+  return ParseParameterBlock(object.at("baseline"), block, &baseline->values,
+                             &baseline->covariance);
+}
+
+// The registered triad coefficient's index by name, -1 when none.
+int TriadTermIndex(const std::string& name) { return TriadEffectCoefficientIndex(name); }
+
+// The effects a model's text names: the geometry's, then each effect of `terms` once.
+std::vector<std::string> EffectsNamed(const std::vector<std::string>& geometry_effects,
+                                      const std::vector<std::string>& term_effects) {
+  std::vector<std::string> named = geometry_effects;
+  for (const std::string& effect : term_effects)
+    if (std::find(named.begin(), named.end(), effect) == named.end()) named.push_back(effect);
+  return named;
+}
+
+std::vector<std::string> TriadTermEffects(const std::vector<int>& terms) {
+  std::vector<std::string> effects;
+  for (const int c : terms)
+    effects.push_back(TriadEffectInfos()[TriadEffectCoefficientList()[c].effect].name);
+  return effects;
+}
+
+std::vector<std::string> GyroscopeTermEffects(const std::vector<int>& terms) {
+  std::vector<std::string> effects;
+  for (const int c : terms) {
+    for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos())
+      if (c >= info.first && c < info.first + info.coefficients) effects.push_back(info.name);
+  }
+  return effects;
+}
+
+// The indices of a record's effect terms: its names after the model's `base`.
+std::vector<int> TermsOf(const std::vector<std::string>& order, size_t base,
+                         const std::function<int(const std::string&)>& index_of) {
+  std::vector<int> terms;
+  for (size_t i = base; i < order.size(); ++i) terms.push_back(index_of(order[i]));
+  return terms;
+}
+
+// The file's parameters: the geometry's, then (a triad's, version 2) its effect terms, and the
+// baseline when there are some.
+Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry, int version,
                        CalibrationRecord* record) {
   ParameterBlock block;
   block.owner = "geometry " + record->geometry;
@@ -253,26 +354,38 @@ Status ParseParameters(const nlohmann::json& json, const GeometryInfo& geometry,
   block.units = geometry.units;
   // A triad's offsets are counts of ADCs of up to 30 bits.
   block.limit = record->geometry == "triad" ? 1e9 : 1e6;
-  record->parameter_order = geometry.parameters;
-  return ParseParameterBlock(json, block, &record->values, &record->covariance);
+  std::vector<int> terms;
+  if (record->geometry == "triad") {
+    ACCELCAL_RETURN_IF_ERROR(
+        ReadEffectTerms(json, geometry.parameters.size(), "", version, TriadTermIndex, &terms));
+  }
+  const ParameterBlock without_terms = block;
+  for (const int c : terms) {
+    block.names.push_back(TriadEffectCoefficientList()[c].name);
+    block.units.push_back(TriadEffectUnit(c, record->output_unit));
+  }
+  record->parameter_order = block.names;
+  ACCELCAL_RETURN_IF_ERROR(ParseParameterBlock(json, block, &record->values, &record->covariance));
+  const nlohmann::json model = json.value("model", nlohmann::json::object());
+  ACCELCAL_RETURN_IF_ERROR(
+      CheckModelKey(model, "", "effects", EffectsNamed(geometry.effects, TriadTermEffects(terms))));
+  return ReadBaseline(json, without_terms, !terms.empty(), &record->baseline);
 }
 
 // A gyroscope's gains are positive (an axis wired backwards is a sign the fit should not hide,
 // as the triad's) and agree with its output unit.
 Status CheckGyroscopeSection(const GyroscopeCalibrationSection& section) {
-  GyroscopeParameters parameters;
-  GyroscopeOffset offset;
-  Eigen::MatrixXd covariance;
-  GyroscopeOutputUnit unit;
-  ACCELCAL_RETURN_IF_ERROR(GyroscopeCalibration(section, &parameters, &offset, &covariance, &unit));
+  GyroscopeCalibrationModel model;
+  ACCELCAL_RETURN_IF_ERROR(GyroscopeCalibrationModelOf(section, &model));
   for (int k = 0; k < 3; ++k) {
-    if (!(parameters[kGyroscopeGainX + k] > 0.0)) {
+    if (!(model.parameters[kGyroscopeGainX + k] > 0.0)) {
       return Status::Error("gyroscope/parameters/" +
                            GyroscopeCalibrationParameterName(kGyroscopeGainX + k) +
                            " is not positive");
     }
   }
-  return CheckGyroscopeMatchesUnit(parameters, offset, unit).WithContext("gyroscope/parameters");
+  return CheckGyroscopeMatchesUnit(model.parameters, model.offset, model.unit)
+      .WithContext("gyroscope/parameters");
 }
 
 // A correction divides by 1 + scale_k; no real sensor's gain is off by 90%. A triad's gains
@@ -357,12 +470,45 @@ Status GeometryOf(const std::string& geometry, const std::string& output_unit, G
 namespace {
 
 // The gyroscope section's object.
+// A baseline's object, or null.
+nlohmann::json BaselineJson(const CalibrationBaseline& baseline,
+                            const std::vector<std::string>& units, const char* note) {
+  if (!baseline.present()) return nullptr;
+  nlohmann::json json =
+      ParameterBlockJson(baseline.parameter_order, units, baseline.values, baseline.covariance);
+  json["note"] = note;
+  return json;
+}
+
+// What each effect term is and whether apply applies it, for a reader of the file.
+nlohmann::json EffectTermsJson(const std::vector<std::string>& effects,
+                               const std::vector<std::string>& meanings,
+                               const std::vector<const char*>& session_only) {
+  nlohmann::json list = nlohmann::json::array();
+  for (size_t e = 0; e < effects.size(); ++e) {
+    bool listed = false;
+    for (const nlohmann::json& item : list) listed = listed || item["effect"] == effects[e];
+    if (listed) continue;
+    list.push_back(
+        {{"effect", effects[e]},
+         {"meaning", meanings[e]},
+         {"applied_by_apply", session_only[e] == nullptr},
+         {"why_not_applied",
+          session_only[e] == nullptr ? nlohmann::json(nullptr) : nlohmann::json(session_only[e])}});
+  }
+  return list;
+}
+
 nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) {
   GyroscopeOutputUnit unit;
   const bool known = ParseGyroscopeOutputUnit(section.output_unit, &unit).ok();
-  nlohmann::json json = ParameterBlockJson(
-      section.parameter_order, known ? GyroscopeBlock(unit).units : std::vector<std::string>(),
-      section.values, section.covariance);
+  const std::vector<int> terms =
+      TermsOf(section.parameter_order, kGyroscopeCalibrationParameterCount,
+              GyroscopeEffectCoefficientIndex);
+  nlohmann::json json =
+      ParameterBlockJson(section.parameter_order,
+                         known ? GyroscopeBlock(unit, terms).units : std::vector<std::string>(),
+                         section.values, section.covariance);
   json["model"] = {
       {"measurement", kGyroscopeMeasurement},
       {"conventions",
@@ -372,6 +518,26 @@ nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) 
        "gyroscope_misalignment_ij the i sensing axis rotated about the j axis (imu_tk's mis_ij); "
        "gains in rad/s per unit of output; offsets, the output at zero rate, in output_unit"},
       {"document", "docs/calibration.md, docs/gyroscope.md"}};
+  if (!terms.empty()) {
+    const std::vector<std::string> effects = GyroscopeTermEffects(terms);
+    std::vector<std::string> meanings;
+    for (const std::string& effect : effects) {
+      for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos())
+        if (effect == info.name) meanings.push_back(info.meaning);
+    }
+    json["model"]["effects"] = EffectsNamed({}, effects);
+    json["model"]["effect_terms"] =
+        EffectTermsJson(effects, meanings, std::vector<const char*>(effects.size(), nullptr));
+    json["model"]["measurement_with_effects"] =
+        "v_k = gyroscope_gain_k (u_k - gyroscope_offset_k); v'_k = v_k + "
+        "gyroscope_scale_asymmetry_k |v_k| + gyroscope_scale_nonlinearity_k v_k^2; w = T v' - G "
+        "f, G the 3x3 gyroscope_g_sensitivity_ij (row i, column j) and f the specific force the "
+        "calibrated accelerometer measures (docs/gyroscope.md)";
+  }
+  json["baseline"] = BaselineJson(
+      section.baseline, known ? GyroscopeBlock(unit).units : std::vector<std::string>(),
+      "the 12 unknowns' fit of the same session, without the effect terms: for comparison, and "
+      "for formats that hold the 12 only");
   json["output_unit"] = section.output_unit;
   json["fit"] = section.fit;
   json["poorly_determined"] = section.poorly_determined;
@@ -388,14 +554,23 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
   for (size_t k = 0; k < record.noise_variance.size() && k < geometry.axes.size(); ++k) {
     noise[geometry.axes[k]] = record.noise_variance[k];
   }
+  const std::vector<int> terms =
+      record.geometry == "triad"
+          ? TermsOf(record.parameter_order, kTriadParameterCount, TriadTermIndex)
+          : std::vector<int>();
+  std::vector<std::string> units = geometry.units;
+  for (const int c : terms) units.push_back(TriadEffectUnit(c, record.output_unit));
+  const bool with_terms =
+      !terms.empty() || (record.has_gyroscope && !EffectTermNames(record.gyroscope).empty());
   nlohmann::json json =
-      ParameterBlockJson(record.parameter_order, geometry.units, record.values, record.covariance);
+      ParameterBlockJson(record.parameter_order, units, record.values, record.covariance);
   json.update({{"format", kCalibrationFormat},
-               {"format_version", kCalibrationFormatVersion},
+               {"format_version",
+                with_terms ? kCalibrationFormatVersionWithEffects : kCalibrationFormatVersion},
                {"model",
                 {{"geometry", record.geometry},
                  {"axes", geometry.axes},
-                 {"effects", geometry.effects},
+                 {"effects", EffectsNamed(geometry.effects, TriadTermEffects(terms))},
                  {"measurement", known ? geometry.measurement : ""},
                  {"correction", known ? geometry.correction : ""},
                  {"output_unit", record.output_unit},
@@ -405,6 +580,21 @@ nlohmann::json CalibrationJson(const CalibrationRecord& record) {
                {"noise_variance", noise},
                {"fit", record.fit},
                {"created_utc", UtcNow("%Y-%m-%dT%H:%M:%SZ")}});
+  if (!terms.empty()) {
+    std::vector<std::string> meanings;
+    std::vector<const char*> session_only;
+    for (const int c : terms) {
+      const TriadEffectInfo& info = TriadEffectInfos()[TriadEffectCoefficientList()[c].effect];
+      meanings.push_back(info.meaning);
+      session_only.push_back(info.session_only);
+    }
+    json["model"]["effect_terms"] =
+        EffectTermsJson(TriadTermEffects(terms), meanings, session_only);
+  }
+  json["baseline"] =
+      BaselineJson(record.baseline, geometry.units,
+                   "the 9-parameter model's fit of the same session, without the effect terms: for "
+                   "comparison, and for formats that hold the 9 only");
   json["poorly_determined"] = record.poorly_determined;
   json["gyroscope"] =
       record.has_gyroscope ? GyroscopeSectionJson(record.gyroscope) : nlohmann::json(nullptr);
@@ -439,7 +629,7 @@ Status ReadPoorlyDetermined(const nlohmann::json& object, const std::string& pre
 
 // The optional gyroscope section: absent (files written before it) or null (none), or a
 // triad's gyroscope, checked as the accelerometer's part is.
-Status ReadGyroscopeSection(const nlohmann::json& json, CalibrationRecord* parsed) {
+Status ReadGyroscopeSection(const nlohmann::json& json, int version, CalibrationRecord* parsed) {
   if (!json.contains("gyroscope") || json["gyroscope"].is_null()) return Status::Ok();
   const nlohmann::json& object = json["gyroscope"];
   if (!object.is_object()) {
@@ -462,10 +652,16 @@ Status ReadGyroscopeSection(const nlohmann::json& json, CalibrationRecord* parse
   GyroscopeOutputUnit unit;  // the file's text echoed fit for one line: no unit is changed by it
   ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(EchoInput(section.output_unit), &unit)
                                .WithContext("gyroscope/output_unit"));
-  const ParameterBlock block = GyroscopeBlock(unit);
+  std::vector<int> terms;
+  ACCELCAL_RETURN_IF_ERROR(ReadEffectTerms(object, kGyroscopeCalibrationParameterCount,
+                                           "gyroscope/", version, GyroscopeEffectCoefficientIndex,
+                                           &terms));
+  const ParameterBlock block = GyroscopeBlock(unit, terms);
   section.parameter_order = block.names;
   ACCELCAL_RETURN_IF_ERROR(
       ParseParameterBlock(object, block, &section.values, &section.covariance));
+  ACCELCAL_RETURN_IF_ERROR(
+      ReadBaseline(object, GyroscopeBlock(unit), !terms.empty(), &section.baseline));
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeSection(section));
   section.fit = object.value("fit", nlohmann::json::object());
   if (!section.fit.is_object()) return Status::Error("gyroscope/fit must be an object");
@@ -491,11 +687,12 @@ Status ParseCalibration(const std::string& text, const std::string& path,
     return Status::Error(path + ": \"format_version\" is missing or not an integer");
   }
   const int version = json["format_version"].get<int>();
-  if (version != kCalibrationFormatVersion) {
-    return Status::Error(path + ": format_version " + std::to_string(version) +
-                         ", but this accelcal reads version " +
-                         std::to_string(kCalibrationFormatVersion) +
-                         (version > kCalibrationFormatVersion ? "; update accelcal" : ""));
+  if (version < kCalibrationFormatVersion || version > kCalibrationFormatVersionWithEffects) {
+    return Status::Error(
+        path + ": format_version " + std::to_string(version) +
+        ", but this accelcal reads versions " + std::to_string(kCalibrationFormatVersion) +
+        " and " + std::to_string(kCalibrationFormatVersionWithEffects) +
+        (version > kCalibrationFormatVersionWithEffects ? "; update accelcal" : ""));
   }
   CalibrationRecord parsed;
   const nlohmann::json model = json.value("model", nlohmann::json::object());
@@ -513,8 +710,7 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "measurement", geometry.measurement)));
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "correction", geometry.correction)));
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "axes", geometry.axes)));
-  ACCELCAL_RETURN_IF_ERROR(in_file(CheckModelKey(model, "", "effects", geometry.effects)));
-  ACCELCAL_RETURN_IF_ERROR(in_file(ParseParameters(json, geometry, &parsed)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(ParseParameters(json, geometry, version, &parsed)));
   ACCELCAL_RETURN_IF_ERROR(in_file(CheckGains(parsed)));
   ACCELCAL_RETURN_IF_ERROR(
       in_file(ReadNumber(json, "gravity_mps2", "", 1.0, 100.0, &parsed.gravity_mps2)));
@@ -529,7 +725,14 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   parsed.fit = json.value("fit", nlohmann::json::object());
   ACCELCAL_RETURN_IF_ERROR(
       in_file(ReadPoorlyDetermined(json, "", parsed.parameter_order, &parsed.poorly_determined)));
-  ACCELCAL_RETURN_IF_ERROR(in_file(ReadGyroscopeSection(json, &parsed)));
+  ACCELCAL_RETURN_IF_ERROR(in_file(ReadGyroscopeSection(json, version, &parsed)));
+  if (version == kCalibrationFormatVersionWithEffects && EffectTermNames(parsed).empty() &&
+      (!parsed.has_gyroscope || EffectTermNames(parsed.gyroscope).empty())) {
+    return Status::Error(path +
+                         ": format_version 2 is written for a model with effect terms, "
+                         "but this file carries none; write it again with accelcal, or give "
+                         "format_version 1");
+  }
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");
   parsed.written_by_command_line = json.value("command_line", "");
@@ -549,28 +752,124 @@ Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
   return Status::Ok();
 }
 
-Status TriadCalibration(const CalibrationRecord& record, const std::string& path,
-                        TriadParameters* parameters, Eigen::MatrixXd* covariance,
-                        TriadOutputUnit* unit) {
-  if (record.geometry != "triad" || record.values.size() != kTriadParameterCount) {
+std::vector<std::string> EffectTermNames(const CalibrationRecord& record) {
+  if (record.geometry != "triad" || record.parameter_order.size() <= kTriadParameterCount)
+    return {};
+  return std::vector<std::string>(record.parameter_order.begin() + kTriadParameterCount,
+                                  record.parameter_order.end());
+}
+
+std::vector<std::string> EffectTermNames(const GyroscopeCalibrationSection& section) {
+  if (section.parameter_order.size() <= kGyroscopeCalibrationParameterCount) return {};
+  return std::vector<std::string>(
+      section.parameter_order.begin() + kGyroscopeCalibrationParameterCount,
+      section.parameter_order.end());
+}
+
+namespace {
+
+Status NeedTriad(const CalibrationRecord& record, const std::string& path) {
+  if (record.geometry != "triad" || record.values.size() < kTriadParameterCount) {
     return Status::Error(path +
                          ": a triad (x, y, z) calibration is needed; this one's geometry is " +
                          record.geometry);
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+Status TriadCalibration(const CalibrationRecord& record, const std::string& path,
+                        TriadParameters* parameters, Eigen::MatrixXd* covariance,
+                        TriadOutputUnit* unit) {
+  ACCELCAL_RETURN_IF_ERROR(NeedTriad(record, path));
+  const std::vector<std::string> terms = EffectTermNames(record);
+  if (!terms.empty()) {
+    return Status::Error(path + ": the calibration carries effect terms beyond the 9 parameters (" +
+                         JoinStrings(terms) +
+                         "), which this reader of the 9 would leave out; apply applies them");
   }
   for (int p = 0; p < kTriadParameterCount; ++p) (*parameters)[p] = record.values[p];
   *covariance = record.covariance;
   return ParseTriadOutputUnit(record.output_unit, unit).WithContext(path);
 }
 
+Status TriadBaselineCalibration(const CalibrationRecord& record, const std::string& path,
+                                TriadParameters* parameters, Eigen::MatrixXd* covariance,
+                                TriadOutputUnit* unit, bool* from_baseline) {
+  ACCELCAL_RETURN_IF_ERROR(NeedTriad(record, path));
+  *from_baseline = !EffectTermNames(record).empty();
+  if (!*from_baseline) return TriadCalibration(record, path, parameters, covariance, unit);
+  if (!record.baseline.present() || record.baseline.values.size() != kTriadParameterCount) {
+    return Status::Error(path +
+                         ": the calibration carries effect terms and no 9-parameter "
+                         "baseline to write in a format that holds the 9 only");
+  }
+  for (int p = 0; p < kTriadParameterCount; ++p) (*parameters)[p] = record.baseline.values[p];
+  *covariance = record.baseline.covariance;
+  return ParseTriadOutputUnit(record.output_unit, unit).WithContext(path);
+}
+
+Status TriadCalibrationModelOf(const CalibrationRecord& record, const std::string& path,
+                               TriadCalibrationModel* model) {
+  ACCELCAL_RETURN_IF_ERROR(NeedTriad(record, path));
+  *model = TriadCalibrationModel();
+  ACCELCAL_RETURN_IF_ERROR(
+      ParseTriadOutputUnit(record.output_unit, &model->unit).WithContext(path));
+  model->gravity_mps2 = record.gravity_mps2;
+  for (int p = 0; p < kTriadParameterCount; ++p) model->parameters[p] = record.values[p];
+  // Unknown i of the file at its place in the correction's order (the 9, then the block).
+  std::vector<int> place(record.parameter_order.size(), -1);
+  for (int p = 0; p < kTriadParameterCount; ++p) place[p] = p;
+  for (size_t i = kTriadParameterCount; i < record.parameter_order.size(); ++i) {
+    const int c = TriadEffectCoefficientIndex(record.parameter_order[i]);
+    if (c < 0) {
+      return Status::Error(path + ": " + record.parameter_order[i] +
+                           " is not an effect term this accelcal knows");
+    }
+    if (!TriadEffectAppliedInUse(c)) {
+      model->effects_not_applied.push_back(c);
+      continue;
+    }
+    model->effects[c] = record.values[i];
+    model->effects_applied.push_back(c);
+    place[i] = kTriadParameterCount + c;
+  }
+  model->covariance = Eigen::MatrixXd::Zero(kTriadCorrectionUnknowns, kTriadCorrectionUnknowns);
+  for (size_t i = 0; i < place.size(); ++i) {
+    for (size_t j = 0; j < place.size(); ++j) {
+      if (place[i] >= 0 && place[j] >= 0)
+        model->covariance(place[i], place[j]) = record.covariance(i, j);
+    }
+  }
+  return Status::Ok();
+}
+
 Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
                                        const GyroscopeOffset& offset,
                                        const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
                                        GyroscopeCalibrationSection* section) {
+  return MakeGyroscopeCalibrationSection(parameters, offset, {}, GyroscopeEffectCoefficients{},
+                                         covariance, unit, section);
+}
+
+Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
+                                       const GyroscopeOffset& offset,
+                                       const std::vector<int>& effects,
+                                       const GyroscopeEffectCoefficients& effect_values,
+                                       const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
+                                       GyroscopeCalibrationSection* section) {
   GyroscopeCalibrationSection made;
   made.output_unit = GyroscopeOutputUnitName(unit);
-  const ParameterBlock block = GyroscopeBlock(unit);
+  for (size_t e = 0; e < effects.size(); ++e) {
+    if (effects[e] < 0 || effects[e] >= kGyroscopeEffectCoefficientCount ||
+        (e > 0 && effects[e] <= effects[e - 1])) {
+      return Status::Error("gyroscope: the effect terms are not the block's coefficients in order");
+    }
+  }
+  const ParameterBlock block = GyroscopeBlock(unit, effects);
   made.parameter_order = block.names;
-  constexpr int n = kGyroscopeCalibrationParameterCount;
+  const int n = static_cast<int>(block.names.size());
   if (covariance.rows() != n || covariance.cols() != n) {
     return Status::Error(StringPrintf("gyroscope/covariance is %dx%d, not %dx%d",
                                       static_cast<int>(covariance.rows()),
@@ -579,6 +878,8 @@ Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
   made.values.resize(n);
   for (int p = 0; p < kGyroscopeParameterCount; ++p) made.values[p] = parameters[p];
   for (int k = 0; k < 3; ++k) made.values[kGyroscopeCalibrationOffsetX + k] = offset[k];
+  for (size_t e = 0; e < effects.size(); ++e)
+    made.values[kGyroscopeCalibrationParameterCount + e] = effect_values[effects[e]];
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(made.values[i]) || std::abs(made.values[i]) > block.limit) {
       return Status::Error("gyroscope/parameters/" + block.names[i] + " = " +
@@ -599,6 +900,12 @@ Status GyroscopeCalibration(const GyroscopeCalibrationSection& section,
                             Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit) {
   ACCELCAL_RETURN_IF_ERROR(
       ParseGyroscopeOutputUnit(section.output_unit, unit).WithContext("gyroscope/output_unit"));
+  const std::vector<std::string> terms = EffectTermNames(section);
+  if (!terms.empty()) {
+    return Status::Error("the gyroscope section carries effect terms beyond its 12 parameters (" +
+                         JoinStrings(terms) +
+                         "), which this reader of the 12 would leave out; apply applies them");
+  }
   if (section.values.size() != kGyroscopeCalibrationParameterCount ||
       section.covariance.rows() != kGyroscopeCalibrationParameterCount ||
       section.covariance.cols() != kGyroscopeCalibrationParameterCount) {
@@ -616,6 +923,58 @@ Status ReadCalibrationFile(const std::string& path, CalibrationRecord* record) {
   ACCELCAL_RETURN_IF_ERROR(
       ReadInputText(path, kMaxConditionsFileBytes, "a calibration file", &text).WithContext(path));
   return ParseCalibration(text, path, record);
+}
+
+Status GyroscopeBaselineCalibration(const GyroscopeCalibrationSection& section,
+                                    GyroscopeParameters* parameters, GyroscopeOffset* offset,
+                                    Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit,
+                                    bool* from_baseline) {
+  *from_baseline = !EffectTermNames(section).empty();
+  if (!*from_baseline) return GyroscopeCalibration(section, parameters, offset, covariance, unit);
+  if (!section.baseline.present()) {
+    return Status::Error(
+        "the gyroscope section carries effect terms and no 12-unknown baseline "
+        "to write in a format that holds the 12 only");
+  }
+  GyroscopeCalibrationSection baseline = section;
+  baseline.parameter_order = section.baseline.parameter_order;
+  baseline.values = section.baseline.values;
+  baseline.covariance = section.baseline.covariance;
+  return GyroscopeCalibration(baseline, parameters, offset, covariance, unit);
+}
+
+Status GyroscopeCalibrationModelOf(const GyroscopeCalibrationSection& section,
+                                   GyroscopeCalibrationModel* model) {
+  *model = GyroscopeCalibrationModel();
+  ACCELCAL_RETURN_IF_ERROR(ParseGyroscopeOutputUnit(section.output_unit, &model->unit)
+                               .WithContext("gyroscope/output_unit"));
+  const size_t n = section.parameter_order.size();
+  if (n < kGyroscopeCalibrationParameterCount || section.values.size() != static_cast<int>(n) ||
+      section.covariance.rows() != static_cast<int>(n) ||
+      section.covariance.cols() != static_cast<int>(n)) {
+    return Status::Error(
+        "the gyroscope section does not hold its 12 parameters, its effect terms and their "
+        "covariance");
+  }
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) model->parameters[p] = section.values[p];
+  for (int k = 0; k < 3; ++k) model->offset[k] = section.values[kGyroscopeCalibrationOffsetX + k];
+  std::vector<int> place(n);
+  for (int p = 0; p < kGyroscopeCalibrationParameterCount; ++p) place[p] = p;
+  for (size_t i = kGyroscopeCalibrationParameterCount; i < n; ++i) {
+    const int c = GyroscopeEffectCoefficientIndex(section.parameter_order[i]);
+    if (c < 0) {
+      return Status::Error("gyroscope/" + section.parameter_order[i] +
+                           " is not an effect term this accelcal knows");
+    }
+    model->effects[c] = section.values[i];
+    model->effects_in_file.push_back(c);
+    place[i] = kGyroscopeCalibrationParameterCount + c;
+  }
+  model->covariance =
+      Eigen::MatrixXd::Zero(kGyroscopeCorrectionUnknowns, kGyroscopeCorrectionUnknowns);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = 0; j < n; ++j) model->covariance(place[i], place[j]) = section.covariance(i, j);
+  return Status::Ok();
 }
 
 }  // namespace accelcal

@@ -28,6 +28,19 @@
 // Version 1 still: the section adds a key and changes none, and a version-1 reader that does
 // not know it ignores it (ParseCalibration reads only the keys it knows).
 //
+// Version 2: the model discovery settled on, when it has effect terms beyond the 9 parameters
+// (issue 44, item 7). Their coefficients follow the 9 in parameter_order (the triad's registered
+// effects, models/triad_effect_list.h, by name: "scale_nonlinearity_x", ...; the gyroscope's,
+// models/gyroscope_effects.h: "gyroscope_g_sensitivity_xx", ...), with their units, stddev and
+// rows of the covariance; model.effects names them after misalignment, gain and offset;
+// model.effect_terms says what each is and whether apply applies it (a property of the sensor)
+// or only carries it (a session's own: an offset drift over its time); and "baseline" (at the
+// top level, and in the gyroscope section) holds the 9-parameter (12 for the gyroscope) model's
+// fit of the same session, parameter_order, parameters, units, stddev and covariance as above,
+// for comparison and for the exports whose formats cannot hold the effect terms. A file without
+// effect terms is written as version 1, with "baseline": null. A version-1 reader refuses a
+// version-2 file ("update accelcal") rather than apply it without its terms.
+//
 // The reader refuses, in one line naming the file and the key, a file of another format or
 // a newer version, a parameter missing or unknown, a unit other than the model's, a
 // covariance that is not symmetric positive semi-definite with positive variances, a stddev
@@ -49,14 +62,28 @@
 #include "common/status.h"
 #include "io/provenance.h"
 #include "models/gyroscope.h"
+#include "models/gyroscope_correction.h"
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
+#include "models/triad_correction.h"
 #include "models/triad_units.h"
 
 namespace accelcal {
 
 constexpr char kCalibrationFormat[] = "accelcal-calibration";
+// The version a file without effect terms is written as, and the one with them; the reader
+// reads both.
 constexpr int kCalibrationFormatVersion = 1;
+constexpr int kCalibrationFormatVersionWithEffects = 2;
+
+// The model without discovery's effect terms, fitted to the same session, written beside the
+// model with them: parameter_order empty when there is none (no effect was found).
+struct CalibrationBaseline {
+  std::vector<std::string> parameter_order;
+  Eigen::VectorXd values;
+  Eigen::MatrixXd covariance;
+  bool present() const { return !parameter_order.empty(); }
+};
 
 // A triad's gyroscope calibration: w = T K (u - b) (models/gyroscope.h), the block's 9
 // parameters then the offsets, with their joint covariance. Build it with
@@ -65,9 +92,12 @@ struct GyroscopeCalibrationSection {
   // The unit of the gyroscope's log: "count", "rad/s" or "deg/s" (models/gyroscope_units.h);
   // it sets the gains' and offsets' units.
   std::string output_unit = "count";
-  std::vector<std::string> parameter_order;       // GyroscopeCalibrationParameterName(0..11)
-  Eigen::VectorXd values;                         // parameter_order's order
-  Eigen::MatrixXd covariance;                     // 12x12, parameter_order's order
+  // GyroscopeCalibrationParameterName(0..11), then the effect coefficients the model carries
+  // (GyroscopeEffectCoefficientName, in the block's order; none for the 12-unknown model).
+  std::vector<std::string> parameter_order;
+  Eigen::VectorXd values;        // parameter_order's order
+  Eigen::MatrixXd covariance;    // parameter_order's order
+  CalibrationBaseline baseline;  // the 12 unknowns' fit, when effect terms are carried
   nlohmann::json fit = nlohmann::json::object();  // the estimator's own summary, free form
   // The unknowns the session determines too loosely to vouch for
   // (estimation/gyroscope/gyroscope_determination.h), each as CalibrationRecord::
@@ -86,11 +116,31 @@ Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
                                        const GyroscopeOffset& offset,
                                        const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
                                        GyroscopeCalibrationSection* section);
+// The same with effect terms: `effects` the coefficients carried (indices into
+// models/gyroscope_effects.h's block, in its order), their values in `effect_values`, and
+// `covariance` (12 + effects.size()) square in the section's order.
+Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
+                                       const GyroscopeOffset& offset,
+                                       const std::vector<int>& effects,
+                                       const GyroscopeEffectCoefficients& effect_values,
+                                       const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
+                                       GyroscopeCalibrationSection* section);
 
-// The section's block, offset, covariance and unit, for apply.
+// The section's block, offset, covariance and unit, for a reader that applies the 12-unknown
+// model only; fails, naming the terms, for a section with effect terms (use
+// GyroscopeCalibrationModelOf, or the section's baseline).
 Status GyroscopeCalibration(const GyroscopeCalibrationSection& section,
                             GyroscopeParameters* parameters, GyroscopeOffset* offset,
                             Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit);
+// The 12 unknowns' fit of the session: the section's own without effect terms, else its
+// baseline (for the exports whose formats hold the 12 only). *from_baseline says which.
+Status GyroscopeBaselineCalibration(const GyroscopeCalibrationSection& section,
+                                    GyroscopeParameters* parameters, GyroscopeOffset* offset,
+                                    Eigen::MatrixXd* covariance, GyroscopeOutputUnit* unit,
+                                    bool* from_baseline);
+// The section as a correction applies it, effect terms included (models/gyroscope_correction.h).
+Status GyroscopeCalibrationModelOf(const GyroscopeCalibrationSection& section,
+                                   GyroscopeCalibrationModel* model);
 
 // A calibration: parameters by name with their joint covariance, under a sensor geometry.
 struct CalibrationRecord {
@@ -98,9 +148,12 @@ struct CalibrationRecord {
   // The unit of the sensor's output the parameters map from: "m/s^2" for two_axis; for a
   // triad "count", "m/s^2" or "g" (models/triad_units.h), which sets its parameters' units.
   std::string output_unit = "m/s^2";
-  std::vector<std::string> parameter_order;  // spec names
+  // Spec names; a triad's 9, then the effect coefficients the model carries (registered names,
+  // in the block's order; format_version 2).
+  std::vector<std::string> parameter_order;
   Eigen::VectorXd values;
-  Eigen::MatrixXd covariance;  // parameter_order's order
+  Eigen::MatrixXd covariance;    // parameter_order's order
+  CalibrationBaseline baseline;  // a triad's 9-parameter fit, when effect terms are carried
   double gravity_mps2 = 9.8;
   // Per axis (the geometry's axes), in output_unit squared, and where it came from:
   // "--noise_variance", a conditions file's name, "estimated from the residuals" or, for a
@@ -157,10 +210,25 @@ Status TwoAxisBaseline(const CalibrationRecord& record, const std::string& path,
                        Eigen::Vector4d* parameters, Eigen::Matrix4d* covariance);
 
 // A triad calibration's parameters (models/triad.h's block order), covariance and output
-// unit; fails, naming `path`, for another geometry.
+// unit; fails, naming `path`, for another geometry, and for a calibration with effect terms
+// (naming them: a reader of the 9 only would apply it without them; use
+// TriadCalibrationModelOf, or TriadBaselineCalibration for the 9-parameter fit).
 Status TriadCalibration(const CalibrationRecord& record, const std::string& path,
                         TriadParameters* parameters, Eigen::MatrixXd* covariance,
                         TriadOutputUnit* unit);
+// The 9-parameter fit of the session: the calibration's own without effect terms, else its
+// baseline (for the exports whose formats hold the 9 only). *from_baseline says which.
+Status TriadBaselineCalibration(const CalibrationRecord& record, const std::string& path,
+                                TriadParameters* parameters, Eigen::MatrixXd* covariance,
+                                TriadOutputUnit* unit, bool* from_baseline);
+// The calibration as a correction applies it, effect terms included
+// (models/triad_correction.h).
+Status TriadCalibrationModelOf(const CalibrationRecord& record, const std::string& path,
+                               TriadCalibrationModel* model);
+// The effect coefficients a record carries beyond the 9 (a triad's) or the 12 (its gyroscope
+// section's), by name; empty for none.
+std::vector<std::string> EffectTermNames(const CalibrationRecord& record);
+std::vector<std::string> EffectTermNames(const GyroscopeCalibrationSection& section);
 
 }  // namespace accelcal
 

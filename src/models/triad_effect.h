@@ -54,6 +54,11 @@ struct TriadEffectInfo {
   // A size at which it is plainly visible in an Xsens-like session (the simulator's
   // demonstration knob and the power tests').
   double example_size;
+  // Null for a property of the sensor, which a calibration file carries and `apply` applies to
+  // any log; otherwise why it belongs to the session it was found in (a change over the
+  // session's time, the lab's gravity): the file still carries it, `apply` leaves it out and
+  // says so.
+  const char* session_only = nullptr;
 };
 
 }  // namespace accelcal

@@ -72,6 +72,36 @@ constexpr char kImuTkPrintedGyroscopeText[] =
 
 }  // namespace
 
+bool TriadDiscoveryKeptEffects(const TriadDiscoveryResult& discovery) {
+  return !discovery.effects.empty() && discovery.explained_by_shape.empty() &&
+         !discovery.final_fit.effects_estimated.empty();
+}
+
+std::vector<int> TriadTermsInOrder(const TriadMlResult& ml) {
+  std::vector<int> terms = ml.effects_estimated;
+  std::sort(terms.begin(), terms.end());
+  return terms;
+}
+
+Eigen::MatrixXd TriadMlCovariance(const TriadMlResult& ml) {
+  const std::vector<int> terms = TriadTermsInOrder(ml);
+  const int n = kTriadParameterCount + static_cast<int>(terms.size());
+  Eigen::MatrixXd covariance(n, n);
+  for (int i = 0; i < kTriadParameterCount; ++i)
+    for (int j = 0; j < kTriadParameterCount; ++j) covariance(i, j) = ml.covariance[i][j];
+  for (size_t a = 0; a < terms.size(); ++a) {
+    const int row = kTriadParameterCount + static_cast<int>(a);
+    for (int i = 0; i < kTriadParameterCount; ++i) {
+      covariance(row, i) = covariance(i, row) = ml.cross_covariance[i][terms[a]];
+    }
+    for (size_t b = 0; b < terms.size(); ++b) {
+      covariance(row, kTriadParameterCount + static_cast<int>(b)) =
+          ml.effects_covariance[terms[a]][terms[b]];
+    }
+  }
+  return covariance;
+}
+
 void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report) {
   report->noise_floor = std::move(session.detection);
   report->pose_intervals = std::move(session.pose_intervals);
@@ -82,6 +112,10 @@ void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport*
   report->ml = std::move(session.ml);
   report->discovery_options = std::move(session.discovery_options);
   report->discovery = std::move(session.discovery);
+  // The calibration is the model discovery settled on (issue 44, item 7).
+  if (TriadDiscoveryKeptEffects(report->discovery)) report->ml = report->discovery.final_fit;
+  report->has_ml_baseline = !report->ml.effects_estimated.empty();
+  if (report->has_ml_baseline) report->ml_baseline = report->discovery.baseline;
   report->poorly_determined =
       PoorlyDeterminedTriadParameters(report->ml, TriadOutputUnitName(report->unit));
 }
@@ -421,10 +455,10 @@ nlohmann::json TimingJson(const ImuLogTiming& timing) {
           {"host_time_bursts", bursts},
           {"fitted_rate_hz", or_null(timing.rate_fitted, fit.rate_hz)},
           {"fitted_rate_tolerance_hz", or_null(timing.rate_fitted, fit.rate_tolerance_hz)},
-          {"nominal_rate_hz", or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0,
-                                      fit.nominal_rate_hz)},
-          {"clock_drift_ppm", or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0,
-                                      fit.clock_drift_ppm)},
+          {"nominal_rate_hz",
+           or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0, fit.nominal_rate_hz)},
+          {"clock_drift_ppm",
+           or_null(timing.rate_fitted && fit.nominal_rate_hz > 0.0, fit.clock_drift_ppm)},
           {"largest_host_delay_s", or_null(timing.rate_fitted, fit.largest_delay_s)},
           {"dropped_samples", timing.dropped_samples < 0 ? nlohmann::json(nullptr)
                                                          : nlohmann::json(timing.dropped_samples)}};
@@ -724,6 +758,10 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
       "%d degrees of freedom\n\n",
       kTriadParameterCount + static_cast<int>(ml.effects_estimated.size()), ml.degrees_of_freedom);
   out << "Parameters (a = T K (u - b)), sigma from ceres::Covariance";
+  if (report.has_ml_baseline) {
+    out << ": the model discovery settled on, its effect terms below the 9; the 9-parameter "
+           "fit beside them (baseline)";
+  }
   if (with_imu_tk) {
     out << StringPrintf(", beside imu_tk's (its rules, k = %d)\n", report.result.best().multiplier);
     out << StringPrintf("  %-16s %-14s %16s %12s %16s %18s", "parameter", "unit", "ml", "sigma",
@@ -738,6 +776,11 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   for (int p = 0; p < kTriadParameterCount; ++p) {
     out << StringPrintf("  %-16s %-14s %16.8g %12.3g", infos[p].name,
                         TriadParameterUnit(p, report.unit).c_str(), ml.parameters[p], ml.stddev[p]);
+    if (report.has_ml_baseline) {
+      const double baseline = report.ml_baseline.parameters[p];
+      out << StringPrintf("   baseline %.8g (%+.2f sigma)", baseline,
+                          (ml.parameters[p] - baseline) / ml.stddev[p]);
+    }
     if (with_imu_tk) {
       const double imu_tk = report.result.best().parameters[p];
       out << StringPrintf(" %16.8g %18.2f", imu_tk, (ml.parameters[p] - imu_tk) / ml.stddev[p]);
@@ -772,15 +815,46 @@ std::string CalibrateImuMlTable(const CalibrateImuReport& report, bool full_solv
   return out.str();
 }
 
+namespace {
+
+// A gyroscope fit as a section: its 12 unknowns and the effect terms it estimated (in the
+// block's order, as the file lists them).
+Status MakeGyroscopeSection(const GyroscopeMlResult& g, GyroscopeOutputUnit unit,
+                            GyroscopeCalibrationSection* section) {
+  // The fit's unknowns are the 12, then effects_estimated in its order; the file's, the block's.
+  std::vector<int> terms = g.effects_estimated;
+  std::sort(terms.begin(), terms.end());
+  std::vector<int> order(kGyroscopeCalibrationCount);
+  for (int i = 0; i < kGyroscopeCalibrationCount; ++i) order[i] = i;
+  for (const int c : terms) {
+    const auto at = std::find(g.effects_estimated.begin(), g.effects_estimated.end(), c);
+    order.push_back(kGyroscopeCalibrationCount +
+                    static_cast<int>(at - g.effects_estimated.begin()));
+  }
+  const int n = static_cast<int>(order.size());
+  Eigen::MatrixXd covariance(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) covariance(i, j) = g.covariance(order[i], order[j]);
+  return MakeGyroscopeCalibrationSection(g.parameters, g.offset, terms, g.effects, covariance, unit,
+                                         section);
+}
+
+}  // namespace
+
 Status AddGyroscopeSection(const CalibrateImuReport& report, CalibrationRecord* record) {
   if (!report.has_gyroscope_ml) return Status::Ok();
   const GyroscopeMlResult& g = report.gyroscope_ml;
-  const Eigen::MatrixXd covariance =
-      g.covariance.topLeftCorner(kGyroscopeCalibrationCount, kGyroscopeCalibrationCount);
   GyroscopeCalibrationSection section;
-  ACCELCAL_RETURN_IF_ERROR(MakeGyroscopeCalibrationSection(
-      g.parameters, g.offset, covariance, report.gyroscope_ml_options.unit, &section));
+  ACCELCAL_RETURN_IF_ERROR(MakeGyroscopeSection(g, report.gyroscope_ml_options.unit, &section));
   const GyroscopeDiscoveryResult& d = report.gyroscope_discovery;
+  if (!g.effects_estimated.empty()) {
+    GyroscopeCalibrationSection baseline;
+    ACCELCAL_RETURN_IF_ERROR(
+        MakeGyroscopeSection(d.baseline, report.gyroscope_ml_options.unit, &baseline));
+    section.baseline.parameter_order = baseline.parameter_order;
+    section.baseline.values = baseline.values;
+    section.baseline.covariance = baseline.covariance;
+  }
   section.fit = {{"method", "maximum likelihood, jointly with the accelerometer's poses"},
                  {"poses", g.rest_means.size()},
                  {"turns", g.turns.size()},
@@ -803,12 +877,25 @@ CalibrationRecord TriadCalibrationRecord(const CalibrateImuReport& report,
   CalibrationRecord record;
   record.geometry = "triad";
   record.output_unit = TriadOutputUnitName(report.unit);
-  record.values.resize(kTriadParameterCount);
-  record.covariance.resize(kTriadParameterCount, kTriadParameterCount);
+  const std::vector<int> terms = TriadTermsInOrder(ml);
+  record.values.resize(kTriadParameterCount + terms.size());
+  record.covariance = TriadMlCovariance(ml);
   for (int i = 0; i < kTriadParameterCount; ++i) {
     record.parameter_order.push_back(TriadParameterInfos()[i].name);
     record.values[i] = ml.parameters[i];
-    for (int j = 0; j < kTriadParameterCount; ++j) record.covariance(i, j) = ml.covariance[i][j];
+  }
+  for (size_t a = 0; a < terms.size(); ++a) {
+    record.parameter_order.push_back(TriadEffectCoefficientList()[terms[a]].name);
+    record.values[kTriadParameterCount + a] = ml.effects[terms[a]];
+  }
+  if (report.has_ml_baseline) {
+    CalibrationBaseline& baseline = record.baseline;
+    baseline.parameter_order.assign(record.parameter_order.begin(),
+                                    record.parameter_order.begin() + kTriadParameterCount);
+    baseline.values.resize(kTriadParameterCount);
+    for (int i = 0; i < kTriadParameterCount; ++i)
+      baseline.values[i] = report.ml_baseline.parameters[i];
+    baseline.covariance = TriadMlCovariance(report.ml_baseline);
   }
   record.gravity_mps2 = report.ml_options.gravity_mps2;
   record.noise_variance.assign(ml.noise_variance.begin(), ml.noise_variance.end());
@@ -892,10 +979,29 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["parameters"] = parameters;
   json["stddev"] = stddev;
   json["units"] = units;
-  // The 9 parameters' block (the second-order terms' variances are in stddev).
+  // The 9 parameters' block (the effect terms' variances are in stddev; the calibration file
+  // holds the whole covariance).
   nlohmann::json matrix = nlohmann::json::array();
   for (int i = 0; i < kTriadParameterCount; ++i) matrix.push_back(ml.covariance[i]);
   json["covariance"] = {{"parameter_order", order}, {"matrix", matrix}};
+  nlohmann::json terms = nlohmann::json::array();
+  for (const int c : TriadTermsInOrder(ml)) terms.push_back(TriadEffectCoefficientList()[c].name);
+  json["effect_terms"] = terms;
+  json["baseline"] = nullptr;
+  if (report.has_ml_baseline) {
+    nlohmann::json values, sigmas;
+    for (int p = 0; p < kTriadParameterCount; ++p) {
+      values[infos[p].name] = report.ml_baseline.parameters[p];
+      sigmas[infos[p].name] = report.ml_baseline.stddev[p];
+    }
+    json["baseline"] = {{"description",
+                         "the 9-parameter model's fit of the same poses, before the effect terms "
+                         "discovery settled on"},
+                        {"parameters", values},
+                        {"stddev", sigmas},
+                        {"chi2", report.ml_baseline.chi2},
+                        {"dof", report.ml_baseline.degrees_of_freedom}};
+  }
   json["chi2"] = ml.chi2;
   json["dof"] = ml.degrees_of_freedom;
   json["chi2_per_dof"] = ml.chi2_per_dof;

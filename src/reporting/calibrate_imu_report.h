@@ -9,6 +9,7 @@
 // discovery's verdict, the run's one verdict. The text and the JSON come from the same numbers.
 // Formatting only.
 
+#include <Eigen/Core>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -64,7 +65,10 @@ struct CalibrateImuReport {
   // gave one (has_gyroscope_calibration), else why not.
   bool has_gyroscope_ml = false;
   GyroscopeMlOptions gyroscope_ml_options;
-  GyroscopeMlResult gyroscope_ml;  // the 12 unknowns: discovery's baseline
+  // The gyroscope's calibration: the model discovery settled on (its final fit when it found
+  // effects, which it then carries; else the 12 unknowns' fit, discovery's baseline, which is
+  // gyroscope_discovery.baseline either way).
+  GyroscopeMlResult gyroscope_ml;
   GyroscopeDiscoveryOptions gyroscope_discovery_options;
   GyroscopeDiscoveryResult gyroscope_discovery;
   Status imu_tk_gyroscope_status;
@@ -81,7 +85,13 @@ struct CalibrateImuReport {
   std::vector<StaticInterval> pose_intervals;  // one per pose of the fit
   Status imu_tk_status;
   TriadMlOptions ml_options;
+  // The accelerometer's calibration: the model discovery settled on (its final fit when it kept
+  // effects; else the maximum-likelihood fit of ml_options), what the outputs and the
+  // calibration file give; and, when it carries effect terms, the 9-parameter fit beside it
+  // (discovery's baseline; has_ml_baseline).
   TriadMlResult ml;
+  bool has_ml_baseline = false;
+  TriadMlResult ml_baseline;
   int ml_sample_count = 0;  // samples in the poses' means
   // Mode ml: the Allan model of the pose means, and whether the fit uses it (else white).
   TriadPoseNoise pose_noise;
@@ -95,7 +105,14 @@ struct CalibrateImuReport {
 };
 
 // Mode ml: one session's calibration (estimation/triad/triad_session_calibration.h) into the fields
-// above, which this report, reporting/triad_report.cc and tools/bench/triad_bench.cc read.
+// above, which this report, reporting/triad_report.cc and tools/bench/triad_bench.cc read; `ml`
+// becomes the model discovery settled on (TriadSettledModel).
+bool TriadDiscoveryKeptEffects(const TriadDiscoveryResult& discovery);
+// The effect terms a fit estimated, in the block's order (as the calibration file lists them),
+// and its covariance over the 9 and them, in that order.
+std::vector<int> TriadTermsInOrder(const TriadMlResult& ml);
+Eigen::MatrixXd TriadMlCovariance(const TriadMlResult& ml);
+// Mode ml: one session's calibration into the report, as above.
 void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport* report);
 
 // The SHA-256 of imu_tk's bin/test_data/xsens_acc.mat (../shared/data/imu_tk-xsens/SOURCE.txt).

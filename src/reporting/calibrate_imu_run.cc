@@ -181,7 +181,11 @@ Status SolveMlGyroscope(const TriadLog& log, const CalibrateImuOptions& options,
                                report);
     return Status::Ok();
   }
-  report->gyroscope_ml = std::move(calibration.ml);
+  // The calibration is the model discovery settled on (issue 44, item 7): its final fit when it
+  // found effects; the baseline stays in gyroscope_discovery.
+  report->gyroscope_ml = report->gyroscope_discovery.effects.empty()
+                             ? std::move(calibration.ml)
+                             : report->gyroscope_discovery.final_fit;
   ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeMatchesUnit(report->gyroscope_ml.parameters,
                                                      report->gyroscope_ml.offset,
                                                      report->gyroscope_unit)

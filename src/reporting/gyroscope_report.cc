@@ -13,9 +13,10 @@ namespace {
 
 // Unknown i's estimate (the 9, the offsets, then the effect coefficients estimated).
 double GyroscopeUnknownValue(const GyroscopeMlResult& g, int i) {
-  return i < kGyroscopeParameterCount    ? g.parameters[i]
-         : i < kGyroscopeCalibrationCount ? g.offset[i - kGyroscopeParameterCount]
-                                          : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
+  return i < kGyroscopeParameterCount ? g.parameters[i]
+         : i < kGyroscopeCalibrationCount
+             ? g.offset[i - kGyroscopeParameterCount]
+             : g.effects[g.effects_estimated[i - kGyroscopeCalibrationCount]];
 }
 
 // imu_tk's value of unknown i (the 9, then the offsets) on this session, when it ran.
@@ -47,7 +48,8 @@ std::string EarthVerticalClause(const CalibrateImuReport& report) {
       "held apart and never named as one: give --latitude_deg to hold the Earth's share and test "
       "the rest; its horizontal part is counted as noise",
       g.earth_vertical_prior_stddev, g.earth_vertical_rate_rad_s, g.earth_vertical_rate_stddev,
-      determined ? "determined by the poses" : "bounded by its prior more than determined by the poses");
+      determined ? "determined by the poses"
+                 : "bounded by its prior more than determined by the poses");
 }
 
 std::string EarthRateSentence(const CalibrateImuReport& report) {
@@ -108,7 +110,14 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
       std::sqrt(g.noise_variance[2]), unit_name, g.rest_means.size(),
       std::sqrt(g.bias_wander_variance[0]), std::sqrt(g.bias_wander_variance[1]),
       std::sqrt(g.bias_wander_variance[2]), unit_name, g.turn_angle_sigma_rad, g.turns.size());
+  const GyroscopeMlResult& baseline = report.gyroscope_discovery.baseline;
+  const bool with_baseline = !g.effects_estimated.empty();
+  if (with_baseline) {
+    out << "The model discovery settled on, its effect terms below the 12; the 12 unknowns' fit "
+           "beside them (baseline):\n";
+  }
   out << StringPrintf("  %-32s %-16s %-28s", "parameter", "unit", "estimate +- sigma");
+  if (with_baseline) out << StringPrintf(" %-14s %-9s", "baseline", "(ml-baseline)/sigma");
   if (with_imu_tk) out << StringPrintf(" %-14s %-9s", "imu_tk", "(ml-imu_tk)/sigma");
   if (example) out << StringPrintf(" %s", "datasheet");
   out << "\n";
@@ -116,6 +125,12 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
     const double value = GyroscopeUnknownValue(g, i);
     out << StringPrintf("  %-32s %-16s %-28s", g.names[i].c_str(), g.units[i].c_str(),
                         StringPrintf("%.8g +- %.2g", value, g.stddev[i]).c_str());
+    if (with_baseline && i < kGyroscopeCalibrationCount) {
+      const double before = GyroscopeUnknownValue(baseline, i);
+      out << StringPrintf(" %-14.8g %+9.2f", before, (value - before) / g.stddev[i]);
+    } else if (with_baseline) {
+      out << StringPrintf(" %-14s %9s", "-", "");
+    }
     if (with_imu_tk && i < kGyroscopeCalibrationCount) {
       const double imu_tk = ImuTkValue(report, i);
       out << StringPrintf(" %-14.8g %+9.2f", imu_tk, (value - imu_tk) / g.stddev[i]);
@@ -299,6 +314,25 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
                        {"rail", turn.rail},
                        {"samples", turn.samples}});
   }
+  nlohmann::json effect_terms = nlohmann::json::array();
+  for (size_t i = kGyroscopeCalibrationCount; i < g.names.size(); ++i)
+    effect_terms.push_back(g.names[i]);
+  nlohmann::json baseline_json = nullptr;
+  if (!g.effects_estimated.empty()) {
+    const GyroscopeMlResult& baseline = report.gyroscope_discovery.baseline;
+    nlohmann::json values, sigmas;
+    for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
+      values[baseline.names[i]] = GyroscopeUnknownValue(baseline, i);
+      sigmas[baseline.names[i]] = baseline.stddev[i];
+    }
+    baseline_json = {{"description",
+                      "the 12 unknowns' fit of the same session, before the effect terms "
+                      "discovery settled on"},
+                     {"parameters", values},
+                     {"stddev", sigmas},
+                     {"chi2", baseline.chi2_gyroscope},
+                     {"degrees_of_freedom", baseline.gyroscope_degrees_of_freedom}};
+  }
   nlohmann::json imu_tk = nullptr;
   if (report.has_gyroscope_calibration) {
     nlohmann::json values, imu_tk_units;
@@ -314,6 +348,8 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
            "gyroscope's pose means and the turns between consecutive poses"},
           {"output_unit", GyroscopeOutputUnitName(report.gyroscope_ml_options.unit)},
           {"parameter_order", order},
+          {"effect_terms", effect_terms},
+          {"baseline", baseline_json},
           {"parameters", parameters},
           {"stddev", stddev},
           {"units", units},

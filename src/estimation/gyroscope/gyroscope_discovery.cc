@@ -417,8 +417,11 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
           options.alpha);
       break;
   }
+  // Of the model settled on, the calibration written (issue 44, item 7): its final fit when it
+  // found effects.
   result->poorly_determined = PoorlyDeterminedGyroscopeParameters(
-      result->baseline, GyroscopeOutputUnitName(options.fit.unit), options.determination);
+      result->effects.empty() ? result->baseline : result->final_fit,
+      GyroscopeOutputUnitName(options.fit.unit), options.determination);
   result->verdict += PoorlyDeterminedClause(result->poorly_determined);
   return Status::Ok();
 }

@@ -90,7 +90,8 @@ struct GyroscopeDiscoveryResult {
   std::vector<ResidualCheck> checks;  // "turns_chi2", "rest_chi2"
   std::vector<std::string> remaining;
   std::vector<GyroscopeLookAlike> look_alikes;
-  // The baseline's unknowns the session determines too poorly to vouch for
+  // The 12 unknowns of the model settled on (final_fit when effects were found, else the
+  // baseline: the calibration written) the session determines too poorly to vouch for
   // (gyroscope_determination.h); the verdict's text names them after its own words, and the
   // verdict's code is not changed by them (as the accelerometer's is not).
   std::vector<PoorlyDeterminedParameter> poorly_determined;

@@ -77,4 +77,54 @@ CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeParameters& parameters,
   return sample;
 }
 
+bool CorrectTriad(const TriadCalibrationModel& model, const std::array<double, 3>& output,
+                  CorrectedTriadSample* sample) {
+  if (!model.has_effects()) {
+    *sample = CorrectTriad(
+        model.parameters,
+        model.covariance.topLeftCorner(kTriadParameterCount, kTriadParameterCount), output);
+    return true;
+  }
+  std::array<double, kTriadCorrectionUnknowns> values;
+  for (int p = 0; p < kTriadParameterCount; ++p) values[p] = model.parameters[p];
+  for (int c = 0; c < kTriadEffectCoefficientCount; ++c)
+    values[kTriadParameterCount + c] = model.effects[c];
+  bool settled = true;
+  CorrectedTriadSample corrected;
+  PropagateCovariance<kTriadCorrectionUnknowns>(
+      values, model.covariance,
+      [&](const auto* variables, auto* force) {
+        settled = TriadCorrectedForce(variables, variables + kTriadParameterCount, output.data(),
+                                      model.gravity_mps2, force);
+      },
+      &corrected.acceleration, &corrected.covariance);
+  if (!settled) return false;
+  *sample = corrected;
+  return true;
+}
+
+CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeCalibrationModel& model,
+                                          const std::array<double, 3>& output,
+                                          const Eigen::Vector3d& specific_force) {
+  constexpr int n = kGyroscopeCalibrationParameterCount;
+  if (!model.has_effects()) {
+    return CorrectGyroscope(model.parameters, model.offset, model.covariance.topLeftCorner(n, n),
+                            output);
+  }
+  std::array<double, kGyroscopeCorrectionUnknowns> values;
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) values[p] = model.parameters[p];
+  for (int k = 0; k < 3; ++k) values[kGyroscopeCalibrationOffsetX + k] = model.offset[k];
+  for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c) values[n + c] = model.effects[c];
+  const double force[3] = {specific_force.x(), specific_force.y(), specific_force.z()};
+  CorrectedGyroscopeSample sample;
+  PropagateCovariance<kGyroscopeCorrectionUnknowns>(
+      values, model.covariance,
+      [&](const auto* variables, auto* rate) {
+        GyroscopeCorrectedRate(variables, variables + kGyroscopeCalibrationOffsetX, variables + n,
+                               output.data(), force, rate);
+      },
+      &sample.angular_rate, &sample.covariance);
+  return sample;
+}
+
 }  // namespace accelcal

@@ -19,7 +19,9 @@
 
 #include "estimation/tilt_table/baseline_parameters.h"
 #include "models/gyroscope.h"
+#include "models/gyroscope_correction.h"
 #include "models/triad.h"
+#include "models/triad_correction.h"
 
 namespace accelcal {
 
@@ -47,6 +49,13 @@ CorrectedTriadSample CorrectTriad(const TriadParameters& parameters,
                                   const Eigen::MatrixXd& covariance,
                                   const std::array<double, 3>& output);
 
+// The same with the model discovery settled on (models/triad_correction.h): its effect terms
+// applied, J over the 9 and the block. Without effect terms, exactly the 9-parameter
+// correction above. Returns false (and leaves *sample) when the output has no force near the
+// 9-parameter correction's (TriadCorrectedForce).
+bool CorrectTriad(const TriadCalibrationModel& model, const std::array<double, 3>& output,
+                  CorrectedTriadSample* sample);
+
 // A gyroscope's correction w = T K (u - b) (models/gyroscope.h) of one output u (in the
 // calibration's output unit), and the covariance of w that the 12x12 covariance of the block
 // and the offset (kGyroscopeCalibrationParameterCount, that order) gives, to first order,
@@ -61,6 +70,14 @@ CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeParameters& parameters,
                                           const GyroscopeOffset& offset,
                                           const Eigen::MatrixXd& covariance,
                                           const std::array<double, 3>& output);
+
+// The same with the model discovery settled on (models/gyroscope_correction.h): w =
+// GyroscopeCorrectedRate, its effect terms applied, `specific_force` (m/s^2, the calibrated
+// accelerometer's at the same sample; read only when the model has a g-sensitivity), J over
+// the 12 and the block. Without effect terms, exactly the correction above.
+CorrectedGyroscopeSample CorrectGyroscope(const GyroscopeCalibrationModel& model,
+                                          const std::array<double, 3>& output,
+                                          const Eigen::Vector3d& specific_force);
 
 }  // namespace accelcal
 

@@ -19,7 +19,8 @@ struct TriadGravityErrorEffect {
       {"", "", ""},
       "the common scale of gain_x, gain_y, gain_z (a gravity error e scales every gain by "
       "g/(g + e))",
-      0.01};
+      0.01,
+      "the session's local gravity, not a property of the sensor"};
 
   template <typename T>
   static void Apply(const T* error, const TriadPoseContext& /*context*/, TriadPoseTerms<T>* terms) {

@@ -19,7 +19,9 @@ struct TriadOffsetDriftEffect {
       3,
       {"_x", "_y", "_z"},
       "",
-      2e-3};
+      2e-3,
+      "a change of the offsets over the session's own time (a warm-up, a drift): another log's "
+      "time says nothing of it; the offsets written are the session's mean"};
 
   template <typename T>
   static void Apply(const T* rate, const TriadPoseContext& context, TriadPoseTerms<T>* terms) {

@@ -1,0 +1,297 @@
+// The calibration is the model discovery settled on (issue 44, item 7): a calibration file of
+// format_version 2 carries effect terms after the 9 (the triad's) and the 12 (its gyroscope's),
+// with the baseline beside them; its reader refuses what would apply them wrongly or not at all;
+// the correction with effect terms inverts the model's prediction (against the closed form of
+// models/triad.h for a second-order scale term) and its covariance is the 9-parameter one's when
+// there are none; the gyroscope's correction is GyroscopeCorrectedRate's.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "estimation/tilt_table/calibration_correction.h"
+#include "gyroscope_calibration_example.h"
+#include "io/calibration_file.h"
+#include "models/triad_correction.h"
+#include "reporting/calibrate_imu_report.h"
+#include "simulation/random.h"
+#include "test_support.h"
+
+namespace accelcal {
+namespace {
+
+int Coefficient(const std::string& name) {
+  const int c = TriadEffectCoefficientIndex(name);
+  EXPECT_GE(c, 0) << name;
+  return c;
+}
+
+// The example triad with second-order scale terms and an offset drift, and its baseline.
+CalibrationRecord TriadRecordWithTerms() {
+  CalibrationRecord record = testing::ExampleTriadRecord();
+  CalibrationBaseline& baseline = record.baseline;
+  baseline.parameter_order = record.parameter_order;
+  baseline.values = record.values;
+  baseline.values[kTriadOffsetX] += 1.5;
+  baseline.covariance = record.covariance;
+  const std::vector<std::string> terms = {"scale_nonlinearity_x", "scale_nonlinearity_y",
+                                          "scale_nonlinearity_z", "offset_drift_x",
+                                          "offset_drift_y",       "offset_drift_z"};
+  const std::vector<double> values = {2e-4, -1e-4, 3e-4, 1e-3, -2e-3, 5e-4};
+  const int n = kTriadParameterCount + static_cast<int>(terms.size());
+  record.values.conservativeResize(n);
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(n, n);
+  covariance.topLeftCorner(kTriadParameterCount, kTriadParameterCount) = record.covariance;
+  for (size_t t = 0; t < terms.size(); ++t) {
+    record.parameter_order.push_back(terms[t]);
+    record.values[kTriadParameterCount + t] = values[t];
+    covariance(kTriadParameterCount + t, kTriadParameterCount + t) = t < 3 ? 1e-10 : 1e-8;
+  }
+  // A correlation between gain_x and its second-order term, as a fit gives.
+  const int k2x = kTriadParameterCount;
+  covariance(kTriadGainX, k2x) = covariance(k2x, kTriadGainX) =
+      0.5 * std::sqrt(covariance(kTriadGainX, kTriadGainX) * covariance(k2x, k2x));
+  record.covariance = covariance;
+  return record;
+}
+
+std::string Written(const CalibrationRecord& record) { return CalibrationJson(record).dump(2); }
+
+Status Parsed(const nlohmann::json& json, CalibrationRecord* read) {
+  return ParseCalibration(json.dump(), "cal.json", read);
+}
+
+TEST(CalibrationEffectTerms, ATriadsTermsAndBaselineRoundTripAsVersion2) {
+  const CalibrationRecord record = TriadRecordWithTerms();
+  const nlohmann::json json = nlohmann::json::parse(Written(record));
+  EXPECT_EQ(json.at("format_version"), 2);
+  EXPECT_EQ(json.at("model").at("effects"), nlohmann::json({"misalignment", "gain", "offset",
+                                                            "scale_nonlinearity", "offset_drift"}));
+  const nlohmann::json& terms = json.at("model").at("effect_terms");
+  ASSERT_EQ(terms.size(), 2u);
+  EXPECT_EQ(terms[0].at("effect"), "scale_nonlinearity");
+  EXPECT_TRUE(terms[0].at("applied_by_apply").get<bool>());
+  EXPECT_EQ(terms[1].at("effect"), "offset_drift");
+  EXPECT_FALSE(terms[1].at("applied_by_apply").get<bool>());
+  EXPECT_EQ(json.at("units").at("offset_drift_x"), "count/s");
+  EXPECT_EQ(json.at("units").at("scale_nonlinearity_x"), "1/(m/s^2)");
+  CalibrationRecord read;
+  const Status status = Parsed(json, &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(read.parameter_order, record.parameter_order);
+  EXPECT_EQ((read.values - record.values).norm(), 0.0);
+  EXPECT_EQ((read.covariance - record.covariance).norm(), 0.0);
+  ASSERT_TRUE(read.baseline.present());
+  EXPECT_EQ((read.baseline.values - record.baseline.values).norm(), 0.0);
+  EXPECT_EQ(EffectTermNames(read).size(), 6u);
+
+  // A reader of the 9 is refused, naming the terms; the baseline's reader and the model's read.
+  TriadParameters parameters;
+  Eigen::MatrixXd covariance;
+  TriadOutputUnit unit;
+  EXPECT_ERROR_CONTAINS(TriadCalibration(read, "cal.json", &parameters, &covariance, &unit),
+                        "scale_nonlinearity_x");
+  bool from_baseline = false;
+  ASSERT_TRUE(
+      TriadBaselineCalibration(read, "cal.json", &parameters, &covariance, &unit, &from_baseline)
+          .ok());
+  EXPECT_TRUE(from_baseline);
+  EXPECT_EQ(parameters[kTriadOffsetX], record.baseline.values[kTriadOffsetX]);
+  TriadCalibrationModel model;
+  ASSERT_TRUE(TriadCalibrationModelOf(read, "cal.json", &model).ok());
+  EXPECT_EQ(model.effects_applied, std::vector<int>({Coefficient("scale_nonlinearity_x"),
+                                                     Coefficient("scale_nonlinearity_y"),
+                                                     Coefficient("scale_nonlinearity_z")}));
+  EXPECT_EQ(model.effects_not_applied.size(), 3u);
+  EXPECT_EQ(model.effects[Coefficient("scale_nonlinearity_z")], 3e-4);
+  EXPECT_EQ(model.effects[Coefficient("offset_drift_x")], 0.0);  // carried, not applied
+  const int k2x = kTriadParameterCount + Coefficient("scale_nonlinearity_x");
+  EXPECT_EQ(model.covariance(kTriadGainX, k2x), record.covariance(kTriadGainX, 9));
+  EXPECT_EQ(model.covariance(k2x, k2x), 1e-10);
+  // A record without terms: version 1, no baseline, as before.
+  const nlohmann::json plain = nlohmann::json::parse(Written(testing::ExampleTriadRecord()));
+  EXPECT_EQ(plain.at("format_version"), 1);
+  EXPECT_TRUE(plain.at("baseline").is_null());
+}
+
+TEST(CalibrationEffectTerms, RefusesTermsThatWouldBeMisread) {
+  const nlohmann::json good = nlohmann::json::parse(Written(TriadRecordWithTerms()));
+  CalibrationRecord read;
+  nlohmann::json json = good;
+  json["format_version"] = 1;  // a version-1 file has no terms
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "format_version 2");
+  json = good;
+  json["parameter_order"][9] = "scale_cubic_x";  // a term this accelcal does not know
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "not an effect term this accelcal knows");
+  json = good;
+  std::swap(json["parameter_order"][9], json["parameter_order"][10]);  // out of order
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "in the registry's order");
+  json = good;
+  json["baseline"] = nullptr;  // terms without the model without them
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "baseline must be an object");
+  json = good;
+  json["model"]["effects"] = {"misalignment", "gain", "offset"};
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "model/effects");
+  json = good;
+  json["baseline"]["parameters"]["gain_x"] = "x";
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "baseline/parameters/gain_x");
+  // A baseline without terms, and version 2 without terms.
+  nlohmann::json plain = nlohmann::json::parse(Written(testing::ExampleTriadRecord()));
+  json = plain;
+  json["baseline"] = good["baseline"];
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "carries no effect term");
+  json = plain;
+  json["format_version"] = 2;
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "carries none");
+  json = plain;
+  json["format_version"] = 3;
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read), "update accelcal");
+}
+
+TEST(CalibrationEffectTerms, TheCorrectionInvertsThePredictionAndMatchesTheClosedForm) {
+  CalibrationRecord record = TriadRecordWithTerms();
+  // Second-order terms 50 times the sizes seen (1e-2 1/(m/s^2)): the steps still settle.
+  record.values[9] = 1e-2;
+  record.values[10] = -5e-3;
+  record.values[11] = 2e-3;
+  TriadCalibrationModel model;
+  ASSERT_TRUE(TriadCalibrationModelOf(record, "cal.json", &model).ok());
+  const TriadScaleNonlinearity k2 = {1e-2, -5e-3, 2e-3};
+  RandomSource random(7);
+  double worst = 0.0;
+  double worst_sigma = 0.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    // A force of up to 2 g in any direction, its output by the model's prediction.
+    double force[3];
+    for (double& f : force) f = 9.81 * random.StandardNormal();
+    double raw[3];
+    const double direction[3] = {force[0] / model.gravity_mps2, force[1] / model.gravity_mps2,
+                                 force[2] / model.gravity_mps2};
+    ASSERT_TRUE(TriadPredictOutput(model.parameters.data(), model.effects.data(),
+                                   TriadPoseContext(), direction, model.gravity_mps2, raw));
+    CorrectedTriadSample sample;
+    ASSERT_TRUE(CorrectTriad(model, {raw[0], raw[1], raw[2]}, &sample));
+    double closed[3];
+    ASSERT_TRUE(TriadSpecificForce(model.parameters.data(), k2.data(), raw, closed));
+    for (int k = 0; k < 3; ++k) {
+      worst = std::max(worst, std::abs(sample.acceleration[k] - force[k]));
+      worst = std::max(worst, std::abs(sample.acceleration[k] - closed[k]));
+    }
+    // The covariance is J C J^T with J of the closed form (finite differences in gain_x and
+    // k2_x, the correlated pair).
+    const auto closed_x = [&](double gain_x, double k2_x) {
+      TriadParameters p = model.parameters;
+      p[kTriadGainX] = gain_x;
+      TriadScaleNonlinearity terms = k2;
+      terms[0] = k2_x;
+      double f[3];
+      TriadSpecificForce(p.data(), terms.data(), raw, f);
+      return f[0];
+    };
+    const double h_gain = 1e-6 * model.parameters[kTriadGainX];
+    const double h_k2 = 1e-7;
+    Eigen::Matrix<double, 1, 2> jacobian;
+    jacobian << (closed_x(model.parameters[kTriadGainX] + h_gain, k2[0]) -
+                 closed_x(model.parameters[kTriadGainX] - h_gain, k2[0])) /
+                    (2 * h_gain),
+        (closed_x(model.parameters[kTriadGainX], k2[0] + h_k2) -
+         closed_x(model.parameters[kTriadGainX], k2[0] - h_k2)) /
+            (2 * h_k2);
+    Eigen::Matrix2d pair;
+    const int k2x = kTriadParameterCount + Coefficient("scale_nonlinearity_x");
+    pair << model.covariance(kTriadGainX, kTriadGainX), model.covariance(kTriadGainX, k2x),
+        model.covariance(k2x, kTriadGainX), model.covariance(k2x, k2x);
+    // a_x's variance from these two alone (the others' variances set to 0).
+    TriadCalibrationModel two = model;
+    two.covariance.setZero();
+    two.covariance(kTriadGainX, kTriadGainX) = pair(0, 0);
+    two.covariance(kTriadGainX, k2x) = two.covariance(k2x, kTriadGainX) = pair(0, 1);
+    two.covariance(k2x, k2x) = pair(1, 1);
+    CorrectedTriadSample from_two;
+    ASSERT_TRUE(CorrectTriad(two, {raw[0], raw[1], raw[2]}, &from_two));
+    const double expected = (jacobian * pair * jacobian.transpose())(0, 0);
+    worst_sigma =
+        std::max(worst_sigma, std::abs(std::sqrt(from_two.covariance(0, 0)) - std::sqrt(expected)) /
+                                  std::sqrt(expected));
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_LT(worst_sigma, 1e-5);
+
+  // Without terms, the correction is the 9-parameter one to the last bit.
+  CalibrationRecord plain = testing::ExampleTriadRecord();
+  TriadCalibrationModel nine;
+  ASSERT_TRUE(TriadCalibrationModelOf(plain, "cal.json", &nine).ok());
+  EXPECT_FALSE(nine.has_effects());
+  const std::array<double, 3> output = {32900.0, 28000.0, 36100.0};
+  CorrectedTriadSample with_model;
+  ASSERT_TRUE(CorrectTriad(nine, output, &with_model));
+  TriadParameters parameters;
+  for (int p = 0; p < kTriadParameterCount; ++p) parameters[p] = plain.values[p];
+  const CorrectedTriadSample direct = CorrectTriad(parameters, plain.covariance, output);
+  EXPECT_EQ(with_model.acceleration, direct.acceleration);
+  EXPECT_EQ(with_model.covariance, direct.covariance);
+}
+
+TEST(CalibrationEffectTerms, AGyroscopeSectionsTermsRoundTripAndAreApplied) {
+  CalibrationRecord record = testing::ExampleTriadRecord();
+  const std::vector<int> terms = {0, 4, 8, 12};  // g_sensitivity xx, yy, zz; nonlinearity x
+  GyroscopeEffectCoefficients values{};
+  values[0] = 2e-4;
+  values[4] = -1e-4;
+  values[8] = 3e-4;
+  values[12] = 1e-3;
+  const int n = kGyroscopeCalibrationParameterCount + static_cast<int>(terms.size());
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(n, n);
+  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
+  for (int t = 12; t < n; ++t) covariance(t, t) = 1e-12;
+  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
+                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(), terms,
+                  values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
+                  .ok());
+  record.has_gyroscope = true;
+  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
+                                                   record.gyroscope.parameter_order.begin() + 12);
+  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
+  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  const nlohmann::json json = nlohmann::json::parse(Written(record));
+  EXPECT_EQ(json.at("format_version"), 2);  // the accelerometer has no terms; its gyroscope has
+  EXPECT_EQ(json.at("gyroscope").at("model").at("effects"),
+            nlohmann::json({"g_sensitivity", "scale_nonlinearity"}));
+  EXPECT_EQ(json.at("gyroscope").at("units").at("gyroscope_g_sensitivity_yy"), "(rad/s)/(m/s^2)");
+  CalibrationRecord read;
+  const Status status = Parsed(json, &read);
+  ASSERT_TRUE(status.ok()) << status.message();
+  EXPECT_EQ(
+      EffectTermNames(read.gyroscope),
+      std::vector<std::string>({"gyroscope_g_sensitivity_xx", "gyroscope_g_sensitivity_yy",
+                                "gyroscope_g_sensitivity_zz", "gyroscope_scale_nonlinearity_x"}));
+  GyroscopeParameters parameters;
+  GyroscopeOffset offset;
+  Eigen::MatrixXd twelve;
+  GyroscopeOutputUnit unit;
+  EXPECT_ERROR_CONTAINS(GyroscopeCalibration(read.gyroscope, &parameters, &offset, &twelve, &unit),
+                        "gyroscope_g_sensitivity_xx");
+  GyroscopeCalibrationModel model;
+  ASSERT_TRUE(GyroscopeCalibrationModelOf(read.gyroscope, &model).ok());
+  EXPECT_TRUE(model.needs_specific_force());
+  const std::array<double, 3> output = {500.0, -300.0, 1200.0};
+  const Eigen::Vector3d force(1.0, -2.0, 9.5);
+  const CorrectedGyroscopeSample sample = CorrectGyroscope(model, output, force);
+  double expected[3];
+  const double f[3] = {force.x(), force.y(), force.z()};
+  GyroscopeCorrectedRate(model.parameters.data(), model.offset.data(), values.data(), output.data(),
+                         f, expected);
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(sample.angular_rate[k], expected[k]);
+  // The g-sensitivity's share is there: the 12-parameter rate differs by about G f.
+  const CorrectedGyroscopeSample without = CorrectGyroscope(
+      model.parameters, model.offset, testing::ExampleGyroscopeCovariance(), output);
+  EXPECT_NEAR(without.angular_rate.z() - sample.angular_rate.z(), 3e-4 * 9.5, 1e-7);
+  // The terms' variance reaches the rate's.
+  EXPECT_GT(sample.covariance(2, 2), without.covariance(2, 2));
+}
+
+}  // namespace
+}  // namespace accelcal
