@@ -42,6 +42,8 @@
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
+#include "reporting/apply_checks.h"
+#include "reporting/calibrate_imu_options.h"
 #include "reporting/calibrate_imu_report.h"
 #include "reporting/calibrate_imu_run.h"
 
@@ -305,29 +307,26 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
                                        const py::object& gyro_unit, double initial_gyro_gain,
                                        const std::string& columns, double rate_hz,
                                        const std::string& time_unit, const py::object& gyro_log) {
+  // calibrate_imu's validation of its flags (reporting/calibrate_imu_options.h), before the
+  // log is read, as the binary's: the same ranges and rules, in its words.
+  CalibrateImuOptionValues values;
+  values.g = g;
+  values.alpha = alpha;
+  values.window = window;
+  values.init_rest_s = init_rest_s;
+  values.interval_samples = interval_samples;
+  values.min_intervals = min_intervals;
+  values.threshold_factor = threshold_factor;
+  values.min_interval_s = min_interval_s;
+  values.initial_gyro_gain = initial_gyro_gain;
+  values.initial_offset =
+      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
+  ThrowIfError(ValidateCalibrateImuOptions(values));
   std::shared_ptr<Log> log;
   if (py::isinstance<Log>(log_or_path)) {
     log = log_or_path.cast<std::shared_ptr<Log>>();
   } else {
     log = ReadLog(log_or_path, columns, rate_hz, time_unit, gyro_log, true);
-  }
-  // The flags' checks of calibrate_imu (ACCELCAL_FLAG_RANGE and ValidateFlags), in its words.
-  const auto out_of_range = [](const char* flag, const std::string& value, const char* range) {
-    return InputError(std::string("--") + flag + "='" + value + "' is not a valid " + range);
-  };
-  if (!(g >= 9.7 && g <= 9.9))
-    throw out_of_range("g", StringPrintf("%g", g), "double in [9.7, 9.9]");
-  if (!(alpha > 0.0 && alpha < 0.5))
-    throw InputError(StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", alpha));
-  if (window != 0 && (window < 11 || window > 100001))
-    throw out_of_range("window", std::to_string(window), "int32 in [11, 100001]");
-  if (window % 2 == 0 && window != 0) {
-    throw InputError("--window=" + std::to_string(window) +
-                     " is even; the window is centred on its sample, give an odd number");
-  }
-  if (!(initial_gyro_gain >= 0.0 && initial_gyro_gain <= 100.0)) {
-    throw out_of_range("initial_gyro_gain", StringPrintf("%g", initial_gyro_gain),
-                       "double in [0, 100]");
   }
   auto calibration = std::make_shared<Calibration>();
   if (log->from_files) {
@@ -348,15 +347,10 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   ThrowIfError(ParseTriadOutputUnit(unit_name, &options.session.unit).WithContext("--unit"));
   options.session.gravity_mps2 = g;
   // initial_offset: "auto" or a number, as --initial_offset.
-  const std::string offset_text =
-      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
-  if (offset_text != "auto") {
+  if (values.initial_offset != "auto") {
     options.session.offset.automatic = false;
-    if (!ParseFiniteNumber(offset_text, &options.session.offset.value) ||
-        std::fabs(options.session.offset.value) > 1e9) {
-      throw InputError("--initial_offset='" + offset_text +
-                       "' is neither auto nor a finite number within +-1e9 (the log's unit)");
-    }
+    if (!ParseFiniteNumber(values.initial_offset, &options.session.offset.value))
+      throw InputError("--initial_offset='" + values.initial_offset + "' is not a number");
   }
   options.session.detector.window_samples = window;
   options.session.detector.threshold_factor = threshold_factor;
@@ -474,7 +468,21 @@ py::tuple Apply(const py::object& calibration, const Array& acc) {
     *value = sample.acceleration;
     *value_covariance = sample.covariance;
   };
-  return Corrected(Rows(acc, "acc"), correct, kAccelerometerRange);
+  py::tuple corrected = Corrected(Rows(acc, "acc"), correct, kAccelerometerRange);
+  // apply's check that the outputs are in the calibration's unit (reporting/apply_checks.h):
+  // corrected, they read about 1 g.
+  const Array values = corrected[0].cast<Array>();
+  auto view = values.unchecked<2>();
+  std::vector<double> magnitude(values.shape(0));
+  for (size_t j = 0; j < magnitude.size(); ++j)
+    magnitude[j] =
+        std::sqrt(view(j, 0) * view(j, 0) + view(j, 1) * view(j, 1) + view(j, 2) * view(j, 2));
+  if (!magnitude.empty()) {
+    std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
+    ThrowIfError(CheckMedianMagnitude("acc", name, magnitude[magnitude.size() / 2],
+                                      record.gravity_mps2, record.output_unit));
+  }
+  return corrected;
 }
 
 py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro) {
