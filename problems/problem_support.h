@@ -30,6 +30,7 @@
 
 #include "common/build_info.h"
 #include "common/format.h"
+#include "common/line_text.h"
 #include "common/measurements.h"
 #include "common/status.h"
 #include "io/atomic_file.h"

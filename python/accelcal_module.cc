@@ -5,7 +5,10 @@
 // estimation/tilt_table/calibration_correction.h), so that the module and the binaries give
 // the same numbers and the same one-line messages. A refused input raises accelcal.Error, a
 // subclass of ValueError, with the binary's message; the C++ calls run without the GIL, so
-// threads (Dask's threaded workers) calibrate in parallel.
+// threads (Dask's threaded workers) calibrate in parallel. Every file or folder the module writes
+// goes through the binaries' output-path guard (io/output_paths.h) and atomic writers
+// (io/atomic_file.h): an input, a special file or a folder accelcal did not write is never
+// replaced, and nothing partial is ever left.
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -34,10 +37,13 @@
 #include "io/csv_reader.h"
 #include "io/imu_log.h"
 #include "io/json_file.h"
+#include "io/output_paths.h"
 #include "io/provenance.h"
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
+#include "reporting/apply_checks.h"
+#include "reporting/calibrate_imu_options.h"
 #include "reporting/calibrate_imu_report.h"
 #include "reporting/calibrate_imu_run.h"
 
@@ -57,6 +63,72 @@ void ThrowIfError(const Status& status) {
 
 std::string PathOf(const py::object& path) {
   return py::str(py::module_::import("os").attr("fspath")(path));
+}
+
+// A path, or an iterable of paths, as strings (a single str or path-like is one path).
+std::vector<std::string> PathsOf(const py::object& paths) {
+  std::vector<std::string> strings;
+  if (paths.is_none()) return strings;
+  if (py::isinstance<py::str>(paths) || py::hasattr(paths, "__fspath__")) {
+    strings.push_back(PathOf(paths));
+    return strings;
+  }
+  for (const py::handle path : paths)
+    strings.push_back(PathOf(py::reinterpret_borrow<py::object>(path)));
+  return strings;
+}
+
+// The binaries' check of an output (io/output_paths.h), before anything is written: `path`
+// may not be an input (by path or identity), hold one or lie inside an input folder, nor be a
+// link or a special file, nor exist as another kind; a folder that exists and is not empty is
+// replaced only with `overwrite` and only when accelcal wrote it (its marker). `flag` names the
+// path in the message.
+void CheckOutput(const std::string& path, OutputPath::Kind kind, const RunInputs& inputs,
+                 bool overwrite, const std::string& flag) {
+  if (path.empty()) throw InputError(flag + " is empty: name the output to write");
+  ThrowIfError(CheckOutputPaths({{flag, path, kind}}, inputs));
+  if (kind == OutputPath::Kind::kFolder) ThrowIfError(CheckFolderReplaceable(path, overwrite));
+}
+
+OutputPath::Kind OutputKind(const std::string& kind) {
+  if (kind == "file") return OutputPath::Kind::kFile;
+  if (kind == "folder") return OutputPath::Kind::kFolder;
+  throw InputError("kind='" + kind + "' is not an output's kind; use kind='file' or 'folder'");
+}
+
+void CheckOutputPython(const py::object& path, const std::string& kind, const py::object& inputs,
+                       const py::object& input_folders, bool overwrite, const std::string& flag) {
+  CheckOutput(PathOf(path), OutputKind(kind), RunInputs{PathsOf(inputs), PathsOf(input_folders)},
+              overwrite, flag);
+}
+
+// A folder of files (name -> text) written as the binaries write theirs: checked as above, then
+// filled as a new folder beside `path` (with the marker) that replaces it once every file is
+// written (WriteDirectoryAtomically); on any failure, a name that is not a plain file name among
+// them, the new folder is removed and `path` left as it was.
+void WriteFolder(const py::object& path_object, const std::map<std::string, std::string>& files,
+                 const py::object& inputs, const py::object& input_folders, bool overwrite,
+                 const std::string& flag) {
+  const std::string path = PathOf(path_object);
+  CheckOutput(path, OutputPath::Kind::kFolder, RunInputs{PathsOf(inputs), PathsOf(input_folders)},
+              overwrite, flag);
+  Status status;
+  {
+    py::gil_scoped_release release;
+    status = WriteDirectoryAtomically(path, overwrite, [&](const std::string& folder) {
+      for (const auto& [name, text] : files) {
+        if (name.empty() || name == "." || name == ".." || name == kOutputFolderMarker ||
+            name.find('/') != std::string::npos || name.find('\0') != std::string::npos) {
+          return Status::Error(flag + "=" + path + ": '" + name +
+                               "' is not a file name of its own inside the folder; nothing was "
+                               "written");
+        }
+        ACCELCAL_RETURN_IF_ERROR(WriteFileAtomically(folder + "/" + name, text));
+      }
+      return Status::Ok();
+    });
+  }
+  ThrowIfError(status);
 }
 
 using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
@@ -103,6 +175,7 @@ struct Log {
   DataSource data;  // the log's file (and the gyroscope's), with their SHA-256
   std::string path;
   std::string gyro_log;
+  bool from_files = false;  // read from its file(s), not made from arrays
 };
 
 std::shared_ptr<Log> ReadLog(const py::object& path_object, const std::string& columns,
@@ -110,6 +183,7 @@ std::shared_ptr<Log> ReadLog(const py::object& path_object, const std::string& c
                              const py::object& gyro_log_object, bool even) {
   auto log = std::make_shared<Log>();
   log->path = PathOf(path_object);
+  log->from_files = true;
   if (!gyro_log_object.is_none()) log->gyro_log = PathOf(gyro_log_object);
   ImuLogReadOptions options;
   std::vector<ImuColumnChoice> choices;
@@ -202,6 +276,7 @@ std::string UnitFor(const py::object& given, const std::string& stated,
 struct Calibration {
   CalibrateImuReport report;
   DataSource source;
+  std::vector<std::string> input_files;  // the log's file(s): what its writers never replace
 };
 
 Array TriadValues(const TriadMlResult& ml) {
@@ -232,31 +307,32 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
                                        const py::object& gyro_unit, double initial_gyro_gain,
                                        const std::string& columns, double rate_hz,
                                        const std::string& time_unit, const py::object& gyro_log) {
+  // calibrate_imu's validation of its flags (reporting/calibrate_imu_options.h), before the
+  // log is read, as the binary's: the same ranges and rules, in its words.
+  CalibrateImuOptionValues values;
+  values.g = g;
+  values.alpha = alpha;
+  values.window = window;
+  values.init_rest_s = init_rest_s;
+  values.interval_samples = interval_samples;
+  values.min_intervals = min_intervals;
+  values.threshold_factor = threshold_factor;
+  values.min_interval_s = min_interval_s;
+  values.initial_gyro_gain = initial_gyro_gain;
+  values.initial_offset =
+      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
+  ThrowIfError(ValidateCalibrateImuOptions(values));
   std::shared_ptr<Log> log;
   if (py::isinstance<Log>(log_or_path)) {
     log = log_or_path.cast<std::shared_ptr<Log>>();
   } else {
     log = ReadLog(log_or_path, columns, rate_hz, time_unit, gyro_log, true);
   }
-  // The flags' checks of calibrate_imu (ACCELCAL_FLAG_RANGE and ValidateFlags), in its words.
-  const auto out_of_range = [](const char* flag, const std::string& value, const char* range) {
-    return InputError(std::string("--") + flag + "='" + value + "' is not a valid " + range);
-  };
-  if (!(g >= 9.7 && g <= 9.9))
-    throw out_of_range("g", StringPrintf("%g", g), "double in [9.7, 9.9]");
-  if (!(alpha > 0.0 && alpha < 0.5))
-    throw InputError(StringPrintf("--alpha=%g is not in (0, 0.5); give e.g. --alpha=0.01", alpha));
-  if (window != 0 && (window < 11 || window > 100001))
-    throw out_of_range("window", std::to_string(window), "int32 in [11, 100001]");
-  if (window % 2 == 0 && window != 0) {
-    throw InputError("--window=" + std::to_string(window) +
-                     " is even; the window is centred on its sample, give an odd number");
-  }
-  if (!(initial_gyro_gain >= 0.0 && initial_gyro_gain <= 100.0)) {
-    throw out_of_range("initial_gyro_gain", StringPrintf("%g", initial_gyro_gain),
-                       "double in [0, 100]");
-  }
   auto calibration = std::make_shared<Calibration>();
+  if (log->from_files) {
+    calibration->input_files.push_back(log->path);
+    if (!log->gyro_log.empty()) calibration->input_files.push_back(log->gyro_log);
+  }
   CalibrateImuReport& report = calibration->report;
   calibration->source = log->data;
   report.log_path = log->path;
@@ -271,15 +347,10 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   ThrowIfError(ParseTriadOutputUnit(unit_name, &options.session.unit).WithContext("--unit"));
   options.session.gravity_mps2 = g;
   // initial_offset: "auto" or a number, as --initial_offset.
-  const std::string offset_text =
-      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
-  if (offset_text != "auto") {
+  if (values.initial_offset != "auto") {
     options.session.offset.automatic = false;
-    if (!ParseFiniteNumber(offset_text, &options.session.offset.value) ||
-        std::fabs(options.session.offset.value) > 1e9) {
-      throw InputError("--initial_offset='" + offset_text +
-                       "' is neither auto nor a finite number within +-1e9 (the log's unit)");
-    }
+    if (!ParseFiniteNumber(values.initial_offset, &options.session.offset.value))
+      throw InputError("--initial_offset='" + values.initial_offset + "' is not a number");
   }
   options.session.detector.window_samples = window;
   options.session.detector.threshold_factor = threshold_factor;
@@ -397,7 +468,21 @@ py::tuple Apply(const py::object& calibration, const Array& acc) {
     *value = sample.acceleration;
     *value_covariance = sample.covariance;
   };
-  return Corrected(Rows(acc, "acc"), correct, kAccelerometerRange);
+  py::tuple corrected = Corrected(Rows(acc, "acc"), correct, kAccelerometerRange);
+  // apply's check that the outputs are in the calibration's unit (reporting/apply_checks.h):
+  // corrected, they read about 1 g.
+  const Array values = corrected[0].cast<Array>();
+  auto view = values.unchecked<2>();
+  std::vector<double> magnitude(values.shape(0));
+  for (size_t j = 0; j < magnitude.size(); ++j)
+    magnitude[j] =
+        std::sqrt(view(j, 0) * view(j, 0) + view(j, 1) * view(j, 1) + view(j, 2) * view(j, 2));
+  if (!magnitude.empty()) {
+    std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
+    ThrowIfError(CheckMedianMagnitude("acc", name, magnitude[magnitude.size() / 2],
+                                      record.gravity_mps2, record.output_unit));
+  }
+  return corrected;
 }
 
 py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro) {
@@ -689,15 +774,19 @@ PYBIND11_MODULE(accelcal, m) {
       .def(
           "write",
           [](const Calibration& c, const py::object& path) {
+            // The binaries' guard first (calibrate_imu --calibration_out's): never an input of
+            // this calibration (by path, link or identity), a folder or a special file.
+            const std::string name = PathOf(path);
+            CheckOutput(name, OutputPath::Kind::kFile, RunInputs{c.input_files, {}}, false, "path");
             std::string text;
             ThrowIfError(JsonText(CalibrationJson(RecordOf(c)), &text));
-            const std::string name = PathOf(path);
             py::gil_scoped_release release;
             ThrowIfError(WriteFileAtomically(name, text));
           },
           py::arg("path"),
           "Writes the calibration file apply reads (calibrate_imu --calibration_out's), "
-          "atomically.")
+          "atomically; refuses (accelcal.Error) a path that is an input of the calibration, a "
+          "folder, a link or a special file, as the binaries do.")
       .def("__repr__", [](const Calibration& c) {
         return "<accelcal.Calibration " + c.report.log_path + ": " +
                std::to_string(c.report.ml.pose_count) + " poses, verdict " +
@@ -719,6 +808,20 @@ PYBIND11_MODULE(accelcal, m) {
         py::arg("gyro_log") = py::none(),
         "calibrate_imu --mode=ml on a Log or a log's path; the keywords are its flags (window "
         "0: its default). Returns a Calibration.");
+  m.def("check_output", &CheckOutputPython, py::arg("path"), py::arg("kind") = "file",
+        py::arg("inputs") = py::tuple(), py::arg("input_folders") = py::tuple(),
+        py::arg("overwrite") = false, py::arg("flag") = "path",
+        "The binaries' check of an output path (io/output_paths.h), before any work: raises "
+        "accelcal.Error when `path` (kind 'file' or 'folder') is, holds or lies inside one of "
+        "`inputs` (files) or `input_folders` (by real path or identity), is a link or a special "
+        "file, exists as another kind, or has no parent folder; a folder that exists and is not "
+        "empty also needs overwrite=True and accelcal's marker. `flag` names it in the message.");
+  m.def("write_folder", &WriteFolder, py::arg("path"), py::arg("files"),
+        py::arg("inputs") = py::tuple(), py::arg("input_folders") = py::tuple(),
+        py::arg("overwrite") = false, py::arg("flag") = "path",
+        "Writes `files` (name -> text) as the folder `path`, as the binaries write theirs: "
+        "checked as check_output(kind='folder') does, filled beside it with accelcal's marker "
+        "and swapped in whole; on any failure nothing changes. Raises accelcal.Error.");
   m.def("apply", &Apply, py::arg("calibration"), py::arg("acc"),
         "a = T K (u - b) of every row of acc (N, 3, the calibration's output unit), with a "
         "Calibration or a calibration file's path: (corrected m/s^2 (N, 3), sigma (N, 3)), the "

@@ -110,15 +110,19 @@ TEST(ExportCalibration, KalibrRefusesOneLogsAllanFitGivenForBothSensors) {
   EXPECT_NE(files[0].contents.find("update_rate: 200  # Hz"), std::string::npos);
 }
 
-TEST(KalibrImuYaml, WritesTheSixKeysWithUnitsAndCommentsOnly) {
+KalibrImuConfig ExampleKalibrConfig(const std::string& gyroscope_note) {
   KalibrImuConfig config;
   config.accelerometer.noise_density = 0.006;
   config.accelerometer.random_walk = 0.0002;
   config.gyroscope.noise_density = 0.0004;
   config.gyroscope.random_walk = 4e-6;
-  config.gyroscope.notes = {"a note"};
+  config.gyroscope.notes = {gyroscope_note};
   config.update_rate_hz = 200.0;
-  const std::string text = KalibrImuYamlText(config, {"from here"});
+  return config;
+}
+
+TEST(KalibrImuYaml, WritesTheSixKeysWithUnitsAndCommentsOnly) {
+  const std::string text = KalibrImuYamlText(ExampleKalibrConfig("a note"), {"from here"});
   EXPECT_EQ(text,
             "# from here\n"
             "accelerometer_noise_density: 0.0060000000000000001  # m/s^2/sqrt(Hz)\n"
@@ -128,6 +132,17 @@ TEST(KalibrImuYaml, WritesTheSixKeysWithUnitsAndCommentsOnly) {
             "update_rate: 200  # Hz\n"
             "rostopic: /imu0\n"
             "# a note\n");
+}
+
+// A comment is one line whatever it quotes (common/line_text.h; issue 45): a path with a line
+// break would otherwise start a key of its own.
+TEST(KalibrImuYaml, ACommentWithALineBreakStaysOneComment) {
+  const std::string text = KalibrImuYamlText(ExampleKalibrConfig("from b\nupdate_rate: 1"),
+                                             {"calibration: a\nrostopic: /x"});
+  EXPECT_EQ(text.find("\nrostopic: /x"), std::string::npos) << text;
+  EXPECT_EQ(text.find("\nupdate_rate: 1\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# calibration: a\\nrostopic: /x\n"), std::string::npos) << text;
+  EXPECT_NE(text.find("# from b\\nupdate_rate: 1\n"), std::string::npos) << text;
 }
 
 TEST(ExportCalibration, ImuTkWithoutAGyroscopeWritesTheAccelerometersFileAlone) {

@@ -178,13 +178,13 @@ inline CommandResult RunBinary(const std::string& binary, const std::string& arg
   return RunCommand("'" + BinaryPath(binary) + "' " + arguments);
 }
 
-// Runs build/bin/<binary> with `arguments` as its argument vector (no shell, so nothing
-// needs quoting), its descriptors set up by `actions`, SIGPIPE at its default as from a shell.
-// Returns its wait status, -1 when it could not start.
-inline int SpawnBinaryWithActions(const std::string& binary,
-                                  const std::vector<std::string>& arguments,
-                                  const posix_spawn_file_actions_t* actions) {
-  std::vector<std::string> strings = {BinaryPath(binary)};
+// Runs the program at `program` (a path) with `arguments` as its argument vector (no shell, so
+// nothing needs quoting), its descriptors set up by `actions`, SIGPIPE at its default as from a
+// shell. Returns its wait status, -1 when it could not start.
+inline int SpawnProgramWithActions(const std::string& program,
+                                   const std::vector<std::string>& arguments,
+                                   const posix_spawn_file_actions_t* actions) {
+  std::vector<std::string> strings = {program};
   strings.insert(strings.end(), arguments.begin(), arguments.end());
   std::vector<char*> argv;
   for (std::string& argument : strings) argv.push_back(argument.data());
@@ -205,29 +205,50 @@ inline int SpawnBinaryWithActions(const std::string& binary,
   return status;
 }
 
-// Runs build/bin/<binary> with `arguments`, its stdout and stderr into the files named.
-inline int SpawnBinary(const std::string& binary, const std::vector<std::string>& arguments,
-                       const std::string& stdout_path, const std::string& stderr_path) {
+// The same for build/bin/<binary>.
+inline int SpawnBinaryWithActions(const std::string& binary,
+                                  const std::vector<std::string>& arguments,
+                                  const posix_spawn_file_actions_t* actions) {
+  return SpawnProgramWithActions(BinaryPath(binary), arguments, actions);
+}
+
+// Runs the program at `program` (a path) with `arguments`, its stdout and stderr into the files
+// named.
+inline int SpawnProgram(const std::string& program, const std::vector<std::string>& arguments,
+                        const std::string& stdout_path, const std::string& stderr_path) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   const int flags = O_WRONLY | O_CREAT | O_TRUNC;
   posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, stdout_path.c_str(), flags, 0600);
   posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, stderr_path.c_str(), flags, 0600);
-  const int status = SpawnBinaryWithActions(binary, arguments, &actions);
+  const int status = SpawnProgramWithActions(program, arguments, &actions);
   posix_spawn_file_actions_destroy(&actions);
   return status;
 }
 
-// SpawnBinary with stdout and stderr captured (into files: never a terminal).
-inline CommandResult RunBinaryArgs(const std::string& binary,
-                                   const std::vector<std::string>& arguments) {
+// Runs build/bin/<binary> with `arguments`, its stdout and stderr into the files named.
+inline int SpawnBinary(const std::string& binary, const std::vector<std::string>& arguments,
+                       const std::string& stdout_path, const std::string& stderr_path) {
+  return SpawnProgram(BinaryPath(binary), arguments, stdout_path, stderr_path);
+}
+
+// SpawnProgram with stdout and stderr captured (into files: never a terminal).
+inline CommandResult RunProgramArgs(const std::string& program,
+                                    const std::vector<std::string>& arguments) {
   ScratchDir capture;
-  const int status = SpawnBinary(binary, arguments, capture.File("stdout"), capture.File("stderr"));
+  const int status =
+      SpawnProgram(program, arguments, capture.File("stdout"), capture.File("stderr"));
   CommandResult result;
   result.exit_status = status != -1 && WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   result.stdout_text = ReadText(capture.File("stdout"));
   result.stderr_text = ReadText(capture.File("stderr"));
   return result;
+}
+
+// The same for build/bin/<binary>.
+inline CommandResult RunBinaryArgs(const std::string& binary,
+                                   const std::vector<std::string>& arguments) {
+  return RunProgramArgs(BinaryPath(binary), arguments);
 }
 
 inline int CountLines(const std::string& text);

@@ -8,28 +8,32 @@ processes; on a cluster, on the workers of the scheduler at --scheduler (docs/ma
 The logs must be readable by the workers at the same path; the outputs are written by this
 process alone, so the workers need no access to --out.
 
-Outputs, in --out (created; an existing one only with --overwrite):
+Outputs, in --out (created; an existing one replaced only with --overwrite, and only when
+accelcal wrote it, i.e. it carries the .accelcal-output marker):
   <device>.calibration.json   one per device that calibrated (apply reads it)
   summary.csv                 one row per log: device, file, sha256, poses, verdict, chi2/dof,
                               the gains and offsets with their sigma, or the failure's message
 and the same table on stdout. A log that fails (unreadable, too few poses, ...) is a row with
 its message, not the end of the others. Nothing partial: the files are written into a new
-folder beside --out, which replaces --out only when every file is written.
+folder beside --out, which replaces --out only when every file is written. --out is checked
+before any work by the binaries' own rules (the module's check_output and write_folder, i.e.
+io/output_paths.h and io/atomic_file.h): it may not be, hold or lie inside an input (the logs
+folder, a log), nor be a file, a link or a special file; a refusal is one line on stderr, exit
+status 2, and nothing is written.
 
   /usr/bin/python3 tools/many_devices.py --logs='logs/*.csv' --out=calibrations --workers=2 \\
       --g=9.81 [--scheduler=tcp://host:8786] [--unit=count] [--alpha=0.01]
 
 Exit status: 0 when the run completed (some devices may have failed: see the table), 2 on bad
-arguments or when no log matched.
+arguments, an --out that may not be written, when no log matched, or when the outputs could not
+be written (the old --out then left as it was).
 """
 import argparse
 import csv
 import glob
 import io
 import os
-import shutil
 import sys
-import tempfile
 import time
 
 # The summary's columns, in order; gains in (m/s^2) per unit of the log, offsets in its unit.
@@ -82,7 +86,7 @@ def find_logs(pattern):
         paths = [os.path.join(pattern, n) for n in os.listdir(pattern)]
         paths = [p for p in paths if os.path.isfile(p)]
     else:
-        paths = glob.glob(pattern)
+        paths = [p for p in glob.glob(pattern) if os.path.isfile(p)]
     return sorted(os.path.abspath(p) for p in paths)
 
 
@@ -115,29 +119,17 @@ def printed_table(rows):
     return "\n".join(lines) + "\n"
 
 
-def write_outputs(out_dir, files):
-    """Writes `files` (name -> text) as the folder out_dir, whole or not at all."""
-    out_dir = os.path.abspath(out_dir)
-    parent = os.path.dirname(out_dir)
-    os.makedirs(parent, exist_ok=True)
-    staging = tempfile.mkdtemp(prefix="." + os.path.basename(out_dir) + ".", dir=parent)
-    try:
-        for name, text in files.items():
-            with open(os.path.join(staging, name), "w") as f:
-                f.write(text)
-                f.flush()
-                os.fsync(f.fileno())
-        os.chmod(staging, 0o755)
-        old = None
-        if os.path.exists(out_dir):
-            old = staging + ".old"
-            os.rename(out_dir, old)
-        os.rename(staging, out_dir)
-        if old:
-            shutil.rmtree(old)
-    except BaseException:
-        shutil.rmtree(staging, ignore_errors=True)
-        raise
+def write_outputs(out_dir, files, inputs=(), input_folders=(), overwrite=False):
+    """Writes `files` (name -> text) as the folder out_dir, whole or not at all: the module's
+    write_folder (io/atomic_file.h's WriteDirectoryAtomically, the binaries' writer) fills a new
+    folder beside it, with accelcal's marker, and swaps it in; on any failure the temporary
+    folder is removed and out_dir left as it was. It replaces an existing out_dir only with
+    `overwrite` and only when accelcal wrote it, and never one that is, holds or lies inside an
+    input. Raises accelcal.Error."""
+    import accelcal
+
+    accelcal.write_folder(out_dir, files, inputs=list(inputs), input_folders=list(input_folders),
+                          overwrite=overwrite, flag="--out")
 
 
 def parse_args(argv):
@@ -174,9 +166,20 @@ def main(argv):
         print("many_devices: error: two logs give the same device name (their file names "
               "without the suffix); rename one", file=sys.stderr)
         return 2
-    if os.path.exists(args.out) and not args.overwrite:
-        print(f"many_devices: error: {args.out} exists; give --overwrite to replace it",
-              file=sys.stderr)
+    try:
+        import accelcal
+    except ImportError as error:
+        print(f"many_devices: error: cannot import the module accelcal ({error}): build and "
+              "register it (docs/python.md)", file=sys.stderr)
+        return 2
+    # The outputs' rules, checked before any work (nothing is written on a refusal): the
+    # binaries' guard, with the logs and, for --logs=FOLDER, that folder as the inputs.
+    input_folders = [args.logs] if os.path.isdir(args.logs) else []
+    try:
+        accelcal.check_output(args.out, kind="folder", inputs=paths, input_folders=input_folders,
+                              overwrite=args.overwrite, flag="--out")
+    except accelcal.Error as error:
+        print(f"many_devices: error: {error}", file=sys.stderr)
         return 2
     options = {"g": args.g, "unit": args.unit, "alpha": args.alpha, "noise": args.noise}
 
@@ -204,7 +207,12 @@ def main(argv):
     rows = [row for row, _ in results]
     files = {row["calibration_file"]: text for row, text in results if text is not None}
     files["summary.csv"] = summary_csv(rows)
-    write_outputs(args.out, files)
+    try:
+        write_outputs(args.out, files, inputs=paths, input_folders=input_folders,
+                      overwrite=args.overwrite)
+    except accelcal.Error as error:
+        print(f"many_devices: error: {error}", file=sys.stderr)
+        return 2
     ok = sum(row["status"] == "ok" for row in rows)
     sys.stdout.write(printed_table(rows))
     where = (f"scheduler {args.scheduler}" if args.scheduler else

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/cleanup.h"
+#include "io/output_paths.h"
 
 namespace accelcal {
 
@@ -165,29 +166,12 @@ Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
   std::error_code error;
   std::string target = dir;
   while (target.size() > 1 && target.back() == '/') target.pop_back();
+  // One rule for every writer of a folder (io/output_paths.h), checked again here, at the
+  // last moment, in case the folder changed since the writer's own check.
+  ACCELCAL_RETURN_IF_ERROR(CheckFolderReplaceable(target, overwrite));
   const fs::file_status existing = fs::symlink_status(target, error);
   const bool exists =
       existing.type() != fs::file_type::not_found && existing.type() != fs::file_type::none;
-  if (exists && existing.type() != fs::file_type::directory) {
-    return Status::Error(target +
-                         " exists and is not a folder (a file, a link or a device); "
-                         "it is left as it is: name another folder");
-  }
-  const bool empty = exists && fs::is_empty(target, error);
-  if (exists && !empty) {
-    if (!overwrite) {
-      return Status::Error(target +
-                           " exists and is not empty; pass --overwrite to replace it "
-                           "(only a folder accelcal wrote can be replaced)");
-    }
-    const fs::file_status marker = fs::symlink_status(target + "/" + kOutputFolderMarker, error);
-    if (marker.type() != fs::file_type::regular) {
-      return Status::Error(target + " was not written by accelcal (it has no " +
-                           kOutputFolderMarker +
-                           " marker), so --overwrite will not delete it: name another folder, "
-                           "or move it away yourself");
-    }
-  }
   std::vector<char> pattern(target.begin(), target.end());
   const std::string suffix = ".tmp.XXXXXX";
   pattern.insert(pattern.end(), suffix.begin(), suffix.end());

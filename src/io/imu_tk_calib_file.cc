@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "common/format.h"
+#include "common/line_text.h"
 
 namespace accelcal {
 
@@ -69,7 +70,8 @@ std::string ImuTkCalibTextFullPrecision(const ImuTkCalibratedTriad& triad,
   text += "\n";
   for (int row = 0; row < 3; ++row) text += StringPrintf("%.17g\n", triad.bias[row]);
   text += "\n";
-  for (const std::string& comment : trailing_comments) text += "# " + comment + "\n";
+  for (const std::string& comment : trailing_comments)
+    text += "# " + EscapeForLine(comment) + "\n";  // one line each (common/line_text.h)
   return text;
 }
 

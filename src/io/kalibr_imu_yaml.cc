@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "common/line_text.h"
 
 namespace accelcal {
 namespace {
@@ -135,7 +136,9 @@ Status KalibrNoiseFromAllan(const nlohmann::json& allan, const std::string& alla
 std::string KalibrImuYamlText(const KalibrImuConfig& config,
                               const std::vector<std::string>& header_comments) {
   std::string text;
-  for (const std::string& line : header_comments) text += "# " + line + "\n";
+  // A comment is one line whatever it quotes (a path may hold a line break, which YAML would
+  // read as the end of the comment and the start of a key): common/line_text.h's rule.
+  for (const std::string& line : header_comments) text += "# " + EscapeForLine(line) + "\n";
   text += StringPrintf("accelerometer_noise_density: %.17g  # m/s^2/sqrt(Hz)\n",
                        config.accelerometer.noise_density);
   text += StringPrintf("accelerometer_random_walk: %.17g  # m/s^3/sqrt(Hz)\n",
@@ -148,7 +151,7 @@ std::string KalibrImuYamlText(const KalibrImuConfig& config,
   // A topic is a ROS name ([A-Za-z0-9_/~]), which YAML reads as a plain string.
   text += "rostopic: " + config.rostopic + "\n";
   for (const KalibrSensorNoise* sensor : {&config.accelerometer, &config.gyroscope})
-    for (const std::string& note : sensor->notes) text += "# " + note + "\n";
+    for (const std::string& note : sensor->notes) text += "# " + EscapeForLine(note) + "\n";
   return text;
 }
 

@@ -6,6 +6,9 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+
+#include "io/atomic_file.h"
 
 namespace accelcal {
 namespace {
@@ -143,6 +146,35 @@ Status CheckOutputPaths(const std::vector<OutputPath>& outputs, const RunInputs&
                              "another folder");
       }
     }
+  }
+  return Status::Ok();
+}
+
+Status CheckFolderReplaceable(const std::string& dir, bool overwrite) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  std::string target = dir;
+  while (target.size() > 1 && target.back() == '/') target.pop_back();
+  const fs::file_status existing = fs::symlink_status(target, error);
+  const bool exists =
+      existing.type() != fs::file_type::not_found && existing.type() != fs::file_type::none;
+  if (!exists) return Status::Ok();
+  if (existing.type() != fs::file_type::directory) {
+    return Status::Error(target +
+                         " exists and is not a folder (a file, a link or a device); "
+                         "it is left as it is: name another folder");
+  }
+  if (fs::is_empty(target, error)) return Status::Ok();
+  if (!overwrite) {
+    return Status::Error(target +
+                         " exists and is not empty; pass --overwrite to replace it "
+                         "(only a folder accelcal wrote can be replaced)");
+  }
+  const fs::file_status marker = fs::symlink_status(target + "/" + kOutputFolderMarker, error);
+  if (marker.type() != fs::file_type::regular) {
+    return Status::Error(target + " was not written by accelcal (it has no " + kOutputFolderMarker +
+                         " marker), so --overwrite will not delete it: name another folder, "
+                         "or move it away yourself");
   }
   return Status::Ok();
 }

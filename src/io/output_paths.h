@@ -35,6 +35,13 @@ struct OutputPath {
 // Checks every requested output of `outputs` (empty paths are skipped) as described above.
 Status CheckOutputPaths(const std::vector<OutputPath>& outputs, const RunInputs& inputs);
 
+// Whether io/atomic_file.h's WriteDirectoryAtomically may write the folder `dir`: it does not
+// exist, or is an empty folder, or (with `overwrite`) a folder that carries accelcal's marker.
+// Refused otherwise (a file, a link or a device; a folder with something in it and no
+// --overwrite; one accelcal did not write). The same check WriteDirectoryAtomically makes, for a
+// writer to make it before any work, as every writer checks its paths (CheckOutputPaths).
+Status CheckFolderReplaceable(const std::string& dir, bool overwrite);
+
 }  // namespace accelcal
 
 #endif  // ACCELCAL_IO_OUTPUT_PATHS_H_

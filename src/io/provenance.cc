@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "common/format.h"
+#include "common/line_text.h"
 #include "common/sha256.h"
 #include "io/input_file.h"
 
@@ -20,9 +21,29 @@ std::string& RecordedCommandLine() {
   return command_line;
 }
 
+// An argument with a line break or another control character (or bytes that are not UTF-8) in
+// bash's $'...' quoting, where each is a backslash escape: the command line stays one line
+// wherever it is written (a CSV's '#' line, a YAML comment), and bash reads it back as the
+// same word. EscapeForLine's escapes are $'...''s, with the backslash and the quote escaped too.
+std::string DollarQuotedWord(const std::string& argument) {
+  std::string quoted = "$'";
+  for (const char c : argument) {
+    if (c == '\\' || c == '\'') {
+      quoted += '\\';
+      quoted += c;
+    } else {
+      quoted += c;
+    }
+  }
+  // EscapeForLine leaves backslashes as they are, so the ones escaped above stay escapes of a
+  // backslash, and each of its own (\n, \xNN, \u2028 ...) is the escape bash reads back.
+  return EscapeForLine(quoted) + "'";
+}
+
 // An argument as a POSIX shell would need it to read it back as one word.
 std::string ShellWord(const std::string& argument) {
   if (argument.empty()) return "''";
+  if (NeedsLineEscape(argument)) return DollarQuotedWord(argument);
   bool plain = true;
   for (const char c : argument) {
     const bool safe = std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' ||
@@ -97,7 +118,10 @@ Status DescribeMeasuredData(const std::string& data_dir,
   return Status::Ok();
 }
 
-std::string DataLine(const DataSource& source) {
+namespace {
+
+// The first line, its paths as they are.
+std::string DataLineText(const DataSource& source) {
   if (source.simulated) {
     std::string line = "data: simulated, scenario " + source.scenario;
     const auto scenario_file = source.files.find("scenario");
@@ -120,6 +144,13 @@ std::string DataLine(const DataSource& source) {
     first = false;
   }
   return line;
+}
+
+}  // namespace
+
+std::string DataLine(const DataSource& source) {
+  // One line whatever the paths hold (common/line_text.h).
+  return EscapeForLine(DataLineText(source));
 }
 
 nlohmann::json InputFilesJson(const std::map<std::string, InputFile>& files) {

@@ -34,8 +34,10 @@ def test_a_folder_of_devices_calibrates_on_a_local_cluster(tmp_path):
     result = run(f"--logs={logs}", f"--out={out}", "--workers=2", "--g=9.81")
     assert result.returncode == 0, result.stderr
     names = sorted(os.listdir(out))
+    # The calibrations, the summary and the marker every output folder of accelcal's carries
+    # (what lets a later --overwrite replace it).
     assert names == sorted([f"device_{d:02d}.calibration.json" for d in range(4)] +
-                           ["summary.csv"]), names
+                           ["summary.csv", ".accelcal-output"]), names
     rows = {r["device"]: r for r in csv.DictReader(open(out / "summary.csv"))}
     assert len(rows) == 5
     broken = rows["device_broken"]
