@@ -33,6 +33,7 @@
 #include "io/imu_log.h"
 #include "io/provenance.h"
 #include "problem_support.h"
+#include "reporting/apply_checks.h"
 
 // clang-format off
 DEFINE_string(calibration, "", "The calibration file (calibrate --calibration_out, or calibrate_imu --mode=ml --calibration_out for a triad and its gyroscope; docs/calibration.md). Required.");
@@ -75,7 +76,7 @@ std::string ProvenanceLines(const DataSource& source) {
   std::string csv = std::string("# accelcal apply ") + AccelcalVersion() +
                     ": accelerations corrected by a calibration (docs/calibration.md)\n";
   for (const auto& [role, file] : source.files) {
-    csv += "# " + role + ": " + file.path + " (sha256 " + file.sha256 + ")\n";
+    csv += "# " + role + ": " + EscapeForLine(file.path) + " (sha256 " + file.sha256 + ")\n";
   }
   csv += "# command: " + CommandLine() + "\n";
   csv +=
@@ -245,20 +246,6 @@ std::string GyroscopeLine(const GyroscopeUse& gyroscope) {
   return gyroscope.not_used.empty() ? "" : "# gyroscope: " + gyroscope.not_used + "\n";
 }
 
-// The median |a| a triad's log must have, about 1 g, which an accelerometer's corrected
-// magnitudes are at rest and in ordinary motion; `median` outside it says the log is in another
-// unit than the calibration's, or from another sensor.
-bool MedianMagnitudePlausible(double median, const CalibrationRecord& record) {
-  return median >= 0.5 * record.gravity_mps2 && median <= 2.0 * record.gravity_mps2;
-}
-
-Status ImplausibleMedianMagnitude(double median, const CalibrationRecord& record) {
-  return Status::Error(StringPrintf(
-      "%s: corrected by %s, the log's median |a| is %.4g m/s^2, not about g = %g: is the log "
-      "in the calibration's output unit (%s) and from the same sensor?",
-      FLAGS_in.c_str(), FLAGS_calibration.c_str(), median, record.gravity_mps2,
-      record.output_unit.c_str()));
-}
 
 // The names of coefficients of the triad's block.
 std::string TriadTermList(const std::vector<int>& terms) {
@@ -374,7 +361,8 @@ Status CorrectTriadLog(const TriadLog& log, const TriadCalibrationModel& model,
   ACCELCAL_RETURN_IF_ERROR(accelerometer_range);
   std::nth_element(magnitude.begin(), magnitude.begin() + magnitude.size() / 2, magnitude.end());
   const double median = magnitude[magnitude.size() / 2];
-  if (!MedianMagnitudePlausible(median, record)) return ImplausibleMedianMagnitude(median, record);
+  ACCELCAL_RETURN_IF_ERROR(CheckMedianMagnitude(FLAGS_in, FLAGS_calibration, median,
+                                                record.gravity_mps2, record.output_unit));
   *csv = TriadHeader(source, model, gyroscope);
   for (size_t j = 0; j < log.size(); ++j)
     AppendTriadRow(log.timestamp_s[j], samples[j], gyroscope.corrected ? &rates[j] : nullptr, csv);

@@ -122,6 +122,16 @@ std::vector<std::string> ExportPaths(const ExportOptions& options, bool has_gyro
   return paths;
 }
 
+namespace {
+
+// A list of effect terms in a note: all of up to three, else the first and last and how many.
+std::string TermsInBrief(const std::vector<std::string>& terms) {
+  if (terms.size() <= 3) return JoinStrings(terms);
+  return terms.front() + " .. " + terms.back() + ", " + std::to_string(terms.size()) + " terms";
+}
+
+}  // namespace
+
 Status ExportCalibration(const CalibrationRecord& record, const std::string& calibration_path,
                          const ExportOptions& options, std::vector<ExportedFile>* files,
                          std::vector<std::string>* notes) {
@@ -139,7 +149,7 @@ Status ExportCalibration(const CalibrationRecord& record, const std::string& cal
   ACCELCAL_RETURN_IF_ERROR(TriadBaselineCalibration(record, calibration_path, &triad, &covariance,
                                                     &unit, &from_baseline));
   if (from_baseline) {
-    notes->push_back("the accelerometer's effect terms (" + JoinStrings(EffectTermNames(record)) +
+    notes->push_back("the accelerometer's effect terms (" + TermsInBrief(EffectTermNames(record)) +
                      ") do not fit " + format_name +
                      ": its 9 parameters are the baseline's, the same session's fit without them "
                      "(docs/calibration.md, Exports)");
@@ -156,7 +166,7 @@ Status ExportCalibration(const CalibrationRecord& record, const std::string& cal
                                  .WithContext(calibration_path));
     if (gyroscope_from_baseline) {
       notes->push_back("the gyroscope's effect terms (" +
-                       JoinStrings(EffectTermNames(record.gyroscope)) + ") do not fit " +
+                       TermsInBrief(EffectTermNames(record.gyroscope)) + ") do not fit " +
                        format_name +
                        ": its 12 parameters are the baseline's, the same session's fit without "
                        "them (docs/calibration.md, Exports)");
