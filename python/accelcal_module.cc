@@ -279,16 +279,26 @@ struct Calibration {
   std::vector<std::string> input_files;  // the log's file(s): what its writers never replace
 };
 
-Array TriadValues(const TriadMlResult& ml) {
-  return Vector(ml.parameters.data(), ml.parameters.size());
+// The calibration's unknowns: the 9, then the effect terms of the model discovery settled on
+// (the calibration file's parameter_order), their values and covariance in that order.
+std::vector<double> TriadValueList(const TriadMlResult& ml) {
+  std::vector<double> values(ml.parameters.begin(), ml.parameters.end());
+  for (const int c : TriadTermsInOrder(ml)) values.push_back(ml.effects[c]);
+  return values;
 }
 
-Eigen::MatrixXd MlCovariance(const TriadMlResult& ml) {
-  const int n = static_cast<int>(ml.parameters.size());
-  Eigen::MatrixXd covariance(n, n);
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) covariance(i, j) = ml.covariance[i][j];
-  return covariance;
+Array TriadValues(const TriadMlResult& ml) {
+  const std::vector<double> values = TriadValueList(ml);
+  return Vector(values.data(), values.size());
+}
+
+Eigen::MatrixXd MlCovariance(const TriadMlResult& ml) { return TriadMlCovariance(ml); }
+
+std::vector<std::string> TriadNames(const TriadMlResult& ml) {
+  std::vector<std::string> names;
+  for (const TriadParameterInfo& info : TriadParameterInfos()) names.push_back(info.name);
+  for (const int c : TriadTermsInOrder(ml)) names.push_back(TriadEffectCoefficientList()[c].name);
+  return names;
 }
 
 // The calibration file's record, as calibrate_imu --calibration_out writes it.
@@ -455,16 +465,29 @@ py::tuple Corrected(const std::vector<std::array<double, 3>>& outputs, const Cor
   return py::make_tuple(value_array, sigma_array);
 }
 
+// The calibration's accelerometer correction of one output, its effect terms applied (apply's,
+// estimation/tilt_table/calibration_correction.h); an output it cannot correct is refused.
+CorrectedTriadSample CorrectedOutput(const TriadCalibrationModel& model,
+                                     const std::array<double, 3>& output, size_t row) {
+  CorrectedTriadSample sample;
+  if (!CorrectTriad(model, output, &sample)) {
+    throw InputError(StringPrintf(
+        "acc row %zu has no specific force near the 9-parameter correction's under the "
+        "calibration's effect terms: a damaged value, or a calibration of another sensor",
+        row + 1));
+  }
+  return sample;
+}
+
 py::tuple Apply(const py::object& calibration, const Array& acc) {
   std::string name;
   const CalibrationRecord record = RecordFor(calibration, &name);
-  TriadParameters parameters;
-  Eigen::MatrixXd covariance;
-  TriadOutputUnit unit;
-  ThrowIfError(TriadCalibration(record, name, &parameters, &covariance, &unit));
+  TriadCalibrationModel model;
+  ThrowIfError(TriadCalibrationModelOf(record, name, &model));
+  size_t row = 0;
   const auto correct = [&](const std::array<double, 3>& output, Eigen::Vector3d* value,
                            Eigen::Matrix3d* value_covariance) {
-    const CorrectedTriadSample sample = CorrectTriad(parameters, covariance, output);
+    const CorrectedTriadSample sample = CorrectedOutput(model, output, row++);
     *value = sample.acceleration;
     *value_covariance = sample.covariance;
   };
@@ -485,7 +508,7 @@ py::tuple Apply(const py::object& calibration, const Array& acc) {
   return corrected;
 }
 
-py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro) {
+py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro, const py::object& acc) {
   std::string name;
   const CalibrationRecord record = RecordFor(calibration, &name);
   if (!record.has_gyroscope) {
@@ -493,20 +516,37 @@ py::tuple ApplyGyroscope(const py::object& calibration, const Array& gyro) {
                      " has no gyroscope section: calibrate a log with the gyroscope's "
                      "columns (or gyro_log) to correct a gyroscope");
   }
-  GyroscopeParameters parameters;
-  GyroscopeOffset offset;
-  Eigen::MatrixXd covariance;
-  GyroscopeOutputUnit unit;
-  ThrowIfError(GyroscopeCalibration(record.gyroscope, &parameters, &offset, &covariance, &unit)
-                   .WithContext(name));
+  GyroscopeCalibrationModel model;
+  ThrowIfError(GyroscopeCalibrationModelOf(record.gyroscope, &model).WithContext(name));
+  const std::vector<std::array<double, 3>> rows = Rows(gyro, "gyro");
+  // A g-sensitivity reads the specific force of the same sample: the accelerometer's rows,
+  // corrected by the calibration's accelerometer part.
+  std::vector<Eigen::Vector3d> force(rows.size(), Eigen::Vector3d::Zero());
+  if (model.needs_specific_force()) {
+    if (acc.is_none()) {
+      throw InputError(name +
+                       "'s gyroscope carries a g-sensitivity (gyroscope_g_sensitivity_*), "
+                       "which reads the specific force of each sample: give acc= (the same "
+                       "samples' accelerometer rows, N x 3, the calibration's output unit)");
+    }
+    const std::vector<std::array<double, 3>> acc_rows = Rows(acc.cast<Array>(), "acc");
+    if (acc_rows.size() != rows.size()) {
+      throw InputError(StringPrintf("acc has %zu rows and gyro %zu: give the same samples' rows",
+                                    acc_rows.size(), rows.size()));
+    }
+    TriadCalibrationModel triad;
+    ThrowIfError(TriadCalibrationModelOf(record, name, &triad));
+    for (size_t j = 0; j < rows.size(); ++j)
+      force[j] = CorrectedOutput(triad, acc_rows[j], j).acceleration;
+  }
+  size_t row = 0;
   const auto correct = [&](const std::array<double, 3>& output, Eigen::Vector3d* value,
                            Eigen::Matrix3d* value_covariance) {
-    const CorrectedGyroscopeSample sample =
-        CorrectGyroscope(parameters, offset, covariance, output);
+    const CorrectedGyroscopeSample sample = CorrectGyroscope(model, output, force[row++]);
     *value = sample.angular_rate;
     *value_covariance = sample.covariance;
   };
-  return Corrected(Rows(gyro, "gyro"), correct, kGyroscopeRange);
+  return Corrected(rows, correct, kGyroscopeRange);
 }
 
 // A gyroscope's maximum-likelihood calibration, as the Python object Calibration.gyroscope.
@@ -521,23 +561,11 @@ py::dict Parameters(const std::vector<std::string>& names, const double* values)
   return dict;
 }
 
-std::vector<std::string> TriadNames() {
-  std::vector<std::string> names;
-  for (const TriadParameterInfo& info : TriadParameterInfos()) names.push_back(info.name);
-  return names;
-}
-
-std::vector<std::string> GyroscopeNames() {
-  std::vector<std::string> names;
-  for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
-    names.push_back(GyroscopeCalibrationParameterName(i));
-  return names;
-}
-
-// The gyroscope's 12 values: the block's 9, then the offsets.
+// The fit's unknowns: the 9, the offsets, then its effect terms (the JSON's parameter_order).
 std::vector<double> GyroscopeValues(const GyroscopeMlResult& g) {
   std::vector<double> values(g.parameters.begin(), g.parameters.end());
   values.insert(values.end(), g.offset.begin(), g.offset.end());
+  for (const int c : g.effects_estimated) values.push_back(g.effects[c]);
   return values;
 }
 
@@ -631,15 +659,10 @@ PYBIND11_MODULE(accelcal, m) {
 
   py::class_<GyroscopeView>(m, "GyroscopeCalibration",
                             "The gyroscope's maximum-likelihood calibration w = T K (u - b).")
-      .def_property_readonly("names", [](const GyroscopeView&) { return GyroscopeNames(); })
-      .def_property_readonly(
-          "units",
-          [](const GyroscopeView& v) {
-            std::vector<std::string> units;
-            for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
-              units.push_back(GyroscopeParameterUnit(i, v.report().gyroscope_unit));
-            return units;
-          })
+      .def_property_readonly("names",
+                             [](const GyroscopeView& v) { return v.report().gyroscope_ml.names; })
+      .def_property_readonly("units",
+                             [](const GyroscopeView& v) { return v.report().gyroscope_ml.units; })
       .def_property_readonly("values",
                              [](const GyroscopeView& v) {
                                const std::vector<double> values =
@@ -650,23 +673,15 @@ PYBIND11_MODULE(accelcal, m) {
                              [](const GyroscopeView& v) {
                                const std::vector<double> values =
                                    GyroscopeValues(v.report().gyroscope_ml);
-                               return Parameters(GyroscopeNames(), values.data());
+                               return Parameters(v.report().gyroscope_ml.names, values.data());
                              })
       .def_property_readonly(
           "covariance",
-          [](const GyroscopeView& v) {
-            return Matrix(v.report().gyroscope_ml.covariance.topLeftCorner(
-                kGyroscopeCalibrationParameterCount, kGyroscopeCalibrationParameterCount));
-          })
+          [](const GyroscopeView& v) { return Matrix(v.report().gyroscope_ml.covariance); })
       .def_property_readonly("stddev",
                              [](const GyroscopeView& v) {
                                const Eigen::VectorXd d =
-                                   v.report()
-                                       .gyroscope_ml.covariance
-                                       .topLeftCorner(kGyroscopeCalibrationParameterCount,
-                                                      kGyroscopeCalibrationParameterCount)
-                                       .diagonal()
-                                       .cwiseSqrt();
+                                   v.report().gyroscope_ml.covariance.diagonal().cwiseSqrt();
                                return Vector(d.data(), d.size());
                              })
       .def_property_readonly(
@@ -692,19 +707,24 @@ PYBIND11_MODULE(accelcal, m) {
   py::class_<Calibration, std::shared_ptr<Calibration>>(
       m, "Calibration",
       "A triad's maximum-likelihood calibration a = T K (u - b) (calibrate_imu --mode=ml).")
-      .def_property_readonly("names", [](const Calibration&) { return TriadNames(); })
-      .def_property_readonly("units",
-                             [](const Calibration& c) {
-                               std::vector<std::string> units;
-                               for (int i = 0; i < kTriadParameterCount; ++i)
-                                 units.push_back(TriadParameterUnit(i, c.report.unit));
-                               return units;
-                             })
+      .def_property_readonly("names", [](const Calibration& c) { return TriadNames(c.report.ml); })
+      .def_property_readonly(
+          "units",
+          [](const Calibration& c) {
+            std::vector<std::string> units;
+            for (int i = 0; i < kTriadParameterCount; ++i)
+              units.push_back(TriadParameterUnit(i, c.report.unit));
+            for (const int t : TriadTermsInOrder(c.report.ml)) {
+              units.push_back(TriadEffectUnit(t, TriadOutputUnitName(c.report.unit)));
+            }
+            return units;
+          })
       .def_property_readonly("values",
                              [](const Calibration& c) { return TriadValues(c.report.ml); })
       .def_property_readonly("parameters",
                              [](const Calibration& c) {
-                               return Parameters(TriadNames(), c.report.ml.parameters.data());
+                               const std::vector<double> values = TriadValueList(c.report.ml);
+                               return Parameters(TriadNames(c.report.ml), values.data());
                              })
       .def_property_readonly("covariance",
                              [](const Calibration& c) { return Matrix(MlCovariance(c.report.ml)); })
@@ -827,6 +847,8 @@ PYBIND11_MODULE(accelcal, m) {
         "Calibration or a calibration file's path: (corrected m/s^2 (N, 3), sigma (N, 3)), the "
         "numbers of apply's CSV.");
   m.def("apply_gyroscope", &ApplyGyroscope, py::arg("calibration"), py::arg("gyro"),
-        "w = T K (u - b) of every row of gyro (N, 3) by the calibration's gyroscope section: "
-        "(rad/s (N, 3), sigma (N, 3)).");
+        py::arg("acc") = py::none(),
+        "w = T K (u - b) of every row of gyro (N, 3) by the calibration's gyroscope section, its "
+        "effect terms applied: (rad/s (N, 3), sigma (N, 3)). acc (N, 3), the same samples' "
+        "accelerometer rows, is needed when the section carries a g-sensitivity.");
 }

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "models/effects.h"
+#include "models/gyroscope_effects.h"
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
@@ -27,6 +28,12 @@ int main() {
   for (int p = 0; p < accelcal::kGyroscopeCalibrationParameterCount; ++p) {
     units[accelcal::GyroscopeCalibrationParameterName(p)] =
         accelcal::GyroscopeParameterUnit(p, accelcal::GyroscopeOutputUnit::kCount);
+  }
+  // The gyroscope's effect terms (models/gyroscope_effects.h), which a calibration of the model
+  // discovery settled on carries.
+  for (int c = 0; c < accelcal::kGyroscopeEffectCoefficientCount; ++c) {
+    units[accelcal::GyroscopeEffectCoefficientName(c)] =
+        accelcal::GyroscopeEffectCoefficientUnit(c);
   }
   std::cout << units.dump() << "\n";
   return 0;

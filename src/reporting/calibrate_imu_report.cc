@@ -989,16 +989,18 @@ nlohmann::json CalibrateImuMlJson(const CalibrateImuReport& report) {
   json["effect_terms"] = terms;
   json["baseline"] = nullptr;
   if (report.has_ml_baseline) {
-    nlohmann::json values, sigmas;
+    nlohmann::json values, sigmas, baseline_units;
     for (int p = 0; p < kTriadParameterCount; ++p) {
       values[infos[p].name] = report.ml_baseline.parameters[p];
       sigmas[infos[p].name] = report.ml_baseline.stddev[p];
+      baseline_units[infos[p].name] = TriadParameterUnit(p, report.unit);
     }
     json["baseline"] = {{"description",
                          "the 9-parameter model's fit of the same poses, before the effect terms "
                          "discovery settled on"},
                         {"parameters", values},
                         {"stddev", sigmas},
+                        {"units", baseline_units},
                         {"chi2", report.ml_baseline.chi2},
                         {"dof", report.ml_baseline.degrees_of_freedom}};
   }

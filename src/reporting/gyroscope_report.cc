@@ -320,16 +320,18 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
   nlohmann::json baseline_json = nullptr;
   if (!g.effects_estimated.empty()) {
     const GyroscopeMlResult& baseline = report.gyroscope_discovery.baseline;
-    nlohmann::json values, sigmas;
+    nlohmann::json values, sigmas, baseline_units;
     for (int i = 0; i < kGyroscopeCalibrationCount; ++i) {
       values[baseline.names[i]] = GyroscopeUnknownValue(baseline, i);
       sigmas[baseline.names[i]] = baseline.stddev[i];
+      baseline_units[baseline.names[i]] = baseline.units[i];
     }
     baseline_json = {{"description",
                       "the 12 unknowns' fit of the same session, before the effect terms "
                       "discovery settled on"},
                      {"parameters", values},
                      {"stddev", sigmas},
+                     {"units", baseline_units},
                      {"chi2", baseline.chi2_gyroscope},
                      {"degrees_of_freedom", baseline.gyroscope_degrees_of_freedom}};
   }

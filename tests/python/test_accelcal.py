@@ -171,7 +171,14 @@ def test_the_gyroscope_matches_the_binary(tmp_path):
     assert cal.gyroscope.verdict_kind == expected["verdict"]
     mine = json.loads(cal.json())["gyroscope"]
     compare_json(mine, expected, "gyroscope")
-    rate, sigma = accelcal.apply_gyroscope(cal, cal_log_gyro(ACC, GYRO)[:10])
+    # The calibration is the model discovery settled on: on this pair its gyroscope carries a
+    # g-sensitivity (issue 44, item 7), which reads the same samples' accelerometer rows.
+    assert cal.gyroscope.names == expected["parameter_order"]
+    assert len(expected["effect_terms"]) == 9
+    log = accelcal.read_log(ACC, gyro_log=GYRO)
+    with pytest.raises(accelcal.Error, match="give acc="):
+        accelcal.apply_gyroscope(cal, log.gyro[:10])
+    rate, sigma = accelcal.apply_gyroscope(cal, log.gyro[:10], acc=log.acc[:10])
     assert rate.shape == (10, 3) and np.all(sigma > 0)
 
 
