@@ -40,6 +40,13 @@ std::string EarthVerticalClause(const CalibrateImuReport& report) {
         "known) counted as noise, and over the turns all of it",
         options.latitude_rad * 180.0 / M_PI, g.earth_vertical_rate_rad_s);
   }
+  if (g.earth_vertical_held) {
+    return "; its vertical part (Omega sin(latitude) about the up direction in every pose, the "
+           "latitude not given) traded with the gains when estimated with them (they fell towards "
+           "0: a pose-dependent offset the 12 unknowns do not model, such as a g-sensitivity), so "
+           "it is held at its prior's mean, 0 (give --latitude_deg to hold the Earth's share); its "
+           "horizontal part is counted as noise";
+  }
   const bool determined = g.earth_vertical_rate_stddev < 0.5 * g.earth_vertical_prior_stddev;
   return StringPrintf(
       "; its vertical part (Omega sin(latitude) about the up direction in every pose, the "
@@ -382,6 +389,7 @@ nlohmann::json GyroscopeMlJson(const CalibrateImuReport& report) {
             {"vertical_rate_rad_s", g.earth_vertical_rate_rad_s},
             {"vertical_rate_stddev", g.earth_vertical_rate_stddev},
             {"vertical_prior_stddev", g.earth_vertical_prior_stddev},
+            {"vertical_held", g.earth_vertical_held},
             {"text", EarthRateSentence(report)}}},
           {"turns", turns},
           {"turned_about_rad", g.turned_about_rad},

@@ -102,6 +102,45 @@ std::vector<std::string> UnknownNames(const std::vector<int>& effects) {
   return names;
 }
 
+// The joint solve's unknowns, to start it again from where it started.
+struct JointBlocks {
+  GyroscopeParameters parameters{};
+  GyroscopeOffset offset{};
+  GyroscopeEffectCoefficients effects{};
+  std::vector<std::array<double, 3>> directions;
+  TriadParameters accelerometer{};
+  double vertical_rate = 0.0;
+};
+
+JointBlocks SnapshotBlocks(const GyroscopeMlResult* result, const TriadParameters& accelerometer,
+                           double vertical_rate) {
+  return {result->parameters, result->offset, result->effects,
+          result->directions, accelerometer,  vertical_rate};
+}
+
+void RestoreBlocks(const JointBlocks& blocks, GyroscopeMlResult* result,
+                   TriadParameters* accelerometer, double* vertical_rate) {
+  // In place: the problem holds pointers into these arrays.
+  result->parameters = blocks.parameters;
+  result->offset = blocks.offset;
+  result->effects = blocks.effects;
+  for (size_t p = 0; p < blocks.directions.size(); ++p)
+    result->directions[p] = blocks.directions[p];
+  *accelerometer = blocks.accelerometer;
+  *vertical_rate = blocks.vertical_rate;
+}
+
+// A gain that ended kGainCollapse times smaller or larger than it started.
+constexpr double kGainCollapse = 10.0;
+bool GainsCollapsed(const JointBlocks& started, const GyroscopeMlResult& result) {
+  for (int k = 0; k < 3; ++k) {
+    const double ratio =
+        result.parameters[kGyroscopeGainX + k] / started.parameters[kGyroscopeGainX + k];
+    if (!(ratio > 1.0 / kGainCollapse && ratio < kGainCollapse)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 const char* GyroscopeTurnAxisOf(int unknown, const std::vector<int>& effects_estimated) {
@@ -584,7 +623,35 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
                            advice);
     };
     ACCELCAL_RETURN_IF_ERROR(check_rank());
-    const Status solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
+    // The vertical Earth rate reaches the rest poses' outputs as K^-1 T^-1 (w_v n_p), which its
+    // prior (in rad/s) does not bound as the gains shrink: with an unmodelled g-sensitivity of
+    // 2e-4 (rad/s)/(m/s^2) (0.1 deg/s per g, a common MEMS figure), a pose-dependent offset that
+    // the noise model's turns then weigh lightly, the joint solve went to gains of 3e-12 and
+    // angles of 0.3 rad, a lower cost than the sane solution, and the session was refused ("could
+    // not invert"). When the gains end a factor kGainCollapse or more from where the solve
+    // started (or it fails), it is done again from there with the vertical rate held at its
+    // start (0, its prior's mean), then released from that solution; if the gains collapse
+    // again, the held solution stands and the result says so (earth_vertical_held).
+    const JointBlocks started = SnapshotBlocks(result, accelerometer_parameters, vertical_rate);
+    Status solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
+    result->earth_vertical_held = false;
+    if (vertical_prior != nullptr && (!solved.ok() || GainsCollapsed(started, *result))) {
+      RestoreBlocks(started, result, &accelerometer_parameters, &vertical_rate);
+      problem.SetParameterBlockConstant(&vertical_rate);
+      solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
+      if (solved.ok()) {
+        const JointBlocks held = SnapshotBlocks(result, accelerometer_parameters, vertical_rate);
+        const SolverReport held_report = result->solver;
+        problem.SetParameterBlockVariable(&vertical_rate);
+        const Status released = SolveQuietlySparse(options.solve, &problem, &result->solver);
+        if (!released.ok() || GainsCollapsed(started, *result)) {
+          RestoreBlocks(held, result, &accelerometer_parameters, &vertical_rate);
+          result->solver = held_report;
+          problem.SetParameterBlockConstant(&vertical_rate);
+          result->earth_vertical_held = true;
+        }
+      }
+    }
     ACCELCAL_RETURN_IF_ERROR(check_rank());
     ACCELCAL_RETURN_IF_ERROR(solved.WithContext("the gyroscope's maximum-likelihood solve"));
 
@@ -675,7 +742,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         {gyroscope, offset},
         {offset, offset},
         {accelerometer_parameters.data(), accelerometer_parameters.data()}};
-    if (vertical_prior != nullptr) pairs.push_back({&vertical_rate, &vertical_rate});
+    if (vertical_prior != nullptr && !result->earth_vertical_held)
+      pairs.push_back({&vertical_rate, &vertical_rate});
     if (!estimated.empty()) {
       pairs.push_back({gyroscope, effects});
       pairs.push_back({offset, effects});
@@ -732,7 +800,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     // The Earth's rate against the noise, and its vertical part.
     result->earth_vertical_rate_rad_s = vertical_rate;
     result->earth_vertical_rate_stddev = 0.0;
-    if (vertical_prior != nullptr) {
+    if (vertical_prior != nullptr && !result->earth_vertical_held) {
       double variance = 0.0;
       covariance.GetCovarianceBlock(&vertical_rate, &vertical_rate, &variance);
       result->earth_vertical_rate_stddev = std::sqrt(std::max(variance, 0.0));

@@ -176,7 +176,10 @@ struct GyroscopeMlResult {
   // its prior (see GyroscopeMlOptions); 0 and 0 when the Earth's rate is not counted.
   double earth_vertical_rate_rad_s = 0.0;
   double earth_vertical_rate_stddev = 0.0;
-  double earth_vertical_prior_stddev = 0.0;     // the prior's sigma; 0: given or not counted
+  double earth_vertical_prior_stddev = 0.0;  // the prior's sigma; 0: given or not counted
+  // Estimated with the gains, the vertical rate traded with them (they collapsed towards 0, an
+  // unmodelled pose-dependent offset's doing): held at its prior's mean instead, stddev 0.
+  bool earth_vertical_held = false;
   double earth_horizontal_axis_variance = 0.0;  // the pose means' allowance, (rad/s)^2 per axis
   // The turns' chi-square under the noise model without the sampling term: its p-value.
   double turns_without_sampling_p_value = 1.0;
