@@ -143,6 +143,43 @@ TEST(ExportCalibrationCli, ImucalJsonIsReadByTheLibrarysReaderAndGivesTheSameVal
   }
 }
 
+// Issue 45: the Allan fits of the calibration's own two logs given the wrong way round (each in
+// counts, so no unit check sees it) gave Kalibr noise densities off by 8.4x, exit 0. The
+// calibration file records its logs' SHA-256 and each Allan JSON its log's: refused, naming the
+// swap; the right way round writes the file.
+TEST(ExportCalibrationCli, RefusesAllanFitsOfTheCalibrationsLogsSwapped) {
+  ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
+  ScratchDir scratch;
+  const std::string acc = dir + "/xsens_acc.mat";
+  const std::string gyro = dir + "/xsens_gyro.mat";
+  const std::string calibration = scratch.File("cal.json");
+  ASSERT_EQ(RunBinaryArgs("calibrate_imu",
+                          {"--log=" + acc, "--gyro_log=" + gyro, "--g=9.81744", "--mode=ml",
+                           "--initial_gyro_gain=0.000159795", "--calibration_out=" + calibration})
+                .exit_status,
+            0);
+  const std::string acc_allan = scratch.File("acc_allan.json");
+  const std::string gyro_allan = scratch.File("gyro_allan.json");
+  ASSERT_EQ(
+      RunBinaryArgs("allan", {"--log=" + acc, "--unit=count", "--json=" + acc_allan}).exit_status,
+      0);
+  ASSERT_EQ(
+      RunBinaryArgs("allan", {"--log=" + gyro, "--unit=count", "--json=" + gyro_allan}).exit_status,
+      0);
+  const std::string out = scratch.File("imu.yaml");
+  ExpectBadInputContract(
+      RunBinaryArgs("export_calibration",
+                    {"--calibration=" + calibration, "--format=kalibr", "--allan=" + gyro_allan,
+                     "--gyro_allan=" + acc_allan, "--out=" + out}),
+      "export_calibration", "(--allan) is an Allan fit of " + calibration + "'s gyroscope log");
+  EXPECT_FALSE(testing::PathExists(out));
+  const testing::CommandResult right = RunBinaryArgs(
+      "export_calibration", {"--calibration=" + calibration, "--format=kalibr",
+                             "--allan=" + acc_allan, "--gyro_allan=" + gyro_allan, "--out=" + out});
+  EXPECT_EQ(right.exit_status, 0) << right.stderr_text;
+  EXPECT_TRUE(testing::PathExists(out));
+}
+
 TEST(ExportCalibrationCli, RefusesWhatAFormatCannotHoldAndWritesNothing) {
   ScratchDir scratch;
   const std::string triad_only =

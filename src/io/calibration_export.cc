@@ -65,6 +65,34 @@ Status ExportKalibr(const CalibrationRecord& record, const std::string& path,
                          " are Allan fits of the same log (" + options.allan.at(log_sha256).dump() +
                          "): give --allan the accelerometer's and --gyro_allan the gyroscope's");
   }
+  // Each Allan fit of one of the calibration's own logs must be of its sensor's: the
+  // accelerometer's fit of the gyroscope's log (the two swapped) would give noise densities off by
+  // the ratio of the two sensors' noise, in the same unit, and pass every other check.
+  const auto of_log = [&](const nlohmann::json& allan) -> std::string {
+    return allan.is_object() && allan.contains(log_sha256) && allan.at(log_sha256).is_string()
+               ? allan.at(log_sha256).get<std::string>()
+               : "";
+  };
+  const auto recorded = [&](const char* role) -> std::string {
+    const auto it = record.input_sha256.find(role);
+    return it == record.input_sha256.end() ? "" : it->second;
+  };
+  const std::string accelerometer_log = recorded("log");
+  const std::string gyroscope_log = recorded("log_gyroscope");
+  if (!gyroscope_log.empty() && gyroscope_log != accelerometer_log) {
+    const bool allan_of_gyroscope = of_log(options.allan) == gyroscope_log;
+    const bool gyro_allan_of_accelerometer = of_log(options.gyro_allan) == accelerometer_log;
+    if (allan_of_gyroscope || gyro_allan_of_accelerometer) {
+      return Status::Error(
+          std::string(allan_of_gyroscope
+                          ? options.allan_path + " (--allan) is an Allan fit of " + path +
+                                "'s gyroscope log"
+                          : options.gyro_allan_path + " (--gyro_allan) is an Allan fit of " + path +
+                                "'s accelerometer log") +
+          " (by their SHA-256): give --allan the accelerometer's and --gyro_allan the "
+          "gyroscope's (swapped?)");
+    }
+  }
   KalibrImuConfig config;
   config.rostopic = options.rostopic;
   ACCELCAL_RETURN_IF_ERROR(KalibrNoiseFromAllan(options.allan, options.allan_path,

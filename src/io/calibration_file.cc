@@ -736,6 +736,14 @@ Status ParseCalibration(const std::string& text, const std::string& path,
   parsed.created_utc = json.value("created_utc", "");
   parsed.written_by_version = json.value("accelcal_version", "");
   parsed.written_by_command_line = json.value("command_line", "");
+  const nlohmann::json inputs = json.value("input_files", nlohmann::json::object());
+  if (inputs.is_object()) {
+    for (auto it = inputs.begin(); it != inputs.end(); ++it) {
+      if (it.value().is_object() && it.value().contains("sha256") &&
+          it.value()["sha256"].is_string())
+        parsed.input_sha256[it.key()] = it.value()["sha256"].get<std::string>();
+    }
+  }
   *record = std::move(parsed);
   return Status::Ok();
 }

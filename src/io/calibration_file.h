@@ -55,6 +55,7 @@
 // must be what this version writes for the geometry: a file of another model is refused.
 
 #include <Eigen/Core>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -171,9 +172,12 @@ struct CalibrationRecord {
   GyroscopeCalibrationSection gyroscope;
   std::string created_utc;  // ISO 8601, set by the writer
   DataSource source;        // the tilt test it was computed from (written, not read back)
-  // Read back only: the writer's version and command line.
+  // Read back only: the writer's version and command line, and the SHA-256 of each input file
+  // it records by role ("log", "log_gyroscope", ...; input_files/<role>/sha256), so that a file
+  // combined with it (an Allan fit for an export) can be checked against what it was made from.
   std::string written_by_version;
   std::string written_by_command_line;
+  std::map<std::string, std::string> input_sha256;
 
   // The index of `name` in parameter_order, or -1.
   int IndexOf(const std::string& name) const;

@@ -20,7 +20,9 @@ struct TriadOffsetWarmupEffect {
       3,
       {"_x", "_y", "_z"},
       "",
-      2e-5};
+      2e-5,
+      "a change of the offsets over the session's own time: another log's time says nothing of "
+      "it"};
 
   template <typename T>
   static void Apply(const T* curvature, const TriadPoseContext& context, TriadPoseTerms<T>* terms) {
