@@ -116,8 +116,26 @@ void TakeSessionCalibration(TriadSessionCalibration session, CalibrateImuReport*
   if (TriadDiscoveryKeptEffects(report->discovery)) report->ml = report->discovery.final_fit;
   report->has_ml_baseline = !report->ml.effects_estimated.empty();
   if (report->has_ml_baseline) report->ml_baseline = report->discovery.baseline;
+  // On the sigmas the fit description vouches for: scaled by the understatement it states when
+  // the pose means scatter beyond the noise model (issue 45: "Poorly determined: none" on sigmas
+  // it had just called understated by 19x).
+  const double understated = SigmaUnderstatement(report->ml, report->discovery);
+  TriadMlResult scaled = report->ml;
+  for (int p = 0; p < kTriadParameterCount; ++p) {
+    scaled.stddev[p] *= understated;
+    for (int q = 0; q < kTriadParameterCount; ++q)
+      scaled.covariance[p][q] *= understated * understated;
+  }
   report->poorly_determined =
-      PoorlyDeterminedTriadParameters(report->ml, TriadOutputUnitName(report->unit));
+      PoorlyDeterminedTriadParameters(scaled, TriadOutputUnitName(report->unit));
+  if (understated > 1.0) {
+    for (TriadPoorlyDetermined& entry : report->poorly_determined) {
+      entry.reason += StringPrintf(
+          " (its sigma scaled by sqrt(chi2/dof) = %.2g: the pose means scatter more than the "
+          "noise model allows)",
+          understated);
+    }
+  }
 }
 
 nlohmann::json PoorlyDeterminedJson(const std::vector<TriadPoorlyDetermined>& list) {

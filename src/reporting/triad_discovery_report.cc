@@ -8,6 +8,12 @@
 
 namespace accelcal {
 
+double SigmaUnderstatement(const TriadMlResult& ml, const TriadDiscoveryResult& discovery) {
+  const bool understated = discovery.verdict_code == Verdict::kUnexplained &&
+                           !discovery.checks.empty() && discovery.checks[0].flagged;
+  return understated ? std::sqrt(std::max(ml.chi2_per_dof, 1.0)) : 1.0;
+}
+
 std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
                            const TriadDiscoveryResult& discovery) {
   std::string text = StringPrintf(
@@ -18,7 +24,9 @@ std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
       ml.degrees_of_freedom, ml.p_value,
       allan_noise ? "the Allan variance of their samples"
                   : "white noise of the within-pose variance");
-  const TriadMlResult& final_fit = discovery.final_fit;
+  // The factors are the reported fit's own chi2/dof (the number this sentence states), as its
+  // sigmas are the ones they qualify (issue 45: a factor of another fit's, 2.3 beside a stated
+  // chi2/dof of 364).
   if (allan_noise != discovery.coloured_noise) {
     text += StringPrintf(
         "; discovery weighted them by %s instead (its noise line), and the verdict is about that "
@@ -28,14 +36,18 @@ std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
     text += StringPrintf(
         "; the pose means scatter less than that noise model says (noted with the verdict), so "
         "the sigmas are conservative, by a factor of about %.2g",
-        1.0 / std::sqrt(std::max(final_fit.chi2_per_dof, 1e-12)));
+        1.0 / std::sqrt(std::max(ml.chi2_per_dof, 1e-12)));
   } else if (discovery.verdict_code == Verdict::kUnexplained && !discovery.checks.empty() &&
              discovery.checks[0].flagged) {
     text += StringPrintf(
         "; the verdict finds the pose means scatter more than it allows, so the sigmas "
         "understate the uncertainty, by a factor of about sqrt(chi2/dof) = %.2g were the "
         "excess scatter white",
-        std::sqrt(std::max(final_fit.chi2_per_dof, 0.0)));
+        SigmaUnderstatement(ml, discovery));
+  } else if (!discovery.effects.empty() && !ml.effects_estimated.empty()) {
+    text +=
+        "; they are the model discovery settled on, with the effects the verdict names (the "
+        "9-parameter fit beside them)";
   } else if (!discovery.effects.empty()) {
     text += "; they are the 9-parameter model's, without the effects the verdict names";
   }

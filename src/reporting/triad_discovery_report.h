@@ -18,6 +18,11 @@ namespace accelcal {
 // understated by about sqrt(chi2/dof) when the verdict finds excess scatter; discovery's
 // noise model when it differs from the fit's). It cannot contradict the verdict: it states
 // none.
+// The factor by which the reported fit's sigmas understate the uncertainty when the verdict finds
+// the pose means scatter more than the noise model allows (unexplained, its chi2 check flagged):
+// sqrt(chi2/dof) of the reported fit, were the excess scatter white; 1 otherwise.
+double SigmaUnderstatement(const TriadMlResult& ml, const TriadDiscoveryResult& discovery);
+
 std::string FitDescription(const TriadMlResult& ml, bool allan_noise,
                            const TriadDiscoveryResult& discovery);
 
