@@ -1037,9 +1037,21 @@ Status DiscoverTriad(const std::vector<TriadPoseMean>& poses, const TriadDiscove
   } else {
     result->verdict = StringPrintf(
         "explained: the 9-parameter model with %s noise explains the poses (chi2/dof = %.3g on "
-        "%d dof, p = %.3g); no candidate effect is needed",
+        "%d dof, p = %.3g)",
         result->coloured_noise ? "coloured" : "white", current.chi2_per_dof,
         current.degrees_of_freedom, current.p_value);
+    // "No effect is needed" only when some candidate was tested (issue 45: said of a 10-pose
+    // session with 1 degree of freedom, where none could be).
+    if (!result->candidates.empty()) {
+      result->verdict += "; no candidate effect is needed";
+    } else {
+      std::string why;
+      for (const TriadUntestable& u : result->untestable)
+        if (u.confounded_with.empty() && why.empty()) why = u.reason;
+      result->verdict +=
+          "; but no candidate effect could be tested" + (why.empty() ? "" : " (" + why + ")") +
+          ", so the session cannot show whether one is missing: hold the sensor in more poses";
+    }
   }
   if (result->noise_overstated.flagged)
     result->verdict += "; note: " + result->noise_overstated.description;

@@ -1,4 +1,6 @@
-// Issue 45: when the verdict finds the pose means scatter more than the noise model allows, the
+// What discovery's statements claim, against what was done (issue 45).
+//
+// When the verdict finds the pose means scatter more than the noise model allows, the
 // fit description states the sigmas' understatement as sqrt(chi2/dof) of the fit it describes
 // (it once quoted another fit's, 2.3 beside a stated chi2/dof of 364), and the poorly determined
 // list judges the sigmas so scaled (it once said "none" on sigmas it had just called understated
@@ -20,7 +22,7 @@
 namespace accelcal {
 namespace {
 
-TEST(UnderstatedSigma, TheFactorIsTheReportedFitsAndThePoorlyDeterminedListUsesIt) {
+TEST(DiscoveryStatements, TheFactorIsTheReportedFitsAndThePoorlyDeterminedListUsesIt) {
   TriadSimulationOptions simulation = testing::TriadTestSimulationOptions();
   simulation.pose_wander_stddev = {3.0, 3.0, 3.0};
   RandomSource random(45, 2);
@@ -46,6 +48,26 @@ TEST(UnderstatedSigma, TheFactorIsTheReportedFitsAndThePoorlyDeterminedListUsesI
   ASSERT_FALSE(report.poorly_determined.empty());
   for (const TriadPoorlyDetermined& entry : report.poorly_determined)
     EXPECT_NE(entry.reason.find("sigma scaled by sqrt(chi2/dof)"), std::string::npos);
+}
+
+// A 10-pose session leaves 1 degree of freedom: no candidate can be tested, and the verdict
+// says so instead of "no candidate effect is needed".
+TEST(DiscoveryStatements, ExplainedSaysWhenNoCandidateCouldBeTested) {
+  RandomSource random(46, 3);
+  const std::vector<std::array<double, 3>> directions = RandomPoseDirections(10, &random);
+  TriadDiscoveryResult result;
+  ASSERT_TRUE(
+      DiscoverTriad(SimulateTriadPoses(testing::TriadTestSimulationOptions(), directions, &random),
+                    testing::TriadTestDiscovery(0.01), &result)
+          .ok());
+  EXPECT_EQ(result.baseline.degrees_of_freedom, 1);
+  ASSERT_EQ(result.verdict_code, Verdict::kExplained) << result.verdict;
+  EXPECT_TRUE(result.candidates.empty());
+  EXPECT_EQ(result.verdict.find("no candidate effect is needed"), std::string::npos)
+      << result.verdict;
+  EXPECT_NE(result.verdict.find("no candidate effect could be tested"), std::string::npos)
+      << result.verdict;
+  EXPECT_NE(result.verdict.find("hold the sensor in more poses"), std::string::npos);
 }
 
 }  // namespace
