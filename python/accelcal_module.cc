@@ -308,17 +308,11 @@ CalibrationRecord RecordOf(const Calibration& calibration) {
   return record;
 }
 
-std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
-                                       const py::object& unit, double alpha,
-                                       const std::string& noise, const std::string& detector,
-                                       const py::object& initial_offset, int window,
-                                       double init_rest_s, int interval_samples, int min_intervals,
-                                       double threshold_factor, double min_interval_s,
-                                       const py::object& gyro_unit, double initial_gyro_gain,
-                                       const std::string& columns, double rate_hz,
-                                       const std::string& time_unit, const py::object& gyro_log) {
-  // calibrate_imu's validation of its flags (reporting/calibrate_imu_options.h), before the
-  // log is read, as the binary's: the same ranges and rules, in its words.
+// calibrate's options checked as calibrate_imu checks its flags, without a log (for a script that
+// calibrates many: tools/many_devices.py refuses bad options before any work).
+void CheckOptions(double g, double alpha, const py::object& initial_offset, int window,
+                  double init_rest_s, int interval_samples, int min_intervals,
+                  double threshold_factor, double min_interval_s, double initial_gyro_gain) {
   CalibrateImuOptionValues values;
   values.g = g;
   values.alpha = alpha;
@@ -332,6 +326,21 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   values.initial_offset =
       initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
   ThrowIfError(ValidateCalibrateImuOptions(values));
+}
+
+std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
+                                       const py::object& unit, double alpha,
+                                       const std::string& noise, const std::string& detector,
+                                       const py::object& initial_offset, int window,
+                                       double init_rest_s, int interval_samples, int min_intervals,
+                                       double threshold_factor, double min_interval_s,
+                                       const py::object& gyro_unit, double initial_gyro_gain,
+                                       const std::string& columns, double rate_hz,
+                                       const std::string& time_unit, const py::object& gyro_log) {
+  // calibrate_imu's validation of its flags (reporting/calibrate_imu_options.h), before the
+  // log is read, as the binary's: the same ranges and rules, in its words.
+  CheckOptions(g, alpha, initial_offset, window, init_rest_s, interval_samples, min_intervals,
+               threshold_factor, min_interval_s, initial_gyro_gain);
   std::shared_ptr<Log> log;
   if (py::isinstance<Log>(log_or_path)) {
     log = log_or_path.cast<std::shared_ptr<Log>>();
@@ -357,10 +366,12 @@ std::shared_ptr<Calibration> Calibrate(const py::object& log_or_path, double g,
   ThrowIfError(ParseTriadOutputUnit(unit_name, &options.session.unit).WithContext("--unit"));
   options.session.gravity_mps2 = g;
   // initial_offset: "auto" or a number, as --initial_offset.
-  if (values.initial_offset != "auto") {
+  const std::string offset_text =
+      initial_offset.is_none() ? std::string("auto") : std::string(py::str(initial_offset));
+  if (offset_text != "auto") {
     options.session.offset.automatic = false;
-    if (!ParseFiniteNumber(values.initial_offset, &options.session.offset.value))
-      throw InputError("--initial_offset='" + values.initial_offset + "' is not a number");
+    if (!ParseFiniteNumber(offset_text, &options.session.offset.value))
+      throw InputError("--initial_offset='" + offset_text + "' is not a number");
   }
   options.session.detector.window_samples = window;
   options.session.detector.threshold_factor = threshold_factor;
@@ -828,6 +839,13 @@ PYBIND11_MODULE(accelcal, m) {
         py::arg("gyro_log") = py::none(),
         "calibrate_imu --mode=ml on a Log or a log's path; the keywords are its flags (window "
         "0: its default). Returns a Calibration.");
+  m.def("check_options", &CheckOptions, py::arg("g") = 9.81, py::arg("alpha") = 0.01,
+        py::arg("initial_offset") = "auto", py::arg("window") = 0, py::arg("init_rest_s") = 50.0,
+        py::arg("interval_samples") = 100, py::arg("min_intervals") = 12,
+        py::arg("threshold_factor") = 10.0, py::arg("min_interval_s") = 1.0,
+        py::arg("initial_gyro_gain") = 0.0,
+        "calibrate's options checked as calibrate_imu checks its flags, without a log: raises "
+        "accelcal.Error with the binary's message.");
   m.def("check_output", &CheckOutputPython, py::arg("path"), py::arg("kind") = "file",
         py::arg("inputs") = py::tuple(), py::arg("input_folders") = py::tuple(),
         py::arg("overwrite") = false, py::arg("flag") = "path",

@@ -24,9 +24,10 @@ status 2, and nothing is written.
   /usr/bin/python3 tools/many_devices.py --logs='logs/*.csv' --out=calibrations --workers=2 \\
       --g=9.81 [--scheduler=tcp://host:8786] [--unit=count] [--alpha=0.01]
 
-Exit status: 0 when the run completed (some devices may have failed: see the table), 2 on bad
-arguments, an --out that may not be written, when no log matched, or when the outputs could not
-be written (the old --out then left as it was).
+Exit status: 0 when every device calibrated; 1 when the run completed but some device failed (its
+row says why; the others' outputs are written); 2 on bad arguments (the options are checked by
+calibrate_imu's own rules before any work), an --out that may not be written, when no log
+matched, or when the outputs could not be written (the old --out then left as it was).
 """
 import argparse
 import csv
@@ -182,6 +183,13 @@ def main(argv):
         print(f"many_devices: error: {error}", file=sys.stderr)
         return 2
     options = {"g": args.g, "unit": args.unit, "alpha": args.alpha, "noise": args.noise}
+    # The options by calibrate_imu's rules, once, before any work: a bad --g is one refusal, not
+    # one failed row per device.
+    try:
+        accelcal.check_options(g=args.g, alpha=args.alpha)
+    except accelcal.Error as error:
+        print(f"many_devices: error: {error}", file=sys.stderr)
+        return 2
 
     from dask.distributed import Client, LocalCluster
 
@@ -221,6 +229,10 @@ def main(argv):
     print(f"{ok} of {len(rows)} devices calibrated in {wall:.1f} s on {where}: "
           f"{started - start:.1f} s to start, {compute:.1f} s for the tasks "
           f"({task_seconds:.1f} s inside them); outputs in {os.path.abspath(args.out)}")
+    if ok < len(rows):
+        print(f"many_devices: {len(rows) - ok} of {len(rows)} devices failed (see their rows)",
+              file=sys.stderr)
+        return 1
     return 0
 
 

@@ -32,7 +32,9 @@ def test_a_folder_of_devices_calibrates_on_a_local_cluster(tmp_path):
     (logs / "device_broken.csv").write_text("t,ax,ay,az\n0.00,1,2,3\n0.01,1,2")
     out = tmp_path / "out"
     result = run(f"--logs={logs}", f"--out={out}", "--workers=2", "--g=9.81")
-    assert result.returncode == 0, result.stderr
+    # Exit 1: the run completed, one device failed (issue 48); the outputs are written.
+    assert result.returncode == 1, result.stderr
+    assert "1 of 5 devices failed" in result.stderr
     names = sorted(os.listdir(out))
     # The calibrations, the summary and the marker every output folder of accelcal's carries
     # (what lets a later --overwrite replace it).
@@ -71,3 +73,16 @@ def test_no_matching_log_is_bad_input(tmp_path):
     result = run(f"--logs={tmp_path}/*.csv", f"--out={tmp_path}/out", "--workers=1")
     assert result.returncode == 2 and "no log matches" in result.stderr
     assert not os.path.exists(tmp_path / "out")
+
+
+def test_a_bad_option_is_one_refusal_before_any_work(tmp_path):
+    """--g out of calibrate_imu's range: one line and exit 2 before Dask starts, nothing written
+    (it was one failed row per device and exit 0)."""
+    logs = tmp_path / "logs"
+    hand_held.write_devices(str(logs), 2, seed=5)
+    out = tmp_path / "out"
+    result = run(f"--logs={logs}", f"--out={out}", "--workers=1", "--g=98.1")
+    assert result.returncode == 2, (result.returncode, result.stdout, result.stderr)
+    lines = result.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("many_devices: error: ") and "--g" in lines[0]
+    assert not out.exists()
