@@ -136,7 +136,7 @@ std::string GyroscopeMlTable(const CalibrateImuReport& report) {
       const double before = GyroscopeUnknownValue(baseline, i);
       out << StringPrintf(" %-14.8g %+9.2f", before, (value - before) / g.stddev[i]);
     } else if (with_baseline) {
-      out << StringPrintf(" %-14s %9s", "-", "");
+      out << " -";  // an effect term: no baseline value (nor imu_tk's or the datasheet's)
     }
     if (with_imu_tk && i < kGyroscopeCalibrationCount) {
       const double imu_tk = ImuTkValue(report, i);
