@@ -61,7 +61,16 @@ void ThrowIfError(const Status& status) {
   if (!status.ok()) throw InputError(status.message());
 }
 
+// A path (str or os.PathLike); anything else (a numpy array, a DataFrame) is refused as
+// accelcal.Error with what to give instead, not with os.fspath's TypeError.
 std::string PathOf(const py::object& path) {
+  if (!py::isinstance<py::str>(path) && !py::isinstance<py::bytes>(path) &&
+      !py::hasattr(path, "__fspath__")) {
+    throw InputError(
+        "expected a log's path (str or os.PathLike) or an accelcal.Log, not a " +
+        std::string(py::str(path.get_type().attr("__name__"))) +
+        "; arrays: accelcal.Log(time_s, acc, gyro=None) (N, and N x 3 in the log's unit)");
+  }
   return py::str(py::module_::import("os").attr("fspath")(path));
 }
 

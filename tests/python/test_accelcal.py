@@ -239,3 +239,11 @@ def test_bad_arguments_raise_value_errors_not_aborts(tmp_path):
             accelcal.apply(cal, np.array([[1e300, 0.0, 0.0]]))
         with pytest.raises(ValueError):
             accelcal.apply_gyroscope(cal, np.zeros((2, 3)))
+
+
+def test_an_array_where_a_log_is_expected_is_an_accelcal_error():
+    """calibrate(array) raised os.fspath's TypeError; it is accelcal.Error naming what to give."""
+    with pytest.raises(accelcal.Error, match=r"not a ndarray; arrays: accelcal.Log\(time_s, acc"):
+        accelcal.calibrate(np.zeros((100, 3)))
+    with pytest.raises(accelcal.Error, match="expected a log's path"):
+        accelcal.read_log(3.5)
