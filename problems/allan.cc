@@ -477,8 +477,18 @@ Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report,
                      bool* solved) {
   *solved = false;
   if (!DescribeMeasuredData("", {{"log", FLAGS_log}}, source).ok()) return Status::Ok();
-  SampleSpool spool;  // no room for it in $TMPDIR: the log is read whole instead
-  if (!spool.Open().ok()) return Status::Ok();
+  // No room for the spool in $TMPDIR (missing, read-only, full): the log is read whole instead,
+  // and a note says so, with what it costs and what to do (issue 45: it read 910 MB silently).
+  const auto whole_instead = [](const Status& why) {
+    std::cerr << "allan: note: the log is read whole into memory (some 100 bytes per sample), "
+                 "not streamed: its temporary copy in $TMPDIR could not be written ("
+              << why.message()
+              << "); set TMPDIR to a writable folder with room for 32 bytes per sample\n";
+    return Status::Ok();
+  };
+  SampleSpool spool;
+  const Status opened = spool.Open();
+  if (!opened.ok()) return whole_instead(opened);
   Status spooled;
   ImuLogSource log_source;
   const Status read = StreamImuLog(
@@ -488,8 +498,10 @@ Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report,
           spooled = spool.Append(batch.timestamp_s[i], batch.output[i]);
       },
       &log_source);
-  if (!read.ok() || log_source.times_need_whole_log || !spooled.ok() || !spool.Finish().ok())
-    return Status::Ok();
+  if (!read.ok() || log_source.times_need_whole_log) return Status::Ok();
+  if (!spooled.ok()) return whole_instead(spooled);
+  const Status finished = spool.Finish();
+  if (!finished.ok()) return whole_instead(finished);
   // ReadImuLog's time checks (CheckTimeUnit, CheckLogTime) on the median step.
   if (spool.size() < 2) return Status::Ok();
   SampleFacts facts;

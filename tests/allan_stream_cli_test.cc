@@ -75,6 +75,25 @@ TEST(AllanStreamCli, StreamedResultsAreTheWholeLogPaths) {
   EXPECT_EQ(ExpectSameBothWays(common + " --segment=10:400,1000:1300"), 0);
 }
 
+// $TMPDIR that cannot hold the spool (here: a folder that does not exist): the log is read whole,
+// the results are the same, and a note says so and what to do (issue 45: it was silent).
+TEST(AllanStreamCli, SaysWhenTheSpoolCannotBeWrittenAndReadsTheLogWhole) {
+  testing::ScratchDir scratch;
+  const std::string log = scratch.Write("hand_held.txt", HandHeldLog(60, 8));
+  const std::string flags = " --log=" + log + " --unit=count --bootstrap=100";
+  const CommandResult spooled = RunCommand("'" + testing::BinaryPath("allan") + "'" + flags);
+  const CommandResult whole = RunCommand("TMPDIR='" + scratch.path() + "/missing' '" +
+                                         testing::BinaryPath("allan") + "'" + flags);
+  ASSERT_EQ(spooled.exit_status, 0) << spooled.stderr_text;
+  EXPECT_EQ(whole.exit_status, 0) << whole.stderr_text;
+  EXPECT_EQ(whole.stdout_text, spooled.stdout_text);
+  EXPECT_EQ(spooled.stderr_text.find("read whole into memory"), std::string::npos);
+  EXPECT_NE(whole.stderr_text.find("allan: note: the log is read whole into memory"),
+            std::string::npos)
+      << whole.stderr_text;
+  EXPECT_NE(whole.stderr_text.find("set TMPDIR to a writable folder"), std::string::npos);
+}
+
 TEST(AllanStreamCli, StreamedResultsAreTheWholeLogPathsOnTheXsensLog) {
   ACCELCAL_REQUIRE_IMU_TK_DATA(dir);
   EXPECT_EQ(ExpectSameBothWays("--log=" + dir +
