@@ -508,6 +508,35 @@ Status CalibrateTriadMl(const std::vector<TriadPoseMean>& poses, const TriadMlOp
         high[k] = std::max(high[k], pose.mean[k]);
       }
     }
+    // Spread over the sphere (every axis spans at least 1.5 times the output at 1 g, from the
+    // smallest span: the axes' gains differ by percent), the poses may still all lie along the
+    // axes: the angles, which couple two axes, are then seen through n_j n_k ~ 0 (issue 45: the
+    // refusal quoted spans that satisfied its own rule). The directions, roughly: each mean
+    // about the middle of its axis's span, over half the span.
+    const double smallest = std::min({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
+    const double largest = std::max({high[0] - low[0], high[1] - low[1], high[2] - low[2]});
+    if (smallest >= 0.75 * largest) {
+      std::array<double, 3> coupling{};  // xy, xz, yz: the largest |n_j n_k| over the poses
+      for (const TriadPoseMean& pose : poses) {
+        std::array<double, 3> n;
+        for (int k = 0; k < 3; ++k)
+          n[k] = (pose.mean[k] - 0.5 * (high[k] + low[k])) / (0.5 * (high[k] - low[k]));
+        coupling[0] = std::max(coupling[0], std::abs(n[0] * n[1]));
+        coupling[1] = std::max(coupling[1], std::abs(n[0] * n[2]));
+        coupling[2] = std::max(coupling[2], std::abs(n[1] * n[2]));
+      }
+      if (*std::max_element(coupling.begin(), coupling.end()) < 0.25) {
+        return Status::Error(StringPrintf(
+            "the maximum-likelihood solve did not converge in %d iterations: the %d poses span "
+            "every axis (%.4g, %.4g, %.4g on x, y, z in the log's unit), but each has gravity "
+            "along one axis (the largest |n_j n_k| over them: xy %.2f, xz %.2f, yz %.2f, where a "
+            "pose midway between two axes has 0.5), so the misalignment angles, which couple two "
+            "axes, are not determined; hold the sensor also tilted about 45 degrees between each "
+            "pair of axes",
+            result->solver.iterations - 1, pose_count, high[0] - low[0], high[1] - low[1],
+            high[2] - low[2], coupling[0], coupling[1], coupling[2]));
+      }
+    }
     return Status::Error(StringPrintf(
         "the maximum-likelihood solve did not converge in %d iterations: the %d poses determine "
         "the parameters too weakly (their means span %.4g, %.4g, %.4g on x, y, z in the log's "
