@@ -114,8 +114,11 @@ Status Solve(const Inputs& inputs, const JointOptions& options, JointReport* rep
   report->linear_decision =
       DecideLandmark(report->linear_trajectory.endpoint, report->linear_trajectory.covariance,
                      inputs.landmarks, FLAGS_landmark_alpha);
-  ACCELCAL_RETURN_IF_ERROR(SolveJoint(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
-                                      options, &report->joint));
+  const Status solved = SolveJoint(inputs.test, inputs.run, inputs.conditions, inputs.landmarks,
+                                   options, &report->joint);
+  if (!solved.ok() && solved.message().find("Maximum number of iterations") != std::string::npos)
+    return Status::Error(solved.message() + "; raise --max_iterations or estimate fewer effects");
+  ACCELCAL_RETURN_IF_ERROR(solved);
   ACCELCAL_RETURN_IF_ERROR(DeadReckon(inputs.run, inputs.conditions, report->joint.estimate,
                                       trajectory, &report->joint_trajectory));
   report->joint_decision =

@@ -36,8 +36,10 @@ Status Solve(const QuietSolveOptions& options, const std::vector<double*>& elimi
   report->converged = summary.termination_type == ceres::CONVERGENCE;
   if (report->converged) return Status::Ok();
   if (summary.termination_type == ceres::NO_CONVERGENCE) {
-    return Status::Error("Ceres did not converge: " + summary.message +
-                         "; raise --max_iterations or estimate fewer effects");
+    // The advice is the caller's: only some binaries have a flag for the iterations (joint's
+    // --max_iterations), and a suggestion must be one that works (issue 45).
+    return Status::Error("Ceres did not converge in " + std::to_string(report->iterations) +
+                         " iterations: " + summary.message);
   }
   if (summary.message.find("evaluation failed") != std::string::npos) {
     // The model has no value where the solver went (e.g. 1 + scale <= 0, or a quadratic
