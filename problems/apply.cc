@@ -246,7 +246,6 @@ std::string GyroscopeLine(const GyroscopeUse& gyroscope) {
   return gyroscope.not_used.empty() ? "" : "# gyroscope: " + gyroscope.not_used + "\n";
 }
 
-
 // The names of coefficients of the triad's block.
 std::string TriadTermList(const std::vector<int>& terms) {
   std::vector<std::string> names;

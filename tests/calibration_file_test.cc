@@ -105,14 +105,14 @@ TEST(CalibrationFile, PoorlyDeterminedRoundTripsAndIsOptional) {
 // unknown of the section (an accelerometer parameter included) is refused, naming the key.
 TEST(GyroscopeCalibrationSection, PoorlyDeterminedRoundTripsAndIsOptional) {
   CalibrationRecord written = testing::ExampleTriadRecordWithGyroscope();
-  written.gyroscope.poorly_determined = nlohmann::json::array(
-      {{{"parameter", "gyroscope_misalignment_zy"},
-        {"reason", "sigma 0.0013 > 0.001 (0.001 rad)"},
-        {"sigma", 0.0013},
-        {"threshold", 0.001},
-        {"sigma_over_threshold", true},
-        {"correlated_with", nlohmann::json::array()},
-        {"suggestion", "turns about the sensor's z axis"}}});
+  written.gyroscope.poorly_determined =
+      nlohmann::json::array({{{"parameter", "gyroscope_misalignment_zy"},
+                              {"reason", "sigma 0.0013 > 0.001 (0.001 rad)"},
+                              {"sigma", 0.0013},
+                              {"threshold", 0.001},
+                              {"sigma_over_threshold", true},
+                              {"correlated_with", nlohmann::json::array()},
+                              {"suggestion", "turns about the sensor's z axis"}}});
   const nlohmann::json json = CalibrationJson(written);
   EXPECT_EQ(json["gyroscope"]["poorly_determined"], written.gyroscope.poorly_determined);
   CalibrationRecord read;

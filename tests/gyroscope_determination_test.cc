@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "common/format.h"
-#include "models/gyroscope.h"
 #include "gyroscope_one_axis_session.h"
+#include "models/gyroscope.h"
 #include "studies/gyroscope_monte_carlo.h"
 
 namespace accelcal {
@@ -46,18 +46,20 @@ TEST(GyroscopeDetermination, TurnsAboutOneAxisNameTheOtherAxesUnknownsWithTheirA
   EXPECT_GT(shares[0], 0.8);
   EXPECT_LT(shares[1], 0.1);
   EXPECT_LT(shares[2], 0.1);
-  const std::vector<PoorlyDeterminedParameter> list = PoorlyDeterminedGyroscopeParameters(g, "count");
+  const std::vector<PoorlyDeterminedParameter> list =
+      PoorlyDeterminedGyroscopeParameters(g, "count");
   const std::set<std::string> expected = {"gyroscope_misalignment_yz", "gyroscope_misalignment_zy",
                                           "gyroscope_misalignment_zx", "gyroscope_misalignment_yx"};
   EXPECT_EQ(Named(list), expected) << PoorlyDeterminedNames(list);
   for (const PoorlyDeterminedParameter& entry : list) {
     const std::string axis = GyroscopeTurnAxisOf(entry.index, {});
     ASSERT_FALSE(axis.empty()) << entry.parameter;
-    EXPECT_NE(entry.suggestion.find("turns about the sensor's " + axis + " axis"), std::string::npos)
+    EXPECT_NE(entry.suggestion.find("turns about the sensor's " + axis + " axis"),
+              std::string::npos)
         << entry.parameter << ": " << entry.suggestion;
     const int k = axis[0] - 'x';
-    EXPECT_NE(entry.suggestion.find(StringPrintf("went %.0f%% about %s", 100.0 * shares[k],
-                                                 axis.c_str())),
+    EXPECT_NE(entry.suggestion.find(
+                  StringPrintf("went %.0f%% about %s", 100.0 * shares[k], axis.c_str())),
               std::string::npos)
         << entry.suggestion;
     EXPECT_TRUE(entry.sigma_over_threshold) << entry.parameter;
@@ -98,7 +100,7 @@ TEST(GyroscopeDetermination, WellSpreadSessionsNameNone) {
 TEST(ParameterDetermination, NamesASigmaBeyondItsThresholdAndAConfoundedPair) {
   Eigen::MatrixXd covariance(3, 3);
   covariance << 1e-8, 0.995e-8, 0.0,  //
-      0.995e-8, 1e-8, 0.0,           //
+      0.995e-8, 1e-8, 0.0,            //
       0.0, 0.0, 4e-6;
   const std::vector<std::string> names = {"a", "b", "c"};
   PoorlyDeterminedParameter entry;

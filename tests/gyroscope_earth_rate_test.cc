@@ -36,8 +36,8 @@ TEST(GyroscopeEarthRate, TheVerticalPartIsEstimatedWithinItsSigma) {
     GyroscopeSessionFit fit;
     ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 7000 + i, {}, &fit).ok());
     ASSERT_GT(fit.gyroscope.earth_vertical_rate_stddev, 0.0);
-    const double z =
-        (fit.gyroscope.earth_vertical_rate_rad_s - truth) / fit.gyroscope.earth_vertical_rate_stddev;
+    const double z = (fit.gyroscope.earth_vertical_rate_rad_s - truth) /
+                     fit.gyroscope.earth_vertical_rate_stddev;
     sum += z;
     squares += z * z;
   }

@@ -333,10 +333,10 @@ void FillSource(const ImuTextFormat& format, ImuLogSource* source) {
   }
   source->time_scale_s = format.time_scale_s;
   source->times_need_whole_log = format.index_column >= 0 && format.rate_hz > 0.0;
-  source->sample_number_column =
-      format.index_column < 0 ? ""
-      : format.header.empty() ? "column " + std::to_string(format.index_column + 1)
-                              : "'" + EchoInput(format.header[format.index_column]) + "'";
+  source->sample_number_column = format.index_column < 0 ? ""
+                                 : format.header.empty()
+                                     ? "column " + std::to_string(format.index_column + 1)
+                                     : "'" + EchoInput(format.header[format.index_column]) + "'";
   source->timing = ImuLogTiming();
   if (format.rate_hz > 0.0) {
     source->timing.from =
@@ -812,7 +812,7 @@ Status ReadMatLog(const std::string& path, const ImuLogReadOptions& options, Tri
     source->time_scale_s = time_scale_s;
     source->sample_number_column = chosen.count("index") ? "'" + chosen["index"].name + "'" : "";
     source->timing = ImuLogTiming();
-    source->timing.from = options.rate_hz <= 0.0   ? "time column"
+    source->timing.from = options.rate_hz <= 0.0  ? "time column"
                           : chosen.count("index") ? "sample number and --rate_hz"
                                                   : "row number and --rate_hz";
     if (options.rate_hz > 0.0) source->timing.index_column = source->sample_number_column;
@@ -1003,7 +1003,8 @@ Status RefuseHostTimeBursts(bool bag, const ImuLogReadOptions& options, const Im
     const bool receive = options.bag_time == "receive";
     return Status::Error(
         std::string("the messages' ") + (receive ? "receive times" : "header stamps") +
-        " come in bursts (" + statistics + "): a host's stamps of buffered samples, not the "
+        " come in bursts (" + statistics +
+        "): a host's stamps of buffered samples, not the "
         "samples' times; " +
         (receive ? "read the driver's stamps with --bag_time=header"
                  : "an Imu message carries no sample number to time it by: have the driver "

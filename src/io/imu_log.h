@@ -61,7 +61,7 @@ struct ImuLogTiming {
   // The time column's host receive times in bursts (bursts.bursty), else bursts.steps == 0.
   HostTimeBursts bursts;
   bool rate_fitted = false;
-  IndexClockFit fit;              // when rate_fitted
+  IndexClockFit fit;               // when rate_fitted
   long long dropped_samples = -1;  // the index's jumps beyond 1, summed; -1: no index used
 };
 

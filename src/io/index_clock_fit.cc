@@ -16,10 +16,10 @@ constexpr double kMaxDriftFromNominal = 0.005;
 // The output data rates of common IMUs: decades of 1, 2, 5 and 1.25 (Bosch, Analog Devices),
 // ST's 12.5 * 2^k rounded (26, 52, 104, 208, 416, 833, 1666, 3332, 6664), powers of two and
 // Shimmer's 204.8 Hz (imucal's example).
-constexpr double kUsualRatesHz[] = {1,    2,    5,    10,   12.5, 20,   25,   26,   50,
+constexpr double kUsualRatesHz[] = {1,    2,    5,    10,   12.5, 20,   25,    26,   50,
                                     52,   100,  104,  125,  128,  200,  204.8, 208,  250,
-                                    256,  400,  416,  500,  512,  800,  833,  1000, 1024,
-                                    1600, 1666, 2000, 3200, 3332, 4000, 6664, 8000};
+                                    256,  400,  416,  500,  512,  800,  833,   1000, 1024,
+                                    1600, 1666, 2000, 3200, 3332, 4000, 6664,  8000};
 
 struct Point {
   double x;  // index - first index
@@ -86,7 +86,8 @@ Status FitIndexClock(const std::vector<double>& index, const std::vector<double>
   for (const Point& p : points) {
     const double delay_s = p.y - (intercept_s + slope_s * p.x);
     fit->largest_delay_s = std::max(fit->largest_delay_s, delay_s);
-    const int block = std::min(kToleranceBlocks - 1, static_cast<int>(kToleranceBlocks * p.x / span));
+    const int block =
+        std::min(kToleranceBlocks - 1, static_cast<int>(kToleranceBlocks * p.x / span));
     least_delay[block] = std::min(least_delay[block], delay_s);
   }
   double gap_s = 0.0;
@@ -109,12 +110,13 @@ Status FitIndexClock(const std::vector<double>& index, const std::vector<double>
 }
 
 std::string DescribeIndexClockFit(const IndexClockFit& fit) {
-  std::string text = StringPrintf("at a fitted %.8g Hz (+- %.2g Hz", fit.rate_hz,
-                                  fit.rate_tolerance_hz);
+  std::string text =
+      StringPrintf("at a fitted %.8g Hz (+- %.2g Hz", fit.rate_hz, fit.rate_tolerance_hz);
   if (fit.nominal_rate_hz > 0.0) {
-    text += StringPrintf("; the device clock %+.0f ppm from a nominal %g Hz, as the host counts "
-                         "time",
-                         fit.clock_drift_ppm, fit.nominal_rate_hz);
+    text += StringPrintf(
+        "; the device clock %+.0f ppm from a nominal %g Hz, as the host counts "
+        "time",
+        fit.clock_drift_ppm, fit.nominal_rate_hz);
   } else {
     text += "; no usual rate within 0.5%";
   }

@@ -127,8 +127,8 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     Vector3 level{};
     const bool earth = options.gyroscope.enabled && options.gyroscope.earth_rate;
     if (earth) {
-      const Vector3 seed = std::abs(direction[0]) < 0.6 ? Vector3{1.0, 0.0, 0.0}
-                                                       : Vector3{0.0, 1.0, 0.0};
+      const Vector3 seed =
+          std::abs(direction[0]) < 0.6 ? Vector3{1.0, 0.0, 0.0} : Vector3{0.0, 1.0, 0.0};
       Vector3 east = Cross(direction, seed);
       const double norm = std::sqrt(Dot(east, east));
       for (double& v : east) v /= norm;

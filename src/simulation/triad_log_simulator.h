@@ -63,10 +63,10 @@ struct TriadLogSimulationOptions {
   // rate jumps to this fraction of its peak at the turn's start and from it to 0 at its end, as
   // a hand that sets the sensor down against a table stops it, with the motion starting and
   // ending at uniformly random times within a sample interval (independently), so that the
-  // samples do not resolve the jumps (the turn's first two and last two samples at rest, as a static detector leaves
-  // them). The profile between is the (1 - cos) one's rate, raised to start and end there:
-  // rate ~ e + (1 - e) sin(pi u), u the motion's progress in time. 0: the smooth profile, its
-  // motion starting at a sample (the random stream is then not drawn from).
+  // samples do not resolve the jumps (the turn's first two and last two samples at rest, as a
+  // static detector leaves them). The profile between is the (1 - cos) one's rate, raised to start
+  // and end there: rate ~ e + (1 - e) sin(pi u), u the motion's progress in time. 0: the smooth
+  // profile, its motion starting at a sample (the random stream is then not drawn from).
   double turn_abruptness = 0.0;
   std::array<double, 3> noise_stddev{{3.0, 3.0, 3.0}};  // per sample, in counts
   bool round_to_counts = true;

@@ -93,8 +93,8 @@ std::vector<TriadParameterKind> GyroscopeParameterKinds();
 // The predictions of the held-out session (held_out[p][d]: its estimate of parameter p on
 // device d) from `training` (at least 2 sessions per device; D >= 2), each scheme.
 Status PredictSessionEstimates(const ArraySessionEstimates& training,
-                               const std::vector<std::vector<double>>& held_out,
-                               int held_out_index, const std::vector<TriadParameterKind>& kinds,
+                               const std::vector<std::vector<double>>& held_out, int held_out_index,
+                               const std::vector<TriadParameterKind>& kinds,
                                std::vector<SessionPrediction>* predictions);
 
 // Every session held out in turn (S >= 3, D >= 2).
