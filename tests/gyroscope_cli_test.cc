@@ -70,6 +70,16 @@ void ReadCorrectedCsv(const std::string& path, std::vector<std::string>* header,
   }
 }
 
+// apply of `calibration` to `csv`, written to `corrected`, and its output read back.
+void ApplyAndRead(const std::string& calibration, const std::string& csv,
+                  const std::string& corrected, std::vector<std::string>* header,
+                  std::vector<std::vector<double>>* rows) {
+  const testing::CommandResult applied =
+      RunBinaryArgs("apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + corrected});
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  ReadCorrectedCsv(corrected, header, rows);
+}
+
 TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscopeColumns) {
   GyroscopeSessionDesign design;
   const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 21);
@@ -103,15 +113,12 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
   EXPECT_EQ(section.at("poorly_determined"), nlohmann::json::array());
   EXPECT_NE(run.stdout_text.find("Poorly determined, gyroscope: none"), std::string::npos);
 
-  const std::string corrected = scratch.File("corrected.csv");
-  const testing::CommandResult applied =
-      RunBinaryArgs("apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + corrected});
-  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
   // The corrected rates over the true holds: zero within the mean's noise (3 counts of
   // 2.1e-4 rad/s per sample, some 10^4 samples) and the offsets' sigma.
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  ReadCorrectedCsv(corrected, &header, &rows);
+  ASSERT_NO_FATAL_FAILURE(
+      ApplyAndRead(calibration, csv, scratch.File("corrected.csv"), &header, &rows));
   ASSERT_EQ(rows.size(), log.size());
   const auto column = [&](const std::string& name) {
     return static_cast<int>(std::find(header.begin(), header.end(), name) - header.begin());
@@ -174,13 +181,10 @@ TEST(GyroscopeCli, WritesTheModelDiscoverySettledOnAndApplyAppliesItsTerms) {
   }
   EXPECT_EQ(section.at("baseline").at("parameters"), g.at("baseline").at("parameters"));
 
-  const std::string corrected = scratch.File("corrected.csv");
-  const testing::CommandResult applied =
-      RunBinaryArgs("apply", {"--calibration=" + calibration, "--in=" + csv, "--out=" + corrected});
-  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
   std::vector<std::string> header;
   std::vector<std::vector<double>> rows;
-  ReadCorrectedCsv(corrected, &header, &rows);
+  ASSERT_NO_FATAL_FAILURE(
+      ApplyAndRead(calibration, csv, scratch.File("corrected.csv"), &header, &rows));
   ASSERT_EQ(rows.size(), fit.session.log.size());
   const int gx =
       static_cast<int>(std::find(header.begin(), header.end(), "gx_radps") - header.begin());
