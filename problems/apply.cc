@@ -246,6 +246,21 @@ std::string GyroscopeLine(const GyroscopeUse& gyroscope) {
   return gyroscope.not_used.empty() ? "" : "# gyroscope: " + gyroscope.not_used + "\n";
 }
 
+// What the gyroscope's correction leaves out of the calibration's effect terms, and why, as a
+// '#' line ("" when it applies all it carries).
+std::string GyroscopeTermsLeftOut(const GyroscopeUse& gyroscope) {
+  if (!gyroscope.corrected || gyroscope.model.effects_not_applied.empty()) return "";
+  std::vector<std::string> terms, why;
+  for (const int c : gyroscope.model.effects_not_applied) {
+    terms.push_back(GyroscopeEffectCoefficientName(c));
+    const char* reason = GyroscopeEffectInfos()[GyroscopeEffectOf(c)].session_only;
+    if (std::find(why.begin(), why.end(), reason) == why.end()) why.push_back(reason);
+  }
+  return "# gyroscope: the calibration's effect terms " + JoinStrings(terms) +
+         " are not applied: they belong to the session calibrated (" + JoinStrings(why, "; ") +
+         ")\n";
+}
+
 // The names of coefficients of the triad's block.
 std::string TriadTermList(const std::vector<int>& terms) {
   std::vector<std::string> names;
@@ -282,7 +297,7 @@ std::string TriadHeader(const DataSource& source, const TriadCalibrationModel& m
   const std::string terms = TriadTermsNote(model);
   std::string csv = ProvenanceLines(source) +
                     (terms.empty() ? "" : "# accelerometer: " + terms + "\n") +
-                    GyroscopeLine(gyroscope);
+                    GyroscopeLine(gyroscope) + GyroscopeTermsLeftOut(gyroscope);
   csv +=
       "t_s,ax_mps2,ay_mps2,az_mps2,sigma_ax_mps2,sigma_ay_mps2,sigma_az_mps2,corr_xy,corr_xz,"
       "corr_yz";
@@ -467,6 +482,8 @@ Status ApplyTriadWhole(const CalibrationRecord& record, const TriadCalibrationMo
   // The notes once the log is corrected, so that a refusal is one line.
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!TriadTermsNote(model).empty()) std::cerr << "apply: note: " << TriadTermsNote(model) << "\n";
+  if (const std::string left_out = GyroscopeTermsLeftOut(gyroscope); !left_out.empty())
+    std::cerr << "apply: note: " << left_out.substr(2, left_out.size() - 3) << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
   *summary = WithDataLine(source, *summary + PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();
@@ -635,6 +652,8 @@ Status ApplyTriadStreamed(const CalibrationRecord& record, const TriadCalibratio
   for (const std::string& note : log_source.notes) std::cerr << "apply: note: " << note << "\n";
   if (!gyroscope.not_used.empty()) std::cerr << "apply: note: " << gyroscope.not_used << "\n";
   if (!TriadTermsNote(model).empty()) std::cerr << "apply: note: " << TriadTermsNote(model) << "\n";
+  if (const std::string left_out = GyroscopeTermsLeftOut(gyroscope); !left_out.empty())
+    std::cerr << "apply: note: " << left_out.substr(2, left_out.size() - 3) << "\n";
   *summary = WithDataLine(source, TriadSummary(pass.summary, record, gyroscope) +
                                       PoorlyDeterminedLine(record, gyroscope.corrected));
   return Status::Ok();

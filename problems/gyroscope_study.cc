@@ -25,7 +25,7 @@ DEFINE_string(turn_set, "random", "random: pose directions uniform on the sphere
 DEFINE_int32(poses, 30, "Poses per session, 3 to 1000 (poses - 1 turns).");
 DEFINE_double(hold_s, 4.0, "Each pose's duration, s, in [0.5, 600].");
 DEFINE_double(gyro_noise, 3.0, "The gyroscope's white noise per sample, counts, in (0, 1e4] (at the Xsens-like gain of 1/4770 (rad/s)/count, 3 counts is 6.3e-4 rad/s).");
-DEFINE_string(effects, "", "Gyroscope effects to simulate AND estimate, comma-separated: g_sensitivity (G = 2e-4 (rad/s)/(m/s^2) on the diagonal, 1e-4 off it), scale_asymmetry (2e-3, -1e-3, 1.5e-3), scale_nonlinearity (1e-3, -2e-3, 1.5e-3 1/(rad/s)). Empty: the 12 unknowns of the model.");
+DEFINE_string(effects, "", "Gyroscope effects to simulate AND estimate, comma-separated: g_sensitivity (G = 2e-4 (rad/s)/(m/s^2) on the diagonal, 1e-4 off it), scale_asymmetry (2e-3, -1e-3, 1.5e-3), scale_nonlinearity (1e-3, -2e-3, 1.5e-3 1/(rad/s)), time_offset (4e-3 s, the gyroscope lagging), and any effect a build registers, at the example values of its header (models/gyroscope_effects/). Empty: the 12 unknowns of the model.");
 DEFINE_double(discovery, 0.0, "Also run the gyroscope's discovery at this alpha (e.g. 0.01) on every session and count its verdicts: with no --effects, the rate of any verdict but explained is its false-alarm rate (must be <= alpha + 2 sd); with --effects (then also estimated in the calibration), how often each is found. 0: no discovery.");
 DEFINE_double(rate_hz, 100.0, "The sessions' sample rate, Hz, in [10, 10000] (the MIMU4444 array's 62.5).");
 DEFINE_double(turn_abruptness, 0.0, "How abruptly each turn starts and stops, in [0, 1): the rate jumps to this fraction of its peak at the start and from it to 0 at the end, at a random time within a sample interval, as a hand that sets the sensor down against a table (docs/gyroscope.md, \"The turns' sampling error\"). 0: the smooth (1 - cos) turn.");
@@ -67,31 +67,20 @@ Status EffectsFromFlag(GyroscopeMonteCarloOptions* options) {
     const size_t comma = FLAGS_effects.find(',', start);
     const std::string name =
         FLAGS_effects.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    GyroscopeEffectCoefficients& truth = options->design.effects;
-    int first = -1, count = 0;
-    if (name == "g_sensitivity") {
-      for (int row = 0; row < 3; ++row)
-        for (int col = 0; col < 3; ++col)
-          truth[kGyroscopeGSensitivity + 3 * row + col] = row == col ? 2e-4 : 1e-4;
-      first = kGyroscopeGSensitivity;
-      count = 9;
-    } else if (name == "scale_asymmetry") {
-      truth[kGyroscopeScaleAsymmetry] = 2e-3;
-      truth[kGyroscopeScaleAsymmetry + 1] = -1e-3;
-      truth[kGyroscopeScaleAsymmetry + 2] = 1.5e-3;
-      first = kGyroscopeScaleAsymmetry;
-      count = 3;
-    } else if (name == "scale_nonlinearity") {
-      truth[kGyroscopeScaleNonlinearity] = 1e-3;
-      truth[kGyroscopeScaleNonlinearity + 1] = -2e-3;
-      truth[kGyroscopeScaleNonlinearity + 2] = 1.5e-3;
-      first = kGyroscopeScaleNonlinearity;
-      count = 3;
-    } else {
+    const int effect = GyroscopeEffectIndex(name);
+    if (effect < 0) {
+      std::vector<std::string> known;
+      for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos()) known.push_back(info.name);
       return Status::Error("--effects: unknown effect '" + name.substr(0, 40) +
-                           "' (known: g_sensitivity, scale_asymmetry, scale_nonlinearity)");
+                           "' (known: " + JoinStrings(known) + ")");
     }
-    for (int c = first; c < first + count; ++c) options->estimated.push_back(c);
+    // The effect's example values (models/gyroscope_effects/), estimated.
+    const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[effect];
+    const int first = GyroscopeEffectFirst(effect);
+    for (int i = 0; i < info.coefficients; ++i) {
+      options->design.effects[first + i] = info.example[i];
+      options->estimated.push_back(first + i);
+    }
     if (comma == std::string::npos) break;
     start = comma + 1;
   }

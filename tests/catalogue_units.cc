@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "models/effects.h"
-#include "models/gyroscope_effects.h"
+#include "models/gyroscope_effect_list.h"
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
 #include "models/triad_units.h"
@@ -29,7 +29,7 @@ int main() {
     units[accelcal::GyroscopeCalibrationParameterName(p)] =
         accelcal::GyroscopeParameterUnit(p, accelcal::GyroscopeOutputUnit::kCount);
   }
-  // The gyroscope's effect terms (models/gyroscope_effects.h), which a calibration of the model
+  // The gyroscope's effect terms (models/gyroscope_effect_list.h), which a calibration of the model
   // discovery settled on carries.
   for (int c = 0; c < accelcal::kGyroscopeEffectCoefficientCount; ++c) {
     units[accelcal::GyroscopeEffectCoefficientName(c)] =

@@ -148,7 +148,9 @@ TEST(GyroscopeCli, CalibratesASimulatedLogAndAppliesTheCalibrationToItsGyroscope
 // leaves G f in every pose; the imu_tk export writes the baseline and says so.
 TEST(GyroscopeCli, WritesTheModelDiscoverySettledOnAndApplyAppliesItsTerms) {
   GyroscopeSessionDesign design;
-  for (int c = 0; c < 9; ++c) design.effects[kGyroscopeGSensitivity + c] = c % 4 == 0 ? 2e-4 : 1e-4;
+  for (int c = 0; c < 9; ++c)
+    design.effects[GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + c] =
+        c % 4 == 0 ? 2e-4 : 1e-4;
   const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 31);
   GyroscopeSessionFit fit;
   ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 32, {}, &fit).ok());
@@ -165,7 +167,8 @@ TEST(GyroscopeCli, WritesTheModelDiscoverySettledOnAndApplyAppliesItsTerms) {
             std::string::npos);
   std::vector<double> truth(design.truth.begin(), design.truth.end());
   truth.insert(truth.end(), design.offset.begin(), design.offset.end());
-  for (int c = 0; c < 9; ++c) truth.push_back(design.effects[kGyroscopeGSensitivity + c]);
+  for (int c = 0; c < 9; ++c)
+    truth.push_back(design.effects[GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + c]);
   const nlohmann::json& order = g.at("parameter_order");
   ASSERT_EQ(order.size(), 21u);
   const nlohmann::json file = nlohmann::json::parse(testing::ReadText(calibration));

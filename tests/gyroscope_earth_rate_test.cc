@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
-#include "models/gyroscope_effects.h"
+#include "models/gyroscope_effect_list.h"
 #include "studies/gyroscope_monte_carlo.h"
 
 namespace accelcal {

@@ -1,8 +1,8 @@
 // The gyroscope's maximum-likelihood calibration (estimation/gyroscope/gyroscope_ml_calibration.h)
 // on simulated hand-held sessions (studies/gyroscope_monte_carlo.h): the truth recovered within
 // the sigma it reports, the sigma matching the spread over repeated sessions, the effects of
-// models/gyroscope_effects.h recovered when estimated, the fourth-order integration rule, and the
-// refusal of turns about one axis naming what they leave undetermined.
+// models/gyroscope_effect_list.h recovered when estimated, the fourth-order integration rule, and
+// the refusal of turns about one axis naming what they leave undetermined.
 
 #include "estimation/gyroscope/gyroscope_ml_calibration.h"
 
@@ -58,20 +58,22 @@ TEST(GyroscopeMl, RecoversAnXsensLikeGyroscopeWithinItsSigma) {
   EXPECT_EQ(g.turns.size(), holds.size() - 1);
 }
 
-// The effects of models/gyroscope_effects.h simulated and estimated: each coefficient within 4
+// The effects of models/gyroscope_effect_list.h simulated and estimated: each coefficient within 4
 // sigma of its truth, and the 12 unknowns too.
 TEST(GyroscopeMl, RecoversGSensitivityAndScaleAsymmetryWhenEstimated) {
   GyroscopeSessionDesign design;
   std::vector<int> estimated;
   for (int row = 0; row < 3; ++row) {
     for (int col = 0; col < 3; ++col) {
-      design.effects[kGyroscopeGSensitivity + 3 * row + col] = row == col ? 2e-4 : 1e-4;
-      estimated.push_back(kGyroscopeGSensitivity + 3 * row + col);
+      design.effects[GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + 3 * row + col] =
+          row == col ? 2e-4 : 1e-4;
+      estimated.push_back(GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + 3 * row + col);
     }
   }
   for (int k = 0; k < 3; ++k) {
-    design.effects[kGyroscopeScaleAsymmetry + k] = 2e-3 * (k == 1 ? -1.0 : 1.0);
-    estimated.push_back(kGyroscopeScaleAsymmetry + k);
+    design.effects[GyroscopeEffectFirstOf<GyroscopeScaleAsymmetryEffect>() + k] =
+        2e-3 * (k == 1 ? -1.0 : 1.0);
+    estimated.push_back(GyroscopeEffectFirstOf<GyroscopeScaleAsymmetryEffect>() + k);
   }
   const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 3);
   GyroscopeSessionFit fit;
@@ -186,8 +188,8 @@ TEST(GyroscopeIntegration, HermiteRuleRemovesTheTrapezoidError) {
 // O((w dt)^2) at 100 Hz and rates of a few rad/s), and the residuals are the same.
 TEST(GyroscopeTurnResidual, TransportedDerivativesMatchTheRungeKuttaOnes) {
   GyroscopeSessionDesign design;
-  design.effects[kGyroscopeGSensitivity + 1] = 1e-4;
-  design.effects[kGyroscopeScaleAsymmetry] = 2e-3;
+  design.effects[GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + 1] = 1e-4;
+  design.effects[GyroscopeEffectFirstOf<GyroscopeScaleAsymmetryEffect>()] = 2e-3;
   const std::vector<TriadHold> holds = GyroscopeDesignHolds(design, 7);
   GyroscopeSessionFit fit;
   ASSERT_TRUE(SimulateAndCalibrateGyroscope(design, holds, 11, {}, &fit).ok());
@@ -252,9 +254,17 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
   const TriadLog& log = fit.session.log;
   GyroscopeEffectCoefficients effects{};
   for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c)
-    effects[c] = (c % 2 == 0 ? 1.0 : -1.0) * (c < kGyroscopeScaleAsymmetry ? 2e-4 : 3e-3);
+    effects[c] = (c % 2 == 0 ? 1.0 : -1.0) *
+                 (c < GyroscopeEffectFirstOf<GyroscopeScaleAsymmetryEffect>() ? 2e-4 : 3e-3);
+  constexpr int kTimeOffset = GyroscopeEffectFirstOf<GyroscopeTimeOffsetEffect>();
   const std::vector<std::vector<int>> estimated_sets = {
-      {}, {12, 13, 14}, {0, 1, 2, 3, 4, 5, 6, 7, 8}, {9, 10, 11, 12, 13, 14}, [] {
+      {},
+      {12, 13, 14},
+      {0, 1, 2, 3, 4, 5, 6, 7, 8},
+      {9, 10, 11, 12, 13, 14},
+      {kTimeOffset},
+      {0, 4, 8, kTimeOffset},
+      [] {
         std::vector<int> all;
         for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c) all.push_back(c);
         return all;
@@ -270,6 +280,9 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
         samples.raw.push_back(log.gyroscope[i]);
         const double s = 0.01 * (i - fit.intervals[p].end);
         samples.specific_force.push_back({1.0 + s, -2.0 * s, 9.81 - s});
+        samples.output_rate.push_back({(log.gyroscope[i + 1][0] - log.gyroscope[i - 1][0]) * 50.0,
+                                       (log.gyroscope[i + 1][1] - log.gyroscope[i - 1][1]) * 50.0,
+                                       (log.gyroscope[i + 1][2] - log.gyroscope[i - 1][2]) * 50.0});
         if (i < fit.intervals[p + 1].start)
           samples.step_s.push_back(log.timestamp_s[i + 1] - log.timestamp_s[i]);
       }
@@ -298,14 +311,19 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
       IntegrateAngularRateHermite(
           count,
           [&](int j, double* rate) {
-            GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples.raw[j].data(),
-                                   samples.specific_force[j].data(), rate);
+            GyroscopeSampleContext<double> context;
+            context.specific_force = samples.specific_force[j].data();
+            context.output_rate = samples.output_rate[j].data();
+            GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples.raw[j].data(), context,
+                                   rate);
           },
           samples.step_s, rotation, &path);
-      Jet parameters[kGyroscopeParameterCount], offset[3], jet_effects[15];
+      Jet parameters[kGyroscopeParameterCount], offset[3],
+          jet_effects[kGyroscopeEffectCoefficientCount];
       for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], i);
       for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], 9 + i);
-      for (int i = 0; i < 15; ++i) jet_effects[i] = Jet(effects[i], 12 + i);
+      for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i)
+        jet_effects[i] = Jet(effects[i], 12 + i);
       double end[9];
       QuaternionToRotationMatrix(path.back().data(), end);
       std::vector<std::array<double, 3>> d(kUnknowns, {0.0, 0.0, 0.0});
@@ -314,9 +332,16 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
                                      (j + 1 < count ? samples.step_s[j] : 0.0));
         double here[9];
         QuaternionToRotationMatrix(path[j].data(), here);
-        Jet rate[3];
-        GyroscopeCorrectedRate(parameters, offset, jet_effects, samples.raw[j].data(),
-                               samples.specific_force[j].data(), rate);
+        Jet rate[3], force[3], output_rate[3];
+        for (int k = 0; k < 3; ++k) {
+          force[k] = Jet(samples.specific_force[j][k]);
+          output_rate[k] = Jet(samples.output_rate[j][k]);
+        }
+        GyroscopeSampleContext<Jet> context;
+        context.specific_force = force;
+        context.output_rate = output_rate;
+        GyroscopeCorrectedRate(parameters, offset, jet_effects, samples.raw[j].data(), context,
+                               rate);
         for (int u = 0; u < kUnknowns; ++u)
           for (int row = 0; row < 3; ++row)
             for (int a = 0; a < 3; ++a)
@@ -357,8 +382,9 @@ TEST(GyroscopeTurnResidual, TransportedDerivativesAreTheJetSumsWrittenOut) {
 // Which turns determine which unknown: column j of T K multiplies axis j's reading, so turns about
 // j; the offsets and the g-sensitivity come from the poses at rest.
 TEST(GyroscopeMl, NamesTheAxisTurnsMustBeAboutForEachUnknown) {
-  const std::vector<int> effects = {kGyroscopeGSensitivity + 4, kGyroscopeScaleAsymmetry + 1,
-                                    kGyroscopeScaleNonlinearity + 2};
+  const std::vector<int> effects = {GyroscopeEffectFirstOf<GyroscopeGSensitivityEffect>() + 4,
+                                    GyroscopeEffectFirstOf<GyroscopeScaleAsymmetryEffect>() + 1,
+                                    GyroscopeEffectFirstOf<GyroscopeScaleNonlinearityEffect>() + 2};
   EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentYz, effects), "y");
   EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentZy, effects), "z");
   EXPECT_STREQ(GyroscopeTurnAxisOf(kGyroscopeMisalignmentZx, effects), "z");

@@ -329,10 +329,7 @@ std::vector<std::string> TriadTermEffects(const std::vector<int>& terms) {
 
 std::vector<std::string> GyroscopeTermEffects(const std::vector<int>& terms) {
   std::vector<std::string> effects;
-  for (const int c : terms) {
-    for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos())
-      if (c >= info.first && c < info.first + info.coefficients) effects.push_back(info.name);
-  }
+  for (const int c : terms) effects.push_back(GyroscopeEffectInfos()[GyroscopeEffectOf(c)].name);
   return effects;
 }
 
@@ -521,18 +518,20 @@ nlohmann::json GyroscopeSectionJson(const GyroscopeCalibrationSection& section) 
   if (!terms.empty()) {
     const std::vector<std::string> effects = GyroscopeTermEffects(terms);
     std::vector<std::string> meanings;
+    std::vector<const char*> session_only;
     for (const std::string& effect : effects) {
-      for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos())
-        if (effect == info.name) meanings.push_back(info.meaning);
+      const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[GyroscopeEffectIndex(effect)];
+      meanings.push_back(info.meaning);
+      session_only.push_back(info.session_only);
     }
     json["model"]["effects"] = EffectsNamed({}, effects);
-    json["model"]["effect_terms"] =
-        EffectTermsJson(effects, meanings, std::vector<const char*>(effects.size(), nullptr));
+    json["model"]["effect_terms"] = EffectTermsJson(effects, meanings, session_only);
     json["model"]["measurement_with_effects"] =
-        "v_k = gyroscope_gain_k (u_k - gyroscope_offset_k); v'_k = v_k + "
-        "gyroscope_scale_asymmetry_k |v_k| + gyroscope_scale_nonlinearity_k v_k^2; w = T v' - G "
-        "f, G the 3x3 gyroscope_g_sensitivity_ij (row i, column j) and f the specific force the "
-        "calibrated accelerometer measures (docs/gyroscope.md)";
+        "u'_k = u_k + gyroscope_time_offset du_k/dt; v_k = gyroscope_gain_k (u'_k - "
+        "gyroscope_offset_k); v'_k = v_k + gyroscope_scale_asymmetry_k |v_k| + "
+        "gyroscope_scale_nonlinearity_k v_k^2; w = T v' - G f, G the 3x3 "
+        "gyroscope_g_sensitivity_ij (row i, column j) and f the specific force the calibrated "
+        "accelerometer measures; each term 0 when the file does not carry it (docs/gyroscope.md)";
   }
   json["baseline"] = BaselineJson(
       section.baseline, known ? GyroscopeBlock(unit).units : std::vector<std::string>(),
@@ -966,7 +965,7 @@ Status GyroscopeCalibrationModelOf(const GyroscopeCalibrationSection& section,
   }
   for (int p = 0; p < kGyroscopeParameterCount; ++p) model->parameters[p] = section.values[p];
   for (int k = 0; k < 3; ++k) model->offset[k] = section.values[kGyroscopeCalibrationOffsetX + k];
-  std::vector<int> place(n);
+  std::vector<int> place(n, -1);
   for (int p = 0; p < kGyroscopeCalibrationParameterCount; ++p) place[p] = p;
   for (size_t i = kGyroscopeCalibrationParameterCount; i < n; ++i) {
     const int c = GyroscopeEffectCoefficientIndex(section.parameter_order[i]);
@@ -974,14 +973,22 @@ Status GyroscopeCalibrationModelOf(const GyroscopeCalibrationSection& section,
       return Status::Error("gyroscope/" + section.parameter_order[i] +
                            " is not an effect term this accelcal knows");
     }
+    if (!GyroscopeEffectAppliedInUse(c)) {
+      model->effects_not_applied.push_back(c);
+      continue;
+    }
     model->effects[c] = section.values[i];
     model->effects_in_file.push_back(c);
     place[i] = kGyroscopeCalibrationParameterCount + c;
   }
   model->covariance =
       Eigen::MatrixXd::Zero(kGyroscopeCorrectionUnknowns, kGyroscopeCorrectionUnknowns);
-  for (size_t i = 0; i < n; ++i)
-    for (size_t j = 0; j < n; ++j) model->covariance(place[i], place[j]) = section.covariance(i, j);
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = 0; j < n; ++j) {
+      if (place[i] >= 0 && place[j] >= 0)
+        model->covariance(place[i], place[j]) = section.covariance(i, j);
+    }
+  }
   return Status::Ok();
 }
 

@@ -31,7 +31,7 @@
 // Version 2: the model discovery settled on, when it has effect terms beyond the 9 parameters
 // (issue 44, item 7). Their coefficients follow the 9 in parameter_order (the triad's registered
 // effects, models/triad_effect_list.h, by name: "scale_nonlinearity_x", ...; the gyroscope's,
-// models/gyroscope_effects.h: "gyroscope_g_sensitivity_xx", ...), with their units, stddev and
+// models/gyroscope_effect_list.h: "gyroscope_g_sensitivity_xx", ...), with their units, stddev and
 // rows of the covariance; model.effects names them after misalignment, gain and offset;
 // model.effect_terms says what each is and whether apply applies it (a property of the sensor)
 // or only carries it (a session's own: an offset drift over its time); and "baseline" (at the
@@ -118,7 +118,7 @@ Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
                                        const Eigen::MatrixXd& covariance, GyroscopeOutputUnit unit,
                                        GyroscopeCalibrationSection* section);
 // The same with effect terms: `effects` the coefficients carried (indices into
-// models/gyroscope_effects.h's block, in its order), their values in `effect_values`, and
+// models/gyroscope_effect_list.h's block, in its order), their values in `effect_values`, and
 // `covariance` (12 + effects.size()) square in the section's order.
 Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
                                        const GyroscopeOffset& offset,

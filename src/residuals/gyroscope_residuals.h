@@ -8,7 +8,8 @@
 //   r = (ubar_p - u(w = 0, f = g n_p)) / sigma_p
 // the gyroscope's mean output over the pose against what it reads at rest (its offset, and the
 // g-sensitivity's rate under the pose's specific force), per axis divided by the standard
-// deviation of the mean. Blocks: the 9 parameters, the offset (3), the effect coefficients (15),
+// deviation of the mean. Blocks: the 9 parameters, the offset (3), the effect coefficients
+// (kGyroscopeEffectCoefficientCount),
 // the pose's unit gravity direction n_p (3).
 //
 // GyroscopeTurnResidual, one per turn from pose p to pose p + 1 (2 components):
@@ -33,7 +34,7 @@
 #include <vector>
 
 #include "models/gyroscope.h"
-#include "models/gyroscope_effects.h"
+#include "models/gyroscope_effect_list.h"
 
 namespace accelcal {
 
@@ -79,18 +80,21 @@ class GyroscopeRestResidual {
   const double gravity_mps2_;
 };
 
-// The samples of one turn: outputs, the calibrated specific force at each (m/s^2), the steps.
+// The samples of one turn: outputs, the calibrated specific force at each (m/s^2), the steps,
+// and the output's rate of change at each (central differences; empty: 0).
 struct GyroscopeTurnSamples {
   std::vector<std::array<double, 3>> raw;
   std::vector<std::array<double, 3>> specific_force;
   std::vector<double> step_s;  // step_s[j]: from sample j to j + 1
+  std::vector<std::array<double, 3>> output_rate;
 };
 
 class GyroscopeTurnResidual
     : public ceres::SizedCostFunction<2, kGyroscopeParameterCount, 3,
                                       kGyroscopeEffectCoefficientCount, 3, 3> {
  public:
-  static constexpr int kUnknowns = kGyroscopeParameterCount + 3 + kGyroscopeEffectCoefficientCount;
+  static constexpr int kGyroscopeCalibrationUnknowns = kGyroscopeParameterCount + 3;
+  static constexpr int kUnknowns = kGyroscopeCalibrationUnknowns + kGyroscopeEffectCoefficientCount;
 
   // `basis`: E's two columns; `whitening`: W, row-major.
   // `estimated`: the effect coefficients the fit estimates (the others' derivatives are not
@@ -103,77 +107,44 @@ class GyroscopeTurnResidual
         whitening_(whitening),
         estimated_(std::move(estimated)) {}
 
-  static constexpr int kGyroscopeCalibrationUnknowns = kGyroscopeParameterCount + 3;
-
   // How the derivatives are computed: by transport (the default, TransportedJacobian) or through
   // the Runge-Kutta stages (RotationJacobian, the reference the tests compare it with).
   void set_exact_derivatives(bool exact) { exact_derivatives_ = exact; }
 
-  template <int N>
-  void Derivatives(double const* const* blocks, const double* before, double* rotation,
-                   double (*rotated_jacobian)[kUnknowns]) const {
-    if (exact_derivatives_) {
-      RotationJacobian<N>(blocks, before, rotation, rotated_jacobian);
-    } else {
-      TransportedJacobian<N>(blocks, before, rotation, rotated_jacobian);
-    }
-  }
-
-  // The unknowns differentiated when N derivatives are asked for: the 9 parameters and the 3
-  // offsets, then the effect coefficients the fit estimates (all 15 when N is kUnknowns), as
-  // indices of the 27 (block order) in column[0 .. returned count).
-  template <int N>
-  int DifferentiatedColumns(int* column) const {
+  // The unknowns differentiated: the 9 parameters and the 3 offsets, then (with `effects`) the
+  // effect coefficients the fit estimates, as indices of the kUnknowns (block order) in
+  // column[0 .. returned count).
+  int DifferentiatedColumns(bool effects, int* column) const {
     int index = 0;
     for (int i = 0; i < kGyroscopeCalibrationUnknowns; ++i) column[index++] = i;
-    const bool all = N == kUnknowns;
-    for (int i = 0; i < kGyroscopeEffectCoefficientCount && index < N; ++i) {
-      if (all || std::find(estimated_.begin(), estimated_.end(), i) != estimated_.end())
-        column[index++] = kGyroscopeCalibrationUnknowns + i;
-    }
+    if (effects)
+      for (const int c : estimated_) column[index++] = kGyroscopeCalibrationUnknowns + c;
     return index;
   }
 
-  // The unknowns as Jets of N derivatives, derivative u belonging to unknown column[u]
-  // (DifferentiatedColumns), the others constant. Returns the derivatives used.
-  template <int N, typename Jet>
-  int SeedJets(double const* const* blocks, Jet* parameters, Jet* offset, Jet* effects,
-               int* column) const {
-    const int index = DifferentiatedColumns<N>(column);
-    for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i]);
-    for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i]);
-    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) effects[i] = Jet(blocks[2][i]);
-    for (int u = 0; u < index; ++u) {
-      const int unknown = column[u];
-      if (unknown < kGyroscopeParameterCount) {
-        parameters[unknown].v[u] = 1.0;
-      } else if (unknown < kGyroscopeCalibrationUnknowns) {
-        offset[unknown - kGyroscopeParameterCount].v[u] = 1.0;
-      } else {
-        effects[unknown - kGyroscopeCalibrationUnknowns].v[u] = 1.0;
-      }
-    }
-    return index;
-  }
-
-  // R at the blocks' values, and the derivatives of R^T n_before by the first N unknowns (the 9
-  // parameters, the offsets, then the effects; the others' columns left as they are).
-  template <int N>
-  void RotationJacobian(double const* const* blocks, const double* before, double* rotation,
-                        double (*rotated_jacobian)[kUnknowns]) const {
-    using Jet = ceres::Jet<double, N>;
-    Jet parameters[kGyroscopeParameterCount], offset[3], effects[kGyroscopeEffectCoefficientCount];
-    int column[N];
-    const int index = SeedJets<N>(blocks, parameters, offset, effects, column);
+  // R at the blocks' values, and the derivatives of R^T n_before by the differentiated unknowns
+  // (the others' columns 0), every unknown a ceres::Jet through the Runge-Kutta stages.
+  void RotationJacobian(double const* const* blocks, bool effects, const double* before,
+                        double* rotation, double (*rotated_jacobian)[kUnknowns]) const {
+    using Jet = ceres::Jet<double, kUnknowns>;
+    Jet parameters[kGyroscopeParameterCount], offset[3],
+        coefficients[kGyroscopeEffectCoefficientCount];
+    for (int i = 0; i < kGyroscopeParameterCount; ++i) parameters[i] = Jet(blocks[0][i], i);
+    for (int i = 0; i < 3; ++i) offset[i] = Jet(blocks[1][i], kGyroscopeParameterCount + i);
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i)
+      coefficients[i] = Jet(blocks[2][i], kGyroscopeCalibrationUnknowns + i);
     Jet jet_rotation[9];
-    Rotation(parameters, offset, effects, jet_rotation);
+    Rotation(parameters, offset, coefficients, jet_rotation);
     for (int i = 0; i < 9; ++i) rotation[i] = jet_rotation[i].a;
+    int column[kUnknowns];
+    const int count = DifferentiatedColumns(effects, column);
     for (int k = 0; k < 3; ++k) {
       for (int u = 0; u < kUnknowns; ++u) rotated_jacobian[k][u] = 0.0;
-      for (int u = 0; u < index; ++u) {
-        rotated_jacobian[k][column[u]] = jet_rotation[k].v[u] * before[0] +
-                                         jet_rotation[3 + k].v[u] * before[1] +
-                                         jet_rotation[6 + k].v[u] * before[2];
+      for (int i = 0; i < count; ++i) {
+        const int u = column[i];
+        rotated_jacobian[k][u] = jet_rotation[k].v[u] * before[0] +
+                                 jet_rotation[3 + k].v[u] * before[1] +
+                                 jet_rotation[6 + k].v[u] * before[2];
       }
     }
   }
@@ -183,18 +154,18 @@ class GyroscopeTurnResidual
   // turns the end attitude by dtheta = c_j R_N^T R_j dw_j (the end's body frame), and R^T n
   // changes by [v]x dtheta, v = R^T n. The sum is the continuous-time sensitivity, which the
   // discrete rule's differs from by O((w dt)^2) relative (GyroscopeTurnResidual's test measures
-  // it). The rate's derivatives are written out (models/gyroscope_effects.h: w = T v' - G f,
-  // v'_k = v_k + a_k |v_k| + n_k v_k^2, v_k = gain_k (u_k - b_k)): each is a column of T or an
-  // entry of dT/dp times a per-sample weight (v', s_k (u_k - b_k), s_k, |v_k|, v_k^2 with
-  // s_k = dv'_k/dv_k, or f), so the turn needs only the sums sum_j c_j R_j (x) weight_j, 27
-  // numbers per kind of weight, and no ceres::Jet per sample.
-  template <int N>
-  void TransportedJacobian(double const* const* blocks, const double* before, double* rotation,
-                           double (*rotated_jacobian)[kUnknowns]) const {
+  // it). The rate's derivatives dw_j/du come from the composition of
+  // models/gyroscope_effect.h: by the angles dT/dp v', by gain k T S e_k (u'_k - b_k), by offset k
+  // -T S e_k gain_k (S = dv'/dv, a Jet of 3 through the kAxis terms when one is non-zero), by an
+  // effect's coefficients a ceres::Jet of the effect's own size through its term alone, carried
+  // to v' or the rate by its stage; no Jet through the integration.
+  void TransportedJacobian(double const* const* blocks, bool effects, const double* before,
+                           double* rotation, double (*rotated_jacobian)[kUnknowns]) const {
     std::lock_guard<std::mutex> lock(memo_mutex_);
     const Memo& memo = Integrated(blocks);
     for (int i = 0; i < 9; ++i) rotation[i] = memo.rotation[i];
-    if (memo.derivatives != N) RateSums<N>(blocks);
+    const int wanted = effects ? 2 : 1;
+    if (memo.derivatives != wanted) RateSums(blocks, effects);
     const double v[3] = {
         rotation[0] * before[0] + rotation[3] * before[1] + rotation[6] * before[2],
         rotation[1] * before[0] + rotation[4] * before[1] + rotation[7] * before[2],
@@ -211,113 +182,194 @@ class GyroscopeTurnResidual
     }
   }
 
-  // The memo's sums D(:, u) = sum_j c_j R_N^T R_j dw_j/du for the first N unknowns, from its path.
-  // Called with memo_mutex_ held, after Integrated(blocks).
-  template <int N>
-  void RateSums(double const* const* blocks) const {
+  // The sample's context (its force and the output's rate of change).
+  GyroscopeSampleContext<double> ContextAt(int j) const {
+    GyroscopeSampleContext<double> context;
+    context.specific_force = samples_.specific_force[j].data();
+    if (!samples_.output_rate.empty()) context.output_rate = samples_.output_rate[j].data();
+    return context;
+  }
+
+  // The derivatives of one effect's term by its coefficients at a sample (d_term[i][k]: of the
+  // term's component k by coefficient i), v and the context given: a ceres::Jet of the effect's
+  // own size through its Apply alone.
+  template <typename Effect>
+  static void EffectTermDerivatives(const double* coefficients,
+                                    const GyroscopeSampleContext<double>& context,
+                                    const std::array<double, 3>& along, double (*d_term)[3]) {
+    constexpr int kCount = Effect::kInfo.coefficients;
+    using Jet = ceres::Jet<double, kCount>;
+    Jet c[kCount];
+    for (int i = 0; i < kCount; ++i) c[i] = Jet(coefficients[i], i);
+    Jet force[3], output_rate[3];
+    GyroscopeRateTerms<Jet> terms;
+    for (int k = 0; k < 3; ++k) {
+      force[k] = Jet(context.specific_force[k]);
+      output_rate[k] = Jet(context.output_rate == nullptr ? 0.0 : context.output_rate[k]);
+      terms.output_shift[k] = terms.per_axis[k] = terms.rate_shift[k] = Jet(0.0);
+      terms.along[k] = Jet(along[k]);
+    }
+    GyroscopeSampleContext<Jet> jet_context;
+    jet_context.specific_force = force;
+    jet_context.output_rate = output_rate;
+    Effect::Apply(c, jet_context, &terms);
+    const std::array<Jet, 3>& term =
+        Effect::kInfo.stage == GyroscopeEffectStage::kOutput ? terms.output_shift
+        : Effect::kInfo.stage == GyroscopeEffectStage::kAxis ? terms.per_axis
+                                                             : terms.rate_shift;
+    for (int i = 0; i < kCount; ++i)
+      for (int k = 0; k < 3; ++k) d_term[i][k] = term[k].v[i];
+  }
+
+  // S = dv'/dv at a sample (row-major), the kAxis terms' slope: a ceres::Jet of 3 seeded on v.
+  static void AxisSlope(const double* coefficients, const GyroscopeSampleContext<double>& context,
+                        const std::array<double, 3>& along, double* s) {
+    using Jet = ceres::Jet<double, 3>;
+    Jet c[kGyroscopeEffectCoefficientCount];
+    for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) c[i] = Jet(coefficients[i]);
+    Jet force[3], output_rate[3];
+    GyroscopeRateTerms<Jet> terms;
+    for (int k = 0; k < 3; ++k) {
+      force[k] = Jet(context.specific_force[k]);
+      output_rate[k] = Jet(context.output_rate == nullptr ? 0.0 : context.output_rate[k]);
+      terms.output_shift[k] = terms.per_axis[k] = terms.rate_shift[k] = Jet(0.0);
+      terms.along[k] = Jet(along[k], k);
+    }
+    GyroscopeSampleContext<Jet> jet_context;
+    jet_context.specific_force = force;
+    jet_context.output_rate = output_rate;
+    ApplyGyroscopeEffects<GyroscopeEffectStage::kAxis>(c, jet_context, &terms);
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) s[3 * i + k] = (i == k ? 1.0 : 0.0) + terms.per_axis[i].v[k];
+  }
+
+  // For the differentiated coefficients at a sample: dprimed[m] = dv'/dc_m (kOutput: S diag(gain)
+  // dshift/dc; kAxis: the term's own) and drate[m] = the kRate term's derivative.
+  void EffectDerivatives(double const* const* blocks, const GyroscopeSampleContext<double>& context,
+                         const std::array<double, 3>& along, const double* s, const int* slot,
+                         double (*dprimed)[3], double (*drate)[3]) const {
     const double* parameters = blocks[0];
-    const double* offset = blocks[1];
-    const double* effects = blocks[2];
+    int first = 0;
+    auto one = [&](auto effect) {
+      using Effect = decltype(effect);
+      constexpr int kCount = Effect::kInfo.coefficients;
+      bool wanted = false;
+      for (int i = 0; i < kCount; ++i) wanted = wanted || slot[first + i] >= 0;
+      if (wanted) {
+        double d_term[kCount][3];
+        EffectTermDerivatives<Effect>(blocks[2] + first, context, along, d_term);
+        for (int i = 0; i < kCount; ++i) {
+          const int m = slot[first + i];
+          if (m < 0) continue;
+          for (int k = 0; k < 3; ++k) dprimed[m][k] = drate[m][k] = 0.0;
+          if (Effect::kInfo.stage == GyroscopeEffectStage::kOutput) {
+            for (int r = 0; r < 3; ++r)
+              for (int k = 0; k < 3; ++k)
+                dprimed[m][r] += s[3 * r + k] * parameters[kGyroscopeGainX + k] * d_term[i][k];
+          } else if (Effect::kInfo.stage == GyroscopeEffectStage::kAxis) {
+            for (int k = 0; k < 3; ++k) dprimed[m][k] = d_term[i][k];
+          } else {
+            for (int k = 0; k < 3; ++k) drate[m][k] = d_term[i][k];
+          }
+        }
+      }
+      first += kCount;
+    };
+    std::apply([&](auto... effect) { (one(effect), ...); }, GyroscopeEffects{});
+  }
+
+  // The memo's sums D(:, u) = sum_j c_j R_N^T R_j dw_j/du for the differentiated unknowns, from
+  // its path. Called with memo_mutex_ held, after Integrated(blocks).
+  void RateSums(double const* const* blocks, bool effects) const {
+    const double* parameters = blocks[0];
     const int count = static_cast<int>(samples_.raw.size());
     const std::vector<std::array<double, 4>>& path = memo_.path;
     int* column = memo_.column;
-    const int index = DifferentiatedColumns<N>(column);
-    bool asymmetry = false, nonlinearity = false, g_sensitivity = false;
-    for (int u = 0; u < index; ++u) {
-      const int c = column[u] - kGyroscopeCalibrationUnknowns;
-      if (c < 0) continue;
-      g_sensitivity |= c < kGyroscopeScaleAsymmetry;
-      asymmetry |= c >= kGyroscopeScaleAsymmetry && c < kGyroscopeScaleNonlinearity;
-      nonlinearity |= c >= kGyroscopeScaleNonlinearity;
-    }
-    // sums[kind][i][a][c] = sum_j c_j R_j(i, a) weight_j(c).
-    enum Kind { kPrimed, kGain, kOffset, kAbsolute, kSquare, kForce, kKinds };
-    double sums[kKinds][3][3][3] = {};
-    for (int j = 0; j < count; ++j) {
-      const double weight = 0.5 * ((j > 0 ? samples_.step_s[j - 1] : 0.0) +
-                                   (j + 1 < count ? samples_.step_s[j] : 0.0));
-      double here[9];
-      QuaternionToRotationMatrix(path[j].data(), here);
-      for (double& h : here) h *= weight;
-      double weights[kKinds][3];
-      for (int k = 0; k < 3; ++k) {
-        const double centred = samples_.raw[j][k] - offset[k];
-        const double along = parameters[kGyroscopeGainX + k] * centred;
-        const double asymmetry_k = effects[kGyroscopeScaleAsymmetry + k];
-        const double nonlinearity_k = effects[kGyroscopeScaleNonlinearity + k];
-        // ceres::abs's derivative: +1 at 0, as the Jets had it.
-        const double sign = along < 0.0 ? -1.0 : 1.0;
-        const double slope = 1.0 + asymmetry_k * sign + 2.0 * nonlinearity_k * along;
-        weights[kPrimed][k] =
-            along + asymmetry_k * std::abs(along) + nonlinearity_k * along * along;
-        weights[kGain][k] = slope * centred;
-        weights[kOffset][k] = slope;
-        weights[kAbsolute][k] = std::abs(along);
-        weights[kSquare][k] = along * along;
-        weights[kForce][k] = samples_.specific_force[j][k];
-      }
-      for (int kind = 0; kind < kKinds; ++kind) {
-        if ((kind == kAbsolute && !asymmetry) || (kind == kSquare && !nonlinearity) ||
-            (kind == kForce && !g_sensitivity)) {
-          continue;
-        }
-        for (int i = 0; i < 3; ++i)
-          for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c) sums[kind][i][a][c] += here[3 * i + a] * weights[kind][c];
-      }
-    }
-    // transported[kind][r][a][c] = sum_j (c_j R_N^T R_j)(r, a) weight_j(c).
-    double end[9];
-    QuaternionToRotationMatrix(path.back().data(), end);
-    double transported[kKinds][3][3][3];
-    for (int kind = 0; kind < kKinds; ++kind)
-      for (int r = 0; r < 3; ++r)
-        for (int a = 0; a < 3; ++a)
-          for (int c = 0; c < 3; ++c)
-            transported[kind][r][a][c] = end[r] * sums[kind][0][a][c] +
-                                         end[3 + r] * sums[kind][1][a][c] +
-                                         end[6 + r] * sums[kind][2][a][c];
+    const int index = DifferentiatedColumns(effects, column);
+    const int differentiated = index - kGyroscopeCalibrationUnknowns;
+    const bool any_effect = std::any_of(blocks[2], blocks[2] + kGyroscopeEffectCoefficientCount,
+                                        [](double c) { return c != 0.0; });
+    const bool axis_active = GyroscopeStageActive(blocks[2], GyroscopeEffectStage::kAxis);
+    // slot[c]: the place of coefficient c among those differentiated, -1 when it is not.
+    int slot[kGyroscopeEffectCoefficientCount];
+    std::fill(slot, slot + kGyroscopeEffectCoefficientCount, -1);
+    for (int m = 0; m < differentiated; ++m) slot[estimated_[m]] = m;
     // T and dT/dp (T is linear in the 6 angles; one Jet evaluation gives every entry's slope).
     using AngleJet = ceres::Jet<double, kGyroscopeParameterCount>;
     AngleJet angle_parameters[kGyroscopeParameterCount], angle_matrix[9];
     for (int i = 0; i < kGyroscopeParameterCount; ++i)
       angle_parameters[i] = AngleJet(parameters[i], i);
     GyroscopeMisalignmentMatrix(angle_parameters, angle_matrix);
-    // D(:, u) = sum_j c_j R_N^T R_j dw_j/du.
-    auto per_axis = [&](int kind, int k, double factor, double* d) {
-      for (int r = 0; r < 3; ++r) {
-        d[r] = factor * (angle_matrix[k].a * transported[kind][r][0][k] +
-                         angle_matrix[3 + k].a * transported[kind][r][1][k] +
-                         angle_matrix[6 + k].a * transported[kind][r][2][k]);
+    double t[9];
+    for (int i = 0; i < 9; ++i) t[i] = angle_matrix[i].a;
+    // acc[u] = sum_j c_j R_j dw_j/du (the start's frame), carried to the end below.
+    std::vector<std::array<double, 3>> acc(index, {0.0, 0.0, 0.0});
+    double dprimed[kGyroscopeEffectCoefficientCount][3], drate[kGyroscopeEffectCoefficientCount][3];
+    for (int j = 0; j < count; ++j) {
+      const double weight = 0.5 * ((j > 0 ? samples_.step_s[j - 1] : 0.0) +
+                                   (j + 1 < count ? samples_.step_s[j] : 0.0));
+      double here[9];
+      QuaternionToRotationMatrix(path[j].data(), here);
+      for (double& h : here) h *= weight;
+      double primed[3], s[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0}, centred[3];
+      const GyroscopeSampleContext<double> context = ContextAt(j);
+      GyroscopeRateTerms<double> terms;
+      GyroscopeRateTermsAt(parameters, blocks[1], any_effect ? blocks[2] : nullptr,
+                           samples_.raw[j].data(), context, &terms);
+      for (int k = 0; k < 3; ++k) {
+        primed[k] = terms.along[k] + terms.per_axis[k];
+        centred[k] = samples_.raw[j][k] + terms.output_shift[k] - blocks[1][k];
       }
-    };
-    for (int u = 0; u < index; ++u) {
-      const int unknown = column[u];
-      double* d = memo_.sums[u];
-      for (int r = 0; r < 3; ++r) d[r] = 0.0;
-      if (unknown < kGyroscopeGainX) {  // an angle: dT/dp v'
-        for (int r = 0; r < 3; ++r)
-          for (int a = 0; a < 3; ++a)
-            for (int c = 0; c < 3; ++c)
-              d[r] += angle_matrix[3 * a + c].v[unknown] * transported[kPrimed][r][a][c];
-      } else if (unknown < kGyroscopeParameterCount) {
-        per_axis(kGain, unknown - kGyroscopeGainX, 1.0, d);
-      } else if (unknown < kGyroscopeCalibrationUnknowns) {
-        const int k = unknown - kGyroscopeParameterCount;
-        per_axis(kOffset, k, -parameters[kGyroscopeGainX + k], d);
-      } else {
-        const int c = unknown - kGyroscopeCalibrationUnknowns;
-        if (c < kGyroscopeScaleAsymmetry) {  // G(q, k): -f_k e_q
-          for (int r = 0; r < 3; ++r) d[r] = -transported[kForce][r][c / 3][c % 3];
-        } else if (c < kGyroscopeScaleNonlinearity) {
-          per_axis(kAbsolute, c - kGyroscopeScaleAsymmetry, 1.0, d);
-        } else {
-          per_axis(kSquare, c - kGyroscopeScaleNonlinearity, 1.0, d);
+      if (axis_active) AxisSlope(blocks[2], context, terms.along, s);
+      if (differentiated > 0)
+        EffectDerivatives(blocks, context, terms.along, s, slot, dprimed, drate);
+      // M = c_j R_j T: a change of v' carried to the start's frame.
+      double m[9];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          m[3 * r + c] =
+              here[3 * r] * t[c] + here[3 * r + 1] * t[3 + c] + here[3 * r + 2] * t[6 + c];
+      auto add = [&](int u, const double* through_t, const double* direct) {
+        for (int r = 0; r < 3; ++r) {
+          double value = 0.0;
+          if (through_t != nullptr)
+            value +=
+                m[3 * r] * through_t[0] + m[3 * r + 1] * through_t[1] + m[3 * r + 2] * through_t[2];
+          if (direct != nullptr)
+            value +=
+                here[3 * r] * direct[0] + here[3 * r + 1] * direct[1] + here[3 * r + 2] * direct[2];
+          acc[u][r] += value;
         }
+      };
+      for (int p = 0; p < kGyroscopeGainX; ++p) {  // an angle: dT/dp v'
+        double dw[3];
+        for (int a = 0; a < 3; ++a) {
+          dw[a] = angle_matrix[3 * a].v[p] * primed[0] + angle_matrix[3 * a + 1].v[p] * primed[1] +
+                  angle_matrix[3 * a + 2].v[p] * primed[2];
+        }
+        add(p, nullptr, dw);
       }
+      for (int k = 0; k < 3; ++k) {
+        const double column_k[3] = {s[k], s[3 + k], s[6 + k]};
+        const double gain_k[3] = {column_k[0] * centred[k], column_k[1] * centred[k],
+                                  column_k[2] * centred[k]};
+        add(kGyroscopeGainX + k, gain_k, nullptr);
+        const double g = -parameters[kGyroscopeGainX + k];
+        const double offset_k[3] = {column_k[0] * g, column_k[1] * g, column_k[2] * g};
+        add(kGyroscopeParameterCount + k, offset_k, nullptr);
+      }
+      for (int e = 0; e < differentiated; ++e)
+        add(kGyroscopeCalibrationUnknowns + e, dprimed[e], drate[e]);
+    }
+    // D(:, u) = R_N^T acc[u].
+    double end[9];
+    QuaternionToRotationMatrix(path.back().data(), end);
+    for (int u = 0; u < index; ++u) {
+      for (int r = 0; r < 3; ++r)
+        memo_.sums[u][r] = end[r] * acc[u][0] + end[3 + r] * acc[u][1] + end[6 + r] * acc[u][2];
     }
     memo_.derivative_count = index;
-    memo_.derivatives = N;
+    memo_.derivatives = effects ? 2 : 1;
   }
 
   // R (row-major) at the blocks' values, through the memo.
@@ -333,8 +385,16 @@ class GyroscopeTurnResidual
     IntegrateAngularRateHermite(
         static_cast<int>(samples_.raw.size()),
         [&](int j, T* rate) {
-          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(),
-                                 samples_.specific_force[j].data(), rate);
+          T force[3], output_rate[3];
+          for (int k = 0; k < 3; ++k) {
+            force[k] = T(samples_.specific_force[j][k]);
+            output_rate[k] = T(samples_.output_rate.empty() ? 0.0 : samples_.output_rate[j][k]);
+          }
+          GyroscopeSampleContext<T> context;
+          context.specific_force = force;
+          context.output_rate = output_rate;
+          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(), context,
+                                 rate);
         },
         samples_.step_s, rotation);
   }
@@ -347,30 +407,15 @@ class GyroscopeTurnResidual
     const bool gyroscope_jacobian =
         jacobians != nullptr &&
         (jacobians[0] != nullptr || jacobians[1] != nullptr || jacobians[2] != nullptr);
-    if (gyroscope_jacobian && jacobians[2] == nullptr) {
-      // The effects held (the model without them, or constant): 12 unknowns' derivatives.
-      Derivatives<kGyroscopeCalibrationUnknowns>(blocks, before, rotation, rotated_jacobian);
-    } else if (gyroscope_jacobian) {
-      // Derivatives by the estimated effects' coefficients only (held ones have zero columns).
-      switch (estimated_.size()) {
-        case 3:
-          Derivatives<kGyroscopeCalibrationUnknowns + 3>(blocks, before, rotation,
-                                                         rotated_jacobian);
-          break;
-        case 6:
-          Derivatives<kGyroscopeCalibrationUnknowns + 6>(blocks, before, rotation,
-                                                         rotated_jacobian);
-          break;
-        case 9:
-          Derivatives<kGyroscopeCalibrationUnknowns + 9>(blocks, before, rotation,
-                                                         rotated_jacobian);
-          break;
-        case 12:
-          Derivatives<kGyroscopeCalibrationUnknowns + 12>(blocks, before, rotation,
-                                                          rotated_jacobian);
-          break;
-        default:
-          Derivatives<kUnknowns>(blocks, before, rotation, rotated_jacobian);
+    if (gyroscope_jacobian) {
+      // Without the effects' block (the model without them, or constant): the 12 unknowns'
+      // derivatives; with it, those by the estimated coefficients too (held ones have zero
+      // columns).
+      const bool effects = jacobians[2] != nullptr;
+      if (exact_derivatives_) {
+        RotationJacobian(blocks, effects, before, rotation, rotated_jacobian);
+      } else {
+        TransportedJacobian(blocks, effects, before, rotation, rotated_jacobian);
       }
     } else {
       RotationAt(blocks, rotation);
@@ -432,16 +477,16 @@ class GyroscopeTurnResidual
   const std::vector<int> estimated_;
   bool exact_derivatives_ = false;
 
-  // The last point the turn was integrated at (the 27 gyroscope unknowns), its attitude at every
-  // sample and R, and the sums D for the last N asked: Ceres evaluates the cost at a candidate
-  // point and, when it accepts it, the Jacobian at the same point; the rank check, the residuals
-  // and the covariance after the solve ask again at the solution. Each is integrated once.
+  // The last point the turn was integrated at (the gyroscope's unknowns), its attitude at every
+  // sample and R, and the sums D last asked for: Ceres evaluates the cost at a candidate point
+  // and, when it accepts it, the Jacobian at the same point; the rank check, the residuals and
+  // the covariance after the solve ask again at the solution. Each is integrated once.
   struct Memo {
     bool valid = false;
     std::array<double, kUnknowns> point{};
     std::vector<std::array<double, 4>> path;
     double rotation[9] = {};
-    int derivatives = 0;  // the N the sums are for (0: none)
+    int derivatives = 0;  // 0: none; 1: the 12 unknowns'; 2: and the estimated effects'
     int derivative_count = 0;
     int column[kUnknowns] = {};
     double sums[kUnknowns][3] = {};
@@ -465,7 +510,7 @@ class GyroscopeTurnResidual
         static_cast<int>(samples_.raw.size()),
         [&](int j, double* rate) {
           GyroscopeCorrectedRate(blocks[0], blocks[1], blocks[2], samples_.raw[j].data(),
-                                 samples_.specific_force[j].data(), rate);
+                                 ContextAt(j), rate);
         },
         samples_.step_s, memo_.rotation, &memo_.path);
     memo_.point = point;

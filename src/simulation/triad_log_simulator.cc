@@ -76,11 +76,49 @@ class SampleWriter {
     const Vector3 rate = {rate_[0] + earth_[0], rate_[1] + earth_[1], rate_[2] + earth_[2]};
     GyroscopeRawWithEffects(gyroscope.truth.data(), gyroscope.offset.data(),
                             gyroscope.effects.data(), rate.data(), force, raw);
+    Vector3 noise;
+    for (int k = 0; k < 3; ++k)
+      noise[k] = noise_scale_ * gyroscope.noise_stddev[k] * random_->StandardNormal();
+    if (delayed_) {
+      // The output's own terms (models/gyroscope_effect.h's kOutput stage) need the output's
+      // change in time: the samples are finished once the whole log is there (Finish).
+      aligned_.push_back({raw[0], raw[1], raw[2]});
+      noise_.push_back(noise);
+      force_.push_back({force[0], force[1], force[2]});
+      log_->gyroscope.push_back({0.0, 0.0, 0.0});
+      return;
+    }
     for (int k = 0; k < 3; ++k) {
-      raw[k] += noise_scale_ * gyroscope.noise_stddev[k] * random_->StandardNormal();
+      raw[k] += noise[k];
       if (gyroscope.round_to_counts) raw[k] = std::round(raw[k]);
     }
     log_->gyroscope.push_back({raw[0], raw[1], raw[2]});
+  }
+  // The gyroscope's samples with the output stage's terms: u = u_aligned - shift, the shift at
+  // the aligned output's rate of change (central differences), then the noise.
+  void Finish() {
+    if (!delayed_) return;
+    const int count = static_cast<int>(aligned_.size());
+    for (int j = 0; j < count; ++j) {
+      const int lo = std::max(j - 1, 0);
+      const int hi = std::min(j + 1, count - 1);
+      const double span = log_->timestamp_s[hi] - log_->timestamp_s[lo];
+      Vector3 output_rate{};
+      if (span > 0.0)
+        for (int k = 0; k < 3; ++k) output_rate[k] = (aligned_[hi][k] - aligned_[lo][k]) / span;
+      GyroscopeSampleContext<double> context;
+      context.specific_force = force_[j].data();
+      context.output_rate = output_rate.data();
+      GyroscopeRateTerms<double> terms;
+      terms.output_shift.fill(0.0);
+      ApplyGyroscopeEffects<GyroscopeEffectStage::kOutput>(options_.gyroscope.effects.data(),
+                                                           context, &terms);
+      for (int k = 0; k < 3; ++k) {
+        double raw = aligned_[j][k] - terms.output_shift[k] + noise_[j][k];
+        if (options_.gyroscope.round_to_counts) raw = std::round(raw);
+        log_->gyroscope[j][k] = raw;
+      }
+    }
   }
   // The body's angular rate (rad/s) for the samples that follow.
   void SetRate(const Vector3& rate) { rate_ = rate; }
@@ -94,6 +132,10 @@ class SampleWriter {
   TriadLog* log_;
   double noise_scale_ = 1.0;
   std::array<double, 3> vibration_phase_{};
+  const bool delayed_ =
+      options_.gyroscope.enabled &&
+      GyroscopeStageActive(options_.gyroscope.effects.data(), GyroscopeEffectStage::kOutput);
+  std::vector<Vector3> aligned_, noise_, force_;
   Vector3 rate_{};
   Vector3 earth_{};
 };
@@ -180,6 +222,7 @@ TriadSession SimulateTriadSession(const TriadLogSimulationOptions& options,
     }
     writer.SetRate({0.0, 0.0, 0.0});
   }
+  writer.Finish();
   return session;
 }
 
@@ -197,6 +240,7 @@ TriadLog SimulateSteadyTurn(const TriadLogSimulationOptions& options, double dur
                 std::cos(elevation)},
                shake_mps2);
   }
+  writer.Finish();
   return log;
 }
 

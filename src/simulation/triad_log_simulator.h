@@ -20,7 +20,7 @@
 
 #include "common/triad_log.h"
 #include "models/gyroscope.h"
-#include "models/gyroscope_effects.h"
+#include "models/gyroscope_effect_list.h"
 #include "models/triad.h"
 #include "simulation/random.h"
 
@@ -33,7 +33,7 @@ struct TriadHold {
   double turn_yaw_deg = 0.0;  // the turn after it also turns about gravity by this (gyroscope)
 };
 
-// The gyroscope beside the triad (models/gyroscope.h, models/gyroscope_effects.h), when enabled:
+// The gyroscope beside the triad (models/gyroscope.h, models/gyroscope_effect_list.h), when enabled:
 // at rest it reads its offset plus noise (and the effects of the specific force); in a turn the
 // body turns about the fixed axis n_p x n_p+1 by the hold-to-hold angle, and at the same time
 // about the current gravity direction by the hold's turn_yaw_deg, with the same (1 - cos) profile:

@@ -27,8 +27,8 @@ class GyroscopeFitter {
     GyroscopeMlOptions options = options_;
     options.effects.clear();
     for (int group : groups) {
-      const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
-      for (int c = info.first; c < info.first + info.coefficients; ++c)
+      const int first = GyroscopeEffectFirst(group);
+      for (int c = first; c < first + GyroscopeEffectInfos()[group].coefficients; ++c)
         options.effects.push_back(c);
     }
     return CalibrateGyroscopeMl(log_, intervals_, accelerometer_options_, accelerometer_, options,
@@ -304,8 +304,8 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     final_options.earth_horizontal_fixed = true;
     final_options.earth_horizontal_axis_variance = result->baseline.earth_horizontal_axis_variance;
     for (int group : geometry.Effects()) {
-      const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[group];
-      for (int c = info.first; c < info.first + info.coefficients; ++c)
+      const int first = GyroscopeEffectFirst(group);
+      for (int c = first; c < first + GyroscopeEffectInfos()[group].coefficients; ++c)
         final_options.effects.push_back(c);
     }
     GyroscopeMlResult refit;
@@ -327,7 +327,7 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
     found.effect = info.name;
     for (size_t i = kGyroscopeCalibrationCount; i < current.names.size(); ++i) {
       const int c = current.effects_estimated[i - kGyroscopeCalibrationCount];
-      if (c < info.first || c >= info.first + info.coefficients) continue;
+      if (GyroscopeEffectOf(c) != model[e]) continue;
       found.names.push_back(current.names[i]);
       found.estimates.push_back(current.effects[c]);
       found.stddevs.push_back(current.stddev[i]);

@@ -153,8 +153,8 @@ const char* GyroscopeTurnAxisOf(int unknown, const std::vector<int>& effects_est
   if (e >= static_cast<int>(effects_estimated.size())) return "";
   const int c = effects_estimated[e];
   static const char* const kAxis[3] = {"x", "y", "z"};
-  if (c >= kGyroscopeScaleNonlinearity) return kAxis[c - kGyroscopeScaleNonlinearity];
-  if (c >= kGyroscopeScaleAsymmetry) return kAxis[c - kGyroscopeScaleAsymmetry];
+  const int place = GyroscopeEffectPlaceOf(c);
+  if (GyroscopeEffectInfos()[GyroscopeEffectOf(c)].per_axis && place < 3) return kAxis[place];
   return "";
 }
 
@@ -432,6 +432,17 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         double force[3];
         TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
         samples.specific_force.push_back({force[0], force[1], force[2]});
+        // The output's rate of change: central differences over the samples around (one-sided
+        // at the log's ends).
+        const int lo = std::max(i - 1, 0);
+        const int hi = std::min(i + 1, static_cast<int>(log.size()) - 1);
+        const double span = log.timestamp_s[hi] - log.timestamp_s[lo];
+        std::array<double, 3> output_rate{};
+        if (span > 0.0) {
+          for (int k = 0; k < 3; ++k)
+            output_rate[k] = (log.gyroscope[hi][k] - log.gyroscope[lo][k]) / span;
+        }
+        samples.output_rate.push_back(output_rate);
         const double before =
             i > turn.first_sample ? log.timestamp_s[i] - log.timestamp_s[i - 1] : 0.0;
         const double after =
@@ -820,7 +831,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   // of the last fit; 0 when they already fit without it.
   int turn_determined = kGyroscopeParameterCount;
   for (int c : estimated)
-    if (c >= kGyroscopeScaleAsymmetry) ++turn_determined;
+    if (!GyroscopeEffectInfos()[GyroscopeEffectOf(c)].seen_at_rest) ++turn_determined;
   auto turn_dof = [&]() {
     return std::max(1, 2 * static_cast<int>(turn_noise.size()) - turn_determined);
   };
@@ -900,7 +911,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
   // coefficients, which they determine too).
   int rest_unknowns = 3;
   for (int c : estimated)
-    if (c < kGyroscopeScaleAsymmetry) ++rest_unknowns;
+    if (GyroscopeEffectInfos()[GyroscopeEffectOf(c)].seen_at_rest) ++rest_unknowns;
   const int rest_dof = std::max(1, 3 * pose_count - rest_unknowns);
   result->white_rest_p_value = ChiSquareSurvival(result->chi2_rest, rest_dof);
   const double white_rest_p_value = result->white_rest_p_value;

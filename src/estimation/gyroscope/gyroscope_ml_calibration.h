@@ -9,7 +9,7 @@
 // One problem, jointly with the accelerometer's poses (not conditioned on its answer): the
 // unknowns are the accelerometer's 9 parameters, one unit gravity direction n_p per pose, the
 // gyroscope's 9 parameters, its offset b (3) and the effect coefficients estimated
-// (models/gyroscope_effects.h); the residuals, each whitened,
+// (models/gyroscope_effect_list.h); the residuals, each whitened,
 //   - the accelerometer's pose means (residuals/triad_pose_residual.h, weighted as its own fit
 //     weighted them: TriadMlResult::mean_stddev), 3 per pose;
 //   - the gyroscope's pose means (GyroscopeRestResidual), 3 per pose: the offset comes from
@@ -73,7 +73,7 @@
 #include "estimation/triad/static_intervals.h"
 #include "estimation/triad/triad_ml_calibration.h"
 #include "models/gyroscope.h"
-#include "models/gyroscope_effects.h"
+#include "models/gyroscope_effect_list.h"
 #include "models/gyroscope_units.h"
 
 namespace accelcal {
@@ -92,7 +92,7 @@ struct GyroscopeMlOptions {
   // Empty: the offsets start from the mean of the poses' means.
   bool offset_given = false;
   GyroscopeOffset initial_offset{};
-  std::vector<int> effects;  // coefficient indices (models/gyroscope_effects.h) estimated
+  std::vector<int> effects;  // coefficient indices (models/gyroscope_effect_list.h) estimated
   GyroscopeEffectCoefficients initial_effects{};
   double quantisation_step = 0.0;  // the output's step (1 for counts), 0: not quantised
   bool earth_rate_as_noise = true;
