@@ -42,9 +42,14 @@ class GyroscopeRestResidual {
  public:
   // `whitening`: W (row-major, 3 x 3), the inverse of the mean's covariance's Cholesky factor:
   // the residual is W (mean - predicted).
+  // `output_rate`: the mean over the pose of the output's rate of change (the log's unit per s;
+  // models/gyroscope_effect.h's context), 0 inside a still pose.
   GyroscopeRestResidual(const std::array<double, 3>& mean, const std::array<double, 9>& whitening,
-                        double gravity_mps2)
-      : mean_(mean), whitening_(whitening), gravity_mps2_(gravity_mps2) {}
+                        double gravity_mps2, const std::array<double, 3>& output_rate = {})
+      : mean_(mean),
+        whitening_(whitening),
+        gravity_mps2_(gravity_mps2),
+        output_rate_(output_rate) {}
 
   // `vertical_rate`: the Earth's rate along gravity (rad/s; Omega sin(latitude)), which the
   // sensor at rest turns at about its up direction, the unit specific force `direction`.
@@ -55,8 +60,12 @@ class GyroscopeRestResidual {
                        vertical_rate[0] * direction[2]};
     const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
                         T(gravity_mps2_) * direction[2]};
+    const T output_rate[3] = {T(output_rate_[0]), T(output_rate_[1]), T(output_rate_[2])};
+    GyroscopeSampleContext<T> context;
+    context.specific_force = force;
+    context.output_rate = output_rate;
     T raw[3];
-    GyroscopeRawWithEffects(parameters, offset, effects, rate, force, raw);
+    GyroscopeRawWithEffects(parameters, offset, effects, rate, context, raw);
     T difference[3];
     for (int k = 0; k < 3; ++k) difference[k] = T(mean_[k]) - raw[k];
     for (int k = 0; k < 3; ++k) {
@@ -68,16 +77,18 @@ class GyroscopeRestResidual {
   }
 
   static ceres::CostFunction* Create(const std::array<double, 3>& mean,
-                                     const std::array<double, 9>& whitening, double gravity_mps2) {
+                                     const std::array<double, 9>& whitening, double gravity_mps2,
+                                     const std::array<double, 3>& output_rate = {}) {
     return new ceres::AutoDiffCostFunction<GyroscopeRestResidual, 3, kGyroscopeParameterCount, 3,
                                            kGyroscopeEffectCoefficientCount, 3, 1>(
-        new GyroscopeRestResidual(mean, whitening, gravity_mps2));
+        new GyroscopeRestResidual(mean, whitening, gravity_mps2, output_rate));
   }
 
  private:
   const std::array<double, 3> mean_;
   const std::array<double, 9> whitening_;
   const double gravity_mps2_;
+  const std::array<double, 3> output_rate_;
 };
 
 // The samples of one turn: outputs, the calibrated specific force at each (m/s^2), the steps,

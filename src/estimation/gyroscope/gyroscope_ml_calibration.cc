@@ -190,6 +190,10 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
 
   // The gyroscope's pose means and pooled white noise.
   std::vector<TriadPoseMean> rest(pose_count);
+  // The mean over each pose of the output's rate of change (central differences, one-sided at the
+  // log's ends), the context of the effects of the output's change (models/gyroscope_effect.h): 0
+  // inside a still pose, not where its ends touch a turn.
+  std::vector<std::array<double, 3>> rest_output_rate(pose_count, {0.0, 0.0, 0.0});
   for (int p = 0; p < pose_count; ++p) {
     const StaticInterval& interval = intervals[p];
     if (interval.start < 0 || interval.end >= static_cast<int>(log.size()) ||
@@ -210,6 +214,16 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         squares += d * d;
       }
       pose.variance[k] = squares / (pose.sample_count - 1);
+    }
+    for (int i = interval.start; i <= interval.end; ++i) {
+      const int lo = std::max(i - 1, 0);
+      const int hi = std::min(i + 1, static_cast<int>(log.size()) - 1);
+      const double span = log.timestamp_s[hi] - log.timestamp_s[lo];
+      if (!(span > 0.0)) continue;
+      for (int k = 0; k < 3; ++k) {
+        rest_output_rate[p][k] +=
+            (log.gyroscope[hi][k] - log.gyroscope[lo][k]) / span / pose.sample_count;
+      }
     }
   }
   std::array<double, 3> white = PooledWithinPoseVariance(rest);
@@ -383,8 +397,9 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       result->rest_means.push_back(rest[p].mean);
       result->rest_stddev.push_back(stddev);
       rest_blocks.push_back(problem.AddResidualBlock(
-          GyroscopeRestResidual::Create(rest[p].mean, whitening, options.gravity_mps2), nullptr,
-          gyroscope, offset, effects, direction, &vertical_rate));
+          GyroscopeRestResidual::Create(rest[p].mean, whitening, options.gravity_mps2,
+                                        rest_output_rate[p]),
+          nullptr, gyroscope, offset, effects, direction, &vertical_rate));
     }
     // The vertical Earth rate: held where given or not counted, else its prior.
     ceres::ResidualBlockId vertical_prior = nullptr;

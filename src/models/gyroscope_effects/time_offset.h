@@ -8,9 +8,10 @@
 // du/dt: the output's rate of change at the sample (central differences). Its effect on a turn
 // integrated from rest to rest telescopes to d (w_end - R^T w_start): it shows where a turn's
 // window starts or ends in motion (a stop within a sample, a static detector's tight margin) and
-// nowhere else, so that discovery finds it only in such sessions and a smooth session's fit
-// leaves it undetermined. First order: for offsets within a sample or two; a longer lag moves
-// motion out of the turn's window, which the window itself must then follow.
+// in the poses next to such a turn (the rest residual's context is the pose's mean output rate)
+// and nowhere else: a session whose turns start and end at rest leaves it undetermined. First
+// order: for offsets within a sample or so (docs/gyroscope.md: at 2 ms in gyroscope_study's design
+// sigma / spread 1.00, bias -0.26 sigma; at 4 ms the second-order term biases it by -1.4 sigma).
 
 #include "models/gyroscope_effect.h"
 
@@ -28,7 +29,7 @@ struct GyroscopeTimeOffsetEffect {
       GyroscopeEffectStage::kOutput,
       false,
       false,
-      {4e-3},
+      {2e-3},
       "the two streams' alignment belongs to the logging chain of the session (buffers, host "
       "times): `apply` corrects each sample at the time it was logged"};
 
