@@ -50,6 +50,104 @@ TEST(AllanVariance, IsExactForAConstantPlusALine) {
   }
 }
 
+// The overlapping Allan variance as the textbook states it, directly: the means of every run of m
+// samples, and half the mean square difference of each with the one m samples later, over every
+// start k = 0 .. n - 2m (O(n m) per tau), in long double.
+double TextbookOverlappingAllanVariance(const std::vector<double>& y, long long m) {
+  const long long n = static_cast<long long>(y.size());
+  std::vector<long double> means(static_cast<size_t>(n - m + 1));
+  for (long long k = 0; k + m <= n; ++k) {
+    long double sum = 0.0L;
+    for (long long j = k; j < k + m; ++j) sum += y[j];
+    means[k] = sum / m;
+  }
+  long double total = 0.0L;
+  for (long long k = 0; k + 2 * m <= n; ++k)
+    total += (means[k + m] - means[k]) * (means[k + m] - means[k]);
+  return static_cast<double>(total / (2.0L * static_cast<long double>(n - 2 * m + 1)));
+}
+
+// A segment handed to AddStreamed from `y`.
+AllanVarianceAccumulator::SegmentReader ReaderOf(const std::vector<double>& y) {
+  return [&y](long long first, long long count, double* values) {
+    EXPECT_LE(first + count, static_cast<long long>(y.size()));
+    for (long long i = 0; i < count; ++i) values[i] = y[first + i];
+    return Status::Ok();
+  };
+}
+
+// The fast paths (cumulative sums: Add, and AddStreamed with its ring of sums and, for lags
+// beyond the ring, cursors reading the segment again) against the textbook computation on a few
+// thousand samples of white noise and random walk on an ADC offset: every octave tau to 1e-12,
+// and AddStreamed the same as Add to the last bit whatever the ring's size.
+TEST(AllanVariance, FastPathsEqualTheTextbookOverlappingEstimator) {
+  NoiseProcessParameters parameters = WhiteAndWalk();
+  RandomSource random(49, 1);
+  for (const long long n : {4000LL, 5003LL}) {
+    std::vector<double> y = SimulateNoiseProcess(parameters, n, &random);
+    for (double& v : y) v += 9.81;  // an offset, as raw data have
+    AllanCurve whole;
+    ASSERT_TRUE(ComputeAllanVariance({y}, parameters.sample_period_s, AllanOptions(), &whole).ok());
+    ASSERT_EQ(whole.points.size(), n == 4000 ? 10u : 11u);  // m = 1 .. 2^9 (2^10), 4 m <= n
+    for (const AllanPoint& point : whole.points) {
+      const long long m = point.cluster_samples;
+      const double textbook = TextbookOverlappingAllanVariance(y, m);
+      EXPECT_NEAR(point.avar, textbook, 1e-12 * textbook) << "n " << n << ", m " << m;
+      EXPECT_EQ(point.difference_count, n - 2 * m + 1);
+      EXPECT_DOUBLE_EQ(point.tau_s, static_cast<double>(m) * parameters.sample_period_s);
+    }
+    // Rings from 2 sums (every lag from a cursor) to more than the segment (none).
+    for (const long long held : {2LL, 64LL, 1024LL, 1LL << 19}) {
+      AllanVarianceAccumulator accumulator;
+      accumulator.SetHeldSums(held);
+      ASSERT_TRUE(accumulator.Start(parameters.sample_period_s, AllanOptions(), {n}).ok());
+      ASSERT_TRUE(accumulator.AddStreamed(n, ReaderOf(y)).ok());
+      AllanCurve streamed;
+      ASSERT_TRUE(accumulator.Finish(&streamed).ok());
+      ASSERT_EQ(streamed.points.size(), whole.points.size());
+      for (size_t i = 0; i < whole.points.size(); ++i) {
+        EXPECT_EQ(streamed.points[i].avar, whole.points[i].avar) << "held " << held << ", i " << i;
+        EXPECT_EQ(streamed.points[i].difference_count, whole.points[i].difference_count);
+        EXPECT_EQ(streamed.points[i].independent_clusters, whole.points[i].independent_clusters);
+      }
+    }
+  }
+}
+
+// Segments pooled, streamed with a small ring: the same curve as ComputeAllanVariance's to the
+// last bit, and a non-finite sample refused with the same message.
+TEST(AllanVariance, StreamedSegmentsPoolAsTheWholeOnes) {
+  RandomSource random(50);
+  NoiseProcessParameters parameters = WhiteAndWalk();
+  const std::vector<std::vector<double>> segments = {
+      SimulateNoiseProcess(parameters, 3000, &random),
+      SimulateNoiseProcess(parameters, 70, &random),
+      SimulateNoiseProcess(parameters, 1200, &random)};
+  AllanCurve whole;
+  ASSERT_TRUE(ComputeAllanVariance(segments, 0.01, AllanOptions(), &whole).ok());
+  AllanVarianceAccumulator accumulator;
+  accumulator.SetHeldSums(128);
+  ASSERT_TRUE(accumulator.Start(0.01, AllanOptions(), {3000, 70, 1200}).ok());
+  for (const std::vector<double>& segment : segments) {
+    ASSERT_TRUE(
+        accumulator.AddStreamed(static_cast<long long>(segment.size()), ReaderOf(segment)).ok());
+  }
+  AllanCurve streamed;
+  ASSERT_TRUE(accumulator.Finish(&streamed).ok());
+  ASSERT_EQ(streamed.points.size(), whole.points.size());
+  for (size_t i = 0; i < whole.points.size(); ++i) {
+    EXPECT_EQ(streamed.points[i].avar, whole.points[i].avar) << i;
+    EXPECT_EQ(streamed.points[i].edf, whole.points[i].edf) << i;
+  }
+  std::vector<double> broken = segments[2];
+  broken[17] = NAN;
+  AllanVarianceAccumulator refusing;
+  ASSERT_TRUE(refusing.Start(0.01, AllanOptions(), {1200}).ok());
+  const Status status = refusing.AddStreamed(1200, ReaderOf(broken));
+  ASSERT_FALSE(status.ok());
+  EXPECT_EQ(status.message(), "segment 1, sample 18 is not finite");
+}
+
 TEST(AllanVariance, RefusesTooShortAndNonFiniteSegments) {
   AllanCurve curve;
   EXPECT_FALSE(ComputeAllanVariance({{1.0, 2.0, 3.0}}, 0.01, AllanOptions(), &curve).ok());
