@@ -87,7 +87,7 @@ struct AllanBootstrapOptions {
   // A segment longer than this is simulated in pieces of piece_samples (see "Long segments");
   // one of at most this many is simulated whole, as before.
   long long max_segment_samples = 1 << 16;
-  long long piece_samples = 1 << 13;
+  long long piece_samples = 1 << 12;
 };
 
 // The unit-size bootstrap series of one curve's segments and taus.
