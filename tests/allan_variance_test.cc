@@ -226,7 +226,9 @@ constexpr int kBootstrapSeries = 1000;
 // the longest segment (studies/allan_study.h, "Long data").
 Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed,
                          const std::vector<long long>& segments = {kSamples},
-                         long long max_simulated_samples = 1 << 16) {
+                         long long max_simulated_samples = 1 << 16,
+                         long long max_segment_samples = 1 << 16,
+                         long long piece_samples = 1 << 12) {
   std::vector<std::vector<double>> zeros;
   for (long long n : segments) zeros.emplace_back(n, 0.0);
   // The curve's shape (segments and taus), which the truth's bias-instability bank and the
@@ -239,6 +241,8 @@ Coverage MeasureCoverage(const AllanNoiseTerms& truth, uint64_t seed,
   bootstrap.series = kBootstrapSeries;
   bootstrap.seed = seed + 1;
   bootstrap.max_simulated_samples = max_simulated_samples;
+  bootstrap.max_segment_samples = max_segment_samples;
+  bootstrap.piece_samples = piece_samples;
   EXPECT_TRUE(MakeAllanBootstrapTable(AllanOptions(), shape, bootstrap, &table).ok());
   const std::array<double, 3> true_values = {truth.white_density, truth.bias_instability,
                                              truth.random_walk};
@@ -347,6 +351,24 @@ TEST(AllanMonteCarlo, LongDataCoverageWithABoundedBootstrap) {
 // The variance of a pose mean: for white noise N^2 / T against the spread of simulated T-long
 // means; with random walk added, sigma^2_model(T) against half the mean square difference of
 // two adjacent T-long means, the meaning docs/noise.md gives it.
+// A single segment longer than the bootstrap's max_segment_samples, simulated in pieces
+// (studies/allan_study.h, "Long segments"): 20,000 samples in pieces of 1024, two levels of
+// resolution (1024 samples at tau0 for m <= 256, the segment's 312 blocks of 64 for the rest), so
+// that both the shrunk piece and the coarse level are exercised at the cost of a short log. The
+// stated coverage holds, with white noise and random walk, and with bias instability and a weak
+// random walk.
+TEST(AllanMonteCarlo, LongSegmentCoverageWithAPiecedBootstrap) {
+  AllanNoiseTerms truth;
+  truth.white_density = 1e-3;
+  truth.random_walk = 2e-4;
+  ExpectStatedCoverage(MeasureCoverage(truth, 4949, {kSamples}, 1 << 16,
+                                       /*max_segment_samples=*/4096, /*piece_samples=*/1024));
+  truth.bias_instability = 4e-4;
+  truth.random_walk = 3e-5;
+  ExpectStatedCoverage(MeasureCoverage(truth, 4950, {kSamples}, 1 << 16,
+                                       /*max_segment_samples=*/4096, /*piece_samples=*/1024));
+}
+
 TEST(AllanFit, PoseMeanVarianceMatchesTheSpreadOfSimulatedMeans) {
   const double duration_s = 2.0;
   for (const bool with_walk : {false, true}) {
