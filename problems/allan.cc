@@ -94,9 +94,9 @@ constexpr const char* kUsage =
     "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 "
     "(U^2).\n"
     "A text log is read in passes over a temporary binary copy of its samples (32 bytes a sample\n"
-    "in $TMPDIR), in memory independent of its length but for one static segment at a time; a\n"
-    "MATLAB .mat file is read whole. The bootstrap's cost does not grow with the data beyond 2^16\n"
-    "samples of static data (docs/noise.md, long data).";
+    "in $TMPDIR), in memory independent of its length, its segments' included; a MATLAB .mat\n"
+    "file is read whole. The bootstrap's cost does not grow with the data beyond 2^16 samples of\n"
+    "static data (docs/noise.md, long data). --progress shows the steps on a terminal.";
 
 Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
   std::stringstream list(FLAGS_segment);
@@ -154,8 +154,11 @@ Status ValidateFlags() {
 // (io/sample_spool.h) and everything below reads it back in passes, holding what does not grow
 // with the log: the exact medians (the step, |u - offset|) by StreamingRankSelector
 // (common/streaming_rank.h), the static detector in its streamed form
-// (estimation/triad/noise_floor_stream.h), one segment at a time for the step check and the
-// Allan sums (AllanVarianceAccumulator). The results are the whole-log path's to the last bit
+// (estimation/triad/noise_floor_stream.h; a run of candidate windows longer than 2^16 in passes
+// over it), the step check and the Allan sums of each segment in passes over it
+// (AllanVarianceAccumulator::AddStreamed: a ring of sums and cursors, never the segment whole,
+// so that a still log of 10^8 samples, one segment, fits in the same memory as a short one;
+// issue 49, item 1). The results are the whole-log path's to the last bit
 // (the same arithmetic in the same order). A .mat log, a log whose rows are ordered by sample
 // number, a read or time check that fails, or a log the detector refuses is read whole after
 // all (ReadImuLog), so that the message is the whole path's: a refused log's cost.
