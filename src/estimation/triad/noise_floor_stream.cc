@@ -375,7 +375,9 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
   // The still windows: their count, runs, medians and 10 % quantiles.
   Selectors still_median = NewSelectors(), still_low = NewSelectors();
   long long still_count = 0;
-  std::vector<bool> run;
+  // The current run of still windows by its first window and length (not a flag per window:
+  // a still log of 10^8 samples is one run).
+  long long run_length = 0;
   long long run_first = 0;
   std::vector<StillRun> runs;
   ACCELCAL_RETURN_IF_ERROR(SelectAll(
@@ -384,13 +386,13 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
         return ForEachWindow(log, common.window, [&](long long j, const Variances& v) {
           const bool still = Below(v, threshold);
           if (number == 0) {
-            if (still && run.empty()) run_first = j;
+            if (still && run_length == 0) run_first = j;
             if (still) {
-              run.push_back(true);
+              ++run_length;
               ++still_count;
-            } else if (!run.empty()) {
-              AppendRuns(run, run_first, threshold, &runs);
-              run.clear();
+            } else if (run_length > 0) {
+              runs.push_back({run_first, run_first + run_length - 1, threshold});
+              run_length = 0;
             }
           }
           if (!still) return;
@@ -402,7 +404,7 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
         return QuantileRank(group == 0 ? 0.5 : noise_floor::kShapeLowQuantile, still_count);
       },
       &still_count));
-  if (!run.empty()) AppendRuns(run, run_first, threshold, &runs);
+  if (run_length > 0) runs.push_back({run_first, run_first + run_length - 1, threshold});
   detection->still_fraction = static_cast<double>(still_count) / common.count;
   if (still_count > 0) {
     const double white_shape = common.c10 / common.c50;
