@@ -39,12 +39,14 @@
 #include "problem_support.h"
 #include "reporting/allan_report.h"
 #include "reporting/analyze_report.h"
+#include "reporting/progress_printer.h"
 #include "studies/allan_study.h"
 
 DEFINE_string(log, "",
               "The accelerometer log, in any layout calibrate_imu reads (docs/log-layouts.md): "
               "imu_tk's ASCII layout (t [s], x, y, z), CSV or other text with a header, a .mat.");
 ACCELCAL_DEFINE_IMU_LOG_FLAGS();
+ACCELCAL_DEFINE_PROGRESS_FLAG();
 DEFINE_string(unit, "count", "The unit of the log's outputs: count, m/s^2 or g.");
 DEFINE_string(
     gain, "auto",
@@ -92,9 +94,9 @@ constexpr const char* kUsage =
     "its upper bound is stated. Variance of a pose mean of T s: N^2/T + 0.441 B^2 + K^2 T/3 "
     "(U^2).\n"
     "A text log is read in passes over a temporary binary copy of its samples (32 bytes a sample\n"
-    "in $TMPDIR), in memory independent of its length but for one static segment at a time; a\n"
-    "MATLAB .mat file is read whole. The bootstrap's cost does not grow with the data beyond 2^16\n"
-    "samples of static data (docs/noise.md, long data).";
+    "in $TMPDIR), in memory independent of its length, its segments' included; a MATLAB .mat\n"
+    "file is read whole. The bootstrap's cost does not grow with the data beyond 2^16 samples of\n"
+    "static data (docs/noise.md, long data). --progress shows the steps on a terminal.";
 
 Status ParseSegments(std::vector<std::pair<double, double>>* segments) {
   std::stringstream list(FLAGS_segment);
@@ -152,8 +154,11 @@ Status ValidateFlags() {
 // (io/sample_spool.h) and everything below reads it back in passes, holding what does not grow
 // with the log: the exact medians (the step, |u - offset|) by StreamingRankSelector
 // (common/streaming_rank.h), the static detector in its streamed form
-// (estimation/triad/noise_floor_stream.h), one segment at a time for the step check and the
-// Allan sums (AllanVarianceAccumulator). The results are the whole-log path's to the last bit
+// (estimation/triad/noise_floor_stream.h; a run of candidate windows longer than 2^16 in passes
+// over it), the step check and the Allan sums of each segment in passes over it
+// (AllanVarianceAccumulator::AddStreamed: a ring of sums and cursors, never the segment whole,
+// so that a still log of 10^8 samples, one segment, fits in the same memory as a short one;
+// issue 49, item 1). The results are the whole-log path's to the last bit
 // (the same arithmetic in the same order). A .mat log, a log whose rows are ordered by sample
 // number, a read or time check that fails, or a log the detector refuses is read whole after
 // all (ReadImuLog), so that the message is the whole path's: a refused log's cost.
@@ -245,28 +250,43 @@ Status AccumulateSegments(const TriadSampleSource& log, const std::vector<Sample
   std::array<AllanVarianceAccumulator, 3> sums;
   std::array<Status, 3> axis;  // each axis's first failure, said in the axes' order
   for (int k = 0; k < 3; ++k) axis[k] = sums[k].Start(tau0, report->options, sizes);
-  TriadLog segment;
-  std::vector<double> values;
+  TriadLog batch;
   for (size_t s = 0; s < ranges.size(); ++s) {
-    ACCELCAL_RETURN_IF_ERROR(log.Read(ranges[s].first, sizes[s], &segment));
-    for (size_t i = 1; i < segment.size(); ++i) {
-      const double step = segment.timestamp_s[i] - segment.timestamp_s[i - 1];
-      if (step > 1.5 * tau0 || step < 0.5 * tau0) {
-        const AllanSegment& where = report->segments[s];
-        return Status::Error(StringPrintf(
-            "%s: a step of %.6g s at t = %.6g s in segment %.3f..%.3f s, against the median "
-            "%.6g s; an Allan variance needs uniform sampling: choose a segment without the gap, "
-            "or, if the time stamps only jitter (a host's), give --rate_hz=%.4g to time the "
-            "samples by their order",
-            FLAGS_log.c_str(), step, segment.timestamp_s[i], where.start_s, where.end_s, tau0,
-            (log.size() - 1) / (last_s - first_s)));
-      }
+    // The steps in one pass; the first outside 50% of tau0 is the one said.
+    bool gap = false;
+    double previous_s = 0.0, gap_step = 0.0, gap_at_s = 0.0;
+    ACCELCAL_RETURN_IF_ERROR(ForEachSample(log, ranges[s].first, ranges[s].last,
+                                           [&](size_t i, double t_s, const std::array<double, 3>&) {
+                                             const double step = t_s - previous_s;
+                                             previous_s = t_s;
+                                             if (gap || i == static_cast<size_t>(ranges[s].first))
+                                               return;
+                                             if (step > 1.5 * tau0 || step < 0.5 * tau0) {
+                                               gap = true;
+                                               gap_step = step;
+                                               gap_at_s = t_s;
+                                             }
+                                           }));
+    if (gap) {
+      const AllanSegment& where = report->segments[s];
+      return Status::Error(StringPrintf(
+          "%s: a step of %.6g s at t = %.6g s in segment %.3f..%.3f s, against the median "
+          "%.6g s; an Allan variance needs uniform sampling: choose a segment without the gap, "
+          "or, if the time stamps only jitter (a host's), give --rate_hz=%.4g to time the "
+          "samples by their order",
+          FLAGS_log.c_str(), gap_step, gap_at_s, where.start_s, where.end_s, tau0,
+          (log.size() - 1) / (last_s - first_s)));
     }
+    // Each axis's sums from the segment read in passes (AddStreamed: memory independent of its
+    // length).
     for (int k = 0; k < 3; ++k) {
       if (!axis[k].ok()) continue;
-      values.resize(segment.size());
-      for (size_t i = 0; i < segment.size(); ++i) values[i] = report->gain * segment.output[i][k];
-      axis[k] = sums[k].Add(values);
+      axis[k] =
+          sums[k].AddStreamed(sizes[s], [&](long long first, long long count, double* values) {
+            ACCELCAL_RETURN_IF_ERROR(log.Read(ranges[s].first + first, count, &batch));
+            for (long long i = 0; i < count; ++i) values[i] = report->gain * batch.output[i][k];
+            return Status::Ok();
+          });
     }
   }
   for (int k = 0; k < 3; ++k) {
@@ -279,8 +299,11 @@ Status AccumulateSegments(const TriadSampleSource& log, const std::vector<Sample
 // `log` is the samples; `whole` the log in memory when it was read whole (its detector then
 // says why it refuses), else null: then *read_whole is set when the streamed detector cannot
 // decide, and nothing else is known.
+// What a run shows on a terminal (--progress): its steps as each starts and ends.
+constexpr int kSteps = 5;
+
 Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const TriadLog* whole,
-             AllanReport* report, bool* read_whole) {
+             ProgressPrinter* progress, AllanReport* report, bool* read_whole) {
   *read_whole = false;
   TriadOutputUnit unit;
   ACCELCAL_RETURN_IF_ERROR(ParseTriadOutputUnit(FLAGS_unit, &unit));
@@ -301,6 +324,7 @@ Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const Triad
       &median_magnitude));
   ACCELCAL_RETURN_IF_ERROR(
       CheckMedianMagnitudeMatchesUnit(median_magnitude, unit, offset).WithContext(FLAGS_log));
+  progress->EndStep();
   report->output_unit = TriadOutputUnitName(unit);
   report->log_path = FLAGS_log;
   report->gain = 1.0;
@@ -313,7 +337,11 @@ Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const Triad
     report->unit = "m/s^2";
   }
   // The poses, for the pose-mean variances and (without --segment) the segments.
+  progress->StartStep(3, kSteps, "the static segments");
   NoiseFloorStreamOptions detector;
+  // Runs of more windows than this are found in passes over them: the same detection in less
+  // memory (24 MB at the default 2^20, under 2 MB here).
+  detector.max_run_windows = size_t{1} << 16;
   detector.detector.min_intervals = 0;
   NoiseFloorDetection detection;
   Status detected;
@@ -374,7 +402,12 @@ Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const Triad
   }
   report->sample_period_s = facts.step_s;
   report->options.confidence = FLAGS_confidence;
+  progress->EndStep();
+  progress->StartStep(4, kSteps, "the Allan variance");
   ACCELCAL_RETURN_IF_ERROR(AccumulateSegments(log, ranges, first_s, last_s, report));
+  progress->EndStep();
+  progress->StartStep(5, kSteps,
+                      StringPrintf("the noise fit (%d bootstrap series)", FLAGS_bootstrap));
   report->bootstrap_series = FLAGS_bootstrap;
   // One bootstrap table serves the three axes: they share the segments and taus.
   AllanBootstrapOptions bootstrap;
@@ -413,6 +446,7 @@ Status Solve(const TriadSampleSource& log, const SampleFacts& facts, const Triad
       report->poses.push_back(pose);
     }
   }
+  progress->EndStep();
   return Status::Ok();
 }
 
@@ -455,7 +489,9 @@ Status DrawPlot(const AllanReport& report, const nlohmann::json& json, std::stri
 }
 
 // The log read whole (a .mat log, --stream=false, or what the streamed path hands back).
-Status SolveWhole(const ImuLogReadOptions& read_options, AllanReport* report, DataSource* source) {
+Status SolveWhole(const ImuLogReadOptions& read_options, ProgressPrinter* progress,
+                  AllanReport* report, DataSource* source) {
+  progress->StartStep(1, kSteps, "reading the log whole");
   TriadLog log;
   ImuLogSource log_source;
   ACCELCAL_RETURN_IF_ERROR(
@@ -466,26 +502,30 @@ Status SolveWhole(const ImuLogReadOptions& read_options, AllanReport* report, Da
   ACCELCAL_RETURN_IF_ERROR(DescribeMeasuredData("", {{"log", FLAGS_log}}, source));
   const TriadLogSamples samples(log);
   SampleFacts facts;
+  progress->EndStep();
+  progress->StartStep(2, kSteps, "the sample period and the outputs' unit");
   ACCELCAL_RETURN_IF_ERROR(ScanSamples(samples, &facts));
   bool read_whole = false;
-  return Solve(samples, facts, &log, report, &read_whole);
+  return Solve(samples, facts, &log, progress, report, &read_whole);
 }
 
 // The streamed path: *solved false (nothing printed, nothing changed) when the log must be read
 // whole after all.
-Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report, DataSource* source,
-                     bool* solved) {
+Status SolveStreamed(const ImuLogReadOptions& read_options, ProgressPrinter* progress,
+                     AllanReport* report, DataSource* source, bool* solved) {
   *solved = false;
   if (!DescribeMeasuredData("", {{"log", FLAGS_log}}, source).ok()) return Status::Ok();
   // No room for the spool in $TMPDIR (missing, read-only, full): the log is read whole instead,
   // and a note says so, with what it costs and what to do (issue 45: it read 910 MB silently).
-  const auto whole_instead = [](const Status& why) {
+  const auto whole_instead = [&](const Status& why) {
+    progress->Close();
     std::cerr << "allan: note: the log is read whole into memory (some 100 bytes per sample), "
                  "not streamed: its temporary copy in $TMPDIR could not be written ("
               << why.message()
               << "); set TMPDIR to a writable folder with room for 32 bytes per sample\n";
     return Status::Ok();
   };
+  progress->StartStep(1, kSteps, "reading the log");
   SampleSpool spool;
   const Status opened = spool.Open();
   if (!opened.ok()) return whole_instead(opened);
@@ -504,6 +544,8 @@ Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report,
   if (!finished.ok()) return whole_instead(finished);
   // ReadImuLog's time checks (CheckTimeUnit, CheckLogTime) on the median step.
   if (spool.size() < 2) return Status::Ok();
+  progress->EndStep();
+  progress->StartStep(2, kSteps, "the sample period and the outputs' unit");
   SampleFacts facts;
   ACCELCAL_RETURN_IF_ERROR(ScanSamples(spool, &facts));
   if (facts.step_s < kMinRunStepS || facts.step_s > kMaxRunStepS) return Status::Ok();
@@ -511,8 +553,9 @@ Status SolveStreamed(const ImuLogReadOptions& read_options, AllanReport* report,
   ACCELCAL_RETURN_IF_ERROR(
       TakeStatedUnit(log_source, &FLAGS_unit, &log_source.notes).WithContext(FLAGS_log));
   bool read_whole = false;
-  const Status solve = Solve(spool, facts, nullptr, report, &read_whole);
+  const Status solve = Solve(spool, facts, nullptr, progress, report, &read_whole);
   if (read_whole) {
+    progress->Close();
     FLAGS_unit = unit;
     *report = AllanReport();
     return Status::Ok();
@@ -530,10 +573,15 @@ int Run(int argc, char** argv) {
   Status status = ValidateFlags();
   ImuLogReadOptions read_options;
   if (status.ok()) status = ACCELCAL_IMU_LOG_OPTIONS(&read_options);
+  ProgressStyle progress_style;
+  if (status.ok()) status = ProgressStyleFromFlag(FLAGS_progress, &progress_style);
+  if (!status.ok()) progress_style.show = false;
+  ProgressPrinter progress("allan", "steps", progress_style, &std::cerr);
   bool solved = false;
   if (status.ok() && FLAGS_stream && StreamsLikeReadImuLog(FLAGS_log, read_options))
-    status = SolveStreamed(read_options, &report, &source, &solved);
-  if (status.ok() && !solved) status = SolveWhole(read_options, &report, &source);
+    status = SolveStreamed(read_options, &progress, &report, &source, &solved);
+  if (status.ok() && !solved) status = SolveWhole(read_options, &progress, &report, &source);
+  progress.Close();  // a step that failed left its line open on a terminal
   const nlohmann::json json =
       status.ok() ? WithProvenance(AllanJson(report), source) : nlohmann::json();
   if (status.ok() && !FLAGS_json.empty()) status = JsonText(json, &json_text);

@@ -75,6 +75,34 @@ TEST(AllanStreamCli, StreamedResultsAreTheWholeLogPaths) {
   EXPECT_EQ(ExpectSameBothWays(common + " --segment=10:400,1000:1300"), 0);
 }
 
+// A still log, one rest of 80,000 samples (issue 49, item 1): one run of candidate windows longer
+// than the streamed detector holds, one segment longer than the bootstrap simulates whole; the
+// streamed path gives the whole-log path's results. --progress=always names the five steps on
+// stderr and changes nothing on stdout.
+TEST(AllanStreamCli, AStillLogOfOneLongRestIsTheWholeLogPaths) {
+  testing::ScratchDir scratch;
+  RandomSource random(49);
+  TriadHold rest;
+  rest.direction = {0.0, 0.0, 1.0};
+  rest.duration_s = 800.0;
+  const TriadLog still = SimulateTriadSession(testing::HandHeldTriad(), {rest}, &random).log;
+  ASSERT_GT(still.size(), 70000u);
+  const std::string log = scratch.Write("still.txt", testing::ImuTkText(still));
+  const std::string flags = "--log=" + log + " --unit=count --bootstrap=100";
+  EXPECT_EQ(ExpectSameBothWays(flags), 0);
+  std::string json;
+  const CommandResult quiet = Allan(flags, true, &json);
+  const CommandResult shown = Allan(flags + " --progress=always", true, &json);
+  ASSERT_EQ(shown.exit_status, 0) << shown.stderr_text;
+  EXPECT_EQ(shown.stdout_text, quiet.stdout_text);
+  EXPECT_NE(quiet.stdout_text.find("1 static segment"), std::string::npos) << quiet.stdout_text;
+  EXPECT_EQ(quiet.stderr_text, "");
+  for (int step = 1; step <= 5; ++step) {
+    EXPECT_NE(shown.stderr_text.find(StringPrintf("allan: step %d/5 ", step)), std::string::npos)
+        << shown.stderr_text;
+  }
+}
+
 // $TMPDIR that cannot hold the spool (here: a folder that does not exist): the log is read whole,
 // the results are the same, and a note says so and what to do (issue 45: it was silent).
 TEST(AllanStreamCli, SaysWhenTheSpoolCannotBeWrittenAndReadsTheLogWhole) {

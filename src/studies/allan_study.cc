@@ -7,8 +7,28 @@
 #include "common/format.h"
 #include "simulation/random.h"
 
+#if defined(__SSE2__)
+#include <xmmintrin.h>
+#endif
+
 namespace accelcal {
 namespace {
+
+// Subnormal doubles flushed to 0 while in scope (x86's FTZ and DAZ): NoiseProcessAllanVariance's
+// Gauss-Markov sums multiply phi^j on down to subnormals at the long taus (2m terms: 10^6 at
+// m = 2^19), each product some hundred times slower, 0.7 s of a 2e6-sample still log's run. The
+// sums do not change: what is flushed (below 2.2e-308) is below half an ulp of the terms (>= 1)
+// it is added to.
+class FlushSubnormals {
+ public:
+#if defined(__SSE2__)
+  FlushSubnormals() : saved_(_mm_getcsr()) { _mm_setcsr(saved_ | 0x8040); }
+  ~FlushSubnormals() { _mm_setcsr(saved_); }
+
+ private:
+  const unsigned int saved_;
+#endif
+};
 
 constexpr int kProducts = 6;  // ww, rr, gg, wr, wg, rg
 
@@ -17,6 +37,71 @@ std::vector<double> CumulativeSums(const std::vector<double>& y) {
   std::vector<double> sums(y.size() + 1, 0.0);
   for (size_t i = 0; i < y.size(); ++i) sums[i + 1] = sums[i] + y[i];
   return sums;
+}
+
+// The six Allan products (ww, rr, gg, wr, wg, rg) at cluster size m of the three processes whose
+// cumulative sums over n samples are `sums`, each over the n - 2m + 1 differences (4 m <= n).
+std::array<double, kProducts> Products(const std::array<std::vector<double>, 3>& sums, long long n,
+                                       long long m) {
+  std::array<double, kProducts> total{};
+  for (long long k = 0; k + 2 * m <= n; ++k) {
+    std::array<double, 3> d;
+    for (int u = 0; u < 3; ++u) d[u] = sums[u][k + 2 * m] - 2.0 * sums[u][k + m] + sums[u][k];
+    total[0] += d[0] * d[0];
+    total[1] += d[1] * d[1];
+    total[2] += d[2] * d[2];
+    total[3] += d[0] * d[1];
+    total[4] += d[0] * d[2];
+    total[5] += d[1] * d[2];
+  }
+  return total;
+}
+
+// A segment longer than AllanBootstrapOptions::max_segment_samples, simulated in pieces (see
+// "Long segments" in allan_study.h): per level, the block size b, the samples simulated, and the
+// points it gives.
+struct PieceLevel {
+  long long block = 1;
+  long long samples = 0;
+  std::vector<size_t> points;
+  std::array<NoiseProcessParameters, 3> unit;  // the unit processes at the block period
+  // Per point of `points`: the unit processes' exact Allan variances at m / block samples.
+  std::vector<std::array<double, 3>> expected;
+};
+
+// The levels of a segment of n samples, with their processes and expectations.
+std::vector<PieceLevel> PieceLevels(const AllanCurve& curve,
+                                    const std::array<NoiseProcessParameters, 3>& unit, long long n,
+                                    long long piece) {
+  std::vector<PieceLevel> levels;
+  size_t next = 0;  // the first point not yet given a level
+  while (next < curve.points.size() && AllanSegmentUsed(n, curve.points[next].cluster_samples)) {
+    PieceLevel level;
+    // The first level at the sample period; each next one at blocks of 1/8 of its first point's
+    // cluster, so that every point has at least 8 blocks per cluster.
+    if (!levels.empty()) level.block = std::max(1LL, curve.points[next].cluster_samples / 8);
+    level.samples = std::min(piece, n / level.block);
+    for (; next < curve.points.size(); ++next) {
+      const long long m = curve.points[next].cluster_samples;
+      if (!AllanSegmentUsed(n, m) || !AllanSegmentUsed(level.samples, m / level.block)) break;
+      level.points.push_back(next);
+    }
+    if (level.points.empty()) break;  // cannot happen for piece >= 64: each level gives one
+    level.unit = unit;
+    const FlushSubnormals flush;
+    for (NoiseProcessParameters& process : level.unit)
+      process.sample_period_s = curve.sample_period_s * static_cast<double>(level.block);
+    for (size_t i : level.points) {
+      std::array<double, 3> expected;
+      for (int u = 0; u < 3; ++u) {
+        expected[u] =
+            NoiseProcessAllanVariance(level.unit[u], curve.points[i].cluster_samples / level.block);
+      }
+      level.expected.push_back(expected);
+    }
+    levels.push_back(level);
+  }
+  return levels;
 }
 
 // The Allan variances of series s of the table simulated with the model `coefficients` (the
@@ -119,6 +204,52 @@ Status Crossing(const TailFraction& tail, double level, double scale, double* c)
   }
   *c = 0.5 * (low + high);
   return Status::Ok();
+}
+
+// One segment of n samples, longer than max_segment_samples, into `products` (as the loop of
+// MakeAllanBootstrapTable adds a segment simulated whole: its share of each point's differences
+// times its Allan products): per level, `piece` samples at most of the unit processes at the
+// level's block period, each point's products normalised by their expectation at that period,
+// moved towards 1 by sqrt(f) (f: the piece's share of the segment's differences at that
+// resolution) and scaled by the expectation at the sample period (`expected`).
+void AddPieces(const AllanCurve& curve, const std::vector<PieceLevel>& levels,
+               const std::vector<std::array<double, kProducts>>& expected, long long n,
+               RandomSource* random, std::array<double, kProducts>* products) {
+  for (const PieceLevel& level : levels) {
+    std::array<std::vector<double>, 3> sums;
+    for (int u = 0; u < 3; ++u)
+      sums[u] = CumulativeSums(SimulateNoiseProcess(level.unit[u], level.samples, random));
+    const long long whole = n / level.block;  // the segment's samples at this resolution
+    for (size_t point = 0; point < level.points.size(); ++point) {
+      const size_t i = level.points[point];
+      const long long m = curve.points[i].cluster_samples;
+      const long long mc = m / level.block;
+      const std::array<double, kProducts> total = Products(sums, level.samples, mc);
+      const double differences = static_cast<double>(level.samples - 2 * mc + 1);
+      const double f = differences / static_cast<double>(whole - 2 * mc + 1);
+      std::array<double, 3> ratio{};  // simulated over expected, per process, and its scale
+      std::array<double, 3> scale{};
+      for (int u = 0; u < 3; ++u) {
+        const double at_block = level.expected[point][u];
+        const double mean = total[u] / (2.0 * static_cast<double>(mc * mc) * differences);
+        ratio[u] = at_block > 0.0 ? mean / at_block : 1.0;
+        scale[u] = at_block > 0.0 ? std::sqrt(expected[i][u] / at_block) : 0.0;
+      }
+      std::array<double, kProducts> product;
+      for (int u = 0; u < 3; ++u)
+        product[u] = expected[i][u] * (1.0 + std::sqrt(f) * (ratio[u] - 1.0));
+      const std::array<std::array<int, 2>, 3> pairs = {{{0, 1}, {0, 2}, {1, 2}}};
+      for (int p = 0; p < 3; ++p) {
+        const int a = pairs[p][0], b = pairs[p][1];
+        const double mean = total[3 + p] / (2.0 * static_cast<double>(mc * mc) * differences);
+        product[3 + p] = std::sqrt(f) * mean * scale[a] * scale[b];
+      }
+      // This segment's share of the point's differences, as a segment simulated whole adds.
+      const double share = static_cast<double>(n - 2 * m + 1) /
+                           static_cast<double>(curve.points[i].difference_count);
+      for (int k = 0; k < kProducts; ++k) products[i][k] += share * product[k];
+    }
+  }
 }
 
 Status CheckTable(const AllanCurve& curve, const AllanBootstrapTable& table) {
@@ -229,7 +360,14 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
     share[i] =
         static_cast<double>(differences) / static_cast<double>(curve.points[i].difference_count);
     expected[i] = {};
+    const FlushSubnormals flush;
     for (int u = 0; u < 3; ++u) expected[i][u] = NoiseProcessAllanVariance(unit[u], m);
+  }
+  // The levels of the segments simulated in pieces (see "Long segments").
+  std::vector<std::vector<PieceLevel>> pieces(segments.size());
+  for (size_t j : simulated) {
+    if (segments[j] > bootstrap.max_segment_samples)
+      pieces[j] = PieceLevels(curve, unit, segments[j], bootstrap.piece_samples);
   }
   table->products.assign(points * bootstrap.series, {});
   for (int s = 0; s < bootstrap.series; ++s) {
@@ -237,23 +375,17 @@ Status MakeAllanBootstrapTable(const AllanOptions& options, const AllanCurve& cu
     std::array<double, kProducts>* products = &table->products[s * points];
     for (size_t j : simulated) {
       const long long n = segments[j];
+      if (n > bootstrap.max_segment_samples) {
+        AddPieces(curve, pieces[j], expected, n, &random, products);
+        continue;
+      }
       std::array<std::vector<double>, 3> sums;
       for (int u = 0; u < 3; ++u)
         sums[u] = CumulativeSums(SimulateNoiseProcess(unit[u], n, &random));
       for (size_t i = 0; i < points; ++i) {
         const long long m = curve.points[i].cluster_samples;
         if (4 * m > n) continue;
-        std::array<double, kProducts> total{};
-        for (long long k = 0; k + 2 * m <= n; ++k) {
-          std::array<double, 3> d;
-          for (int u = 0; u < 3; ++u) d[u] = sums[u][k + 2 * m] - 2.0 * sums[u][k + m] + sums[u][k];
-          total[0] += d[0] * d[0];
-          total[1] += d[1] * d[1];
-          total[2] += d[2] * d[2];
-          total[3] += d[0] * d[1];
-          total[4] += d[0] * d[2];
-          total[5] += d[1] * d[2];
-        }
+        const std::array<double, kProducts> total = Products(sums, n, m);
         const double scale = 1.0 / (2.0 * static_cast<double>(m) * static_cast<double>(m) *
                                     static_cast<double>(curve.points[i].difference_count));
         for (int k = 0; k < kProducts; ++k) products[i][k] += scale * total[k];

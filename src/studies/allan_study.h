@@ -43,8 +43,25 @@
 // longest segment) per series whatever the log's length; below the cap nothing changes (2^16
 // samples: every shared log's static data is below it, the longest, mimu4444's, 37,440 rows). The
 // Monte Carlo test AllanMonteCarlo.LongDataCoverageWithABoundedBootstrap measures the intervals'
-// coverage with a small cap, against the full bootstrap's. A single segment longer than the cap
-// (--static=longest on a day-long rest) is still simulated whole: its long taus need it.
+// coverage with a small cap, against the full bootstrap's.
+//
+// Long segments (issue 49, item 1). A single segment of n samples (--static=longest on a still
+// log of hours) was simulated whole in every series: 1000 times the log's length in normal
+// deviates (730 s of CPU for 2 * 10^6 samples). A segment longer than max_segment_samples is
+// simulated in pieces instead, per level of resolution: the first level piece_samples of the
+// unit processes at the sample period, for the points with 4 m <= piece_samples; each next
+// level the processes at a block period b tau0 (b = 1/8 of the cluster size of its first point,
+// so that every point it gives has at least 8 blocks per cluster), min(piece_samples, n / b)
+// of them, for the points with 4 m / b <= that. A point's Allan products from its level are
+// normalised by their expectation at that level (the unit processes' exact Allan variance at
+// m / b samples of b tau0), moved towards 1 by sqrt(f) as above (f the piece's share of the
+// segment's m / b-differences at that resolution; 1 at the last level, which spans the segment)
+// and scaled by the expectation at tau0; cross products likewise, about 0. White noise at the
+// block period is exactly the block means' process; the random walk and the Gauss-Markov bank
+// are so only approximately, which the normalisation makes a second-order matter (the shape of
+// the products' spread, not their mean). The levels are simulated independently, so the
+// correlation between points of different levels (short and long taus, which share little
+// information) is not reproduced. Cost per series: a few times piece_samples, whatever n.
 //
 // Bias instability is simulated as a bank of Gauss-Markov processes of equal q with correlation
 // times tau0/2 * 4^j up to twice the longest cluster time, q^2 = bank_variance_per_b2 B^2 so
@@ -67,6 +84,10 @@ struct AllanBootstrapOptions {
   uint64_t seed = 1;
   // Samples a simulated series holds at most, beyond its longest segment (see "Long data").
   long long max_simulated_samples = 1 << 16;
+  // A segment longer than this is simulated in pieces of piece_samples (see "Long segments");
+  // one of at most this many is simulated whole, as before.
+  long long max_segment_samples = 1 << 16;
+  long long piece_samples = 1 << 12;
 };
 
 // The unit-size bootstrap series of one curve's segments and taus.

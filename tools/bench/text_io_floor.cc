@@ -8,6 +8,7 @@
 // covariance, no range checks, no median, no checksum, no temporary file. A floor, not a result.
 //
 //   text_io_floor --log=LOG --out=OUT
+//   text_io_floor --log=LOG --parse_only      (the reading alone: allan's floor)
 //
 // Prints the samples and bytes written. Exit status 2 on a bad log or a failed write.
 
@@ -25,11 +26,36 @@
 
 DEFINE_string(log, "", "The triad's text log (as apply --in). Required.");
 DEFINE_string(out, "", "Where to write the rows (overwritten; a benchmark's scratch file).");
+DEFINE_bool(
+    parse_only, false,
+    "Only read the log (no --out): the floor of any binary that reads the text log, as "
+    "allan does (tools/bench/allan_bench.sh). Prints the samples and a sum of the outputs.");
 
 namespace accelcal {
 namespace {
 
+// --parse_only: the log read by the same reader, each output added up (so that nothing is left
+// unparsed), nothing written.
+int ParseOnly() {
+  size_t samples = 0;
+  double sum = 0.0;
+  const Status read =
+      StreamImuLog(FLAGS_log, ImuLogReadOptions(), 65536, [&](const TriadLog& batch) {
+        for (size_t j = 0; j < batch.size(); ++j)
+          sum +=
+              batch.timestamp_s[j] + batch.output[j][0] + batch.output[j][1] + batch.output[j][2];
+        samples += batch.size();
+      });
+  if (!read.ok()) {
+    std::cerr << "text_io_floor: " << read.message() << "\n";
+    return 2;
+  }
+  std::printf("text_io_floor: %zu samples read (sum %.17g)\n", samples, sum);
+  return 0;
+}
+
 int Run() {
+  if (FLAGS_parse_only && !FLAGS_log.empty()) return ParseOnly();
   if (FLAGS_log.empty() || FLAGS_out.empty()) {
     std::cerr << "text_io_floor: --log and --out are required\n";
     return 2;
@@ -92,7 +118,8 @@ int Run() {
 int main(int argc, char** argv) {
   gflags::SetUsageMessage(
       "Reads a triad's text log as apply does and writes rows of apply's shape and format: the "
-      "floor of reading and writing the file.\n  text_io_floor --log=LOG --out=OUT");
+      "floor of reading and writing the file.\n  text_io_floor --log=LOG --out=OUT\n"
+      "  text_io_floor --log=LOG --parse_only");
   gflags::ParseCommandLineFlags(&argc, &argv, true);
   return accelcal::Run();
 }

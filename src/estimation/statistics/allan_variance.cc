@@ -126,7 +126,9 @@ Status AllanVarianceAccumulator::Start(double sample_period_s, const AllanOption
         StringPrintf("sample period %g s is not a positive number", sample_period_s));
   if (!(options.confidence > 0.0 && options.confidence < 1.0))
     return Status::Error(StringPrintf("confidence %g is not within (0, 1)", options.confidence));
+  const long long held_sums = held_sums_;
   *this = AllanVarianceAccumulator();
+  held_sums_ = held_sums;
   options_ = options;
   curve_.sample_period_s = sample_period_s;
   curve_.segment_samples = segment_samples;
@@ -168,6 +170,115 @@ Status AllanVarianceAccumulator::Add(const std::vector<double>& y) {
     point.independent_clusters += n / m;
   }
   sums_ = std::vector<long double>();
+  return Status::Ok();
+}
+
+namespace {
+
+// A segment's values read in order, in batches.
+class SegmentCursor {
+ public:
+  SegmentCursor(const AllanVarianceAccumulator::SegmentReader& read, long long samples)
+      : read_(read), samples_(samples) {}
+
+  // The next value (at most `samples` of them).
+  Status Next(double* value) {
+    if (position_ == static_cast<long long>(batch_.size())) {
+      const long long count = std::min(kBatch, samples_ - first_);
+      batch_.resize(static_cast<size_t>(count));
+      ACCELCAL_RETURN_IF_ERROR(read_(first_, count, batch_.data()));
+      first_ += count;
+      position_ = 0;
+    }
+    *value = batch_[static_cast<size_t>(position_++)];
+    return Status::Ok();
+  }
+
+ private:
+  static constexpr long long kBatch = 1 << 16;
+  const AllanVarianceAccumulator::SegmentReader& read_;
+  const long long samples_;
+  long long first_ = 0;  // of the next batch
+  std::vector<double> batch_;
+  long long position_ = 0;  // in batch_
+};
+
+}  // namespace
+
+Status AllanVarianceAccumulator::AddStreamed(long long n, const SegmentReader& read) {
+  const size_t s = added_++;
+  // The first pass: every value finite (the first that is not is named, as Add names it), and
+  // the mean in Add's order.
+  long double mean = 0.0L;
+  {
+    SegmentCursor cursor(read, n);
+    for (long long i = 0; i < n; ++i) {
+      double v = 0.0;
+      ACCELCAL_RETURN_IF_ERROR(cursor.Next(&v));
+      if (!std::isfinite(v))
+        return Status::Error(StringPrintf("segment %zu, sample %lld is not finite", s + 1, i + 1));
+      mean += v;
+    }
+  }
+  if (n > 0) mean /= static_cast<long double>(n);
+  // The points this segment enters, and where each one's lags m and 2m are read: the ring, or
+  // the cursor of that lag.
+  struct Lagged {
+    size_t point = 0;
+    long long m = 0;
+    int cursor_m = -1;  // index into `lags`, -1: the ring
+    int cursor_2m = -1;
+  };
+  std::vector<Lagged> used;
+  std::vector<long long> lags;  // the lags read by cursors, each once
+  auto cursor_of = [&](long long lag) {
+    if (lag < held_sums_) return -1;
+    for (size_t c = 0; c < lags.size(); ++c)
+      if (lags[c] == lag) return static_cast<int>(c);
+    lags.push_back(lag);
+    return static_cast<int>(lags.size() - 1);
+  };
+  for (size_t p = 0; p < curve_.points.size(); ++p) {
+    AllanPoint& point = curve_.points[p];
+    const long long m = point.cluster_samples;
+    if (!AllanSegmentUsed(n, m)) continue;
+    used.push_back({p, m, cursor_of(m), cursor_of(2 * m)});
+    point.difference_count += n - 2 * m + 1;
+    point.independent_clusters += n / m;
+  }
+  // The second pass: S_i for i = 0 .. n (S_0 = 0), each point's difference ending at i once
+  // i >= 2m, in Add's order (k = i - 2m increasing) and arithmetic.
+  long long ring_size = 1;
+  while (ring_size < std::min(n + 1, held_sums_)) ring_size *= 2;
+  std::vector<long double> ring(static_cast<size_t>(ring_size), 0.0L);
+  const long long mask = ring_size - 1;
+  std::vector<SegmentCursor> behind;
+  behind.reserve(lags.size());
+  for (size_t c = 0; c < lags.size(); ++c) behind.emplace_back(read, n);
+  std::vector<long double> behind_sum(lags.size(), 0.0L);  // S_{i - lag}
+  SegmentCursor ahead(read, n);
+  long double sum = 0.0L;  // S_i
+  for (long long i = 1; i <= n; ++i) {
+    double v = 0.0;
+    ACCELCAL_RETURN_IF_ERROR(ahead.Next(&v));
+    sum = sum + (v - mean);
+    ring[static_cast<size_t>(i & mask)] = sum;
+    for (size_t c = 0; c < lags.size(); ++c) {
+      if (i <= lags[c]) continue;  // S_{i - lag} = S_0 = 0 at i == lag
+      ACCELCAL_RETURN_IF_ERROR(behind[c].Next(&v));
+      behind_sum[c] = behind_sum[c] + (v - mean);
+    }
+    for (const Lagged& lagged : used) {
+      const long long m = lagged.m;
+      if (i < 2 * m) break;  // the points are in increasing m
+      const long double at_m = lagged.cursor_m < 0 ? ring[static_cast<size_t>((i - m) & mask)]
+                                                   : behind_sum[lagged.cursor_m];
+      const long double at_2m = lagged.cursor_2m < 0 ? ring[static_cast<size_t>((i - 2 * m) & mask)]
+                                                     : behind_sum[lagged.cursor_2m];
+      const long double d = sum - 2.0L * at_m + at_2m;
+      totals_[lagged.point] += d * d;
+    }
+  }
   return Status::Ok();
 }
 

@@ -56,6 +56,7 @@
 // that is not in it.
 
 #include <array>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -117,14 +118,33 @@ Status ComputeAllanVariance(const std::vector<std::vector<double>>& segments,
 // read back one by one, issue 36, item 2): the same curve to the last bit, holding one segment's
 // cumulative sums at a time instead of every segment. Start with the segments' lengths in the
 // order they will be added, then Add each, then Finish; the same failures at the same points.
+//
+// AddStreamed hands a segment over in pieces instead (a still log of hours, 10^8 samples, is one
+// segment, issue 49, item 1): the same sums to the last bit (the same arithmetic in the same
+// order), from memory that does not depend on the segment's length. The cumulative sums S_k are
+// made in one pass in order, after a first pass for the mean; S_{k+m} and S_k are taken from a
+// ring of the last 2^19 sums (8 MB) when the lag (m or 2m) fits in it, else from a cursor that
+// reads the segment again in order, lag samples behind, and makes the same sums (one per such
+// lag: the longest taus of a segment of more than 2^18 samples). So: two reads of the segment
+// plus one per long lag, each in order, and O(n) work per point.
 class AllanVarianceAccumulator {
  public:
+  // Fills values[0 .. count) with samples [first, first + count) of the segment (the same values
+  // at every call; calls for increasing `first` within each of several interleaved passes).
+  using SegmentReader = std::function<Status(long long first, long long count, double* values)>;
+
   Status Start(double sample_period_s, const AllanOptions& options,
                const std::vector<long long>& segment_samples);
   Status Add(const std::vector<double>& segment);
+  Status AddStreamed(long long samples, const SegmentReader& read);
   Status Finish(AllanCurve* curve);
 
+  // The cumulative sums AddStreamed holds (2^19 unless set; a power of 2, at least 2), so that a
+  // test can send short segments' lags to the cursors. Call before Start.
+  void SetHeldSums(long long sums) { held_sums_ = sums; }
+
  private:
+  long long held_sums_ = 1 << 19;
   AllanOptions options_;
   AllanCurve curve_;
   long long longest_ = 0;

@@ -55,6 +55,23 @@ Status ForEachWindow(const TriadSampleSource& log, int window, Visit&& visit,
                        });
 }
 
+// visit(j, V_j) for the windows j = first .. last (inclusive) only, reading from the sample
+// where the stream re-anchors at or before `first` (a multiple of the window), so that every V_j
+// is the whole pass's to the last bit.
+template <typename Visit>
+Status ForEachWindowIn(const TriadSampleSource& log, int window, long long first, long long last,
+                       Visit&& visit) {
+  const long long anchor = first / window * window;
+  WindowVarianceStream stream(window);
+  long long j = anchor;
+  return ForEachSample(log, static_cast<size_t>(anchor), static_cast<size_t>(last + window - 1),
+                       [&](size_t, double, const std::array<double, 3>& output) {
+                         if (!stream.Add(output)) return;
+                         if (j >= first) visit(j, stream.variance());
+                         ++j;
+                       });
+}
+
 // Passes of `pass` until every selector of `groups` has its rank, which rank(group, axis) gives
 // after each pass (the counts a pass makes may set it); none once a pass leaves *values at 0 (no
 // value to select from).
@@ -143,10 +160,9 @@ bool ShapesPass(const Selectors& median, const Selectors& low, double white_shap
 // answer with its loose thresholds.
 Status PoseFloors(const TriadSampleSource& log, const NoiseFloorOptions& options,
                   size_t max_run_windows, const Common& common, NoiseFloorDetection* detection,
-                  bool* accepted, bool* stuck, bool* too_long) {
+                  bool* accepted, bool* stuck) {
   *accepted = false;
   *stuck = false;
-  *too_long = false;
   const double factor = common.factor;
   Variances resolution{}, loose{};
   for (int axis = 0; axis < 3; ++axis) {
@@ -162,6 +178,13 @@ Status PoseFloors(const TriadSampleSource& log, const NoiseFloorOptions& options
   std::array<long long, 3> moving{}, constant{};
   std::vector<Variances> run;  // the candidate run's V
   long long run_first = 0;
+  long long run_last = 0;
+  bool run_long = false;  // longer than max_run_windows: its V are not held (close_long_run)
+  // The two thresholds of each long run (a window is still below both), in the order of the
+  // runs, found in the first pass and reused in the next.
+  std::vector<std::array<Variances, 2>> long_thresholds;
+  size_t long_index = 0;
+  Status long_status;
   bool first_pass = true;
   // A candidate run's own floor, twice, and its still windows (PoseFloorRule's loop).
   auto close_run = [&] {
@@ -190,8 +213,75 @@ Status PoseFloors(const TriadSampleSource& log, const NoiseFloorOptions& options
     if (first_pass) AppendRuns(keep, run_first, threshold, &runs);
     run.clear();
   };
+  // close_run for a run too long to hold (a still log of hours is one run): the same floors,
+  // thresholds and still windows, from passes over the run's windows (ForEachWindowIn) instead
+  // of their values held.
+  auto close_long_run = [&] {
+    const long long first = run_first, last = run_last;
+    run_long = false;
+    run.clear();
+    if (!long_status.ok()) return;
+    if (first_pass) {
+      std::array<Variances, 2> thresholds;
+      Variances threshold = loose;
+      for (int pass = 0; pass < 2 && long_status.ok(); ++pass) {
+        Selectors run_median = NewSelectors();
+        long long kept = 0;
+        long_status = SelectAll(
+            {&run_median},
+            [&](int number) {
+              return ForEachWindowIn(log, common.window, first, last,
+                                     [&](long long, const Variances& v) {
+                                       for (int earlier = 0; earlier < pass; ++earlier)
+                                         if (!Below(v, thresholds[earlier])) return;
+                                       if (number == 0) ++kept;
+                                       AddAll(&run_median, v);
+                                     });
+            },
+            [&](size_t, int) { return QuantileRank(0.5, kept); }, &kept);
+        for (int axis = 0; axis < 3 && kept > 0; ++axis) {
+          const double floor = std::max(run_median[axis]->value() / common.c50, resolution[axis]);
+          threshold[axis] = std::min(loose[axis], factor * floor);
+        }
+        thresholds[pass] = threshold;
+      }
+      long_thresholds.push_back(thresholds);
+    }
+    if (!long_status.ok() || long_index >= long_thresholds.size()) return;
+    const std::array<Variances, 2> thresholds = long_thresholds[long_index++];
+    // The still windows: ratios into the selections, and (first pass) their runs and count.
+    long long kept_first = -1, kept_last = -1;
+    long_status =
+        ForEachWindowIn(log, common.window, first, last, [&](long long j, const Variances& v) {
+          const bool keep = Below(v, thresholds[0]) && Below(v, thresholds[1]);
+          if (first_pass && !keep && kept_first >= 0) {
+            runs.push_back({kept_first, kept_last, thresholds[1]});
+            kept_first = -1;
+          }
+          if (!keep) return;
+          if (first_pass) {
+            ++still_count;
+            if (kept_first < 0) kept_first = j;
+            kept_last = j;
+          }
+          Variances ratio;
+          for (int axis = 0; axis < 3; ++axis)
+            ratio[axis] = std::max(v[axis], resolution[axis]) / thresholds[1][axis];
+          AddAll(&median, ratio);
+          AddAll(&low, ratio);
+        });
+    if (first_pass && kept_first >= 0) runs.push_back({kept_first, kept_last, thresholds[1]});
+  };
+  auto close = [&] {
+    if (run_long) {
+      close_long_run();
+    } else {
+      close_run();
+    }
+  };
   auto pass = [&](int number) {
     first_pass = number == 0;
+    long_index = 0;
     const Status status = ForEachWindow(log, common.window, [&](long long j, const Variances& v) {
       if (first_pass) {
         for (int axis = 0; axis < 3; ++axis) {
@@ -204,17 +294,21 @@ Status PoseFloors(const TriadSampleSource& log, const NoiseFloorOptions& options
         }
       }
       if (Below(v, loose)) {
-        if (run.empty()) run_first = j;
+        if (run.empty() && !run_long) run_first = j;
+        run_last = j;
+        if (run_long) return;
         if (run.size() >= max_run_windows) {
-          *too_long = true;
+          run_long = true;
+          std::vector<Variances>().swap(run);
         } else {
           run.push_back(v);
         }
-      } else if (!run.empty()) {
-        close_run();
+      } else if (!run.empty() || run_long) {
+        close();
       }
     });
-    if (!run.empty()) close_run();
+    if (!run.empty() || run_long) close();
+    ACCELCAL_RETURN_IF_ERROR(long_status);
     return status;
   };
   ACCELCAL_RETURN_IF_ERROR(pass(0));
@@ -222,7 +316,7 @@ Status PoseFloors(const TriadSampleSource& log, const NoiseFloorOptions& options
     *stuck = *stuck || common.step[axis] == 0.0 ||
              (moving[axis] > 0 && 2 * constant[axis] > moving[axis]);
   }
-  if (*too_long || *stuck) return Status::Ok();
+  if (*stuck) return Status::Ok();
   detection->still_fraction = static_cast<double>(still_count) / common.count;
   if (still_count > 0) {
     // The first pass's values are in; the selections finish in further passes.
@@ -281,7 +375,9 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
   // The still windows: their count, runs, medians and 10 % quantiles.
   Selectors still_median = NewSelectors(), still_low = NewSelectors();
   long long still_count = 0;
-  std::vector<bool> run;
+  // The current run of still windows by its first window and length (not a flag per window:
+  // a still log of 10^8 samples is one run).
+  long long run_length = 0;
   long long run_first = 0;
   std::vector<StillRun> runs;
   ACCELCAL_RETURN_IF_ERROR(SelectAll(
@@ -290,13 +386,13 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
         return ForEachWindow(log, common.window, [&](long long j, const Variances& v) {
           const bool still = Below(v, threshold);
           if (number == 0) {
-            if (still && run.empty()) run_first = j;
+            if (still && run_length == 0) run_first = j;
             if (still) {
-              run.push_back(true);
+              ++run_length;
               ++still_count;
-            } else if (!run.empty()) {
-              AppendRuns(run, run_first, threshold, &runs);
-              run.clear();
+            } else if (run_length > 0) {
+              runs.push_back({run_first, run_first + run_length - 1, threshold});
+              run_length = 0;
             }
           }
           if (!still) return;
@@ -308,7 +404,7 @@ Status GlobalFloor(const TriadSampleSource& log, const NoiseFloorOptions& option
         return QuantileRank(group == 0 ? 0.5 : noise_floor::kShapeLowQuantile, still_count);
       },
       &still_count));
-  if (!run.empty()) AppendRuns(run, run_first, threshold, &runs);
+  if (run_length > 0) runs.push_back({run_first, run_first + run_length - 1, threshold});
   detection->still_fraction = static_cast<double>(still_count) / common.count;
   if (still_count > 0) {
     const double white_shape = common.c10 / common.c50;
@@ -363,10 +459,10 @@ Status DetectStaticIntervalsFromNoiseFloorStreamed(const TriadSampleSource& log,
   q05 = Selectors();
   NoiseFloorDetection pose_floors = *detection;
   pose_floors.rule = kPoseFloorsRule;
-  bool per_pose = false, stuck = false, too_long = false;
+  bool per_pose = false, stuck = false;
   ACCELCAL_RETURN_IF_ERROR(PoseFloors(log, options, stream_options.max_run_windows, common,
-                                      &pose_floors, &per_pose, &stuck, &too_long));
-  if (stuck || too_long) return Status::Ok();
+                                      &pose_floors, &per_pose, &stuck));
+  if (stuck) return Status::Ok();
   detection->rule = kGlobalFloorRule;
   bool global = false;
   ACCELCAL_RETURN_IF_ERROR(GlobalFloor(log, options, common, detection, &global));

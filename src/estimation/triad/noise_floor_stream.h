@@ -14,11 +14,15 @@
 // (one to four), its still windows' medians and 10 % quantiles (one to four); then two short
 // reads per interval for its mean and noise.
 //
+// A candidate run longer than max_run_windows (a still log of hours is one run) is not held:
+// its floor's medians are selected in passes over its own windows (issue 49, item 1), the same
+// values, so that memory stays bounded whatever the run's length.
+//
 // It decides only what the whole-log detector accepts: when that detector would refuse, or
 // would take the per-pose rule because the single floor refuses (whose message it then
-// quotes), or a candidate run is longer than max_run_windows, *decided is false and nothing is
-// known; the caller reads the log whole to say why (a refused log's cost, as apply's).
-// options.min_intervals must be 0 (the smaller windows' retry of a refusal is not streamed).
+// quotes), *decided is false and nothing is known; the caller reads the log whole to say why (a
+// refused log's cost, as apply's). options.min_intervals must be 0 (the smaller windows' retry of a
+// refusal is not streamed).
 
 #include <cstddef>
 
@@ -30,7 +34,8 @@ namespace accelcal {
 
 struct NoiseFloorStreamOptions {
   NoiseFloorOptions detector;
-  // The longest candidate run (windows) whose variances are held for its floor: 2^20, 24 MB.
+  // The longest candidate run (windows) whose variances are held for its floor: 2^20, 24 MB;
+  // a longer one's floor is found in passes over it.
   size_t max_run_windows = size_t{1} << 20;
 };
 
