@@ -355,5 +355,57 @@ TEST(CalibrationEffectTerms, AGyroscopeSectionsTermsRoundTripAndAreApplied) {
   EXPECT_GT(sample.covariance(2, 2), without.covariance(2, 2));
 }
 
+// A gyroscope section carrying a time offset (GyroscopeTimeOffsetEffect::kInfo.session_only):
+// written with applied_by_apply false and its reason, read back as carried but not applied, and
+// the correction the same as without it.
+TEST(CalibrationEffectTerms, AGyroscopeTimeOffsetIsCarriedNotApplied) {
+  constexpr int kTimeOffset = GyroscopeEffectFirstOf<GyroscopeTimeOffsetEffect>();
+  CalibrationRecord record = testing::ExampleTriadRecord();
+  const std::vector<int> terms = {0, kTimeOffset};  // g_sensitivity xx; the time offset
+  GyroscopeEffectCoefficients values{};
+  values[0] = 2e-4;
+  values[kTimeOffset] = 3e-3;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(14, 14);
+  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
+  covariance(12, 12) = 1e-12;
+  covariance(13, 13) = 1e-8;
+  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
+                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(), terms,
+                  values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
+                  .ok());
+  record.has_gyroscope = true;
+  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
+                                                   record.gyroscope.parameter_order.begin() + 12);
+  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
+  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  const nlohmann::json json = nlohmann::json::parse(Written(record));
+  const nlohmann::json& effect_terms = json.at("gyroscope").at("model").at("effect_terms");
+  ASSERT_EQ(effect_terms.size(), 2u) << effect_terms.dump(1);
+  EXPECT_EQ(effect_terms[1].at("effect"), "time_offset");
+  EXPECT_FALSE(effect_terms[1].at("applied_by_apply").get<bool>());
+  EXPECT_NE(effect_terms[1].at("why_not_applied").get<std::string>().find("logging chain"),
+            std::string::npos);
+  EXPECT_TRUE(effect_terms[0].at("applied_by_apply").get<bool>());
+  EXPECT_EQ(json.at("gyroscope").at("units").at("gyroscope_time_offset"), "s");
+  CalibrationRecord read;
+  ASSERT_TRUE(Parsed(json, &read).ok());
+  GyroscopeCalibrationModel model;
+  ASSERT_TRUE(GyroscopeCalibrationModelOf(read.gyroscope, &model).ok());
+  EXPECT_EQ(model.effects_in_file, std::vector<int>({0}));
+  EXPECT_EQ(model.effects_not_applied, std::vector<int>({kTimeOffset}));
+  EXPECT_EQ(model.effects[kTimeOffset], 0.0);
+  // Applied as the model with the g-sensitivity alone.
+  const std::array<double, 3> output = {500.0, -300.0, 1200.0};
+  const Eigen::Vector3d force(1.0, -2.0, 9.5);
+  const CorrectedGyroscopeSample sample = CorrectGyroscope(model, output, force);
+  GyroscopeEffectCoefficients alone{};
+  alone[0] = 2e-4;
+  double expected[3];
+  const double f[3] = {force.x(), force.y(), force.z()};
+  GyroscopeCorrectedRate(model.parameters.data(), model.offset.data(), alone.data(), output.data(),
+                         f, expected);
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(sample.angular_rate[k], expected[k]);
+}
+
 }  // namespace
 }  // namespace accelcal
