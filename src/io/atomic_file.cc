@@ -195,8 +195,15 @@ Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
     const std::string old_dir = temporary_dir + ".old";
     // The swap runs with the cleanup held: an interruption sees the old folder in place, or
     // the new one in place and the old one registered for removal.
+    // Where the file system can, the two folders trade places in one step (renameat2's
+    // RENAME_EXCHANGE), so that even a SIGKILL, which no handler holds, finds the old folder or
+    // the new one at `target`; the old one is then the temporary folder, removed below.
+    bool exchanged = false;
     WithCleanupHeld([&] {
-      if (exists) {
+      if (exists && renameat2(AT_FDCWD, temporary_dir.c_str(), AT_FDCWD, target.c_str(),
+                              RENAME_EXCHANGE) == 0) {
+        exchanged = true;
+      } else if (exists) {
         fs::rename(target, old_dir, error);
         if (!error) {
           RegisterTemporary(old_dir);
@@ -209,11 +216,14 @@ Status WriteDirectoryAtomically(const std::string& dir, bool overwrite,
       if (error) {
         status = Status::Error("cannot " + std::string(exists ? "replace " : "create ") + target +
                                " (" + error.message() + ")");
-      } else {
+      } else if (!exchanged) {
         ForgetTemporary(temporary_dir);
       }
     });
-    if (status.ok() && exists) {
+    if (exchanged) {  // the temporary folder holds the old output now
+      fs::remove_all(temporary_dir, error);
+      ForgetTemporary(temporary_dir);
+    } else if (status.ok() && exists) {
       fs::remove_all(old_dir, error);
       ForgetTemporary(old_dir);
     }
