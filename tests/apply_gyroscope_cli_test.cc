@@ -167,6 +167,53 @@ TEST(ApplyGyroscopeCli, CorrectsTheGyroscopeColumnsWithTheCalibrationsSigma) {
   }
 }
 
+// A gyroscope section whose only effect term is a time offset (session-only: the two streams'
+// alignment belongs to the logging chain): apply corrects the rates as the 12 parameters do, and
+// says on stderr and in a '#' line that the term is carried and not applied, and why.
+TEST(ApplyGyroscopeCli, LeavesASessionOnlyTimeOffsetOutAndSaysSo) {
+  constexpr int kTimeOffset = GyroscopeEffectFirstOf<GyroscopeTimeOffsetEffect>();
+  CalibrationRecord record = testing::ExampleTriadRecordWithGyroscope();
+  GyroscopeEffectCoefficients values{};
+  values[kTimeOffset] = 3e-3;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(13, 13);
+  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
+  covariance(12, 12) = 1e-8;
+  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
+                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(),
+                  {kTimeOffset}, values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
+                  .ok());
+  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
+                                                   record.gyroscope.parameter_order.begin() + 12);
+  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
+  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  testing::ScratchDir scratch;
+  const std::string cal = WriteCalibration(scratch, record);
+  constexpr int kSamples = 10;
+  const std::string in = scratch.Write("run.csv", Log("t_s,ax,ay,az,gx,gy,gz", kSamples));
+  const std::string out = scratch.File("corrected.csv");
+  const testing::CommandResult applied =
+      RunBinary("apply", "--calibration=" + cal + " --in=" + in + " --out=" + out);
+  ASSERT_EQ(applied.exit_status, 0) << applied.stderr_text;
+  const std::string said =
+      "the calibration's effect terms gyroscope_time_offset are not applied: they belong to the "
+      "session calibrated (the two streams' alignment belongs to the logging chain";
+  EXPECT_NE(applied.stderr_text.find("apply: note: gyroscope: " + said), std::string::npos)
+      << applied.stderr_text;
+  const Csv csv = ReadCsv(out);
+  EXPECT_TRUE(AnyContains(csv.comments, "# gyroscope: " + said)) << Joined(csv.comments);
+  ASSERT_EQ(csv.rows.size(), static_cast<size_t>(kSamples));
+  Eigen::VectorXd twelve(kGyroscopeCalibrationParameterCount);
+  const GyroscopeParameters parameters = testing::ExampleGyroscopeParameters();
+  const GyroscopeOffset offset = testing::ExampleGyroscopeOffset();
+  for (int p = 0; p < kGyroscopeParameterCount; ++p) twelve[p] = parameters[p];
+  for (int k = 0; k < 3; ++k) twelve[kGyroscopeCalibrationOffsetX + k] = offset[k];
+  for (int j = 0; j < kSamples; ++j) {
+    const Eigen::Vector3d rate = testing::PlainGyroscopeRate(twelve, GyroscopeOutput(j));
+    EXPECT_NEAR(csv.rows[j].at("gx_radps"), rate[0], 1e-9 * std::max(1.0, std::abs(rate[0])));
+    EXPECT_NEAR(csv.rows[j].at("gz_radps"), rate[2], 1e-9 * std::max(1.0, std::abs(rate[2])));
+  }
+}
+
 // apply with `record` on a log of `header`: the accelerometer corrected alone, and `note` said
 // on stderr and in a '#' line.
 void ExpectAccelerometerOnly(const CalibrationRecord& record, const std::string& header,
