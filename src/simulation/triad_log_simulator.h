@@ -33,13 +33,13 @@ struct TriadHold {
   double turn_yaw_deg = 0.0;  // the turn after it also turns about gravity by this (gyroscope)
 };
 
-// The gyroscope beside the triad (models/gyroscope.h, models/gyroscope_effect_list.h), when enabled:
-// at rest it reads its offset plus noise (and the effects of the specific force); in a turn the
-// body turns about the fixed axis n_p x n_p+1 by the hold-to-hold angle, and at the same time
-// about the current gravity direction by the hold's turn_yaw_deg, with the same (1 - cos) profile:
-// the rate is w = psi' n(t) - phi' a (rad/s, body frame), which leaves the accelerometer's samples
-// exactly as without the gyroscope. The rates are exact at the samples (continuous-time turns
-// sampled), the outputs u = GyroscopeRawWithEffects(w, g n) + noise.
+// The gyroscope beside the triad (models/gyroscope.h, models/gyroscope_effect_list.h), when
+// enabled: at rest it reads its offset plus noise (and the effects of the specific force); in a
+// turn the body turns about the fixed axis n_p x n_p+1 by the hold-to-hold angle, and at the same
+// time about the current gravity direction by the hold's turn_yaw_deg, with the same (1 - cos)
+// profile: the rate is w = psi' n(t) - phi' a (rad/s, body frame), which leaves the accelerometer's
+// samples exactly as without the gyroscope. The rates are exact at the samples (continuous-time
+// turns sampled), the outputs u = GyroscopeRawWithEffects(w, g n) + noise.
 struct GyroscopeSimulationOptions {
   bool enabled = false;
   GyroscopeParameters truth = GyroscopeParametersWithGain(2e-4, 2e-4, 2e-4);

@@ -2,8 +2,8 @@
 #define ACCELCAL_ESTIMATION_GYROSCOPE_GYROSCOPE_DISCOVERY_H_
 
 // Does the gyroscope's model (models/gyroscope.h: 6 angles, 3 gains, 3 offsets) explain a
-// session; if not, is what is missing an effect of models/gyroscope_effect_list.h, can the data tell
-// the candidates apart, and what remains? The one discovery procedure (estimation/discovery/
+// session; if not, is what is missing an effect of models/gyroscope_effect_list.h, can the data
+// tell the candidates apart, and what remains? The one discovery procedure (estimation/discovery/
 // selection.h) with the gyroscope as a geometry (GyroscopeGeometry in the .cc), the four verdicts
 // of estimation/discovery/verdict.h, alpha shared as the triad's (estimation/triad/
 // triad_discovery.h):
