@@ -175,17 +175,7 @@ TEST(ApplyGyroscopeCli, LeavesASessionOnlyTimeOffsetOutAndSaysSo) {
   CalibrationRecord record = testing::ExampleTriadRecordWithGyroscope();
   GyroscopeEffectCoefficients values{};
   values[kTimeOffset] = 3e-3;
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(13, 13);
-  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
-  covariance(12, 12) = 1e-8;
-  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
-                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(),
-                  {kTimeOffset}, values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
-                  .ok());
-  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
-                                                   record.gyroscope.parameter_order.begin() + 12);
-  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
-  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  testing::AddExampleGyroscopeTerms({kTimeOffset}, values, {1e-8}, &record);
   testing::ScratchDir scratch;
   const std::string cal = WriteCalibration(scratch, record);
   constexpr int kSamples = 10;

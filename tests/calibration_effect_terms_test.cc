@@ -305,19 +305,7 @@ TEST(CalibrationEffectTerms, AGyroscopeSectionsTermsRoundTripAndAreApplied) {
   values[4] = -1e-4;
   values[8] = 3e-4;
   values[12] = 1e-3;
-  const int n = kGyroscopeCalibrationParameterCount + static_cast<int>(terms.size());
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(n, n);
-  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
-  for (int t = 12; t < n; ++t) covariance(t, t) = 1e-12;
-  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
-                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(), terms,
-                  values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
-                  .ok());
-  record.has_gyroscope = true;
-  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
-                                                   record.gyroscope.parameter_order.begin() + 12);
-  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
-  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  testing::AddExampleGyroscopeTerms(terms, values, {1e-12, 1e-12, 1e-12, 1e-12}, &record);
   const nlohmann::json json = nlohmann::json::parse(Written(record));
   EXPECT_EQ(json.at("format_version"), 2);  // the accelerometer has no terms; its gyroscope has
   EXPECT_EQ(json.at("gyroscope").at("model").at("effects"),
@@ -365,19 +353,7 @@ TEST(CalibrationEffectTerms, AGyroscopeTimeOffsetIsCarriedNotApplied) {
   GyroscopeEffectCoefficients values{};
   values[0] = 2e-4;
   values[kTimeOffset] = 3e-3;
-  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(14, 14);
-  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
-  covariance(12, 12) = 1e-12;
-  covariance(13, 13) = 1e-8;
-  ASSERT_TRUE(MakeGyroscopeCalibrationSection(
-                  testing::ExampleGyroscopeParameters(), testing::ExampleGyroscopeOffset(), terms,
-                  values, covariance, GyroscopeOutputUnit::kCount, &record.gyroscope)
-                  .ok());
-  record.has_gyroscope = true;
-  record.gyroscope.baseline.parameter_order.assign(record.gyroscope.parameter_order.begin(),
-                                                   record.gyroscope.parameter_order.begin() + 12);
-  record.gyroscope.baseline.values = record.gyroscope.values.head(12);
-  record.gyroscope.baseline.covariance = testing::ExampleGyroscopeCovariance();
+  testing::AddExampleGyroscopeTerms(terms, values, {1e-12, 1e-8}, &record);
   const nlohmann::json json = nlohmann::json::parse(Written(record));
   const nlohmann::json& effect_terms = json.at("gyroscope").at("model").at("effect_terms");
   ASSERT_EQ(effect_terms.size(), 2u) << effect_terms.dump(1);

@@ -13,6 +13,7 @@
 
 #include "io/calibration_file.h"
 #include "models/gyroscope.h"
+#include "models/gyroscope_effect_list.h"
 #include "models/triad.h"
 
 namespace accelcal {
@@ -86,6 +87,28 @@ inline CalibrationRecord ExampleTriadRecordWithGyroscope() {
   record.gyroscope.fit = {{"turns", 37}, {"chi2", 41.5}};
   record.has_gyroscope = true;
   return record;
+}
+
+// `record` given a gyroscope section of the example's 12 and the effect terms `terms` (indices
+// into the block, in its order) at `values`, term t's variance `variances[t]` (no correlation),
+// with the 12 unknowns' fit as its baseline: a version-2 section as calibrate_imu writes one.
+inline void AddExampleGyroscopeTerms(const std::vector<int>& terms,
+                                     const GyroscopeEffectCoefficients& values,
+                                     const std::vector<double>& variances,
+                                     CalibrationRecord* record) {
+  const int n = kGyroscopeCalibrationParameterCount + static_cast<int>(terms.size());
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Zero(n, n);
+  covariance.topLeftCorner(12, 12) = ExampleGyroscopeCovariance();
+  for (size_t t = 0; t < terms.size(); ++t) covariance(12 + t, 12 + t) = variances[t];
+  const Status status = MakeGyroscopeCalibrationSection(
+      ExampleGyroscopeParameters(), ExampleGyroscopeOffset(), terms, values, covariance,
+      GyroscopeOutputUnit::kCount, &record->gyroscope);
+  ASSERT_TRUE(status.ok()) << status.message();
+  record->has_gyroscope = true;
+  record->gyroscope.baseline.parameter_order.assign(record->gyroscope.parameter_order.begin(),
+                                                    record->gyroscope.parameter_order.begin() + 12);
+  record->gyroscope.baseline.values = record->gyroscope.values.head(12);
+  record->gyroscope.baseline.covariance = ExampleGyroscopeCovariance();
 }
 
 }  // namespace testing

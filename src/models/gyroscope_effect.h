@@ -28,6 +28,7 @@
 // terms and the studies' truth follow from the registration.
 
 #include <array>
+#include <vector>
 
 namespace accelcal {
 
@@ -45,6 +46,8 @@ struct GyroscopeSampleContext {
   const T* output_rate = nullptr;
 };
 
+// Uninitialised, as a double array is: whoever composes sets the pieces to 0 first (a
+// ceres::Jet's default is already 0 with 0 derivatives).
 template <typename T>
 struct GyroscopeRateTerms {
   std::array<T, 3> output_shift;  // kOutput: added to u (the log's unit)
@@ -52,6 +55,41 @@ struct GyroscopeRateTerms {
   std::array<T, 3> per_axis;      // kAxis: added to v (rad/s)
   std::array<T, 3> rate_shift;    // kRate: added to T v' (rad/s)
 };
+
+// A context of doubles as constants of another scalar type (a ceres::Jet), held with their
+// values: `context` points into this object, which is therefore neither copied nor moved.
+template <typename T>
+struct GyroscopeContextAs {
+  explicit GyroscopeContextAs(const GyroscopeSampleContext<double>& of) {
+    for (int k = 0; k < 3; ++k) {
+      force[k] = T(of.specific_force == nullptr ? 0.0 : of.specific_force[k]);
+      output_rate[k] = T(of.output_rate == nullptr ? 0.0 : of.output_rate[k]);
+    }
+    context.specific_force = force;
+    context.output_rate = output_rate;
+  }
+  GyroscopeContextAs(const GyroscopeContextAs&) = delete;
+  GyroscopeContextAs& operator=(const GyroscopeContextAs&) = delete;
+
+  T force[3];
+  T output_rate[3];
+  GyroscopeSampleContext<T> context;
+};
+
+// The output's rate of change at sample i (the outputs' unit per s): central differences over
+// the samples around it, one-sided at the ends, 0 where the times do not advance. The context's
+// output_rate wherever a log's samples are at hand (the fit's turns and poses, the simulator).
+inline std::array<double, 3> GyroscopeOutputRate(const std::vector<double>& times_s,
+                                                 const std::vector<std::array<double, 3>>& outputs,
+                                                 int i) {
+  const int lo = i > 0 ? i - 1 : 0;
+  const int hi = i + 1 < static_cast<int>(outputs.size()) ? i + 1 : i;
+  const double span = times_s[hi] - times_s[lo];
+  std::array<double, 3> rate{};
+  if (span > 0.0)
+    for (int k = 0; k < 3; ++k) rate[k] = (outputs[hi][k] - outputs[lo][k]) / span;
+  return rate;
+}
 
 struct GyroscopeEffectInfo {
   const char* name;  // the group's name in outputs; its coefficients are gyroscope_<name><suffix>

@@ -174,11 +174,8 @@ bool GyroscopeStageActive(const T* effects, GyroscopeEffectStage stage) {
 template <typename T>
 void GyroscopeRateTermsAt(const T* parameters, const T* offset, const T* effects, const double* raw,
                           const GyroscopeSampleContext<T>& context, GyroscopeRateTerms<T>* terms) {
-  for (int k = 0; k < 3; ++k) {
-    terms->output_shift[k] = T(0.0);
-    terms->per_axis[k] = T(0.0);
-    terms->rate_shift[k] = T(0.0);
-  }
+  for (int k = 0; k < 3; ++k)
+    terms->output_shift[k] = terms->per_axis[k] = terms->rate_shift[k] = T(0.0);
   if (effects != nullptr)
     ApplyGyroscopeEffects<GyroscopeEffectStage::kOutput>(effects, context, terms);
   for (int k = 0; k < 3; ++k) {
@@ -212,10 +209,10 @@ void GyroscopeCorrectedRate(const T* parameters, const T* offset, const T* effec
 template <typename T>
 void GyroscopeCorrectedRate(const T* parameters, const T* offset, const T* effects,
                             const double* raw, const double* specific_force, T* rate) {
-  const T force[3] = {T(specific_force[0]), T(specific_force[1]), T(specific_force[2])};
-  GyroscopeSampleContext<T> context;
-  context.specific_force = force;
-  GyroscopeCorrectedRate(parameters, offset, effects, raw, context, rate);
+  GyroscopeSampleContext<double> context;
+  context.specific_force = specific_force;
+  const GyroscopeContextAs<T> as(context);
+  GyroscopeCorrectedRate(parameters, offset, effects, raw, as.context, rate);
 }
 
 // The inverse: the output u at the rate w (rad/s) and the sample's context, what a gyroscope with
@@ -226,11 +223,8 @@ template <typename T>
 void GyroscopeRawWithEffects(const T* parameters, const T* offset, const T* effects, const T* rate,
                              const GyroscopeSampleContext<T>& context, T* raw) {
   GyroscopeRateTerms<T> terms;
-  for (int k = 0; k < 3; ++k) {
-    terms.output_shift[k] = T(0.0);
-    terms.per_axis[k] = T(0.0);
-    terms.rate_shift[k] = T(0.0);
-  }
+  for (int k = 0; k < 3; ++k)
+    terms.output_shift[k] = terms.per_axis[k] = terms.rate_shift[k] = T(0.0);
   T sensed[3];
   if (effects != nullptr)
     ApplyGyroscopeEffects<GyroscopeEffectStage::kRate>(effects, context, &terms);

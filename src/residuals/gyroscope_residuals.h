@@ -212,18 +212,10 @@ class GyroscopeTurnResidual
     using Jet = ceres::Jet<double, kCount>;
     Jet c[kCount];
     for (int i = 0; i < kCount; ++i) c[i] = Jet(coefficients[i], i);
-    Jet force[3], output_rate[3];
+    const GyroscopeContextAs<Jet> as(context);
     GyroscopeRateTerms<Jet> terms;
-    for (int k = 0; k < 3; ++k) {
-      force[k] = Jet(context.specific_force[k]);
-      output_rate[k] = Jet(context.output_rate == nullptr ? 0.0 : context.output_rate[k]);
-      terms.output_shift[k] = terms.per_axis[k] = terms.rate_shift[k] = Jet(0.0);
-      terms.along[k] = Jet(along[k]);
-    }
-    GyroscopeSampleContext<Jet> jet_context;
-    jet_context.specific_force = force;
-    jet_context.output_rate = output_rate;
-    Effect::Apply(c, jet_context, &terms);
+    for (int k = 0; k < 3; ++k) terms.along[k] = Jet(along[k]);
+    Effect::Apply(c, as.context, &terms);
     const std::array<Jet, 3>& term =
         Effect::kInfo.stage == GyroscopeEffectStage::kOutput ? terms.output_shift
         : Effect::kInfo.stage == GyroscopeEffectStage::kAxis ? terms.per_axis
@@ -238,18 +230,10 @@ class GyroscopeTurnResidual
     using Jet = ceres::Jet<double, 3>;
     Jet c[kGyroscopeEffectCoefficientCount];
     for (int i = 0; i < kGyroscopeEffectCoefficientCount; ++i) c[i] = Jet(coefficients[i]);
-    Jet force[3], output_rate[3];
+    const GyroscopeContextAs<Jet> as(context);
     GyroscopeRateTerms<Jet> terms;
-    for (int k = 0; k < 3; ++k) {
-      force[k] = Jet(context.specific_force[k]);
-      output_rate[k] = Jet(context.output_rate == nullptr ? 0.0 : context.output_rate[k]);
-      terms.output_shift[k] = terms.per_axis[k] = terms.rate_shift[k] = Jet(0.0);
-      terms.along[k] = Jet(along[k], k);
-    }
-    GyroscopeSampleContext<Jet> jet_context;
-    jet_context.specific_force = force;
-    jet_context.output_rate = output_rate;
-    ApplyGyroscopeEffects<GyroscopeEffectStage::kAxis>(c, jet_context, &terms);
+    for (int k = 0; k < 3; ++k) terms.along[k] = Jet(along[k], k);
+    ApplyGyroscopeEffects<GyroscopeEffectStage::kAxis>(c, as.context, &terms);
     for (int i = 0; i < 3; ++i)
       for (int k = 0; k < 3; ++k) s[3 * i + k] = (i == k ? 1.0 : 0.0) + terms.per_axis[i].v[k];
   }
@@ -396,15 +380,8 @@ class GyroscopeTurnResidual
     IntegrateAngularRateHermite(
         static_cast<int>(samples_.raw.size()),
         [&](int j, T* rate) {
-          T force[3], output_rate[3];
-          for (int k = 0; k < 3; ++k) {
-            force[k] = T(samples_.specific_force[j][k]);
-            output_rate[k] = T(samples_.output_rate.empty() ? 0.0 : samples_.output_rate[j][k]);
-          }
-          GyroscopeSampleContext<T> context;
-          context.specific_force = force;
-          context.output_rate = output_rate;
-          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(), context,
+          const GyroscopeContextAs<T> as(ContextAt(j));
+          GyroscopeCorrectedRate(parameters, offset, effects, samples_.raw[j].data(), as.context,
                                  rate);
         },
         samples_.step_s, rotation);

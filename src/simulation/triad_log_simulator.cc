@@ -100,12 +100,7 @@ class SampleWriter {
     if (!delayed_) return;
     const int count = static_cast<int>(aligned_.size());
     for (int j = 0; j < count; ++j) {
-      const int lo = std::max(j - 1, 0);
-      const int hi = std::min(j + 1, count - 1);
-      const double span = log_->timestamp_s[hi] - log_->timestamp_s[lo];
-      Vector3 output_rate{};
-      if (span > 0.0)
-        for (int k = 0; k < 3; ++k) output_rate[k] = (aligned_[hi][k] - aligned_[lo][k]) / span;
+      const Vector3 output_rate = GyroscopeOutputRate(log_->timestamp_s, aligned_, j);
       GyroscopeSampleContext<double> context;
       context.specific_force = force_[j].data();
       context.output_rate = output_rate.data();

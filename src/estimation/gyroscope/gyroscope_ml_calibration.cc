@@ -216,14 +216,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       pose.variance[k] = squares / (pose.sample_count - 1);
     }
     for (int i = interval.start; i <= interval.end; ++i) {
-      const int lo = std::max(i - 1, 0);
-      const int hi = std::min(i + 1, static_cast<int>(log.size()) - 1);
-      const double span = log.timestamp_s[hi] - log.timestamp_s[lo];
-      if (!(span > 0.0)) continue;
-      for (int k = 0; k < 3; ++k) {
-        rest_output_rate[p][k] +=
-            (log.gyroscope[hi][k] - log.gyroscope[lo][k]) / span / pose.sample_count;
-      }
+      const std::array<double, 3> rate = GyroscopeOutputRate(log.timestamp_s, log.gyroscope, i);
+      for (int k = 0; k < 3; ++k) rest_output_rate[p][k] += rate[k] / pose.sample_count;
     }
   }
   std::array<double, 3> white = PooledWithinPoseVariance(rest);
@@ -447,17 +441,7 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         double force[3];
         TriadSpecificForce(accelerometer.parameters.data(), log.output[i].data(), force);
         samples.specific_force.push_back({force[0], force[1], force[2]});
-        // The output's rate of change: central differences over the samples around (one-sided
-        // at the log's ends).
-        const int lo = std::max(i - 1, 0);
-        const int hi = std::min(i + 1, static_cast<int>(log.size()) - 1);
-        const double span = log.timestamp_s[hi] - log.timestamp_s[lo];
-        std::array<double, 3> output_rate{};
-        if (span > 0.0) {
-          for (int k = 0; k < 3; ++k)
-            output_rate[k] = (log.gyroscope[hi][k] - log.gyroscope[lo][k]) / span;
-        }
-        samples.output_rate.push_back(output_rate);
+        samples.output_rate.push_back(GyroscopeOutputRate(log.timestamp_s, log.gyroscope, i));
         const double before =
             i > turn.first_sample ? log.timestamp_s[i] - log.timestamp_s[i - 1] : 0.0;
         const double after =
