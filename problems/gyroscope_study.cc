@@ -68,9 +68,19 @@ Status EffectsFromFlag(GyroscopeMonteCarloOptions* options) {
     const std::string name =
         FLAGS_effects.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const int effect = GyroscopeEffectIndex(name);
-    if (effect < 0) {
+    if (effect < 0 || GyroscopeEffectInfos()[effect].not_a_candidate != nullptr) {
       std::vector<std::string> known;
-      for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos()) known.push_back(info.name);
+      for (const GyroscopeEffectInfo& info : GyroscopeEffectInfos())
+        if (info.not_a_candidate == nullptr) known.push_back(info.name);
+      if (effect >= 0 && name == "earth_rate") {
+        return Status::Error(
+            "--effects: earth_rate is not an effect of the sensor (the fit holds it in every "
+            "model); simulate it with --earth_rate and --latitude_deg");
+      }
+      if (effect >= 0) {
+        return Status::Error("--effects: " + name + " is not one of discovery's candidates: " +
+                             GyroscopeEffectInfos()[effect].not_a_candidate);
+      }
       return Status::Error("--effects: unknown effect '" + name.substr(0, 40) +
                            "' (known: " + JoinStrings(known) + ")");
     }

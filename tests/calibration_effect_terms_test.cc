@@ -383,5 +383,39 @@ TEST(CalibrationEffectTerms, AGyroscopeTimeOffsetIsCarriedNotApplied) {
   for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(sample.angular_rate[k], expected[k]);
 }
 
+// The Earth's vertical rate is a registered gyroscope effect (the fit's effect block holds it),
+// but the session's world, not the sensor's: no calibration is written with it, and a file that
+// lists it is refused, naming it.
+TEST(CalibrationEffectTerms, TheEarthsRateIsNeverATermOfACalibration) {
+  constexpr int kTimeOffset = GyroscopeEffectFirstOf<GyroscopeTimeOffsetEffect>();
+  constexpr int kEarth = GyroscopeEffectFirstOf<GyroscopeEarthRateEffect>();
+  GyroscopeEffectCoefficients values{};
+  values[kEarth] = 5e-5;
+  GyroscopeCalibrationSection section;
+  Eigen::MatrixXd covariance = Eigen::MatrixXd::Identity(13, 13) * 1e-12;
+  covariance.topLeftCorner(12, 12) = testing::ExampleGyroscopeCovariance();
+  EXPECT_ERROR_CONTAINS(
+      MakeGyroscopeCalibrationSection(testing::ExampleGyroscopeParameters(),
+                                      testing::ExampleGyroscopeOffset(), {kEarth}, values,
+                                      covariance, GyroscopeOutputUnit::kCount, &section),
+      "gyroscope_earth_rate is not a term of the sensor's calibration");
+  // A file edited to carry it in the time offset's place.
+  CalibrationRecord record = testing::ExampleTriadRecord();
+  values[kTimeOffset] = 3e-3;
+  testing::AddExampleGyroscopeTerms({0, kTimeOffset}, values, {1e-12, 1e-8}, &record);
+  nlohmann::json json = nlohmann::json::parse(Written(record));
+  CalibrationRecord read;
+  ASSERT_TRUE(Parsed(json, &read).ok());
+  nlohmann::json& order = json["gyroscope"]["parameter_order"];
+  ASSERT_EQ(order[13], "gyroscope_time_offset");
+  order[13] = "gyroscope_earth_rate";
+  json["gyroscope"]["parameters"]["gyroscope_earth_rate"] =
+      json["gyroscope"]["parameters"]["gyroscope_time_offset"];
+  json["gyroscope"]["parameters"].erase("gyroscope_time_offset");
+  EXPECT_ERROR_CONTAINS(Parsed(json, &read),
+                        "gyroscope/parameter_order[13] = \"gyroscope_earth_rate\": a calibration "
+                        "carries the sensor's terms");
+}
+
 }  // namespace
 }  // namespace accelcal

@@ -655,6 +655,16 @@ Status ReadGyroscopeSection(const nlohmann::json& json, int version, Calibration
   ACCELCAL_RETURN_IF_ERROR(ReadEffectTerms(object, kGyroscopeCalibrationParameterCount,
                                            "gyroscope/", version, GyroscopeEffectCoefficientIndex,
                                            &terms));
+  for (size_t t = 0; t < terms.size(); ++t) {
+    const GyroscopeEffectInfo& info = GyroscopeEffectInfos()[GyroscopeEffectOf(terms[t])];
+    if (info.not_a_candidate != nullptr) {
+      return Status::Error(StringPrintf("gyroscope/parameter_order[%zu] = \"%s\": ",
+                                        kGyroscopeCalibrationParameterCount + t,
+                                        GyroscopeEffectCoefficientName(terms[t]).c_str()) +
+                           "a calibration carries the sensor's terms, and this is not one (" +
+                           info.not_a_candidate + "); remove it");
+    }
+  }
   const ParameterBlock block = GyroscopeBlock(unit, terms);
   section.parameter_order = block.names;
   ACCELCAL_RETURN_IF_ERROR(
@@ -872,6 +882,10 @@ Status MakeGyroscopeCalibrationSection(const GyroscopeParameters& parameters,
     if (effects[e] < 0 || effects[e] >= kGyroscopeEffectCoefficientCount ||
         (e > 0 && effects[e] <= effects[e - 1])) {
       return Status::Error("gyroscope: the effect terms are not the block's coefficients in order");
+    }
+    if (GyroscopeEffectInfos()[GyroscopeEffectOf(effects[e])].not_a_candidate != nullptr) {
+      return Status::Error("gyroscope: " + GyroscopeEffectCoefficientName(effects[e]) +
+                           " is not a term of the sensor's calibration");
     }
   }
   const ParameterBlock block = GyroscopeBlock(unit, effects);

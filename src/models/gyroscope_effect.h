@@ -114,6 +114,10 @@ struct GyroscopeEffectInfo {
   // otherwise why it belongs to the session it was found in: the file carries it, `apply` leaves
   // it out and says so.
   const char* session_only = nullptr;
+  // Null for an effect of the sensor, one of discovery's candidates; otherwise why it is not one:
+  // a rate of the world every session sees, which the fit holds in every model (known, or
+  // bounded by its prior) and discovery never names (models/gyroscope_effects/earth_rate.h).
+  const char* not_a_candidate = nullptr;
 };
 
 }  // namespace accelcal

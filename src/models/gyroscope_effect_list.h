@@ -28,6 +28,7 @@
 
 #include "models/gyroscope.h"
 #include "models/gyroscope_effect.h"
+#include "models/gyroscope_effects/earth_rate.h"
 #include "models/gyroscope_effects/g_sensitivity.h"
 #include "models/gyroscope_effects/scale_asymmetry.h"
 #include "models/gyroscope_effects/scale_nonlinearity.h"
@@ -38,7 +39,8 @@ namespace accelcal {
 using BuiltInGyroscopeEffects = std::tuple<GyroscopeGSensitivityEffect,       //
                                            GyroscopeScaleAsymmetryEffect,     //
                                            GyroscopeScaleNonlinearityEffect,  //
-                                           GyroscopeTimeOffsetEffect>;
+                                           GyroscopeTimeOffsetEffect,         //
+                                           GyroscopeEarthRateEffect>;
 
 // The built-in effects and more, in order (for ACCELCAL_EXTRA_GYROSCOPE_EFFECTS_HEADER).
 template <typename List, typename... More>

@@ -7,10 +7,9 @@
 // GyroscopeRestResidual, one per static pose p (3 components):
 //   r = (ubar_p - u(w = 0, f = g n_p)) / sigma_p
 // the gyroscope's mean output over the pose against what it reads at rest (its offset, and the
-// g-sensitivity's rate under the pose's specific force), per axis divided by the standard
-// deviation of the mean. Blocks: the 9 parameters, the offset (3), the effect coefficients
-// (kGyroscopeEffectCoefficientCount),
-// the pose's unit gravity direction n_p (3).
+// effects' rates under the pose's specific force: a g-sensitivity's, the Earth's vertical rate),
+// whitened by the mean's covariance. Blocks: the 9 parameters, the offset (3), the effect
+// coefficients (kGyroscopeEffectCoefficientCount), the pose's unit gravity direction n_p (3).
 //
 // GyroscopeTurnResidual, one per turn from pose p to pose p + 1 (2 components):
 //   r = W E^T (R^T n_p - n_p+1)
@@ -51,13 +50,12 @@ class GyroscopeRestResidual {
         gravity_mps2_(gravity_mps2),
         output_rate_(output_rate) {}
 
-  // `vertical_rate`: the Earth's rate along gravity (rad/s; Omega sin(latitude)), which the
-  // sensor at rest turns at about its up direction, the unit specific force `direction`.
+  // At rest the body does not turn against the ground: w = 0 (the Earth's vertical rate, which
+  // the sensor reads at rest, is the effect block's earth_rate).
   template <typename T>
   bool operator()(const T* const parameters, const T* const offset, const T* const effects,
-                  const T* const direction, const T* const vertical_rate, T* residual) const {
-    const T rate[3] = {vertical_rate[0] * direction[0], vertical_rate[0] * direction[1],
-                       vertical_rate[0] * direction[2]};
+                  const T* const direction, T* residual) const {
+    const T rate[3] = {T(0.0), T(0.0), T(0.0)};
     const T force[3] = {T(gravity_mps2_) * direction[0], T(gravity_mps2_) * direction[1],
                         T(gravity_mps2_) * direction[2]};
     const T output_rate[3] = {T(output_rate_[0]), T(output_rate_[1]), T(output_rate_[2])};
@@ -80,7 +78,7 @@ class GyroscopeRestResidual {
                                      const std::array<double, 9>& whitening, double gravity_mps2,
                                      const std::array<double, 3>& output_rate = {}) {
     return new ceres::AutoDiffCostFunction<GyroscopeRestResidual, 3, kGyroscopeParameterCount, 3,
-                                           kGyroscopeEffectCoefficientCount, 3, 1>(
+                                           kGyroscopeEffectCoefficientCount, 3>(
         new GyroscopeRestResidual(mean, whitening, gravity_mps2, output_rate));
   }
 

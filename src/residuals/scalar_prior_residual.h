@@ -1,30 +1,35 @@
 #ifndef ACCELCAL_RESIDUALS_SCALAR_PRIOR_RESIDUAL_H_
 #define ACCELCAL_RESIDUALS_SCALAR_PRIOR_RESIDUAL_H_
 
-// A Gaussian prior on one unknown x, as a whitened residual: (x - mean) / stddev. With it an
-// unknown that the data may not determine (the Earth's vertical rate where the latitude is not
-// given: estimation/gyroscope/gyroscope_ml_calibration.h) is bounded by what is known of it
-// beforehand, and a fit's chi-square counts its one residual against its one unknown.
+// A Gaussian prior on one unknown x, entry `index` of a parameter block of `size` values, as a
+// whitened residual: (x - mean) / stddev. With it an unknown that the data may not determine (the
+// Earth's vertical rate, an effect coefficient of the gyroscope, where the latitude is not given:
+// estimation/gyroscope/gyroscope_ml_calibration.h) is bounded by what is known of it beforehand,
+// and a fit's chi-square counts its one residual against its one unknown.
 
-#include <ceres/ceres.h>
+#include <ceres/cost_function.h>
 
 namespace accelcal {
 
-class ScalarPrior {
+class ScalarPrior : public ceres::CostFunction {
  public:
-  ScalarPrior(double mean, double stddev) : mean_(mean), stddev_(stddev) {}
+  ScalarPrior(int size, int index, double mean, double stddev)
+      : index_(index), mean_(mean), stddev_(stddev) {
+    set_num_residuals(1);
+    mutable_parameter_block_sizes()->push_back(size);
+  }
 
-  template <typename T>
-  bool operator()(const T* const x, T* residual) const {
-    residual[0] = (x[0] - T(mean_)) / T(stddev_);
+  bool Evaluate(double const* const* blocks, double* residuals, double** jacobians) const override {
+    residuals[0] = (blocks[0][index_] - mean_) / stddev_;
+    if (jacobians != nullptr && jacobians[0] != nullptr) {
+      const int size = parameter_block_sizes()[0];
+      for (int i = 0; i < size; ++i) jacobians[0][i] = i == index_ ? 1.0 / stddev_ : 0.0;
+    }
     return true;
   }
 
-  static ceres::CostFunction* Create(double mean, double stddev) {
-    return new ceres::AutoDiffCostFunction<ScalarPrior, 1, 1>(new ScalarPrior(mean, stddev));
-  }
-
  private:
+  const int index_;
   const double mean_;
   const double stddev_;
 };

@@ -314,7 +314,8 @@ Status DiscoverGyroscope(const TriadLog& log, const std::vector<StaticInterval>&
   selection.max_effects = options.max_effects;
   SelectionRecord record;
   std::vector<int> candidates;
-  for (int e = 0; e < kGyroscopeEffectCount; ++e) candidates.push_back(e);
+  for (int e = 0; e < kGyroscopeEffectCount; ++e)
+    if (GyroscopeEffectInfos()[e].not_a_candidate == nullptr) candidates.push_back(e);
   ACCELCAL_RETURN_IF_ERROR(SelectEffects(&geometry, candidates, selection, &record));
   const auto& infos = GyroscopeEffectInfos();
   for (const SelectionRecord::NotTested& entry : record.not_tested)

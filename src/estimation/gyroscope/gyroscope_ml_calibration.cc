@@ -109,17 +109,14 @@ struct JointBlocks {
   GyroscopeEffectCoefficients effects{};
   std::vector<std::array<double, 3>> directions;
   TriadParameters accelerometer{};
-  double vertical_rate = 0.0;
 };
 
-JointBlocks SnapshotBlocks(const GyroscopeMlResult* result, const TriadParameters& accelerometer,
-                           double vertical_rate) {
-  return {result->parameters, result->offset, result->effects,
-          result->directions, accelerometer,  vertical_rate};
+JointBlocks SnapshotBlocks(const GyroscopeMlResult* result, const TriadParameters& accelerometer) {
+  return {result->parameters, result->offset, result->effects, result->directions, accelerometer};
 }
 
 void RestoreBlocks(const JointBlocks& blocks, GyroscopeMlResult* result,
-                   TriadParameters* accelerometer, double* vertical_rate) {
+                   TriadParameters* accelerometer) {
   // In place: the problem holds pointers into these arrays.
   result->parameters = blocks.parameters;
   result->offset = blocks.offset;
@@ -127,8 +124,10 @@ void RestoreBlocks(const JointBlocks& blocks, GyroscopeMlResult* result,
   for (size_t p = 0; p < blocks.directions.size(); ++p)
     result->directions[p] = blocks.directions[p];
   *accelerometer = blocks.accelerometer;
-  *vertical_rate = blocks.vertical_rate;
 }
+
+// The vertical Earth rate's place in the effect block.
+constexpr int kEarth = GyroscopeEffectFirstOf<GyroscopeEarthRateEffect>();
 
 // A gain that ended kGainCollapse times smaller or larger than it started.
 constexpr double kGainCollapse = 10.0;
@@ -182,6 +181,14 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       std::unique(result->effects_estimated.begin(), result->effects_estimated.end()),
       result->effects_estimated.end());
   const std::vector<int>& estimated = result->effects_estimated;
+  for (int c : estimated) {
+    if (c < 0 || c >= kGyroscopeEffectCoefficientCount ||
+        GyroscopeEffectInfos()[GyroscopeEffectOf(c)].not_a_candidate != nullptr) {
+      return Status::Error(
+          "the gyroscope's effects to estimate must be the sensor's registered coefficients (the "
+          "Earth's rate is held by the fit itself: give the latitude or let its prior bound it)");
+    }
+  }
   const int unknown_count = kGyroscopeCalibrationCount + static_cast<int>(estimated.size());
   result->names = UnknownNames(estimated);
   for (int i = 0; i < kGyroscopeCalibrationParameterCount; ++i)
@@ -343,10 +350,10 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     result->chi2_rest = result->chi2_turns = 0.0;
     result->accelerometer_shift_sigma = result->offset_sigma_rad_s = 0.0;
     ceres::Problem problem;
-    double vertical_rate = vertical_start;
     double* gyroscope = result->parameters.data();
     double* offset = result->offset.data();
     double* effects = result->effects.data();
+    effects[kEarth] = vertical_start;
     std::vector<ceres::ResidualBlockId> accelerometer_blocks, rest_blocks, turn_blocks;
     std::vector<double> pose_sigmas;
     for (int p = 0; p < pose_count; ++p) {
@@ -393,15 +400,23 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       rest_blocks.push_back(problem.AddResidualBlock(
           GyroscopeRestResidual::Create(rest[p].mean, whitening, options.gravity_mps2,
                                         rest_output_rate[p]),
-          nullptr, gyroscope, offset, effects, direction, &vertical_rate));
+          nullptr, gyroscope, offset, effects, direction));
     }
-    // The vertical Earth rate: held where given or not counted, else its prior.
+    // The vertical Earth rate (the effect block's earth_rate): held where given or not counted,
+    // else its prior.
     ceres::ResidualBlockId vertical_prior = nullptr;
     if (vertical_prior_stddev > 0.0) {
-      vertical_prior = problem.AddResidualBlock(ScalarPrior::Create(0.0, vertical_prior_stddev),
-                                                nullptr, &vertical_rate);
-    } else {
-      problem.SetParameterBlockConstant(&vertical_rate);
+      vertical_prior = problem.AddResidualBlock(
+          new ScalarPrior(kGyroscopeEffectCoefficientCount, kEarth, 0.0, vertical_prior_stddev),
+          nullptr, effects);
+    }
+    // The effect coefficients the solve moves: those estimated, and the vertical Earth rate
+    // under its prior (not one of the reported unknowns: its prior's one residual counts against
+    // it). The turns differentiate them all.
+    std::vector<int> moving = estimated;
+    if (vertical_prior != nullptr) {
+      moving.push_back(kEarth);
+      std::sort(moving.begin(), moving.end());
     }
     if (!accelerometer.effects_estimated.empty())
       problem.SetParameterBlockConstant(accelerometer_effects.data());
@@ -512,19 +527,35 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       turn.angle_rad = AngleBetween(accelerometer.directions[p], after);
       result->turns.push_back(turn);
       turn_blocks.push_back(problem.AddResidualBlock(
-          new GyroscopeTurnResidual(std::move(samples), basis, whitening, estimated), nullptr,
+          new GyroscopeTurnResidual(std::move(samples), basis, whitening, moving), nullptr,
           gyroscope, offset, effects, result->directions[p].data(),
           result->directions[p + 1].data()));
     }
-    if (estimated.empty()) {
-      problem.SetParameterBlockConstant(effects);
-    } else if (static_cast<int>(estimated.size()) < kGyroscopeEffectCoefficientCount) {
+    // The effect block: only the coefficients that move (with or without the Earth's).
+    bool earth_moves = false;
+    auto move_effects = [&](bool earth) {
+      earth_moves = earth && vertical_prior != nullptr;
       std::vector<int> held;
-      for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c)
-        if (!std::binary_search(estimated.begin(), estimated.end(), c)) held.push_back(c);
-      problem.SetManifold(effects,
-                          new ceres::SubsetManifold(kGyroscopeEffectCoefficientCount, held));
-    }
+      int free = 0;
+      for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c) {
+        const bool moves =
+            std::binary_search(moving.begin(), moving.end(), c) && (earth || c != kEarth);
+        if (moves) {
+          ++free;
+        } else {
+          held.push_back(c);
+        }
+      }
+      if (free == 0) {
+        problem.SetParameterBlockConstant(effects);
+        return;
+      }
+      problem.SetParameterBlockVariable(effects);
+      problem.SetManifold(effects, held.empty() ? nullptr
+                                                : new ceres::SubsetManifold(
+                                                      kGyroscopeEffectCoefficientCount, held));
+    };
+    move_effects(true);
 
     // How much the turns go about each body axis (rad, from the accelerometer's directions), and
     // how far each gyroscope output strays from its offset in them (in its noise's sigmas).
@@ -544,11 +575,20 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     }
 
     // The gyroscope's information with everything else marginalised; its near-null directions.
-    std::vector<double*> order = {gyroscope, offset};
-    if (!estimated.empty()) order.push_back(effects);
-    order.push_back(accelerometer_parameters.data());
-    for (Vector3& direction : result->directions) order.push_back(direction.data());
     auto check_rank = [&]() -> Status {
+      // The blocks that move; the vertical Earth rate's column (in the effect block's tangent
+      // space, after the estimated coefficients below it) is left out: its prior bounds it.
+      std::vector<double*> order = {gyroscope, offset};
+      int earth_column = -1;
+      if (!estimated.empty() || earth_moves) order.push_back(effects);
+      if (earth_moves) {
+        earth_column =
+            kGyroscopeCalibrationCount +
+            static_cast<int>(std::lower_bound(estimated.begin(), estimated.end(), kEarth) -
+                             estimated.begin());
+      }
+      order.push_back(accelerometer_parameters.data());
+      for (Vector3& direction : result->directions) order.push_back(direction.data());
       ceres::Problem::EvaluateOptions evaluate;
       evaluate.parameter_blocks = order;
       evaluate.num_threads = 1;
@@ -559,10 +599,16 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
       // information is banded and its factorisation linear in the poses.
       std::vector<Eigen::Triplet<double>> entries;
       entries.reserve(crs.values.size());
-      for (int row = 0; row < crs.num_rows; ++row)
-        for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i)
-          entries.emplace_back(row, crs.cols[i], crs.values[i]);
-      Eigen::SparseMatrix<double> jacobian(crs.num_rows, crs.num_cols);
+      for (int row = 0; row < crs.num_rows; ++row) {
+        for (int i = crs.rows[row]; i < crs.rows[row + 1]; ++i) {
+          const int column = crs.cols[i];
+          if (column == earth_column) continue;
+          entries.emplace_back(
+              row, earth_column >= 0 && column > earth_column ? column - 1 : column, crs.values[i]);
+        }
+      }
+      const int columns = crs.num_cols - (earth_column >= 0 ? 1 : 0);
+      Eigen::SparseMatrix<double> jacobian(crs.num_rows, columns);
       jacobian.setFromTriplets(entries.begin(), entries.end());
       const Eigen::SparseMatrix<double> information =
           Eigen::SparseMatrix<double>(jacobian.transpose()) * jacobian;
@@ -642,22 +688,22 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     // started (or it fails), it is done again from there with the vertical rate held at its
     // start (0, its prior's mean), then released from that solution; if the gains collapse
     // again, the held solution stands and the result says so (earth_vertical_held).
-    const JointBlocks started = SnapshotBlocks(result, accelerometer_parameters, vertical_rate);
+    const JointBlocks started = SnapshotBlocks(result, accelerometer_parameters);
     Status solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
     result->earth_vertical_held = false;
     if (vertical_prior != nullptr && (!solved.ok() || GainsCollapsed(started, *result))) {
-      RestoreBlocks(started, result, &accelerometer_parameters, &vertical_rate);
-      problem.SetParameterBlockConstant(&vertical_rate);
+      RestoreBlocks(started, result, &accelerometer_parameters);
+      move_effects(false);
       solved = SolveQuietlySparse(options.solve, &problem, &result->solver);
       if (solved.ok()) {
-        const JointBlocks held = SnapshotBlocks(result, accelerometer_parameters, vertical_rate);
+        const JointBlocks held = SnapshotBlocks(result, accelerometer_parameters);
         const SolverReport held_report = result->solver;
-        problem.SetParameterBlockVariable(&vertical_rate);
+        move_effects(true);
         const Status released = SolveQuietlySparse(options.solve, &problem, &result->solver);
         if (!released.ok() || GainsCollapsed(started, *result)) {
-          RestoreBlocks(held, result, &accelerometer_parameters, &vertical_rate);
+          RestoreBlocks(held, result, &accelerometer_parameters);
           result->solver = held_report;
-          problem.SetParameterBlockConstant(&vertical_rate);
+          move_effects(false);
           result->earth_vertical_held = true;
         }
       }
@@ -752,13 +798,11 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         {gyroscope, offset},
         {offset, offset},
         {accelerometer_parameters.data(), accelerometer_parameters.data()}};
-    if (vertical_prior != nullptr && !result->earth_vertical_held)
-      pairs.push_back({&vertical_rate, &vertical_rate});
     if (!estimated.empty()) {
       pairs.push_back({gyroscope, effects});
       pairs.push_back({offset, effects});
-      pairs.push_back({effects, effects});
     }
+    if (!estimated.empty() || earth_moves) pairs.push_back({effects, effects});
     if (!covariance.Compute(pairs, &problem)) {
       return Status::Error(StringPrintf(
           "ceres::Covariance could not invert the information of the gyroscope's %d unknowns",
@@ -783,8 +827,8 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     if (!estimated.empty()) {
       take(gyroscope, effects, 0, kP + 3, kP, kE);
       take(offset, effects, kP, kP + 3, 3, kE);
-      take(effects, effects, kP + 3, kP + 3, kE, kE);
     }
+    if (!estimated.empty() || earth_moves) take(effects, effects, kP + 3, kP + 3, kE, kE);
     std::vector<int> rows;
     for (int i = 0; i < kP + 3; ++i) rows.push_back(i);
     for (int c : estimated) rows.push_back(kP + 3 + c);
@@ -808,13 +852,12 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     }
 
     // The Earth's rate against the noise, and its vertical part.
-    result->earth_vertical_rate_rad_s = vertical_rate;
-    result->earth_vertical_rate_stddev = 0.0;
-    if (vertical_prior != nullptr && !result->earth_vertical_held) {
-      double variance = 0.0;
-      covariance.GetCovarianceBlock(&vertical_rate, &vertical_rate, &variance);
-      result->earth_vertical_rate_stddev = std::sqrt(std::max(variance, 0.0));
-    }
+    result->earth_vertical_rate_rad_s = effects[kEarth];
+    result->earth_vertical_rate_stddev =
+        earth_moves ? std::sqrt(std::max(full(kP + 3 + kEarth, kP + 3 + kEarth), 0.0)) : 0.0;
+    // The sensor's effects only, from here on: the Earth's rate is the session's world, not a
+    // term of the calibration (models/gyroscope_effects/earth_rate.h).
+    effects[kEarth] = 0.0;
     result->pose_mean_sigma_rad_s = Median(pose_sigmas);
     for (int k = 0; k < 3; ++k) {
       result->offset_sigma_rad_s = std::max(result->offset_sigma_rad_s,

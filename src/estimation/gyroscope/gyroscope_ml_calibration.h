@@ -98,9 +98,11 @@ struct GyroscopeMlOptions {
   bool earth_rate_as_noise = true;
   // The Earth's rate at rest is Omega sin(latitude) about the up direction (along the specific
   // force in every pose) and Omega cos(latitude) in the horizontal plane, whose direction in the
-  // body is not known. With the latitude given, the vertical part is in the model, exactly; the
-  // horizontal part is noise of (Omega cos(latitude))^2 / 3 per axis. Without it, the vertical
-  // part is an unknown e of the fit with the prior N(0, Omega^2), so that it is modelled where the
+  // body is not known. The vertical part is the effect block's earth_rate coefficient
+  // (models/gyroscope_effects/earth_rate.h), never among `effects` nor in the result's: with the
+  // latitude given, it is held at its value, exactly; the horizontal part is noise of
+  // (Omega cos(latitude))^2 / 3 per axis. Without it, the vertical part e moves in the fit with
+  // the prior N(0, Omega^2), so that it is modelled where the
   // poses determine it and bounded where they do not, and never taken for a g-sensitivity
   // (G g n_p with G = e/g I is the same pattern); the horizontal part is noise of
   // (Omega^2 - e^2 - var e) / 3 per axis, e from a first fit of the model (or, when
