@@ -59,9 +59,15 @@ std::string GyroscopeStudyText(const GyroscopeStudyReport& report) {
         options.discovery_alpha, 100.0 * result.verdicts[0] / n, 100.0 * result.verdicts[1] / n,
         100.0 * result.verdicts[2] / n, 100.0 * result.verdicts[3] / n, result.succeeded);
     for (int e = 0; e < kGyroscopeEffectCount; ++e) {
+      if (GyroscopeEffectInfos()[e].not_a_candidate != nullptr) continue;
       out << StringPrintf("; %s found in %.1f%%", GyroscopeEffectInfos()[e].name,
                           100.0 * result.found[e] / n);
     }
+    out << "\n";
+    out << "what-remains checks flagged:";
+    if (result.checks_flagged.empty()) out << " none";
+    for (const auto& [check, count] : result.checks_flagged)
+      out << StringPrintf(" %s %.1f%%", check.c_str(), 100.0 * count / n);
     out << "\n";
   }
   for (const std::string& failure : result.failures) out << "  " << failure << "\n";
@@ -111,8 +117,12 @@ nlohmann::json GyroscopeStudyJson(const GyroscopeStudyReport& report) {
   if (options.discovery_alpha > 0.0) {
     nlohmann::json found;
     for (int e = 0; e < kGyroscopeEffectCount; ++e)
-      found[GyroscopeEffectInfos()[e].name] = result.found[e];
+      if (GyroscopeEffectInfos()[e].not_a_candidate == nullptr)
+        found[GyroscopeEffectInfos()[e].name] = result.found[e];
+    nlohmann::json checks = nlohmann::json::object();
+    for (const auto& [check, count] : result.checks_flagged) checks[check] = count;
     json["discovery"] = {{"alpha", options.discovery_alpha},
+                         {"checks_flagged", checks},
                          {"verdicts",
                           {{"explained", result.verdicts[0]},
                            {"missing", result.verdicts[1]},

@@ -28,6 +28,7 @@ struct Trial {
   int verdict = -1;  // with discovery
   int clipped_turns = 0;
   std::array<bool, kGyroscopeEffectCount> found{};
+  std::vector<std::string> checks_flagged;  // discovery's what-remains checks that flagged
   std::vector<double> estimate;
   std::vector<double> stddev;
   double chi2_per_dof = 0.0;
@@ -183,6 +184,8 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
           for (int e = 0; e < kGyroscopeEffectCount; ++e)
             if (effect.effect == GyroscopeEffectInfos()[e].name) trial.found[e] = true;
         }
+        for (const ResidualCheck& check : result.checks)
+          if (check.flagged) trial.checks_flagged.push_back(check.name);
       }
     }
     const GyroscopeMlResult& g = fit.gyroscope;
@@ -270,6 +273,7 @@ Status RunGyroscopeMonteCarlo(const GyroscopeMonteCarloOptions& options,
       }
       ++result->verdicts[trial->verdict];
       for (int e = 0; e < kGyroscopeEffectCount; ++e) result->found[e] += trial->found[e];
+      for (const std::string& check : trial->checks_flagged) ++result->checks_flagged[check];
     }
     const bool null = options.design.effects == GyroscopeEffectCoefficients{};
     if (null) {

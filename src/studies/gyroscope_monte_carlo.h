@@ -20,6 +20,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -144,6 +145,9 @@ struct GyroscopeMonteCarloResult {
   // is simulated, the rate of not-explained within alpha + 2 binomial sd.
   std::array<int, 4> verdicts{};
   std::array<int, kGyroscopeEffectCount> found{};
+  // The sessions in which each of discovery's what-remains checks flagged (by name; absent: in
+  // none): on null sessions, each check's own false-alarm rate.
+  std::map<std::string, int> checks_flagged;
   int discovery_failures = 0;
   bool null_rate_ok = true;
   bool passed = false;          // nothing found wrong
