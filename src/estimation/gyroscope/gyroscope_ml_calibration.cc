@@ -175,6 +175,17 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
         "intervals, %d fitted directions)",
         pose_count, static_cast<int>(accelerometer.directions.size())));
   }
+  // A channel that never changes reads nothing: dead, disconnected, stuck, or another column.
+  for (int k = 0; k < 3; ++k) {
+    const double first = log.gyroscope[0][k];
+    if (std::all_of(log.gyroscope.begin(), log.gyroscope.end(),
+                    [&](const std::array<double, 3>& u) { return u[k] == first; })) {
+      return Status::Error(StringPrintf(
+          "the gyroscope's %c output is %.6g in every one of the log's %zu samples, through every "
+          "turn: a dead, disconnected or stuck channel, or the wrong column (--columns)",
+          "xyz"[k], first, log.size()));
+    }
+  }
   result->effects_estimated = options.effects;
   std::sort(result->effects_estimated.begin(), result->effects_estimated.end());
   result->effects_estimated.erase(

@@ -1,5 +1,7 @@
 #include "estimation/gyroscope/gyroscope_session_calibration.h"
 
+#include "estimation/gyroscope/gyroscope_turn_scale.h"
+
 namespace accelcal {
 
 Status CalibrateGyroscopeSession(const TriadLog& log, const std::vector<StaticInterval>& intervals,
@@ -15,6 +17,10 @@ Status CalibrateGyroscopeSession(const TriadLog& log, const std::vector<StaticIn
   ml.quantisation_step = options.unit == GyroscopeOutputUnit::kCount ? 1.0 : 0.0;
   ml.latitude_given = options.latitude_given;
   ml.latitude_rad = options.latitude_rad;
+  // The unit and the start's gains against the turns, before any fit can hide them.
+  ACCELCAL_RETURN_IF_ERROR(CheckGyroscopeTurnScale(
+      MeasureGyroscopeTurnScale(log, intervals, accelerometer.directions, options.initial),
+      options.initial, options.unit));
   GyroscopeDiscoveryOptions& discovery = calibration->discovery_options;
   discovery = GyroscopeDiscoveryOptions();
   discovery.alpha = options.alpha;
