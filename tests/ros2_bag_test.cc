@@ -121,6 +121,39 @@ TriadLog ExampleLog(int count) {
   return log;
 }
 
+// An accelerometer-only driver's bag (angular_velocity 0, angular_velocity_covariance[0] = -1 in
+// every message, sensor_msgs/msg/Imu's "no data") reads as a log without a gyroscope, said in a
+// note (issue 45: it was read as a gyroscope at rest, and its calibration refused); one message
+// with rates keeps the gyroscope.
+TEST(Ros2Bag, AnAccelerometerOnlyDriversBagHasNoGyroscope) {
+  ScratchDir scratch;
+  TriadLog written = ExampleLog(200);
+  written.gyroscope.clear();
+  BagTopic imu{"/imu/data"};
+  imu.messages = testing::ImuMessages(written, 1700000000);
+  const std::string path = scratch.File("accelerometer_only.db3");
+  ASSERT_EQ(testing::WriteBagFile(path, {imu}), "");
+  TriadLog log;
+  ImuLogSource source;
+  ASSERT_TRUE(ReadImuLog(path, ImuLogReadOptions(), &log, ImuLogSpacing::kEven, &source).ok());
+  EXPECT_EQ(log.size(), 200u);
+  EXPECT_FALSE(log.has_gyroscope());
+  bool said = false;
+  for (const std::string& note : source.notes)
+    said = said || note.find("angular_velocity_covariance[0] is -1") != std::string::npos;
+  EXPECT_TRUE(said);
+  // One message with rates: a gyroscope.
+  Ros2ImuMessage with_rates;
+  ASSERT_TRUE(DecodeRos2ImuMessage(imu.messages[7].data, &with_rates).ok());
+  with_rates.angular_velocity_covariance[0] = 0.0;
+  imu.messages[7].data = EncodeRos2ImuMessage(with_rates);
+  const std::string mixed = scratch.File("mixed.db3");
+  ASSERT_EQ(testing::WriteBagFile(mixed, {imu}), "");
+  TriadLog both;
+  ASSERT_TRUE(ReadImuLog(mixed, ImuLogReadOptions(), &both, ImuLogSpacing::kEven, &source).ok());
+  EXPECT_TRUE(both.has_gyroscope());
+}
+
 TEST(Ros2Bag, AFolderAndItsDb3FileReadAsTheMessagesInMetresPerSecondSquaredAndRadiansPerSecond) {
   ScratchDir scratch;
   const TriadLog written = ExampleLog(300);

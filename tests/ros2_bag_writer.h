@@ -164,7 +164,11 @@ inline std::vector<BagMessage> ImuMessages(const TriadLog& log, int32_t start_se
     message.orientation = {0.0, 0.0, 0.0, 1.0};
     message.orientation_covariance[0] = -1.0;
     message.linear_acceleration_mps2 = log.output[i];
-    if (log.has_gyroscope()) message.angular_velocity_radps = log.gyroscope[i];
+    if (log.has_gyroscope()) {
+      message.angular_velocity_radps = log.gyroscope[i];
+    } else {
+      message.angular_velocity_covariance[0] = -1.0;  // an accelerometer-only driver's mark
+    }
     messages.push_back(
         {int64_t{start_sec} * 1000000000 + t_ns + latency_ns, EncodeRos2ImuMessage(message)});
   }

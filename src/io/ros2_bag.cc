@@ -504,6 +504,9 @@ Status ReadRos2BagImuLog(const std::string& path, const Ros2BagReadOptions& opti
   int64_t first_ns = 0;
   int64_t previous_ns = 0;
   size_t count = 0;
+  // Messages whose angular_velocity_covariance[0] is -1: sensor_msgs/msg/Imu's mark of "no
+  // estimate of this element" (an accelerometer-only driver's zeros).
+  size_t without_rates = 0;
   for (const BagFile& file : files) {
     Statement statement;
     ACCELCAL_RETURN_IF_ERROR(Prepare(file,
@@ -551,6 +554,7 @@ Status ReadRos2BagImuLog(const std::string& path, const Ros2BagReadOptions& opti
       log->timestamp_s.push_back(static_cast<double>(t_ns - first_ns) * 1e-9);
       log->output.push_back(message.linear_acceleration_mps2);
       log->gyroscope.push_back(message.angular_velocity_radps);
+      if (message.angular_velocity_covariance[0] == -1.0) ++without_rates;
       if (source->frame_ids.size() < kMaxFrameIdsKept &&
           std::find(source->frame_ids.begin(), source->frame_ids.end(), message.frame_id) ==
               source->frame_ids.end())
@@ -563,6 +567,13 @@ Status ReadRos2BagImuLog(const std::string& path, const Ros2BagReadOptions& opti
   if (count == 0) {
     return Status::Error(path + ": topic " + EchoInput(topic.name) +
                          " holds no messages; record the IMU again");
+  }
+  if (without_rates == count) {
+    log->gyroscope.clear();
+    source->notes.push_back(
+        "gyroscope: none: every message's angular_velocity_covariance[0] is -1, sensor_msgs/msg/"
+        "Imu's mark of no angular velocity data (an accelerometer-only driver); the accelerometer "
+        "alone is read");
   }
   if (!metadata.empty()) source->files.push_back(metadata);
   source->files.insert(source->files.end(), paths.begin(), paths.end());
