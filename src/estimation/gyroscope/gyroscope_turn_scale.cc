@@ -14,11 +14,22 @@ constexpr double kBetterToRefuse = 4.0;  // the miss's mean square 4 times small
 constexpr double kMissToRefuse = 0.05;   // rad (about 3 degrees) at s = 1
 constexpr double kUnitMatch = 0.1;       // a physical unit's nominal gain within 10%
 
+constexpr size_t kTurnsUsed = 8;
+constexpr int kGridSteps = 20;  // the grid: 2^(k/2), k in [-20, 20]
+constexpr double kGridLog2 = 0.5;
+
 struct Turn {
   std::vector<std::array<double, 3>> rate;  // at s = 1, rad/s
   std::vector<double> step_s;
   std::array<double, 3> before{}, after{};
 };
+
+// The angle between the turn's two gravity directions (rad).
+double TiltOf(const Turn& turn) {
+  const double dot = turn.before[0] * turn.after[0] + turn.before[1] * turn.after[1] +
+                     turn.before[2] * turn.after[2];
+  return std::acos(std::clamp(dot, -1.0, 1.0));
+}
 
 double MeanSquareMiss(const std::vector<Turn>& turns, double scale) {
   double sum = 0.0;
@@ -80,33 +91,46 @@ GyroscopeTurnScale MeasureGyroscopeTurnScale(const TriadLog& log,
     }
     turns.push_back(std::move(turn));
   }
+  // The turns that tilt most carry the scale most plainly: kTurnsUsed of them suffice (each
+  // evaluation integrates them all).
+  std::stable_sort(turns.begin(), turns.end(),
+                   [](const Turn& a, const Turn& b) { return TiltOf(a) > TiltOf(b); });
+  if (turns.size() > kTurnsUsed) turns.resize(kTurnsUsed);
   measured.turns = static_cast<int>(turns.size());
   if (turns.empty()) return measured;
   const double at_one = MeanSquareMiss(turns, 1.0);
   int best = 0;
   double best_miss = at_one;
-  constexpr int kSteps = 80;  // 2^(k/8), k in [-80, 80]
-  for (int k = -kSteps; k <= kSteps; ++k) {
-    const double miss = MeanSquareMiss(turns, std::exp2(k / 8.0));
+  for (int k = -kGridSteps; k <= kGridSteps; ++k) {
+    const double miss = MeanSquareMiss(turns, std::exp2(k * kGridLog2));
     if (miss < best_miss) {
       best_miss = miss;
       best = k;
     }
   }
-  // Golden section in log s between the neighbours.
-  double low = (best - 1) / 8.0, high = (best + 1) / 8.0;
+  // Golden section in log2 s between the best grid point's neighbours.
   const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-  for (int iteration = 0; iteration < 30; ++iteration) {
-    const double a = high - ratio * (high - low), b = low + ratio * (high - low);
-    if (MeanSquareMiss(turns, std::exp2(a)) < MeanSquareMiss(turns, std::exp2(b))) {
+  double low = (best - 1) * kGridLog2, high = (best + 1) * kGridLog2;
+  double a = high - ratio * (high - low), b = low + ratio * (high - low);
+  double miss_a = MeanSquareMiss(turns, std::exp2(a)), miss_b = MeanSquareMiss(turns, std::exp2(b));
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    if (miss_a < miss_b) {
       high = b;
+      b = a;
+      miss_b = miss_a;
+      a = high - ratio * (high - low);
+      miss_a = MeanSquareMiss(turns, std::exp2(a));
     } else {
       low = a;
+      a = b;
+      miss_a = miss_b;
+      b = low + ratio * (high - low);
+      miss_b = MeanSquareMiss(turns, std::exp2(b));
     }
   }
-  const double refined = std::exp2(0.5 * (low + high));
-  const double refined_miss = MeanSquareMiss(turns, refined);
-  measured.scale = refined_miss <= best_miss ? refined : std::exp2(best / 8.0);
+  const double refined = std::exp2(miss_a < miss_b ? a : b);
+  const double refined_miss = std::min(miss_a, miss_b);
+  measured.scale = refined_miss <= best_miss ? refined : std::exp2(best * kGridLog2);
   measured.rms_at_one = std::sqrt(at_one);
   measured.rms_at_scale = std::sqrt(std::min(refined_miss, best_miss));
   return measured;
