@@ -9,12 +9,13 @@
 namespace accelcal {
 namespace {
 
-constexpr double kFactorToRefuse = 2.0;  // s outside [1/2, 2]
+constexpr double kFactorToRefuse = 3.0;  // s outside [1/3, 3]
 constexpr double kBetterToRefuse = 4.0;  // the miss's mean square 4 times smaller there
 constexpr double kMissToRefuse = 0.05;   // rad (about 3 degrees) at s = 1
 constexpr double kUnitMatch = 0.1;       // a physical unit's nominal gain within 10%
 
 constexpr size_t kTurnsUsed = 8;
+constexpr int kRailRun = 3;
 constexpr int kGridSteps = 20;  // the grid: 2^(k/2), k in [-20, 20]
 constexpr double kGridLog2 = 0.5;
 
@@ -70,12 +71,31 @@ GyroscopeTurnScale MeasureGyroscopeTurnScale(const TriadLog& log,
       offset[k] += sum / interval.sample_count() / poses;
     }
   }
+  // Each axis's extreme outputs: a turn that sits at one for kRailRun samples in a row may have
+  // turned faster than the gyroscope measures (its integral short), and says nothing of s.
+  std::array<double, 3> lowest = log.gyroscope[0], highest = log.gyroscope[0];
+  for (const std::array<double, 3>& u : log.gyroscope) {
+    for (int k = 0; k < 3; ++k) {
+      lowest[k] = std::min(lowest[k], u[k]);
+      highest[k] = std::max(highest[k], u[k]);
+    }
+  }
   double m[9];
   GyroscopeMisalignmentMatrix(start.data(), m);
   std::vector<Turn> turns;
   for (int p = 0; p + 1 < poses; ++p) {
     const int first = intervals[p].end, last = intervals[p + 1].start;
     if (first < 0 || last >= static_cast<int>(log.size()) || last <= first) continue;
+    bool at_rail = false;
+    for (int k = 0; k < 3 && !at_rail; ++k) {
+      int run = 0;
+      for (int i = first; i <= last && !at_rail; ++i) {
+        const double u = log.gyroscope[i][k];
+        run = u == lowest[k] || u == highest[k] ? run + 1 : 0;
+        at_rail = run >= kRailRun;
+      }
+    }
+    if (at_rail) continue;
     Turn turn;
     turn.before = directions[p];
     turn.after = directions[p + 1];
