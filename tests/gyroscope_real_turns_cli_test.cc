@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -37,6 +38,40 @@ nlohmann::json CalibrateSession(const std::string& dir, int run, int imu, bool s
                         "--json=" + json_path});
   EXPECT_EQ(result.exit_status, 0) << result.stderr_text;
   return nlohmann::json::parse(testing::ReadText(json_path))["gyroscope"];
+}
+
+// `text` (a mimu4444 CSV: t_s, 3 accelerometer, 3 gyroscope columns) with each row's gyroscope
+// field k replaced by edit(k, field).
+std::string WithGyroscopeFields(const std::string& text,
+                                const std::function<std::string(int, const std::string&)>& edit) {
+  std::string edited;
+  size_t start = 0;
+  bool header = true;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    if (line.empty()) continue;
+    if (header) {
+      edited += line + "\n";
+      header = false;
+      continue;
+    }
+    std::vector<std::string> fields;
+    size_t field_start = 0;
+    while (true) {
+      const size_t comma = line.find(',', field_start);
+      fields.push_back(line.substr(field_start, comma - field_start));
+      if (comma == std::string::npos) break;
+      field_start = comma + 1;
+    }
+    EXPECT_EQ(fields.size(), 7u) << line;
+    for (size_t k = 4; k < fields.size() && k < 7; ++k) fields[k] = edit(k - 4, fields[k]);
+    for (size_t f = 0; f < fields.size(); ++f) edited += (f ? "," : "") + fields[f];
+    edited += "\n";
+  }
+  return edited;
 }
 
 double Median(std::vector<double> values) {
@@ -111,12 +146,6 @@ TEST(GyroscopeRealTurns, WithoutTheSamplingErrorTheTurnsAreUnexplained) {
   }
 }
 
-}  // namespace
-}  // namespace accelcal
-
-namespace accelcal {
-namespace {
-
 // The gyroscope's unit and start gain against the turns (issue 45: outputs in the wrong unit
 // ended in a calibration in that unit, "missing" and exit 0, the turns' sampling error absorbing
 // the misses). mimu4444's outputs are counts of 1/16.4 deg/s: told they are deg/s, or (converted
@@ -129,34 +158,9 @@ TEST(GyroscopeRealTurns, OutputsInAnotherUnitThanGivenAreRefusedWithFlagsThatWor
   testing::ScratchDir scratch;
   const std::string counts = dir + "/run1/imu1_acc_gyr.csv";
   // The same session with its gyroscope in deg/s.
-  std::string text = testing::ReadText(counts);
-  std::string converted;
-  size_t line_start = 0;
-  bool header = true;
-  while (line_start < text.size()) {
-    size_t end = text.find('\n', line_start);
-    if (end == std::string::npos) end = text.size();
-    const std::string line = text.substr(line_start, end - line_start);
-    line_start = end + 1;
-    if (line.empty()) continue;
-    if (header) {
-      converted += line + "\n";
-      header = false;
-      continue;
-    }
-    std::vector<std::string> fields;
-    size_t field_start = 0;
-    while (true) {
-      const size_t comma = line.find(',', field_start);
-      fields.push_back(line.substr(field_start, comma - field_start));
-      if (comma == std::string::npos) break;
-      field_start = comma + 1;
-    }
-    ASSERT_EQ(fields.size(), 7u) << line;
-    for (int k = 4; k < 7; ++k) fields[k] = std::to_string(std::stod(fields[k]) / 16.4);
-    for (size_t f = 0; f < fields.size(); ++f) converted += (f ? "," : "") + fields[f];
-    converted += "\n";
-  }
+  const std::string converted = WithGyroscopeFields(
+      testing::ReadText(counts),
+      [](int, const std::string& field) { return std::to_string(std::stod(field) / 16.4); });
   const std::string degrees = scratch.Write("imu1_deg_s.csv", converted);
 
   struct Case {
@@ -202,12 +206,6 @@ TEST(GyroscopeRealTurns, OutputsInAnotherUnitThanGivenAreRefusedWithFlagsThatWor
   }
 }
 
-}  // namespace
-}  // namespace accelcal
-
-namespace accelcal {
-namespace {
-
 // A gyroscope channel that reads the same value in every sample (here mimu4444 run 1 IMU 1 with
 // its y column zeroed) is named as dead, disconnected, stuck or the wrong column (issue 45: it was
 // "the 0 turns between the 20 poses do not determine ...", every turn taken as clipped at a rail).
@@ -215,25 +213,9 @@ TEST(GyroscopeRealTurns, ADeadChannelIsNamedAsOne) {
   const std::string dir = Mimu4444Dir();
   if (dir.empty()) GTEST_SKIP() << "mimu4444 data not found: set ACCELCAL_MIMU4444_DATA";
   testing::ScratchDir scratch;
-  const std::string text = testing::ReadText(dir + "/run1/imu1_acc_gyr.csv");
-  std::string dead;
-  size_t start = 0;
-  bool header = true;
-  while (start < text.size()) {
-    size_t end = text.find('\n', start);
-    if (end == std::string::npos) end = text.size();
-    std::string line = text.substr(start, end - start);
-    start = end + 1;
-    if (line.empty()) continue;
-    if (!header) {
-      size_t comma = 0;
-      for (int field = 0; field < 5; ++field) comma = line.find(',', comma) + 1;
-      const size_t next = line.find(',', comma);
-      line = line.substr(0, comma) + "0" + line.substr(next);
-    }
-    header = false;
-    dead += line + "\n";
-  }
+  const std::string dead = WithGyroscopeFields(
+      testing::ReadText(dir + "/run1/imu1_acc_gyr.csv"),
+      [](int k, const std::string& field) { return k == 1 ? std::string("0") : field; });
   const std::string path = scratch.Write("dead_y.csv", dead);
   const testing::CommandResult result = testing::RunBinaryArgs(
       "calibrate_imu", {"--log=" + path, "--mode=ml", "--initial_gyro_gain=0.00106422515"});

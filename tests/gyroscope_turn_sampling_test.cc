@@ -18,6 +18,11 @@
 namespace accelcal {
 namespace {
 
+// At most `level` of n sessions plus two binomial standard deviations, in sessions.
+double AtMostLevelPlusTwoSd(double level, int n) {
+  return n * (level + 2.0 * std::sqrt(level * (1.0 - level) / n));
+}
+
 GyroscopeMonteCarloOptions AbruptTurns(int trials, double sampling_alpha) {
   GyroscopeMonteCarloOptions options;
   options.trials = trials;
@@ -77,7 +82,7 @@ TEST(GyroscopeTurnSampling, DiscoveryNamesTheSamplingErrorAndNoEffectForIt) {
   ASSERT_TRUE(RunGyroscopeMonteCarlo(abrupt, &result).ok());
   int effects = 0;
   for (int found : result.found) effects += found;
-  const double limit = 150 * (0.01 + 2.0 * std::sqrt(0.01 * 0.99 / 150));
+  const double limit = AtMostLevelPlusTwoSd(0.01, 150);
   EXPECT_LE(effects, limit);
   // verdicts: explained, missing, unexplained, cannot_tell_apart
   EXPECT_GE(result.verdicts[1], 140) << "the sampling error found in too few sessions";
@@ -90,14 +95,8 @@ TEST(GyroscopeTurnSampling, DiscoveryNamesTheSamplingErrorAndNoEffectForIt) {
   GyroscopeMonteCarloResult null_result;
   ASSERT_TRUE(RunGyroscopeMonteCarlo(smooth, &null_result).ok());
   const int not_explained = 200 - null_result.verdicts[0];
-  EXPECT_LE(not_explained, 200 * (0.01 + 2.0 * std::sqrt(0.01 * 0.99 / 200)));
+  EXPECT_LE(not_explained, AtMostLevelPlusTwoSd(0.01, 200));
 }
-
-}  // namespace
-}  // namespace accelcal
-
-namespace accelcal {
-namespace {
 
 // The turns' shape checks (turns_vs_*) on null sessions of a design with one turn far from the
 // others in a property (gyroscope_study's design at seed 2: its longest turn stands out): 400
@@ -115,9 +114,8 @@ TEST(GyroscopeTurnShapes, HoldTheirLevelWhenOneTurnStandsOut) {
   int flagged = 0;
   for (const auto& [check, count] : result.checks_flagged)
     if (check.rfind("turns_vs_", 0) == 0) flagged += count;
-  const double level = 0.0025;
-  EXPECT_LE(flagged, 400 * (level + 2.0 * std::sqrt(level * (1.0 - level) / 400)));
-  EXPECT_LE(400 - result.verdicts[0], 400 * (0.01 + 2.0 * std::sqrt(0.01 * 0.99 / 400)));
+  EXPECT_LE(flagged, AtMostLevelPlusTwoSd(0.0025, 400));
+  EXPECT_LE(400 - result.verdicts[0], AtMostLevelPlusTwoSd(0.01, 400));
 }
 
 }  // namespace

@@ -3,18 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/vector3.h"
 #include "simulation/triad_simulator.h"
 
 namespace accelcal {
 namespace {
-
-using Vector3 = std::array<double, 3>;
-
-Vector3 Cross(const Vector3& a, const Vector3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-
-double Dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // Rodrigues' rotation of `v` about the unit `axis` by `angle_rad`.
 Vector3 Rotate(const Vector3& v, const Vector3& axis, double angle_rad) {

@@ -13,6 +13,7 @@
 #include <set>
 
 #include "common/format.h"
+#include "common/vector3.h"
 #include "estimation/statistics/chi_square.h"
 #include "models/gyroscope_units.h"
 #include "models/triad.h"
@@ -22,18 +23,6 @@
 
 namespace accelcal {
 namespace {
-
-using Vector3 = std::array<double, 3>;
-
-Vector3 Cross(const Vector3& a, const Vector3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double Dot(const Vector3& a, const Vector3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-
-double AngleBetween(const Vector3& a, const Vector3& b) {
-  const Vector3 c = Cross(a, b);
-  return std::atan2(std::sqrt(Dot(c, c)), Dot(a, b));
-}
 
 // Two orthonormal vectors normal to the unit `n`.
 std::array<Vector3, 2> NormalBasis(const Vector3& n) {
@@ -547,17 +536,11 @@ Status CalibrateGyroscopeMl(const TriadLog& log, const std::vector<StaticInterva
     auto move_effects = [&](bool earth) {
       earth_moves = earth && vertical_prior != nullptr;
       std::vector<int> held;
-      int free = 0;
       for (int c = 0; c < kGyroscopeEffectCoefficientCount; ++c) {
-        const bool moves =
-            std::binary_search(moving.begin(), moving.end(), c) && (earth || c != kEarth);
-        if (moves) {
-          ++free;
-        } else {
+        if (!std::binary_search(moving.begin(), moving.end(), c) || (!earth && c == kEarth))
           held.push_back(c);
-        }
       }
-      if (free == 0) {
+      if (static_cast<int>(held.size()) == kGyroscopeEffectCoefficientCount) {
         problem.SetParameterBlockConstant(effects);
         return;
       }

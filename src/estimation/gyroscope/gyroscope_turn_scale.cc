@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/format.h"
+#include "common/vector3.h"
 
 namespace accelcal {
 namespace {
@@ -24,13 +25,6 @@ struct Turn {
   std::vector<double> step_s;
   std::array<double, 3> before{}, after{};
 };
-
-// The angle between the turn's two gravity directions (rad).
-double TiltOf(const Turn& turn) {
-  const double dot = turn.before[0] * turn.after[0] + turn.before[1] * turn.after[1] +
-                     turn.before[2] * turn.after[2];
-  return std::acos(std::clamp(dot, -1.0, 1.0));
-}
 
 double MeanSquareMiss(const std::vector<Turn>& turns, double scale) {
   double sum = 0.0;
@@ -80,8 +74,6 @@ GyroscopeTurnScale MeasureGyroscopeTurnScale(const TriadLog& log,
       highest[k] = std::max(highest[k], u[k]);
     }
   }
-  double m[9];
-  GyroscopeMisalignmentMatrix(start.data(), m);
   std::vector<Turn> turns;
   for (int p = 0; p + 1 < poses; ++p) {
     const int first = intervals[p].end, last = intervals[p + 1].start;
@@ -100,12 +92,8 @@ GyroscopeTurnScale MeasureGyroscopeTurnScale(const TriadLog& log,
     turn.before = directions[p];
     turn.after = directions[p + 1];
     for (int i = first; i <= last; ++i) {
-      double along[3];
-      for (int k = 0; k < 3; ++k)
-        along[k] = start[kGyroscopeGainX + k] * (log.gyroscope[i][k] - offset[k]);
       std::array<double, 3> rate;
-      for (int r = 0; r < 3; ++r)
-        rate[r] = m[3 * r] * along[0] + m[3 * r + 1] * along[1] + m[3 * r + 2] * along[2];
+      GyroscopeAngularRate(start.data(), offset.data(), log.gyroscope[i].data(), rate.data());
       turn.rate.push_back(rate);
       if (i < last) turn.step_s.push_back(log.timestamp_s[i + 1] - log.timestamp_s[i]);
     }
@@ -113,8 +101,9 @@ GyroscopeTurnScale MeasureGyroscopeTurnScale(const TriadLog& log,
   }
   // The turns that tilt most carry the scale most plainly: kTurnsUsed of them suffice (each
   // evaluation integrates them all).
-  std::stable_sort(turns.begin(), turns.end(),
-                   [](const Turn& a, const Turn& b) { return TiltOf(a) > TiltOf(b); });
+  std::stable_sort(turns.begin(), turns.end(), [](const Turn& a, const Turn& b) {
+    return AngleBetween(a.before, a.after) > AngleBetween(b.before, b.after);
+  });
   if (turns.size() > kTurnsUsed) turns.resize(kTurnsUsed);
   measured.turns = static_cast<int>(turns.size());
   if (turns.empty()) return measured;

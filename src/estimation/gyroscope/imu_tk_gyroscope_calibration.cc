@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "common/format.h"
+#include "common/vector3.h"
 #include "models/triad.h"
 #include "residuals/imu_tk_gyroscope_residual.h"
 
@@ -23,13 +24,6 @@ std::array<double, 3> ImuTkGyroscopeResult::inverse_gains() const {
 }
 
 namespace {
-
-double AngleBetween(const std::array<double, 3>& a, const std::array<double, 3>& b) {
-  const double cross[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
-                           a[0] * b[1] - a[1] * b[0]};
-  const double sine = std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
-  return std::atan2(sine, a[0] * b[0] + a[1] * b[1] + a[2] * b[2]);
-}
 
 // Step 1: the normalised mean of the calibrated specific force over samples [start, end], each
 // sample calibrated first, then summed in order and divided (imu_tk's calibrated samples, then
